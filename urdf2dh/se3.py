@@ -1,0 +1,152 @@
+"""The small Lie-group kit everything else uses: elementary transforms, exp, adjoint, errors.
+
+Conventions (they bite, so they are stated here once):
+
+* Homogeneous transforms are ``(4, 4)`` float64 arrays ``[[R, t], [0, 1]]``.
+* Twists are ordered ``[w, v]`` (angular first), as in Wu 2019 eq. (1) and Sumenkov eq. (5),
+  with ``v = p x w + h w`` for a screw through point ``p`` with pitch ``h``. Pinocchio's motion
+  vectors are ``[v, w]``; convert at that boundary only (``verify.py``).
+* Batched functions take ``(N,)`` joint values and return ``(N, 4, 4)`` stacks.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numpy.typing import NDArray
+
+__all__ = [
+    "adjoint",
+    "inv",
+    "line_screw_batch",
+    "pose_errors",
+    "rot_axis",
+    "rot_x",
+    "rot_y",
+    "rot_z",
+    "skew",
+    "trans",
+    "twist_exp",
+]
+
+Mat = NDArray[np.float64]
+
+
+def rot_x(a: float) -> Mat:
+    """``Rx(a)`` as a 4x4 transform."""
+    c, s = math.cos(a), math.sin(a)
+    return np.array([[1.0, 0, 0, 0], [0, c, -s, 0], [0, s, c, 0], [0, 0, 0, 1]])
+
+
+def rot_y(a: float) -> Mat:
+    """``Ry(a)`` as a 4x4 transform."""
+    c, s = math.cos(a), math.sin(a)
+    return np.array([[c, 0, s, 0], [0, 1.0, 0, 0], [-s, 0, c, 0], [0, 0, 0, 1]])
+
+
+def rot_z(a: float) -> Mat:
+    """``Rz(a)`` as a 4x4 transform."""
+    c, s = math.cos(a), math.sin(a)
+    return np.array([[c, -s, 0, 0], [s, c, 0, 0], [0, 0, 1.0, 0], [0, 0, 0, 1]])
+
+
+def trans(x: float = 0.0, y: float = 0.0, z: float = 0.0) -> Mat:
+    """Pure translation ``Tx(x) Ty(y) Tz(z)`` as a 4x4 transform."""
+    out = np.eye(4)
+    out[:3, 3] = (x, y, z)
+    return out
+
+
+def skew(w: NDArray[np.float64]) -> Mat:
+    """The 3x3 matrix ``[w]`` with ``[w] u = w x u``."""
+    return np.array([[0.0, -w[2], w[1]], [w[2], 0.0, -w[0]], [-w[1], w[0], 0.0]])
+
+
+def rot_axis(u: NDArray[np.float64], angle: float) -> Mat:
+    """Rotation by ``angle`` about the unit vector ``u`` (Rodrigues), as a 3x3 matrix."""
+    k = skew(u)
+    return np.eye(3) + math.sin(angle) * k + (1.0 - math.cos(angle)) * (k @ k)
+
+
+def inv(t: Mat) -> Mat:
+    """Inverse of a homogeneous transform."""
+    out = np.eye(4)
+    rt = t[:3, :3].T
+    out[:3, :3] = rt
+    out[:3, 3] = -rt @ t[:3, 3]
+    return out
+
+
+def adjoint(t: Mat) -> Mat:
+    """``Ad(T)`` acting on ``[w, v]`` twists (Wu 2019 eq. 4): ``[[R, 0], [[t] R, R]]``."""
+    r, p = t[:3, :3], t[:3, 3]
+    out = np.zeros((6, 6))
+    out[:3, :3] = r
+    out[3:, 3:] = r
+    out[3:, :3] = skew(p) @ r
+    return out
+
+
+def twist_exp(xi: NDArray[np.float64], q: float = 1.0) -> Mat:
+    """``exp([xi] q)`` for a twist ``xi = [w, v]`` of any scale (Wu 2019 eq. 2)."""
+    w = np.asarray(xi[:3], dtype=float) * q
+    v = np.asarray(xi[3:], dtype=float) * q
+    theta = float(np.linalg.norm(w))
+    out = np.eye(4)
+    if theta == 0.0:
+        out[:3, 3] = v
+        return out
+    k = skew(w / theta)
+    k2 = k @ k
+    out[:3, :3] = np.eye(3) + math.sin(theta) * k + (1.0 - math.cos(theta)) * k2
+    g = np.eye(3) * theta + (1.0 - math.cos(theta)) * k + (theta - math.sin(theta)) * k2
+    out[:3, 3] = g @ (v / theta)
+    return out
+
+
+def line_screw_batch(
+    u: NDArray[np.float64],
+    point: NDArray[np.float64],
+    rotation: float,
+    translation: float,
+    s: NDArray[np.float64],
+) -> NDArray[np.float64]:
+    """Screw motions about the line through ``point`` along unit ``u``, batched over ``s``.
+
+    Each motion rotates by ``rotation * s`` about the line and translates ``translation * s``
+    along it: revolute ``(1, 0)``, prismatic ``(0, 1)``, helical ``(1, pitch)``. Written in the
+    point-and-direction form ``t = (I - R) p + h s u``, which keeps full relative precision.
+
+    Returns an ``(N, 4, 4)`` stack.
+    """
+    n = s.shape[0]
+    out = np.zeros((n, 4, 4))
+    out[:, 3, 3] = 1.0
+    if rotation == 0.0:
+        out[:, 0, 0] = out[:, 1, 1] = out[:, 2, 2] = 1.0
+        out[:, :3, 3] = (translation * s)[:, None] * u
+        return out
+    ang = rotation * s
+    k = skew(u)
+    k2 = k @ k
+    r = np.eye(3) + np.sin(ang)[:, None, None] * k + (1.0 - np.cos(ang))[:, None, None] * k2
+    out[:, :3, :3] = r
+    out[:, :3, 3] = point - r @ point + (translation * s)[:, None] * u
+    return out
+
+
+def pose_errors(a: NDArray[np.float64], b: NDArray[np.float64]) -> tuple[float, float]:
+    """Worst position and rotation error between two ``(N, 4, 4)`` stacks of poses.
+
+    Position: Euclidean distance of the origins. Rotation: the angle of ``Ra^T Rb`` in radians,
+    computed as ``2 asin(|Ra - Rb|_F / (2 sqrt 2))``, which stays accurate for tiny angles.
+    """
+    a = np.asarray(a, dtype=float).reshape(-1, 4, 4)
+    b = np.asarray(b, dtype=float).reshape(-1, 4, 4)
+    if a.shape[0] == 0:
+        return 0.0, 0.0
+    dp = np.linalg.norm(a[:, :3, 3] - b[:, :3, 3], axis=1)
+    dr = np.linalg.norm((a[:, :3, :3] - b[:, :3, :3]).reshape(-1, 9), axis=1)
+    ang = 2.0 * np.arcsin(np.minimum(1.0, dr / (2.0 * math.sqrt(2.0))))
+    return float(dp.max()), float(ang.max())
