@@ -1,0 +1,86 @@
+"""POE -> standard Denavit-Hartenberg (Wu, Crawford & Roberts 2019), with base and tool frames.
+
+Forward kinematics of a ``dh`` table (SPEC §2, Wu 2019 eq. 10)::
+
+    T(q) = B . prod_i [ Q_i(s_i) . Rz(theta_i) Tz(d_i) Rx(alpha_i) Tx(a_i) ] . Rz(theta_T) Tz(d_T)
+
+``B = Rz Tz Rx Tx`` puts frame 0's z on joint 1's axis (4 base parameters); row ``i`` carries the
+link from joint ``i``'s axis to joint ``i+1``'s (the last row: to the tool's z axis); the tool
+transform keeps 2 parameters (Lemma 4). The conversion follows eq. (18): each joint axis is
+expressed in the frame built so far (the adjoint step) and Lemmas 1-3 give the next link.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from . import se3
+from .lines import Judgement, LinkParams, angle, common_normal, dh_matrix
+from .screws import PoeModel
+from .tolerances import Tolerances
+
+__all__ = [
+    "BASE_PARAMS",
+    "PARAMS",
+    "TOOL_PARAMS",
+    "base_matrix",
+    "links_from_poe",
+    "row_matrices",
+    "tool_matrix",
+]
+
+PARAMS = ("theta", "d", "alpha", "a")
+BASE_PARAMS = ("theta", "d", "alpha", "a")
+TOOL_PARAMS = ("theta", "d")
+
+Mat = NDArray[np.float64]
+
+
+def base_matrix(p: dict[str, Any]) -> Mat:
+    """``B = Rz(theta) Tz(d) Rx(alpha) Tx(a)``."""
+    return dh_matrix(p["theta"], p["d"], p["alpha"], p["a"])
+
+
+def row_matrices(p: dict[str, Any]) -> tuple[Mat | None, Mat]:
+    """(before ``Q_i``, after ``Q_i``): ``None`` and ``Rz Tz Rx Tx``."""
+    return None, dh_matrix(p["theta"], p["d"], p["alpha"], p["a"])
+
+
+def tool_matrix(p: dict[str, Any]) -> Mat:
+    """``T = Rz(theta) Tz(d)``."""
+    return dh_matrix(p["theta"], p["d"], 0.0, 0.0)
+
+
+def links_from_poe(
+    model: PoeModel, tol: Tolerances
+) -> tuple[list[LinkParams], tuple[float, float], list[Judgement]]:
+    """The n + 1 D-H links (base->1, 1->2, ..., n->tool z) and the tool's ``(theta, d)``.
+
+    Frames are built from the parameters as they will be evaluated (``F = F . H``), so the
+    rounding of each row is seen by the next one and never accumulates unchecked.
+    """
+    f = np.eye(4)
+    links: list[LinkParams] = []
+    judgements: list[Judgement] = []
+    prev = "base z"
+    size = model.size()
+    lines: list[tuple[str, Mat, Mat | None, bool]] = [
+        (j.name, j.axis, j.point, False) for j in model.joints
+    ]
+    lines.append(("tool z", model.home[:3, 2], model.home[:3, 3], True))
+    for name, axis, point, is_tool in lines:
+        r, t = f[:3, :3], f[:3, 3]
+        u = r.T @ axis
+        u = u / np.linalg.norm(u)
+        # a prismatic axis with a free location passes through the current frame origin (SPEC §3)
+        p = np.zeros(3) if point is None else r.T @ (point - t)
+        link, found = common_normal(u, p, tol, (prev, name), size, tool=is_tool)
+        links.append(link)
+        judgements.extend(found)
+        f = f @ dh_matrix(link.theta, link.d, link.alpha, link.a)
+        prev = name
+    g = se3.inv(f) @ model.home
+    return links, (angle(g[1, 0], g[0, 0]), float(g[2, 3])), judgements

@@ -1,0 +1,127 @@
+"""Lines in space: the common normal between a frame's z axis and the next joint axis.
+
+This is the geometric core of Wu, Crawford & Roberts 2019, Lemmas 1-4: for a line (unit
+direction ``u`` through point ``p``, both in the coordinates of a frame whose z axis is the
+previous line), find ``H = Rz(theta) Tz(d) Rx(alpha) Tx(a)`` whose z axis is the line.
+
+* Non-parallel (Lemma 1 case 2, eqs. 15-17): ``alpha = +-acos(u_z)`` with the sign chosen so that
+  ``a >= 0``; ``d`` and ``a`` locate the common normal.
+* Parallel (case 1): ``d = 0``; ``a`` is the distance between the lines.
+* Tool z axis (Lemma 4, ``e^xi = H1 H2``): ``alpha`` in ``[0, pi]`` with ``a`` of either sign, and
+  for a parallel tool axis the offset goes into ``d`` (the tool's own ``d`` is then 0), as in the
+  paper's reference implementation; this is what reproduces Table II's last rows.
+
+The tolerance judgements (near-parallel treated as parallel, near-coincident as coincident)
+are returned as :class:`Judgement` records so the caller can report them.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from .tolerances import Tolerances
+
+__all__ = ["Judgement", "LinkParams", "angle", "common_normal", "dh_matrix"]
+
+
+@dataclass(frozen=True)
+class Judgement:
+    """One tolerance decision: which pair of lines, what was assumed, and how far off it was."""
+
+    kind: str  # "parallel" or "coincident"
+    first: str
+    second: str
+    angle: float  # radians the lines were from the assumed relation (0 if not angular)
+    gap: float  # length the lines were from the assumed relation (0 if not a distance)
+
+
+@dataclass(frozen=True)
+class LinkParams:
+    """``Rz(theta) Tz(d) Rx(alpha) Tx(a)`` and whether the two lines were (treated as) parallel."""
+
+    theta: float
+    d: float
+    alpha: float
+    a: float
+    parallel: bool
+
+
+def angle(y: float, x: float) -> float:
+    """``atan2`` in ``(-pi, pi]`` without signed zeros, so tables print ``180`` not ``-180``."""
+    out = math.atan2(y + 0.0, x + 0.0)
+    return math.pi if out == -math.pi else out + 0.0
+
+
+def dh_matrix(theta: float, d: float, alpha: float, a: float) -> NDArray[np.float64]:
+    """``Rz(theta) Tz(d) Rx(alpha) Tx(a)`` in closed form (Wu 2019 eq. 9)."""
+    ct, st = math.cos(theta), math.sin(theta)
+    ca, sa = math.cos(alpha), math.sin(alpha)
+    return np.array(
+        [
+            [ct, -st * ca, st * sa, a * ct],
+            [st, ct * ca, -ct * sa, a * st],
+            [0.0, sa, ca, d],
+            [0.0, 0.0, 0.0, 1.0],
+        ]
+    )
+
+
+def common_normal(
+    u: NDArray[np.float64],
+    p: NDArray[np.float64],
+    tol: Tolerances,
+    names: tuple[str, str],
+    size: float,
+    tool: bool = False,
+) -> tuple[LinkParams, list[Judgement]]:
+    """D-H parameters from the local z axis to the line through ``p`` along unit ``u``.
+
+    ``tool=True`` applies the Lemma 4 rules for the tool's z axis (see module docstring).
+    ``size`` is the robot's size, which scales the round-off floor of the distance tolerance.
+    Returns the parameters and the tolerance judgements made (possibly none).
+    """
+    ux, uy, uz = (float(c) for c in u)
+    rho = math.hypot(ux, uy)
+    off_parallel = math.atan2(rho, abs(uz))
+    parallel_angle = max(tol.parallel_angle, tol.noise)  # round-off is never geometry
+    distance = max(tol.intersect_distance, tol.noise * size)
+    judgements: list[Judgement] = []
+    if rho == 0.0 or off_parallel <= max(parallel_angle, tol.meet_angle):
+        # (Nearly) parallel. Pivot on the tool origin (the frame lands on it, the tool's own d
+        # is 0), or on the line's crossing of the local xy plane (d = 0, Wu's parallel case).
+        if tool:
+            x, y, d = float(p[0]), float(p[1]), float(p[2])
+        else:
+            t = float(p[2]) / uz
+            x, y, d = float(p[0]) - t * ux, float(p[1]) - t * uy, 0.0
+        gap = math.hypot(x, y)
+        if gap <= distance:
+            # The lines meet at the pivot: a = 0 and the exact direction is kept, which is
+            # exact however small the angle, where the common-normal formula is ill-conditioned.
+            if gap > 0.0:
+                judgements.append(Judgement("coincident", *names, 0.0, gap))
+            if off_parallel <= tol.noise:  # float round-off: a clean alpha = 0 or pi
+                return LinkParams(0.0, d, 0.0 if uz > 0.0 else math.pi, 0.0, True), judgements
+            return LinkParams(angle(ux, -uy), d, angle(rho, uz), 0.0, True), judgements
+        if rho == 0.0 or off_parallel <= parallel_angle:
+            if rho > 0.0:
+                judgements.append(Judgement("parallel", *names, off_parallel, 0.0))
+            alpha = 0.0 if uz > 0.0 else math.pi
+            return LinkParams(angle(y, x), d, alpha, gap, True), judgements
+    m = np.cross(p, u)  # the line's moment; the same for any point p on the line
+    mx, my, mz = (float(c) for c in m)
+    d = (ux * my - uy * mx) / (rho * rho)  # Wu eq. after (17), with h = 0 in the moment
+    a_abs = abs(mz) / rho
+    if tool or a_abs <= distance:
+        # Tool (Lemma 4) or (nearly) intersecting lines: alpha > 0 and a keeps its exact,
+        # possibly tiny negative, value. No judgement is needed: this is exact.
+        sigma, a = 1.0, -mz / rho
+    else:  # Wu eq. (17): a sin(alpha) = -m_z; choose the sign of alpha that makes a >= 0
+        sigma, a = (1.0, a_abs) if -mz > 0.0 else (-1.0, a_abs)
+    alpha = angle(sigma * rho, uz)
+    theta = angle(sigma * ux, -sigma * uy)  # Wu eq. (16)
+    return LinkParams(theta, d, alpha, a, False), judgements
