@@ -1,0 +1,142 @@
+"""POE model files (SPEC §4): YAML or JSON, twists ``[w, v]`` in the base frame at home.
+
+::
+
+    format: poe
+    name: puma560-actual
+    length_unit: mm
+    joints:
+      - {name: j1, twist: [0.04, -0.02, 0.999, 0.02, 0.04, 0]}
+      - {name: j2, twist: [0, -1.00002, 0, -0.02, 0, 0.05], type: revolute, limits: [-3, 3]}
+    tool:
+      twist: [0.02, -0.01, 0.01, 249, 51, -20.6]     # tool pose at home = exp(twist), or
+      # matrix: [[...4x4...]]
+
+Twists need not be normalised (Wu 2019 §II): ``|w|`` is the joint's scale and ``w.v/|w|^2`` its
+pitch; ``w = 0`` makes a prismatic joint of scale ``|v|``. ``type`` is optional and must agree
+with the twist. ``limits`` (optional, an extension) bounds ``q``.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from . import se3
+from .errors import InputError, choices
+from .screws import KINDS, PoeModel, joint_from_twist
+from .tolerances import DEFAULT, Tolerances
+
+__all__ = ["check_matrix", "poe_to_dict", "read_poe"]
+
+
+def _numbers(value: Any, count: int, where: str) -> NDArray[np.float64]:
+    if not isinstance(value, list | tuple) or len(value) != count:
+        raise InputError(f"{where} must be a list of {count} numbers")
+    try:
+        out = np.array([float(v) for v in value])
+    except (TypeError, ValueError) as e:
+        raise InputError(f"{where} must be a list of {count} numbers") from e
+    if isinstance(value[0], bool) or not np.all(np.isfinite(out)):
+        raise InputError(f"{where} must be finite numbers")
+    return out
+
+
+def check_matrix(
+    value: Any, where: str, tol: Tolerances = DEFAULT
+) -> tuple[NDArray[np.float64], str | None]:
+    """A 4x4 homogeneous transform from nested lists; a nearly orthonormal rotation (as typed
+    with few decimals) is orthonormalised, with a note saying how much it moved."""
+    if not isinstance(value, list | tuple) or len(value) != 4:
+        raise InputError(f"{where} must be a 4x4 matrix")
+    m = np.array([_numbers(r, 4, f"{where} row {i + 1}") for i, r in enumerate(value)])
+    if not np.allclose(m[3], [0, 0, 0, 1], rtol=0, atol=0):
+        raise InputError(f"{where}: last row must be [0, 0, 0, 1]")
+    r = m[:3, :3]
+    off = float(np.abs(r.T @ r - np.eye(3)).max())
+    if off > tol.rotation_input or np.linalg.det(r) <= 0:
+        raise InputError(f"{where}: the 3x3 block is not a rotation (|R^T R - I| = {off:.2g})")
+    note = None
+    if off > 0.0:
+        u, _, vt = np.linalg.svd(r)
+        fixed = u @ vt
+        moved = float(np.abs(fixed - r).max())
+        m[:3, :3] = fixed
+        if moved > tol.noise:
+            note = f"{where}: rotation orthonormalised (entries moved by up to {moved:.2g})"
+    return m, note
+
+
+def read_poe(data: Any, display: str, tol: Tolerances = DEFAULT) -> PoeModel:
+    """Build a :class:`PoeModel` from a parsed POE file, naming the joint at fault on error."""
+    if not isinstance(data, dict) or data.get("format") != "poe":
+        raise InputError(f"{display}: not a POE model file (needs 'format: poe')")
+    unit = data.get("length_unit", "m")
+    if not isinstance(unit, str) or not unit:
+        raise InputError(f"{display}: length_unit must be a name such as m or mm")
+    raw = data.get("joints")
+    if not isinstance(raw, list):
+        raise InputError(f"{display}: 'joints' must be a list")
+    joints, names = [], set()
+    for i, entry in enumerate(raw, 1):
+        if not isinstance(entry, dict):
+            raise InputError(f"{display}: joint {i} must be a mapping with name and twist")
+        name = str(entry.get("name", f"joint{i}"))
+        where = f"{display}: joint '{name}'"
+        if name in names:
+            raise InputError(f"{where} appears twice")
+        names.add(name)
+        xi = _numbers(entry.get("twist"), 6, f"{where} twist")
+        if not np.any(xi):
+            raise InputError(f"{where} has a zero twist")
+        lower = upper = None
+        if entry.get("limits") is not None:
+            lower, upper = (float(x) for x in _numbers(entry["limits"], 2, f"{where} limits"))
+            if not lower < upper:
+                raise InputError(f"{where} limits must be [lower, upper] with lower < upper")
+        joint = joint_from_twist(name, xi, tol.noise, lower, upper)
+        declared = entry.get("type")
+        if declared is not None:
+            if declared not in KINDS:
+                raise InputError(f"{where} has unknown type '{declared}'; valid: {choices(KINDS)}")
+            if declared != joint.kind:
+                detail = {
+                    "prismatic": "w = 0 (a prismatic joint)",
+                    "revolute": "zero pitch (a revolute joint)",
+                    "helical": f"pitch {joint.pitch:.6g} {unit}/rad (a helical joint)",
+                }[joint.kind]
+                raise InputError(f"{where} is declared {declared} but its twist has {detail}")
+        joints.append(joint)
+    tool = data.get("tool")
+    warnings = []
+    if not isinstance(tool, dict) or ("twist" in tool) == ("matrix" in tool):
+        raise InputError(f"{display}: 'tool' must give either 'twist' or 'matrix'")
+    if "twist" in tool:
+        home = se3.twist_exp(_numbers(tool["twist"], 6, f"{display}: tool twist"))
+    else:
+        home, note = check_matrix(tool["matrix"], f"{display}: tool matrix", tol)
+        if note:
+            warnings.append(note)
+    name = data.get("name") or display
+    return PoeModel(tuple(joints), home, str(name), display, "base", "tool", unit, tuple(warnings))
+
+
+def poe_to_dict(model: PoeModel) -> dict[str, Any]:
+    """A POE model file tree for ``model`` (tool as a matrix; limits where known)."""
+    joints = []
+    for j in model.joints:
+        entry: dict[str, Any] = {
+            "name": j.name, "type": j.kind, "twist": [float(x) for x in j.twist()],
+        }
+        if j.lower is not None and j.upper is not None:
+            entry["limits"] = [float(j.lower), float(j.upper)]
+        joints.append(entry)
+    return {
+        "format": "poe",
+        "name": model.name,
+        "length_unit": model.length_unit,
+        "joints": joints,
+        "tool": {"matrix": [[float(x) for x in row] for row in model.home]},
+    }

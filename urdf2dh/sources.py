@@ -1,0 +1,130 @@
+"""SOURCE resolution (SPEC §1): a URDF file, a POE model file, a table file, or a bundled robot.
+
+:func:`open_source` reads and checks the file once; :meth:`Source.model` then builds the POE
+model of the chain between the requested links.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from .catalog import ROBOTS, Bundled, robot_path
+from .errors import InputError, SourceError, UsageError, choices
+from .files import read_file
+from .screws import PoeModel
+from .tolerances import DEFAULT, Tolerances
+from .urdf import UrdfTree, parse_tree, tree_to_poe
+
+__all__ = ["Source", "open_source", "read_mapping"]
+
+
+@dataclass
+class Source:
+    """A resolved SOURCE. URDF sources keep their text (for Pinocchio) and tree."""
+
+    kind: str  # "urdf", "poe" or "table"
+    display: str
+    name: str
+    tree: UrdfTree | None = None
+    urdf_text: bytes | None = None
+    poe: PoeModel | None = None
+    bundled: Bundled | None = None
+
+    def model(
+        self,
+        base: str | None = None,
+        tip: str | None = None,
+        ignore_mimic: bool = False,
+    ) -> PoeModel:
+        """The POE model of the chain ``base -> tip`` (defaults: SPEC §1, or the bundled
+        robot's own)."""
+        if self.tree is None:
+            if base or tip:
+                raise UsageError(
+                    f"{self.display}: --base/--tip apply to URDF sources; a {self.kind} file "
+                    "is already a single chain"
+                )
+            assert self.poe is not None
+            return self.poe
+        if self.bundled is not None:
+            base = base or self.bundled.base
+            tip = tip or self.bundled.tip
+        return tree_to_poe(self.tree, base, tip, ignore_mimic, self.name)
+
+
+def read_mapping(path: Path, display: str, data: bytes) -> Any:
+    """Parse YAML or JSON text (JSON for ``.json``, YAML otherwise) with a one-line error."""
+    text = data.decode("utf-8", errors="strict") if data else ""
+    if path.suffix.lower() == ".json":
+        try:
+            return json.loads(text)
+        except json.JSONDecodeError as e:
+            raise InputError(f"{display}: malformed JSON (line {e.lineno}: {e.msg})") from e
+    import yaml
+
+    try:
+        return yaml.safe_load(text)
+    except yaml.YAMLError as e:
+        mark = getattr(e, "problem_mark", None)
+        where = f"line {mark.line + 1}: " if mark is not None else ""
+        problem = getattr(e, "problem", None) or str(e).splitlines()[0]
+        raise InputError(f"{display}: malformed YAML ({where}{problem})") from e
+
+
+def _from_file(path: Path, display: str, tol: Tolerances, bundled: Bundled | None) -> Source:
+    data = read_file(path, display)
+    suffix = path.suffix.lower()
+    head = data.lstrip()[:1]
+    if suffix == ".xacro":
+        from .xacro import expand
+
+        text = expand(path, display)
+        tree = parse_tree(text, display)
+        return Source("urdf", display, bundled.name if bundled else tree.name, tree, text,
+                      bundled=bundled)
+    if suffix in (".urdf", ".xml") or head == b"<" or (not data.strip() and suffix != ".json"
+                                                      and suffix not in (".yaml", ".yml")):
+        tree = parse_tree(data, display)
+        return Source("urdf", display, bundled.name if bundled else tree.name, tree, data,
+                      bundled=bundled)
+    if b"\x00" in data[:4096]:
+        raise InputError(f"{display}: binary file, not a URDF, POE or table file")
+    if not data.strip():
+        raise InputError(f"{display}: empty file")
+    tree_data = read_mapping(path, display, data)
+    if isinstance(tree_data, dict) and tree_data.get("format") == "poe":
+        from .poefile import read_poe
+
+        poe = read_poe(tree_data, display, tol)
+        name = bundled.name if bundled else poe.name
+        return Source("poe", display, name, poe=poe, bundled=bundled)
+    if isinstance(tree_data, dict) and "schema" in tree_data:
+        from .tablefile import read_table
+
+        table = read_table(tree_data, display, tol)
+        return Source("table", display, table.robot or path.stem, poe=table.to_poe(),
+                      bundled=bundled)
+    raise InputError(
+        f"{display}: not a URDF, POE model ('format: poe') or table ('schema: urdf2dh/1') file"
+    )
+
+
+def open_source(source: str, tol: Tolerances = DEFAULT) -> Source:
+    """Resolve SOURCE: an existing file, else a bundled robot name (``urdf2dh robots``)."""
+    path = Path(source)
+    if path.exists():
+        return _from_file(path, source, tol, None)
+    if source in ROBOTS:
+        bundled = ROBOTS[source]
+        file = robot_path(bundled)
+        return _from_file(file, file.name, tol, bundled)
+    looks_like_file = any(ch in source for ch in "/\\.")
+    if looks_like_file:
+        raise SourceError(f"{source}: no such file")
+    raise SourceError(
+        f"'{source}' is neither a file nor a bundled robot; bundled robots are "
+        f"{choices(ROBOTS, limit=30)}"
+    )
