@@ -1,0 +1,213 @@
+"""The ``urdf2dh`` command (SPEC §1): ``convert``, ``verify``, ``info``, ``robots``.
+
+Exit codes: 0 success, 1 verification failed (or a table failed its own check), 2 bad usage or
+bad input. Errors are one line on stderr naming the file, link or joint; output files are
+written to a temporary file and renamed, so a failure never leaves one behind.
+
+Heavy imports (numpy, yourdfpy, Pinocchio) happen inside the commands that need them, so
+``urdf2dh --help`` starts instantly and ``convert`` never imports Pinocchio.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+from typing import Any
+
+from . import __version__
+from .errors import Urdf2DhError
+from .files import write_output
+
+__all__ = ["get_argument_parser", "main"]
+
+FORMATS = ("text", "json", "yaml", "csv", "markdown")
+CONVENTIONS = ("dh", "mdh", "cpc")
+
+
+def _positive_int(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError as e:
+        raise argparse.ArgumentTypeError(f"'{text}' is not an integer") from e
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"must be at least 1, not {value}")
+    return value
+
+
+def _nonnegative_float(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError as e:
+        raise argparse.ArgumentTypeError(f"'{text}' is not a number") from e
+    if not value >= 0.0 or value == float("inf"):
+        raise argparse.ArgumentTypeError(f"must be a finite number >= 0, not {text}")
+    return value
+
+
+def _add_chain(p: argparse.ArgumentParser) -> None:
+    p.add_argument("source", metavar="SOURCE",
+                   help="URDF file, POE model file, table file, or bundled robot name")
+    p.add_argument("--base", metavar="LINK", help="base link (default: the URDF root link)")
+    p.add_argument("--tip", metavar="LINK",
+                   help="tip link (default: the single deepest leaf below the base)")
+    p.add_argument("--ignore-mimic", action="store_true",
+                   help="treat mimic joints on the chain as independent joints (with a warning)")
+
+
+def _add_tolerances(p: argparse.ArgumentParser) -> None:
+    from .tolerances import DEFAULT
+
+    g = p.add_argument_group("tolerance judgements (D-H conventions)")
+    g.add_argument("--exact", action="store_true",
+                   help="no snapping: keep nearly parallel or nearly intersecting axes as they are")
+    g.add_argument("--parallel-angle", type=_nonnegative_float, metavar="RAD",
+                   default=DEFAULT.parallel_angle,
+                   help="treat axes this close to parallel as parallel (default %(default)g rad)")
+    g.add_argument("--intersect-distance", type=_nonnegative_float, metavar="LENGTH",
+                   default=DEFAULT.intersect_distance,
+                   help="treat lines this close as intersecting or coincident "
+                        "(default %(default)g, in the source's length unit)")
+    g.add_argument("--check-samples", type=_positive_int, default=1000, metavar="N",
+                   help="configurations of the self-check (default %(default)s)")
+
+
+def get_argument_parser() -> argparse.ArgumentParser:
+    """The argument parser of the ``urdf2dh`` command."""
+    parser = argparse.ArgumentParser(
+        prog="urdf2dh",
+        description="Turn a robot's URDF (or POE model) into exact Denavit-Hartenberg, "
+        "modified D-H and CPC tables, checked against the source and against Pinocchio.",
+    )
+    parser.add_argument("--version", action="version", version=f"urdf2dh {__version__}")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+
+    p = sub.add_parser("convert", help="print or write the parameter table of a chain")
+    _add_chain(p)
+    p.add_argument("--convention", choices=CONVENTIONS, default="dh",
+                   help="dh (standard), mdh (modified, Craig) or cpc (default %(default)s)")
+    p.add_argument("--format", choices=FORMATS, default="text",
+                   help="output format (default %(default)s)")
+    p.add_argument("-o", "--output", metavar="FILE", help="write to FILE instead of stdout")
+    _add_tolerances(p)
+
+    p = sub.add_parser("verify", help="compare every convention's FK with Pinocchio's")
+    _add_chain(p)
+    p.add_argument("--samples", type=_positive_int, default=1000, metavar="N",
+                   help="random configurations within joint limits (default %(default)s)")
+    p.add_argument("--seed", type=int, default=0, metavar="S",
+                   help="random seed (default %(default)s)")
+    _add_tolerances(p)
+
+    p = sub.add_parser("info", help="links, joints, the chain, candidate tips, identifiability")
+    _add_chain(p)
+
+    sub.add_parser("robots", help="list the bundled robots")
+    return parser
+
+
+# --------------------------------------------------------------------------- helpers
+
+
+def _tolerances(args: argparse.Namespace) -> Any:
+    from dataclasses import replace
+
+    from .tolerances import DEFAULT
+
+    tol = replace(DEFAULT, parallel_angle=args.parallel_angle,
+                  intersect_distance=args.intersect_distance)
+    return tol.with_exact() if args.exact else tol
+
+
+# --------------------------------------------------------------------------- commands
+
+
+def _convert(args: argparse.Namespace) -> int:
+    from .convert import to_table
+    from .formats import render
+    from .sources import open_source
+
+    tol = _tolerances(args)
+    source = open_source(args.source, tol)
+    model = source.model(args.base, args.tip, args.ignore_mimic)
+    table = to_table(model, args.convention, tol, samples=args.check_samples)
+    write_output(render(table, args.format), args.output)
+    return 0
+
+
+def _verify(args: argparse.Namespace) -> int:
+    from .sources import open_source
+    from .verify import verify
+
+    tol = _tolerances(args)
+    source = open_source(args.source, tol)
+    model = source.model(args.base, args.tip, args.ignore_mimic)
+    results = verify(source, model, args.samples, args.seed, tol)
+    unit, size = model.length_unit, model.size()
+    chain = f"{model.base_link} -> {model.tip_link}, " if model.base_link else ""
+    print(f"{source.name}: {chain}{model.n} joints; against Pinocchio at {args.samples} "
+          f"configurations (seed {args.seed}); robot size {size:.4g} {unit}")
+    print(f"  {'model':<10} {'position error':>16} {'relative':>10} {'rotation error':>16}  result")
+    for r in results:
+        print(f"  {r.label:<10} {r.position:>13.2e} {unit:<2} {r.position / size:>10.2e} "
+              f"{r.rotation:>12.2e} rad  {'ok' if r.ok else 'FAILED'}")
+    for r in results:
+        for w in r.table.warnings if r.table is not None else ():
+            print(f"  warning: {w}")
+    failed = [r.label for r in results if not r.ok]
+    if failed:
+        print(f"verify: FAILED for {', '.join(failed)} (allowed {results[0].allowed_position:.2g}"
+              f" {unit} + declared deviations)", file=sys.stderr)
+        return 1
+    print("verify: all conventions agree with Pinocchio")
+    return 0
+
+
+def _info(args: argparse.Namespace) -> int:
+    from .info import describe
+    from .sources import open_source
+
+    source = open_source(args.source)
+    sys.stdout.write(describe(source, args.base, args.tip, args.ignore_mimic))
+    return 0
+
+
+def _robots(args: argparse.Namespace) -> int:
+    from .catalog import ROBOTS
+
+    width = max(len(n) for n in ROBOTS)
+    for r in ROBOTS.values():
+        chain = f"{r.base} -> {r.tip}" if r.base else "POE model"
+        print(f"{r.name:<{width}}  {r.description}  [{chain}]")
+    return 0
+
+
+COMMANDS = {"convert": _convert, "verify": _verify, "info": _info, "robots": _robots}
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run the command line; returns the exit code."""
+    parser = get_argument_parser()
+    args = parser.parse_args(argv)
+    if args.command is None:
+        parser.print_help()
+        return 2
+    try:
+        return COMMANDS[args.command](args)
+    except Urdf2DhError as e:
+        print(f"urdf2dh: error: {e}", file=sys.stderr)
+        return e.exit_code
+    except KeyboardInterrupt:
+        return 130
+    except BrokenPipeError:
+        return 0
+    except Exception as e:  # a bug, or bad input we failed to foresee: still no traceback
+        if os.environ.get("URDF2DH_DEBUG"):
+            raise
+        print(f"urdf2dh: internal error: {type(e).__name__}: {e} (set URDF2DH_DEBUG=1 for the "
+              "traceback, and please report it)", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

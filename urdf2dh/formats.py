@@ -1,0 +1,191 @@
+"""Rendering a :class:`~urdf2dh.table.Table`: text, JSON, YAML, CSV and Markdown.
+
+``json`` and ``yaml`` hold the SPEC §2 tree in radians and source units with full precision;
+``csv`` the same numbers flat; ``text`` and ``markdown`` are for people: angles in degrees,
+helix pitch in length per degree (the units of Wu 2019 Table II), units in the headers.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import math
+from typing import Any
+
+from .errors import UsageError, choices
+from .table import Table, convention_module
+
+__all__ = ["FORMATS", "render"]
+
+FORMATS = ("text", "json", "yaml", "csv", "markdown")
+
+TITLES = {
+    "dh": "standard D-H (Wu 2019): B . prod[Q_i Rz(theta) Tz(d) Rx(alpha) Tx(a)] . Rz Tz",
+    "mdh": "modified D-H (Craig): Rz Tz . prod[Rx(alpha) Tx(a) Q_i Rz(theta) Tz(d)] . Rx Tx Rz Tz",
+    "cpc": "CPC (Zhuang-Roth-Hamano): V_0 . prod[Q_i V(b, l, beta)],"
+    " V = R(b) Rz(beta) Tx Ty Tz(l)",
+}
+ANGLES = {"theta", "alpha", "beta"}
+LENGTH_DECIMALS = {"m": 6, "cm": 5, "mm": 4, "in": 5, "um": 2}
+
+
+def render(table: Table, fmt: str) -> str:
+    """The table in format ``fmt`` (one of :data:`FORMATS`), ending with a newline."""
+    if fmt == "json":
+        return json.dumps(table.to_dict(), indent=2) + "\n"
+    if fmt == "yaml":
+        import yaml
+
+        return yaml.safe_dump(table.to_dict(), sort_keys=False, default_flow_style=None)
+    if fmt == "csv":
+        return _csv(table)
+    if fmt == "text":
+        return _text(table)
+    if fmt == "markdown":
+        return _markdown(table)
+    raise UsageError(f"unknown format '{fmt}'; valid: {choices(FORMATS)}")
+
+
+# --------------------------------------------------------------------------- flat rows
+
+
+def _columns(table: Table) -> list[str]:
+    """Parameter columns, CPC vectors split into components."""
+    out = []
+    for name in convention_module(table.convention).PARAMS:
+        out.extend([f"{name}_x", f"{name}_y", f"{name}_z"] if name in ("b", "l") else [name])
+    return out
+
+
+def _flat(params: Any) -> dict[str, float]:
+    out: dict[str, float] = {}
+    for k, v in params.items():
+        if isinstance(v, list | tuple):
+            out.update({f"{k}_{c}": float(x) for c, x in zip("xyz", v, strict=True)})
+        else:
+            out[k] = float(v)
+    return out
+
+
+Record = tuple[str, str, str, float | None, float | None, dict[str, float]]
+
+
+def _records(table: Table) -> list[Record]:
+    """(label, joint, type, pitch, scale, params) for base, each joint row and tool."""
+    recs: list[Record] = [
+        ("base", "", "", None, None, _flat(table.base))
+    ]
+    for i, r in enumerate(table.rows, 1):
+        recs.append((str(i), r.name, r.kind, r.pitch, r.scale, _flat(r.params)))
+    recs.append(("tool", "", "", None, None, _flat(table.tool)))
+    return recs
+
+
+def _csv(table: Table) -> str:
+    cols = _columns(table)
+    buf = io.StringIO()
+    w = csv.writer(buf, lineterminator="\n")
+    w.writerow(["row", "joint", "type", "pitch", "scale", *cols])
+    for label, joint, kind, pitch, scale, params in _records(table):
+        w.writerow(
+            [label, joint, kind, "" if pitch is None else repr(pitch),
+             "" if scale is None else repr(scale)]
+            + [repr(params[c]) if c in params else "" for c in cols]
+        )
+    return buf.getvalue()
+
+
+# --------------------------------------------------------------------------- for people
+
+
+def _cell(name: str, value: float, unit: str) -> str:
+    if name.split("_")[0] in ANGLES:
+        text = f"{math.degrees(value):.4f}"
+    elif name.startswith("b_"):
+        text = f"{value:.6f}"
+    else:
+        text = f"{value:.{LENGTH_DECIMALS.get(unit, 6)}f}"
+    return "0." + "0" * (len(text) - text.index(".") - 1) if float(text) == 0.0 else text
+
+
+def _header(name: str, unit: str) -> str:
+    base = name.split("_")[0]
+    if base in ANGLES:
+        return f"{name} [deg]"
+    if base == "b":
+        return name
+    return f"{name} [{unit}]"
+
+
+def _grid(table: Table) -> tuple[list[str], list[list[str]]]:
+    unit = table.length_unit
+    cols = _columns(table)
+    show_pitch = any(r.kind == "helical" for r in table.rows)
+    show_scale = any(r.scale != 1.0 for r in table.rows)
+    head = ["", "joint", "type", *(_header(c, unit) for c in cols)]
+    if show_pitch:
+        head.append(f"h [{unit}/deg]")
+    if show_scale:
+        head.append("scale")
+    body = []
+    for label, joint, kind, pitch, scale, params in _records(table):
+        line = [label, joint, kind]
+        line += [_cell(c, params[c], unit) if c in params else "" for c in cols]
+        if show_pitch:
+            line.append("" if pitch is None else f"{pitch * math.pi / 180.0:.6g}")
+        if show_scale:
+            line.append("" if scale is None else f"{scale:.8g}")
+        body.append(line)
+    return head, body
+
+
+def _summary(table: Table) -> list[str]:
+    lines = []
+    if table.check is not None:
+        c = table.check
+        lines.append(
+            f"check: FK against the source at {c.samples} configurations: max position error "
+            f"{c.max_position_error:.2g} {table.length_unit}, max rotation error "
+            f"{c.max_rotation_error:.2g} rad"
+        )
+    lines.extend(f"warning: {w}" for w in table.warnings)
+    return lines
+
+
+def _title(table: Table) -> str:
+    where = f"{table.base_link} -> {table.tip_link}" if table.base_link else ""
+    src = f" ({table.source})" if table.source and table.source != table.robot else ""
+    return f"{table.robot}{src}  {where}".strip()
+
+
+def _text(table: Table) -> str:
+    head, body = _grid(table)
+    widths = [max(len(r[i]) for r in [head, *body]) for i in range(len(head))]
+    numeric = [i >= 3 for i in range(len(head))]
+
+    def fmt(row: list[str]) -> str:
+        cells = [c.rjust(w) if num else c.ljust(w) for c, w, num in zip(row, widths, numeric,
+                                                                          strict=True)]
+        return "  ".join(cells).rstrip()
+
+    out = [_title(table), TITLES[table.convention], "", fmt(head)]
+    out.append("  ".join("-" * w for w in widths))
+    out.extend(fmt(r) for r in body)
+    out.append("")
+    out.extend(_summary(table))
+    return "\n".join(out) + "\n"
+
+
+def _markdown(table: Table) -> str:
+    head, body = _grid(table)
+    head[0] = "row"
+    out = [f"**{_title(table)}** — {TITLES[table.convention]}", ""]
+    out.append("| " + " | ".join(head) + " |")
+    out.append("|" + "|".join("---" if i < 3 else "---:" for i in range(len(head))) + "|")
+    out.extend("| " + " | ".join(r) + " |" for r in body)
+    summary = _summary(table)
+    if summary:
+        out.append("")
+        out.extend(f"- {s}" for s in summary)
+    return "\n".join(out) + "\n"

@@ -1,0 +1,77 @@
+"""``urdf2dh info``: what a SOURCE holds, the chain that would be converted, identifiability."""
+
+from __future__ import annotations
+
+from collections import Counter
+
+from .errors import ChainError, choices
+from .screws import PoeModel
+from .sources import Source
+
+__all__ = ["describe", "identifiability"]
+
+LETTER = {"revolute": "R", "prismatic": "P", "helical": "H"}
+
+
+def identifiability(model: PoeModel) -> dict[str, int]:
+    """Parameter counts of Wu 2019 §V for a chain of ``h`` helical, ``r`` revolute and ``t``
+    prismatic joints (``n`` in all).
+
+    ``maximum`` is eq. (23), ``5h + 4r + 2t + n + 6`` (twists, scale factors, tool placement);
+    ``conventional`` is eq. (22), ``4r + 2t + 6`` (no helices, no scale factors). Of the six
+    base/tool parameters, four sit in the base transform and two in the tool (Fig. 3).
+    """
+    kinds = Counter(j.kind for j in model.joints)
+    h, r, t = kinds["helical"], kinds["revolute"], kinds["prismatic"]
+    n = model.n
+    return {
+        "helical": h, "revolute": r, "prismatic": t, "joints": n,
+        "maximum": 5 * h + 4 * r + 2 * t + n + 6,
+        "conventional": 4 * r + 2 * t + 6,
+        "base": 4, "tool": 2,
+    }
+
+
+def _chain_lines(model: PoeModel) -> list[str]:
+    ident = identifiability(model)
+    letters = "".join(LETTER[j.kind] for j in model.joints) or "(none)"
+    out = [f"chain: {model.base_link} -> {model.tip_link}: {model.n} movable joints {letters}"]
+    out.extend(f"  {i}. {j.name} ({j.kind})" for i, j in enumerate(model.joints, 1))
+    out.append(f"extent: {model.extent():.6g} {model.length_unit}")
+    out.append(
+        f"identifiable parameters (Wu 2019 eq. 23): 5h + 4r + 2t + n + 6 = "
+        f"5*{ident['helical']} + 4*{ident['revolute']} + 2*{ident['prismatic']} + "
+        f"{ident['joints']} + 6 = {ident['maximum']}"
+    )
+    out.append(
+        f"conventional count (eq. 22): 4r + 2t + 6 = {ident['conventional']}; "
+        f"of its 6 base/tool parameters, {ident['base']} sit in the base and "
+        f"{ident['tool']} in the tool"
+    )
+    out.extend(f"warning: {w}" for w in model.warnings)
+    return out
+
+
+def describe(source: Source, base: str | None, tip: str | None, ignore_mimic: bool) -> str:
+    """The text that ``urdf2dh info`` prints."""
+    lines = [f"robot: {source.name} ({source.kind}: {source.display})"]
+    tree = source.tree
+    if tree is not None:
+        types = Counter(j.type for j in tree.joints.values())
+        lines.append(f"links: {len(tree.links)}; root: {tree.root}")
+        lines.append(
+            f"joints: {len(tree.joints)} ("
+            + ", ".join(f"{n} {t}" for t, n in sorted(types.items())) + ")"
+        )
+        for j in tree.joints.values():
+            extra = f", mimics {j.mimic}" if j.mimic else ""
+            lines.append(f"  {j.name}: {j.type}, {j.parent} -> {j.child}{extra}")
+        start = base or (source.bundled.base if source.bundled else None) or tree.root
+        lines.append(f"candidate tips below {start}: {choices(tree.leaves(start), limit=40)}")
+    try:
+        model = source.model(base, tip, ignore_mimic)
+    except ChainError as e:
+        lines.append(f"chain: not determined ({e})")
+    else:
+        lines.extend(_chain_lines(model))
+    return "\n".join(lines) + "\n"

@@ -1,0 +1,173 @@
+"""Cross-check against Pinocchio, the independent forward-kinematics oracle.
+
+The only module that imports ``pinocchio``. For a URDF source Pinocchio parses the same URDF
+text itself (``buildModelFromXML``), so the check covers our URDF loading as well as the
+conversions. POE and table sources have no URDF: their Pinocchio model is assembled joint by
+joint from the screws (``JointModelRZ``, ``PZ``, ``HelicalUnaligned``).
+
+Pinocchio's continuous joints have two configuration coordinates ``(cos q, sin q)``; joints off
+the chain stay at their neutral position.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from .convert import sample_configurations, to_table
+from .errors import InputError
+from .screws import PoeModel
+from .se3 import pose_errors
+from .sources import Source
+from .table import CONVENTIONS, Table
+from .tolerances import DEFAULT, Tolerances
+
+__all__ = ["Result", "pinocchio_fk", "verify"]
+
+Mat = NDArray[np.float64]
+
+
+def _pin() -> Any:
+    try:
+        import pinocchio
+    except ImportError as e:  # pragma: no cover - pin is a hard dependency
+        raise InputError("Pinocchio is not installed; install it with: pip install pin") from e
+    return pinocchio
+
+
+def _frame_to_z(axis: Mat, point: Mat) -> Mat:
+    """A frame whose z is ``axis`` through ``point`` (x chosen orthogonal, deterministic)."""
+    z = axis / np.linalg.norm(axis)
+    helper = np.array([1.0, 0.0, 0.0]) if abs(z[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
+    x = np.cross(helper, z)
+    x /= np.linalg.norm(x)
+    out = np.eye(4)
+    out[:3, :3] = np.column_stack([x, np.cross(z, x), z])
+    out[:3, 3] = point
+    return out
+
+
+def _model_from_poe(pin: Any, poe: PoeModel) -> tuple[Any, list[tuple[int, int, float]], int, int]:
+    model = pin.Model()
+    parent, prev = 0, np.eye(4)
+    mapping = []
+    for j in poe.joints:
+        point = prev[:3, 3] if j.point is None else j.point
+        frame = _frame_to_z(j.axis, point)
+        if j.kind == "revolute":
+            jm = pin.JointModelRZ()
+        elif j.kind == "prismatic":
+            jm = pin.JointModelPZ()
+        else:
+            jm = pin.JointModelHelicalUnaligned(np.array([0.0, 0.0, 1.0]), j.pitch)
+        parent = model.addJoint(parent, jm, pin.SE3(np.linalg.inv(prev) @ frame), j.name)
+        mapping.append((model.joints[parent].idx_q, 1, j.scale))
+        prev = frame
+    tip = model.addFrame(
+        pin.Frame("tip", parent, pin.SE3(np.linalg.inv(prev) @ poe.home), pin.FrameType.OP_FRAME)
+    )
+    return model, mapping, 0, tip
+
+
+def _model_from_urdf(
+    pin: Any, source: Source, poe: PoeModel
+) -> tuple[Any, list[tuple[int, int, float]], int, int]:
+    assert source.urdf_text is not None
+    try:
+        model = pin.buildModelFromXML(source.urdf_text.decode())
+    except Exception as e:  # Pinocchio raises RuntimeError/ValueError with C++ text
+        raise InputError(f"{source.display}: Pinocchio cannot load it ({e})") from e
+    mapping = []
+    for j in poe.joints:
+        jid = model.getJointId(j.name)
+        if jid >= model.njoints:
+            raise InputError(f"{source.display}: Pinocchio has no joint '{j.name}'")
+        jm = model.joints[jid]
+        mapping.append((jm.idx_q, jm.nq, 1.0))
+
+    def frame(link: str) -> int:
+        fid = model.getFrameId(link, pin.FrameType.BODY)
+        if fid >= model.nframes:
+            raise InputError(f"{source.display}: Pinocchio has no frame for link '{link}'")
+        return int(fid)
+
+    return model, mapping, frame(poe.base_link), frame(poe.tip_link)
+
+
+def pinocchio_fk(source: Source, poe: PoeModel, q: Mat) -> Mat:
+    """Pinocchio's pose ``(N, 4, 4)`` of the tip in the base link for configurations ``q``."""
+    pin = _pin()
+    if source.kind == "urdf":
+        model, mapping, base_f, tip_f = _model_from_urdf(pin, source, poe)
+    else:
+        model, mapping, base_f, tip_f = _model_from_poe(pin, poe)
+    data = model.createData()
+    config = pin.neutral(model)
+    out = np.empty((q.shape[0], 4, 4))
+    for k in range(q.shape[0]):
+        for (idx, nq, scale), value in zip(mapping, q[k], strict=True):
+            if nq == 2:
+                config[idx], config[idx + 1] = np.cos(value), np.sin(value)
+            else:
+                config[idx] = scale * value
+        pin.forwardKinematics(model, data, config)
+        tip = pin.updateFramePlacement(model, data, tip_f).homogeneous
+        if base_f:
+            base = pin.updateFramePlacement(model, data, base_f).homogeneous
+            out[k] = np.linalg.solve(base, tip)
+        else:
+            out[k] = tip
+    return out
+
+
+@dataclass(frozen=True)
+class Result:
+    """Worst errors of one model against Pinocchio, and whether they are within tolerance."""
+
+    label: str
+    position: float
+    rotation: float
+    allowed_position: float
+    allowed_rotation: float
+    table: Table | None
+
+    @property
+    def ok(self) -> bool:
+        return self.position <= self.allowed_position and self.rotation <= self.allowed_rotation
+
+
+def verify(
+    source: Source,
+    poe: PoeModel,
+    samples: int = 1000,
+    seed: int = 0,
+    tol: Tolerances = DEFAULT,
+    conventions: tuple[str, ...] = CONVENTIONS,
+) -> list[Result]:
+    """The source's POE model and each convention's table against Pinocchio.
+
+    The tolerance is ``check_position x size`` and ``check_rotation``, plus twice the deviation a
+    table declared in its own check (non-zero only where a tolerance judgement was reported).
+    """
+    q = sample_configurations(poe, samples, seed)
+    reference = pinocchio_fk(source, poe, q)
+    size = poe.size()
+    base_pos, base_rot = tol.check_position * size, tol.check_rotation
+    pos, rot = pose_errors(poe.fk_batch(q), reference)
+    results = [Result("POE model", pos, rot, base_pos, base_rot, None)]
+    for conv in conventions:
+        table = to_table(poe, conv, tol, seed=seed)
+        assert table.check is not None
+        pos, rot = pose_errors(table.fk_batch(q), reference)
+        results.append(
+            Result(
+                conv, pos, rot,
+                base_pos + 2.0 * table.check.max_position_error,
+                base_rot + 2.0 * table.check.max_rotation_error,
+                table,
+            )
+        )
+    return results
