@@ -10,12 +10,11 @@ from __future__ import annotations
 import os
 import sys
 from dataclasses import dataclass
-from importlib import resources
 from pathlib import Path
 
 from .errors import InputError
 
-__all__ = ["ROBOTS", "Bundled", "example_robot_data_dir", "robot_path"]
+__all__ = ["ROBOTS", "Bundled", "example_robot_data_dir", "our_robots_dir", "robot_path"]
 
 ERD = "erd:"  # file under example-robot-data's robots/
 OURS = "ours:"  # file under this project's robots/
@@ -100,8 +99,18 @@ def example_robot_data_dir() -> Path:
     )
 
 
+def our_robots_dir() -> Path:
+    """This project's ``robots/``: installed as ``urdf2dh/robots``, or beside the package in a
+    source checkout (where ``python -m pytest`` imports the package from)."""
+    here = Path(__file__).resolve().parent
+    for candidate in (here / "robots", here.parent / "robots"):
+        if (candidate / "puma560-nominal.yaml").is_file():
+            return candidate
+    raise InputError(f"urdf2dh's robots/ directory is missing (looked beside {here})")
+
+
 def robot_path(robot: Bundled) -> Path:
     """The file of a bundled robot."""
     if robot.file.startswith(ERD):
         return example_robot_data_dir() / robot.file[len(ERD):]
-    return Path(str(resources.files("urdf2dh.robots").joinpath(robot.file[len(OURS):])))
+    return our_robots_dir() / robot.file[len(OURS):]
