@@ -104,3 +104,32 @@ def test_wu2019_table_ii_cell_by_cell(robot):
     wrong = [(n, g, e) for n, g, e in cells if not _matches(g, e)]
     assert not wrong, wrong
     assert len(cells) == 4 + 6 * 6 + 2
+
+
+# Universal Robots' published D-H parameters (support article "DH parameters for calculations of
+# kinematics and dynamics"): (d, a, alpha) per joint, theta offsets all 0.
+UR_TABLES = {
+    "ur3": [(0.1519, 0, math.pi / 2), (0, -0.24365, 0), (0, -0.21325, 0),
+            (0.11235, 0, math.pi / 2), (0.08535, 0, -math.pi / 2), (0.0819, 0, 0)],
+    "ur5": [(0.089159, 0, math.pi / 2), (0, -0.425, 0), (0, -0.39225, 0),
+            (0.10915, 0, math.pi / 2), (0.09465, 0, -math.pi / 2), (0.0823, 0, 0)],
+    "ur10": [(0.1273, 0, math.pi / 2), (0, -0.612, 0), (0, -0.5723, 0),
+             (0.163941, 0, math.pi / 2), (0.1157, 0, -math.pi / 2), (0.0922, 0, 0)],
+}
+
+
+@pytest.mark.parametrize("robot", sorted(UR_TABLES))
+def test_style_ur_prints_universal_robots_own_table(robot):
+    model = open_source(robot).model()
+    table = to_table(model, "dh", style="ur")
+    for row, (d, a, alpha) in zip(table.rows, UR_TABLES[robot], strict=True):
+        p = row.params
+        assert abs(p["theta"]) < 1e-11  # zero offsets (up to the URDF's rounded pi/2)
+        assert (p["d"], p["a"], p["alpha"]) == pytest.approx((d, a, alpha), abs=1e-11)
+    # base_link is UR's "base" frame turned by pi about z
+    assert table.base["theta"] == pytest.approx(math.pi)
+    assert table.check.max_position_error < 1e-12 * model.size()
+    wu = to_table(model, "dh")
+    # the default keeps a >= 0 (intersecting axes keep their exact, round-off sized a)
+    assert all(r.params["a"] >= -1e-15 for r in wu.rows)
+    assert sum(r.params["a"] < -1e-15 for r in table.rows) == 2  # UR: a2, a3 < 0

@@ -88,6 +88,9 @@ def get_argument_parser() -> argparse.ArgumentParser:
                    help="dh (standard), mdh (modified, Craig) or cpc (default %(default)s)")
     p.add_argument("--format", choices=FORMATS, default="text",
                    help="output format (default %(default)s)")
+    p.add_argument("--style", choices=("wu", "ur"), default="wu",
+                   help="D-H choices: wu (Wu 2019, a >= 0; default) or ur (zero theta offsets, "
+                        "Universal Robots' signs)")
     p.add_argument("-o", "--output", metavar="FILE", help="write to FILE instead of stdout")
     _add_tolerances(p)
 
@@ -130,7 +133,7 @@ def _convert(args: argparse.Namespace) -> int:
     tol = _tolerances(args)
     source = open_source(args.source, tol)
     model = source.model(args.base, args.tip, args.ignore_mimic)
-    table = to_table(model, args.convention, tol, samples=args.check_samples)
+    table = to_table(model, args.convention, tol, samples=args.check_samples, style=args.style)
     write_output(render(table, args.format), args.output)
     return 0
 

@@ -39,10 +39,20 @@ def _link(p: LinkParams) -> dict[str, float]:
     return {"theta": p.theta, "d": p.d, "alpha": p.alpha, "a": p.a}
 
 
-def build_table(model: PoeModel, convention: str, tol: Tolerances) -> tuple[Table, list[Any]]:
-    """Convert without checking. Returns the table and the judgements/notes made."""
+def build_table(
+    model: PoeModel, convention: str, tol: Tolerances, style: str = "wu"
+) -> tuple[Table, list[Any]]:
+    """Convert without checking. Returns the table and the judgements/notes made.
+
+    ``style`` chooses among equivalent D-H tables: ``wu`` (SPEC §3, Wu 2019) or ``ur`` (zero
+    theta offsets and Universal Robots' sign choices); it does not apply to ``cpc``.
+    """
     if convention not in CONVENTIONS:
         raise UsageError(f"unknown convention '{convention}'; valid: {choices(CONVENTIONS)}")
+    if style not in dh.STYLES:
+        raise UsageError(f"unknown style '{style}'; valid: {choices(dh.STYLES)}")
+    if style != "wu" and convention == "cpc":
+        raise UsageError(f"--style {style} applies to the D-H conventions (dh, mdh), not cpc")
     scales = [j.scale for j in model.joints]
     found: list[Any] = []
     if convention == "cpc":
@@ -56,7 +66,7 @@ def build_table(model: PoeModel, convention: str, tol: Tolerances) -> tuple[Tabl
             for j, sign in zip(model.joints, signs, strict=True) if sign < 0
         )
     else:
-        links, (tt, td), judgements = dh.links_from_poe(model, tol)
+        links, (tt, td), judgements = dh.links_from_poe(model, tol, style)
         found.extend(judgements)
         if convention == "dh":
             base = _link(links[0])
@@ -99,6 +109,7 @@ def to_table(
     tol: Tolerances = DEFAULT,
     samples: int = DEFAULT_SAMPLES,
     seed: int = 0,
+    style: str = "wu",
 ) -> Table:
     """Convert ``model`` to ``convention`` and check the result before returning it.
 
@@ -108,7 +119,7 @@ def to_table(
         If the table's forward kinematics deviates from the model's by more than the machine
         tolerance plus what the reported judgements account for.
     """
-    table, found = build_table(model, convention, tol)
+    table, found = build_table(model, convention, tol, style)
     check = self_check(model, table, samples, seed)
     size, reach, unit = model.size(), max(model.reach(), model.size()), model.length_unit
     warnings = list(model.warnings)

@@ -12,6 +12,7 @@ expressed in the frame built so far (the adjoint step) and Lemmas 1-3 give the n
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import numpy as np
@@ -24,6 +25,7 @@ from .tolerances import Tolerances
 
 __all__ = [
     "BASE_PARAMS",
+    "STYLES",
     "PARAMS",
     "TOOL_PARAMS",
     "base_matrix",
@@ -54,33 +56,56 @@ def tool_matrix(p: dict[str, Any]) -> Mat:
     return dh_matrix(p["theta"], p["d"], 0.0, 0.0)
 
 
+STYLES = ("wu", "ur")
+
+
+def _prefer_small_theta(link: LinkParams) -> LinkParams:
+    """Vendor style: of the two x directions along the common normal, the one with
+    ``theta`` in ``(-pi/2, pi/2]`` (zero offsets where the geometry allows; a may be < 0)."""
+    return link if -math.pi / 2 < link.theta <= math.pi / 2 else link.turned()
+
+
 def links_from_poe(
-    model: PoeModel, tol: Tolerances
+    model: PoeModel, tol: Tolerances, style: str = "wu"
 ) -> tuple[list[LinkParams], tuple[float, float], list[Judgement]]:
     """The n + 1 D-H links (base->1, 1->2, ..., n->tool z) and the tool's ``(theta, d)``.
+
+    ``style="wu"`` follows Wu 2019 §III (SPEC §3: ``a >= 0``). ``style="ur"`` prefers zero
+    ``theta`` offsets, and where an x axis is free (coincident axes) turns it so that the next
+    link's ``alpha`` is positive: Universal Robots' own sign choices.
 
     Frames are built from the parameters as they will be evaluated (``F = F . H``), so the
     rounding of each row is seen by the next one and never accumulates unchecked.
     """
-    f = np.eye(4)
-    links: list[LinkParams] = []
-    judgements: list[Judgement] = []
-    prev = "base z"
     size = model.size()
     lines: list[tuple[str, Mat, Mat | None, bool]] = [
         (j.name, j.axis, j.point, False) for j in model.joints
     ]
     lines.append(("tool z", model.home[:3, 2], model.home[:3, 3], True))
-    for name, axis, point, is_tool in lines:
-        r, t = f[:3, :3], f[:3, 3]
+    frames = [np.eye(4)]
+    links: list[LinkParams] = []
+    judgements: list[Judgement] = []
+    names = ["base z"] + [line[0] for line in lines]
+
+    def link_to(k: int) -> tuple[LinkParams, list[Judgement]]:
+        _, axis, point, is_tool = lines[k]
+        r, t = frames[k][:3, :3], frames[k][:3, 3]
         u = r.T @ axis
         u = u / np.linalg.norm(u)
         # a prismatic axis with a free location passes through the current frame origin (SPEC §3)
         p = np.zeros(3) if point is None else r.T @ (point - t)
-        link, found = common_normal(u, p, tol, (prev, name), size, tool=is_tool)
+        link, found = common_normal(u, p, tol, (names[k], names[k + 1]), size, tool=is_tool)
+        return (_prefer_small_theta(link) if style == "ur" else link), found
+
+    for k in range(len(lines)):
+        link, found = link_to(k)
+        if style == "ur" and k > 0 and links[-1].free and link.alpha < 0.0:
+            links[-1] = links[-1].turned()  # UR: a free x is chosen for a positive next alpha
+            prev = links[-1]
+            frames[-1] = frames[-2] @ dh_matrix(prev.theta, prev.d, prev.alpha, prev.a)
+            link, found = link_to(k)
         links.append(link)
         judgements.extend(found)
-        f = f @ dh_matrix(link.theta, link.d, link.alpha, link.a)
-        prev = name
-    g = se3.inv(f) @ model.home
+        frames.append(frames[-1] @ dh_matrix(link.theta, link.d, link.alpha, link.a))
+    g = se3.inv(frames[-1]) @ model.home
     return links, (angle(g[1, 0], g[0, 0]), float(g[2, 3])), judgements

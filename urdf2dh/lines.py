@@ -41,13 +41,23 @@ class Judgement:
 
 @dataclass(frozen=True)
 class LinkParams:
-    """``Rz(theta) Tz(d) Rx(alpha) Tx(a)`` and whether the two lines were (treated as) parallel."""
+    """``Rz(theta) Tz(d) Rx(alpha) Tx(a)``; ``parallel`` if the lines were (treated as)
+    parallel, ``free`` if the new x axis was free (coincident lines) and ``theta = 0`` chosen."""
 
     theta: float
     d: float
     alpha: float
     a: float
     parallel: bool
+    free: bool = False
+
+    def turned(self) -> LinkParams:
+        """The same frame turned by pi about its z: ``(theta + pi, d, -alpha, -a)``. Both are
+        valid D-H links to the same line; conventions differ only in which they prefer."""
+        theta = math.remainder(self.theta + math.pi, 2.0 * math.pi)
+        alpha = math.pi if abs(self.alpha) == math.pi else -self.alpha + 0.0
+        return LinkParams(math.pi if theta == -math.pi else theta + 0.0, self.d, alpha,
+                          -self.a + 0.0, self.parallel, self.free)
 
 
 def angle(y: float, x: float) -> float:
@@ -105,7 +115,8 @@ def common_normal(
             if gap > 0.0:
                 judgements.append(Judgement("coincident", *names, 0.0, gap))
             if off_parallel <= tol.noise:  # float round-off: a clean alpha = 0 or pi
-                return LinkParams(0.0, d, 0.0 if uz > 0.0 else math.pi, 0.0, True), judgements
+                alpha = 0.0 if uz > 0.0 else math.pi
+                return LinkParams(0.0, d, alpha, 0.0, True, free=True), judgements
             return LinkParams(angle(ux, -uy), d, angle(rho, uz), 0.0, True), judgements
         if rho == 0.0 or off_parallel <= parallel_angle:
             if rho > 0.0:
@@ -114,12 +125,12 @@ def common_normal(
             return LinkParams(angle(y, x), d, alpha, gap, True), judgements
     m = np.cross(p, u)  # the line's moment; the same for any point p on the line
     mx, my, mz = (float(c) for c in m)
-    d = (ux * my - uy * mx) / (rho * rho)  # Wu eq. after (17), with h = 0 in the moment
+    d = (ux * my - uy * mx) / (rho * rho) + 0.0  # Wu eq. after (17), h = 0 in the moment
     a_abs = abs(mz) / rho
     if tool or a_abs <= distance:
         # Tool (Lemma 4) or (nearly) intersecting lines: alpha > 0 and a keeps its exact,
         # possibly tiny negative, value. No judgement is needed: this is exact.
-        sigma, a = 1.0, -mz / rho
+        sigma, a = 1.0, -mz / rho + 0.0
     else:  # Wu eq. (17): a sin(alpha) = -m_z; choose the sign of alpha that makes a >= 0
         sigma, a = (1.0, a_abs) if -mz > 0.0 else (-1.0, a_abs)
     alpha = angle(sigma * rho, uz)
