@@ -25,8 +25,8 @@ from .tolerances import Tolerances
 
 __all__ = [
     "BASE_PARAMS",
-    "STYLES",
     "PARAMS",
+    "STYLES",
     "TOOL_PARAMS",
     "base_matrix",
     "links_from_poe",
