@@ -21,7 +21,7 @@ from .files import write_output
 
 __all__ = ["get_argument_parser", "main"]
 
-FORMATS = ("text", "json", "yaml", "csv", "markdown")
+FORMATS = ("text", "json", "yaml", "csv", "markdown", "urdf", "poe")
 CONVENTIONS = ("dh", "mdh", "cpc")
 
 

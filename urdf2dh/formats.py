@@ -3,6 +3,8 @@
 ``json`` and ``yaml`` hold the SPEC §2 tree in radians and source units with full precision;
 ``csv`` the same numbers flat; ``text`` and ``markdown`` are for people: angles in degrees,
 helix pitch in length per degree (the units of Wu 2019 Table II), units in the headers.
+``urdf`` and ``poe`` write the table's kinematics as a model instead: a URDF in metres
+(:mod:`urdf2dh.urdfwrite`) or a POE model file (SPEC §4, YAML).
 """
 
 from __future__ import annotations
@@ -18,7 +20,7 @@ from .table import Table, convention_module
 
 __all__ = ["FORMATS", "render"]
 
-FORMATS = ("text", "json", "yaml", "csv", "markdown")
+FORMATS = ("text", "json", "yaml", "csv", "markdown", "urdf", "poe")
 
 TITLES = {
     "dh": "standard D-H (Wu 2019): B . prod[Q_i Rz(theta) Tz(d) Rx(alpha) Tx(a)] . Rz Tz",
@@ -44,6 +46,17 @@ def render(table: Table, fmt: str) -> str:
         return _text(table)
     if fmt == "markdown":
         return _markdown(table)
+    if fmt == "urdf":
+        from .urdfwrite import table_to_urdf
+
+        return table_to_urdf(table)[0]
+    if fmt == "poe":
+        import yaml
+
+        from .poefile import poe_to_dict
+
+        return yaml.safe_dump(poe_to_dict(table.to_poe()), sort_keys=False,
+                              default_flow_style=None)
     raise UsageError(f"unknown format '{fmt}'; valid: {choices(FORMATS)}")
 
 

@@ -40,6 +40,8 @@ class UrdfJoint:
     lower: float | None
     upper: float | None
     mimic: str | None
+    multiplier: float = 1.0
+    offset: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -229,9 +231,12 @@ def _from_yourdfpy(data: bytes, display: str, name: str) -> UrdfTree:
         if j.limit is not None and j.type != "continuous":
             lower = None if j.limit.lower is None else float(j.limit.lower)
             upper = None if j.limit.upper is None else float(j.limit.upper)
+        mimic = j.mimic
         uj = UrdfJoint(
             j.name, j.type, j.parent, j.child, origin, axis, lower, upper,
-            None if j.mimic is None else j.mimic.joint,
+            None if mimic is None else mimic.joint,
+            1.0 if mimic is None or mimic.multiplier is None else float(mimic.multiplier),
+            0.0 if mimic is None or mimic.offset is None else float(mimic.offset),
         )
         if uj.child in parent_joint:
             other = parent_joint[uj.child].name
@@ -267,6 +272,20 @@ def _from_yourdfpy(data: bytes, display: str, name: str) -> UrdfTree:
 # --------------------------------------------------------------------------- chain -> POE
 
 
+def _helical_lead(uj: UrdfJoint, axis: NDArray[np.float64], joints: list[Joint]) -> float | None:
+    """The pitch, if ``uj`` is the lead of a helical joint as urdf2dh writes one: a prismatic
+    joint mimicking the revolute joint just before it on the chain (offset 0), along its axis."""
+    if uj.type != "prismatic" or uj.mimic is None or uj.offset != 0.0 or not joints:
+        return None
+    prev = joints[-1]
+    if prev.name != uj.mimic or prev.kind != "revolute":
+        return None
+    cos = float(axis @ prev.axis)
+    if abs(abs(cos) - 1.0) > 1e-12:
+        return None
+    return uj.multiplier * (1.0 if cos > 0 else -1.0)
+
+
 def tree_to_poe(
     tree: UrdfTree,
     base: str | None = None,
@@ -299,6 +318,15 @@ def tree_to_poe(
             )
         if uj.type == "fixed":
             continue
+        norm = float(np.linalg.norm(uj.axis))
+        axis = t[:3, :3] @ (uj.axis / norm)
+        axis /= np.linalg.norm(axis)
+        lead = _helical_lead(uj, axis, joints)
+        if lead is not None:  # revolute + coaxial prismatic mimicking it = one helical joint
+            prev = joints[-1]
+            joints[-1] = Joint(prev.name, "helical", prev.axis, prev.point, lead, 1.0,
+                               prev.lower, prev.upper)
+            continue
         if uj.mimic is not None:
             if not ignore_mimic:
                 raise ChainError(
@@ -309,9 +337,6 @@ def tree_to_poe(
                 f"joint '{uj.name}' mimics '{uj.mimic}' in the URDF; treated as an independent "
                 "joint (--ignore-mimic)"
             )
-        norm = float(np.linalg.norm(uj.axis))
-        axis = t[:3, :3] @ (uj.axis / norm)
-        axis /= np.linalg.norm(axis)
         kind: JointKind = MOVABLE[uj.type]  # type: ignore[assignment]
         joints.append(Joint(uj.name, kind, axis, t[:3, 3].copy(), 0.0, 1.0, uj.lower, uj.upper))
     return PoeModel(

@@ -76,8 +76,10 @@ def _model_from_urdf(
     pin: Any, source: Source, poe: PoeModel
 ) -> tuple[Any, list[tuple[int, int, float]], int, int]:
     assert source.urdf_text is not None
+    # helical joints arrive as a revolute joint and a prismatic one mimicking it (urdfwrite.py)
+    mimic = any(j.kind == "helical" for j in poe.joints)
     try:
-        model = pin.buildModelFromXML(source.urdf_text.decode())
+        model = pin.buildModelFromXML(source.urdf_text.decode(), mimic=mimic)
     except Exception as e:  # Pinocchio raises RuntimeError/ValueError with C++ text
         raise InputError(f"{source.display}: Pinocchio cannot load it ({e})") from e
     mapping = []

@@ -1,0 +1,155 @@
+"""Any table (or POE model, through its table) -> URDF text whose forward kinematics equals it.
+
+Each joint's URDF frame is the table's own frame at that joint (the frame whose z is the joint
+axis just before ``Q_i``), so URDF -> table -> URDF -> table returns the same table. Joint
+limits travel with the rows.
+
+URDF has no helical joint and no joint scale:
+
+* a helical joint is written as a revolute joint followed by a coaxial prismatic joint
+  ``<name>_lead`` that mimics it with ``multiplier = pitch`` (exact; Pinocchio builds it with
+  ``mimic=True``, and :mod:`urdf2dh.urdf` reads the pair back as one helical joint);
+* a joint with ``scale`` other than +-1 moves by ``s = scale q``: the URDF joint's position is
+  ``|scale| q`` (its limits scaled alike), and a comment and the returned notes say so.
+"""
+
+from __future__ import annotations
+
+import math
+from xml.sax.saxutils import escape, quoteattr
+
+import numpy as np
+from numpy.typing import NDArray
+
+from . import __version__, se3
+from .errors import UsageError, choices
+from .table import Table
+
+__all__ = ["METRES_PER_UNIT", "rpy_from_matrix", "table_to_urdf"]
+
+METRES_PER_UNIT = {"m": 1.0, "cm": 0.01, "mm": 0.001, "um": 1e-6, "in": 0.0254, "ft": 0.3048}
+
+
+def rpy_from_matrix(r: NDArray[np.float64]) -> tuple[float, float, float]:
+    """URDF ``rpy`` of a rotation matrix: ``R = Rz(yaw) Ry(pitch) Rx(roll)``.
+
+    Pitch comes from ``atan2`` (accurate near +-pi/2); yaw from the first column (0 at gimbal
+    lock); roll from what remains, ``Rx(roll) = Ry(-pitch) Rz(-yaw) R``.
+    """
+    pitch = math.atan2(-r[2, 0], math.hypot(r[0, 0], r[1, 0]))
+    yaw = math.atan2(r[1, 0], r[0, 0]) if math.hypot(r[0, 0], r[1, 0]) > 1e-12 else 0.0
+    rest = se3.rot_y(-pitch)[:3, :3] @ se3.rot_z(-yaw)[:3, :3] @ r
+    roll = math.atan2(rest[2, 1], rest[1, 1])
+    return roll + 0.0, pitch + 0.0, yaw + 0.0
+
+
+def _num(x: float) -> str:
+    return repr(float(x) + 0.0)
+
+
+def _origin(t: NDArray[np.float64]) -> str:
+    xyz = " ".join(_num(v) for v in t[:3, 3])
+    rpy = " ".join(_num(v) for v in rpy_from_matrix(t[:3, :3]))
+    return f'<origin xyz="{xyz}" rpy="{rpy}"/>'
+
+
+def _unique(name: str, taken: set[str]) -> str:
+    out, k = name, 1
+    while out in taken:
+        k += 1
+        out = f"{name}_{k}"
+    taken.add(out)
+    return out
+
+
+def table_to_urdf(table: Table) -> tuple[str, list[str]]:
+    """URDF text for ``table`` (in metres, as URDF requires) and the notes about what URDF
+    could not say directly."""
+    if table.length_unit not in METRES_PER_UNIT:
+        raise UsageError(
+            f"cannot write URDF (metres) from lengths in '{table.length_unit}'; known units: "
+            f"{choices(METRES_PER_UNIT)}"
+        )
+    metres = METRES_PER_UNIT[table.length_unit]
+    frames = [f.copy() for f in table.frames()]
+    for f in frames:
+        f[:3, 3] *= metres
+    taken: set[str] = set()
+    base = _unique(table.base_link or "base", taken)
+    tip_name = table.tip_link or "tool"
+    taken.add(tip_name)
+    links = [base]
+    joints: list[str] = []
+    notes: list[str] = []
+    parent, prev = base, np.eye(4)
+    for row, frame in zip(table.rows, frames[:-1], strict=True):
+        scale = row.scale
+        sign = 1.0 if scale > 0 else -1.0
+        axis = f'<axis xyz="0 0 {_num(sign)}"/>'
+        if abs(abs(scale) - 1.0) > 1e-15:
+            notes.append(
+                f"joint '{row.name}' moves by s = {scale:.10g} q: its URDF position is "
+                f"{abs(scale):.10g} q (URDF joints have no scale)"
+            )
+        limit = ""
+        if row.lower is not None and row.upper is not None:
+            unit = metres if row.kind == "prismatic" else 1.0
+            lo, hi = sorted((unit * abs(scale) * row.lower, unit * abs(scale) * row.upper))
+            limit = f'<limit lower="{_num(lo)}" upper="{_num(hi)}" effort="0" velocity="0"/>'
+        child = _unique(f"{row.name}_link", taken)
+        if row.kind == "prismatic":
+            jtype = "prismatic"
+            limit = limit or '<limit effort="0" velocity="0"/>'
+        elif row.kind == "helical":
+            jtype = "revolute"
+            if not limit:
+                limit = (f'<limit lower="{_num(-math.pi)}" upper="{_num(math.pi)}" '
+                         'effort="0" velocity="0"/>')
+                notes.append(
+                    f"helical joint '{row.name}': limits unknown, [-pi, pi] written (URDF "
+                    "revolute joints need limits, and mimic joints cannot follow continuous ones)"
+                )
+        else:
+            jtype = "revolute" if limit else "continuous"
+        joints.append(
+            f'  <joint name={quoteattr(row.name)} type="{jtype}">\n'
+            f'    <parent link={quoteattr(parent)}/><child link={quoteattr(child)}/>\n'
+            f"    {_origin(se3.inv(prev) @ frame)}\n    {axis}\n"
+            + (f"    {limit}\n" if limit else "") + "  </joint>"
+        )
+        links.append(child)
+        parent, prev = child, frame
+        if row.kind == "helical":
+            lead = _unique(f"{row.name}_lead_link", taken)
+            joints.append(
+                f'  <joint name={quoteattr(row.name + "_lead")} type="prismatic">\n'
+                f'    <parent link={quoteattr(parent)}/><child link={quoteattr(lead)}/>\n'
+                f'    <origin xyz="0 0 0" rpy="0 0 0"/>\n    {axis}\n'
+                f'    <limit effort="0" velocity="0"/>\n'
+                f'    <mimic joint={quoteattr(row.name)} multiplier="{_num(metres * row.pitch)}" '
+                'offset="0"/>\n  </joint>'
+            )
+            links.append(lead)
+            parent = lead
+    joints.append(
+        f'  <joint name={quoteattr(tip_name + "_joint")} type="fixed">\n'
+        f'    <parent link={quoteattr(parent)}/><child link={quoteattr(tip_name)}/>\n'
+        f"    {_origin(se3.inv(prev) @ frames[-1])}\n  </joint>"
+    )
+    links.append(tip_name)
+    header = [
+        f"Written by urdf2dh {__version__} from {table.source or table.robot} "
+        f"({table.convention} table; lengths converted from {table.length_unit} to m)."
+        if metres != 1.0 else f"({table.convention} table).",
+        "Kinematics only: no inertias, no geometry.",
+        *notes,
+    ]
+    text = (
+        '<?xml version="1.0"?>\n'
+        + "".join(f"<!-- {escape(h).replace('--', '- -')} -->\n" for h in header)
+        + f"<robot name={quoteattr(table.robot or 'robot')}>\n"
+        + "".join(f"  <link name={quoteattr(n)}/>\n" for n in links)
+        + "\n".join(joints)
+        + "\n</robot>\n"
+    )
+    return text, notes
