@@ -18,8 +18,9 @@ def identifiability(model: PoeModel) -> dict[str, int]:
     prismatic joints (``n`` in all).
 
     ``maximum`` is eq. (23), ``5h + 4r + 2t + n + 6`` (twists, scale factors, tool placement);
-    ``conventional`` is eq. (22), ``4r + 2t + 6`` (no helices, no scale factors). Of the six
-    base/tool parameters, four sit in the base transform and two in the tool (Fig. 3).
+    ``conventional`` is eq. (22), ``4r + 2t + 6``, where helical joints count as revolute (the
+    conventional setting leaves out helices and scale factors, §V-A). Of the six base/tool
+    parameters, four sit in the base transform and two in the tool (§V-B, Fig. 3).
     """
     kinds = Counter(j.kind for j in model.joints)
     h, r, t = kinds["helical"], kinds["revolute"], kinds["prismatic"]
@@ -27,7 +28,7 @@ def identifiability(model: PoeModel) -> dict[str, int]:
     return {
         "helical": h, "revolute": r, "prismatic": t, "joints": n,
         "maximum": 5 * h + 4 * r + 2 * t + n + 6,
-        "conventional": 4 * r + 2 * t + 6,
+        "conventional": 4 * (r + h) + 2 * t + 6,
         "base": 4, "tool": 2,
     }
 
@@ -44,9 +45,9 @@ def _chain_lines(model: PoeModel) -> list[str]:
         f"{ident['joints']} + 6 = {ident['maximum']}"
     )
     out.append(
-        f"conventional count (eq. 22): 4r + 2t + 6 = {ident['conventional']}; "
-        f"of its 6 base/tool parameters, {ident['base']} sit in the base and "
-        f"{ident['tool']} in the tool"
+        f"conventional count (eq. 22, helical joints as revolute): 4r + 2t + 6 = "
+        f"{ident['conventional']}; of its 6 base/tool parameters, {ident['base']} sit in the "
+        f"base and {ident['tool']} in the tool"
     )
     out.extend(f"warning: {w}" for w in model.warnings)
     return out
