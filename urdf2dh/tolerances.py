@@ -68,7 +68,7 @@ class Tolerances:
     check_rotation: float = 1e-10
     cpc_reverse_below: float = -0.5
     far_factor: float = 10.0
-    rotation_input: float = 1e-6
+    rotation_input: float = 1e-3
     noise: float = 256 * EPS
     report: float = 1e-12
 
