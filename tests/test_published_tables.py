@@ -1,5 +1,5 @@
-"""Published kinematics recovered from the models: Universal Robots' UR5 D-H table, Franka's
-Panda table, and Wu, Crawford & Roberts 2019 Table II (PUMA 560) cell by cell."""
+"""Published kinematics recovered from the models: Universal Robots' D-H tables, Franka's Panda
+table, Wu, Crawford & Roberts 2019 Table II and Sumenkov's Table III (PUMA 560) cell by cell."""
 
 from __future__ import annotations
 
@@ -8,6 +8,7 @@ import math
 import pytest
 
 from urdf2dh.convert import to_table
+from urdf2dh.papers import sumenkov_table3, wu2019_table2
 from urdf2dh.sources import open_source
 
 
@@ -40,70 +41,32 @@ def test_panda_recovers_franka_geometry():
         [0, 90, 90, 90, 90, 90, 90], abs=1e-9)
 
 
-# Wu, Crawford & Roberts, ICRA 2019, Table II: theta(deg), d(mm), alpha(deg), a(mm), h(mm/deg),
-# q_bar for B->0, 0->1 ... 5->6 and (theta, d) for 6->T, as printed.
-TABLE_II = {
-    "puma560-nominal": {
-        "base": (0, 0, 0, 0),
-        "rows": [
-            (0, 0, 90, 0, 0, 1),
-            (0, 0, 0, 100, 0, 1),
-            (0, -50, 90, 150, 0, 1),
-            (180, 20, 90, 0, 0, 1),
-            (180, 0, 90, 0, 0, 1),
-            (0, 0, 180, 0, 0, 1),
-        ],
-        "tool": (0, 0),
-    },
-    "puma560-actual": {
-        "base": ("63.4349", "1.0000", "2.5632", "0"),
-        "rows": [
-            ("116.5421", "-1.0214", "-88.8540", "0.0092", "0", "1.0000005"),
-            ("-88.0290", "-567.6554", "10.2538", "0.5114", "0", "1.00002"),
-            ("-86.0527", "552.7518", "90.0434", "153.3035", "0.0014", "0.99997"),
-            ("-169.8271", "30.1922", "90.7413", "1.8365", "-0.0000009", "1.000008"),
-            ("-178.0999", "-0.7927", "91.7710", "3.1761", "0.00000001", "1.00004"),
-            ("82.8018", "-37.0573", "175.0748", "-0.7202", "0.0502", "1.000005"),
-        ],
-        "tool": ("83.1872", "-35.4328"),
-    },
-}
-
-
-def _decimals(printed) -> int:
-    text = str(printed)
-    return len(text.split(".")[1]) if "." in text else 0
-
-
-def _matches(value: float, printed) -> bool:
-    """``value`` rounded to the printed number of decimals equals the printed cell."""
-    k = _decimals(printed)
-    return round(value, k) == round(float(printed), k) or (
-        abs(value - float(printed)) <= 0.5 * 10.0**-k + 1e-12
-    )
-
-
-@pytest.mark.parametrize("robot", sorted(TABLE_II))
+@pytest.mark.parametrize("robot", ["puma560-nominal", "puma560-actual"])
 def test_wu2019_table_ii_cell_by_cell(robot):
-    expected = TABLE_II[robot]
-    table = to_table(open_source(robot).model(), "dh")
-    cells = []
-
-    def dh(p):
-        return (math.degrees(p["theta"]), p["d"], math.degrees(p["alpha"]), p["a"])
-
-    cells += list(zip(("B theta", "B d", "B alpha", "B a"), dh(table.base), expected["base"],
-                      strict=True))
-    for i, (row, exp) in enumerate(zip(table.rows, expected["rows"], strict=True)):
-        h_per_degree = row.pitch * math.pi / 180.0
-        got = (*dh(row.params), h_per_degree, row.scale)
-        names = [f"{i}H{i + 1} {c}" for c in ("theta", "d", "alpha", "a", "h", "q_bar")]
-        cells += list(zip(names, got, exp, strict=True))
-    cells += [("6HT theta", math.degrees(table.tool["theta"]), expected["tool"][0]),
-              ("6HT d", table.tool["d"], expected["tool"][1])]
-    wrong = [(n, g, e) for n, g, e in cells if not _matches(g, e)]
-    assert not wrong, wrong
+    """Wu, Crawford & Roberts 2019, Table II (robots/wu2019-table2.yaml), every printed cell."""
+    cells = wu2019_table2(robot)
     assert len(cells) == 4 + 6 * 6 + 2
+    assert [c for c in cells if not c.ok] == []
+
+
+def test_sumenkov_table_iii():
+    """Sumenkov, Table III (robots/sumenkov-table3.yaml): what follows from which model."""
+    printed_model = sumenkov_table3()
+    rows = {c.row for c in printed_model}
+    assert len(rows) == 7 and len(printed_model) == 49
+    wrong = [(c.row, c.column) for c in printed_model if not c.ok]
+    # rows V_0..V_3 agree to the printed digits; V_4 all but l_x (6.59245 vs 6.593)
+    assert [w for w in wrong if w[0] in ("V_0", "V_1", "V_2", "V_3", "V_4")] == [("V_4", "l_x")]
+    assert next(c for c in printed_model if (c.row, c.column) == ("V_4", "l_x")).ours == \
+        pytest.approx(6.593, abs=6e-4)
+    # rows V_5, V_6 do not follow from the printed joint 6 ...
+    assert sum(w[0] in ("V_5", "V_6") for w in wrong) >= 8
+    # ... but from joint 6 with w_x, w_y negated (Sumenkov's own printed h_6 = -2.874)
+    corrected = sumenkov_table3(joint6_as_behind_rows_6_7=True)
+    last = [c for c in corrected if c.row in ("V_5", "V_6")]
+    off = [(c.row, c.column) for c in last if not c.ok]
+    assert off == [("V_6", "l_y"), ("V_6", "l_z"), ("V_6", "beta")]
+    assert all(abs(c.ours - float(c.printed)) < 1e-3 for c in last)
 
 
 # Universal Robots' published D-H parameters (support article "DH parameters for calculations of
