@@ -132,12 +132,15 @@ def to_table(
         j: Judgement = item
         allowed_pos += 2.0 * (j.angle * reach + j.gap)
         allowed_rot += 2.0 * j.angle
-        if j.angle <= tol.report and j.gap <= tol.report * size:
-            continue  # below the exactness urdf2dh promises: not worth a user's attention
+        # a judgement is new only if the lines are apart both in the frames built so far and in
+        # the source; otherwise it carries on (or undoes) an earlier judgement's deviation
+        shown = j.angle if j.source_angle is None else min(j.angle, j.source_angle)
+        if shown <= tol.report and j.gap <= tol.report * size:
+            continue  # below the exactness promised, or a consequence of an earlier judgement
         snapped = True
         if j.kind == "parallel":
             warnings.append(
-                f"{convention}: '{j.first}' and '{j.second}' are {j.angle:.3g} rad from parallel; "
+                f"{convention}: '{j.first}' and '{j.second}' are {shown:.3g} rad from parallel; "
                 f"treated as parallel (--parallel-angle {tol.parallel_angle:g})"
             )
         else:

@@ -19,6 +19,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from . import se3
+from dataclasses import replace
+
 from .lines import Judgement, LinkParams, angle, common_normal, dh_matrix
 from .screws import PoeModel
 from .tolerances import Tolerances
@@ -87,6 +89,15 @@ def links_from_poe(
     judgements: list[Judgement] = []
     names = ["base z"] + [line[0] for line in lines]
 
+    directions = [np.array([0.0, 0.0, 1.0])] + [line[1] for line in lines]
+
+    def source_angle(k: int) -> float:
+        """Angle from parallel between line k and the one before it, in the source (after
+        an earlier judgement, the frames are off by that much too: not a new judgement)."""
+        c = abs(float(directions[k] @ directions[k + 1]))
+        s = float(np.linalg.norm(np.cross(directions[k], directions[k + 1])))
+        return math.atan2(s, c)
+
     def link_to(k: int) -> tuple[LinkParams, list[Judgement]]:
         _, axis, point, is_tool = lines[k]
         r, t = frames[k][:3, :3], frames[k][:3, 3]
@@ -95,6 +106,7 @@ def links_from_poe(
         # a prismatic axis with a free location passes through the current frame origin (SPEC §3)
         p = np.zeros(3) if point is None else r.T @ (point - t)
         link, found = common_normal(u, p, tol, (names[k], names[k + 1]), size, tool=is_tool)
+        found = [replace(j, source_angle=source_angle(k)) for j in found]
         return (_prefer_small_theta(link) if style == "ur" else link), found
 
     for k in range(len(lines)):

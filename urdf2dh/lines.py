@@ -37,6 +37,7 @@ class Judgement:
     second: str
     angle: float  # radians the lines were from the assumed relation (0 if not angular)
     gap: float  # length the lines were from the assumed relation (0 if not a distance)
+    source_angle: float | None = None  # the same angle between the lines in the source model
 
 
 @dataclass(frozen=True)
@@ -80,6 +81,17 @@ def dh_matrix(theta: float, d: float, alpha: float, a: float) -> NDArray[np.floa
     )
 
 
+def _far(u: NDArray[np.float64], p: NDArray[np.float64], pivot_d: float, tol: Tolerances,
+         size: float) -> bool:
+    """Whether the exact common normal of nearly parallel lines lies farther than
+    ``far_factor x size`` from the pivot: only then does D-H need the parallel judgement. (Lines
+    tilted about their common perpendicular keep a near normal, and their exact table is sane.)"""
+    ux, uy = float(u[0]), float(u[1])
+    m = np.cross(p, u)
+    d = (ux * float(m[1]) - uy * float(m[0])) / (ux * ux + uy * uy)
+    return abs(d - pivot_d) > tol.far_factor * size
+
+
 def common_normal(
     u: NDArray[np.float64],
     p: NDArray[np.float64],
@@ -118,7 +130,9 @@ def common_normal(
                 alpha = 0.0 if uz > 0.0 else math.pi
                 return LinkParams(0.0, d, alpha, 0.0, True, free=True), judgements
             return LinkParams(angle(ux, -uy), d, angle(rho, uz), 0.0, True), judgements
-        if rho == 0.0 or off_parallel <= parallel_angle:
+        if off_parallel <= tol.noise or (
+            off_parallel <= parallel_angle and _far(u, p, d, tol, size)
+        ):
             if rho > 0.0:
                 judgements.append(Judgement("parallel", *names, off_parallel, 0.0))
             alpha = 0.0 if uz > 0.0 else math.pi

@@ -187,11 +187,11 @@ class PoeModel:
 
     def fk(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
         """Pose of the tip for one configuration ``q`` of shape ``(n,)``."""
-        return self.fk_batch(np.asarray(q, dtype=float).reshape(1, -1))[0]
+        return self.fk_batch(se3.as_configurations(q, self.n))[0]
 
     def fk_batch(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
         """Poses ``(N, 4, 4)`` of the tip for configurations ``q`` of shape ``(N, n)``."""
-        q = np.asarray(q, dtype=float).reshape(-1, self.n)
+        q = se3.as_configurations(q, self.n)
         out = np.broadcast_to(np.eye(4), (q.shape[0], 4, 4)).copy()
         zero = np.zeros(3)
         for i, j in enumerate(self.joints):

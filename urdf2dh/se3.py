@@ -18,6 +18,7 @@ from numpy.typing import NDArray
 
 __all__ = [
     "adjoint",
+    "as_configurations",
     "inv",
     "line_screw_batch",
     "pose_errors",
@@ -31,6 +32,17 @@ __all__ = [
 ]
 
 Mat = NDArray[np.float64]
+
+
+def as_configurations(q: NDArray[np.float64], n: int) -> NDArray[np.float64]:
+    """``q`` as an ``(N, n)`` float array: one configuration ``(n,)`` becomes ``(1, n)``; works
+    for chains without movable joints (``n = 0``) too."""
+    q = np.asarray(q, dtype=float)
+    if q.ndim == 1:
+        q = q[None, :]
+    if q.ndim != 2 or q.shape[1] != n:
+        raise ValueError(f"expected configurations of shape (N, {n}), got {q.shape}")
+    return q
 
 
 def rot_x(a: float) -> Mat:

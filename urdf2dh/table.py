@@ -23,6 +23,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from . import se3
 from .screws import Joint, JointKind, PoeModel
 
 __all__ = ["CONVENTIONS", "SCHEMA", "Check", "Row", "Table", "convention_module"]
@@ -113,7 +114,7 @@ class Table:
 
     def fk(self, q: NDArray[np.float64]) -> Mat:
         """Pose ``(4, 4)`` of the tool for one configuration ``q`` of shape ``(n,)``."""
-        return self.fk_batch(np.asarray(q, dtype=float).reshape(1, -1))[0]
+        return self.fk_batch(se3.as_configurations(q, self.n))[0]
 
     def fk_batch(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
         """Poses ``(N, 4, 4)`` of the tool for configurations ``q`` of shape ``(N, n)``.
@@ -121,7 +122,7 @@ class Table:
         Vectorised over N: each joint costs one ``(N, 4, 4) @ (4, 4)`` product and a column
         rotation, whatever N is.
         """
-        q = np.asarray(q, dtype=float).reshape(-1, self.n)
+        q = se3.as_configurations(q, self.n)
         rot, lin, scale = self._motion
         s = q * scale
         links = self.links
