@@ -13,14 +13,13 @@ expressed in the frame built so far (the adjoint step) and Lemmas 1-3 give the n
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
 from . import se3
-from dataclasses import replace
-
 from .lines import Judgement, LinkParams, angle, common_normal, dh_matrix
 from .screws import PoeModel
 from .tolerances import Tolerances

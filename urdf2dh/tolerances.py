@@ -27,7 +27,8 @@ class Tolerances:
         farther than ``far_factor`` x the robot's size, are treated as exactly parallel by the
         D-H conventions (``dh``, ``mdh``). Rounded URDF angles (``rpy="0 1.5708 0"``) leave such
         pairs 1e-9 to 1e-4 rad apart, where the exact common normal lies 10^3 to 10^8 lengths
-        away. (Pairs tilted about their common perpendicular keep a near normal and stay exact.) Each such judgement is listed in the table's ``warnings`` with the forward
+        away. (Pairs tilted about their common perpendicular keep a near normal and stay
+        exact.) Each such judgement is listed in the table's ``warnings`` with the forward
         kinematics deviation it caused. 0 means exact (``--exact``): then only float round-off
         (``noise``) is treated as parallel.
     meet_angle
