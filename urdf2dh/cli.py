@@ -65,9 +65,9 @@ def _add_tolerances(p: argparse.ArgumentParser) -> None:
                    default=DEFAULT.parallel_angle,
                    help="treat axes this close to parallel as parallel (default %(default)g rad)")
     g.add_argument("--intersect-distance", type=_nonnegative_float, metavar="LENGTH",
-                   default=DEFAULT.intersect_distance,
-                   help="treat lines this close as intersecting or coincident "
-                        "(default %(default)g, in the source's length unit)")
+                   default=None,
+                   help="treat lines this close as intersecting or coincident, in the source's "
+                        f"length unit (default {DEFAULT.intersect_relative:g} x the robot's size)")
     g.add_argument("--check-samples", type=_positive_int, default=1000, metavar="N",
                    help="configurations of the self-check (default %(default)s)")
 

@@ -146,7 +146,7 @@ def to_table(
         else:
             warnings.append(
                 f"{convention}: '{j.first}' and '{j.second}' are {_fmt_len(j.gap, unit)} apart; "
-                f"treated as {j.kind} (--intersect-distance {tol.intersect_distance:g})"
+                f"treated as {j.kind} (--intersect-distance {tol.distance(size):.3g})"
             )
     if snapped:
         warnings.append(

@@ -19,6 +19,7 @@ says so.
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import numpy as np
@@ -94,13 +95,14 @@ def tool_matrix(p: dict[str, Any]) -> Mat:
     return np.eye(4)
 
 
-def reversals(model: PoeModel, reverse_below: float) -> list[float]:
+def reversals(model: PoeModel, tol: Tolerances) -> list[float]:
     """The sign (+1 or -1) of each joint's CPC frame z relative to its axis.
 
     Forward pass: reverse a frame whose axis points more than ``acos(reverse_below)`` away from
     the previous frame's z. Then the tool: if its z points that far from the last frame's z,
     reverse the shortest run of last frames whose first member may turn around safely.
     """
+    reverse_below = tol.cpc_reverse_below
     signs: list[float] = []
     zs = [np.array([0.0, 0.0, 1.0])]
     for j in model.joints:
@@ -109,17 +111,30 @@ def reversals(model: PoeModel, reverse_below: float) -> list[float]:
         zs.append(s * j.axis)
     tool_z = model.home[:3, 2]
     if model.n and float(zs[-1] @ tool_z) < reverse_below:
-        for first in range(model.n, 0, -1):  # joint index `first` (1-based) starts the run
-            if -float(zs[first - 1] @ zs[first]) >= reverse_below:
-                for k in range(first - 1, model.n):
-                    signs[k] = -signs[k]
-                break
+        # Reverse a run of last frames, starting at joint `first` (1-based): the pair
+        # (first - 1, first) then turns round. Prefer the shortest run whose turned pair stays
+        # within the preference; else the one whose turned pair is farthest from singular.
+        turned = {first: -float(zs[first - 1] @ zs[first]) for first in range(model.n, 0, -1)}
+        ok = [f for f, v in turned.items() if v >= reverse_below]
+        first = ok[0] if ok else max(turned, key=lambda f: turned[f])
+        if turned[first] > -1.0 + tol.cpc_singular_margin:
+            for k in range(first - 1, model.n):
+                signs[k] = -signs[k]
     return signs
 
 
-def _tool_shape(g: Mat) -> dict[str, Any]:
+def _direction(v: Vec, noise: float) -> Vec:
+    """A unit ``b``; within round-off of ``-z`` it is exactly ``-z``, so that ``R(b)`` there is
+    the documented ``Ry(pi)`` and not a turn about whatever the round-off points to."""
+    b = v / np.linalg.norm(v)
+    if b[2] < 0.0 and math.hypot(float(b[0]), float(b[1])) <= noise:
+        return np.array([0.0, 0.0, -1.0])
+    return b
+
+
+def _tool_shape(g: Mat, noise: float) -> dict[str, Any]:
     """Statement 1: ``b`` is the third column, ``beta`` from ``R(b)^T R``, ``l`` from ``t``."""
-    b = g[:3, 2] / np.linalg.norm(g[:3, 2])
+    b = _direction(g[:3, 2], noise)
     rz = r_of_b(b).T @ g[:3, :3]
     beta = angle(rz[1, 0], rz[0, 0])
     r = r_of_b(b) @ se3.rot_z(beta)[:3, :3]
@@ -134,15 +149,14 @@ def shapes_from_poe(
     Frames are accumulated from the parameters as they will be evaluated, so each row sees the
     previous rows' rounding.
     """
-    signs = reversals(model, tol.cpc_reverse_below)
+    signs = reversals(model, tol)
     f = np.eye(4)
     shapes: list[dict[str, Any]] = []
     notes: list[str] = []
     prev = "base z"
     for j, s in zip(model.joints, signs, strict=True):
         r, t = f[:3, :3], f[:3, 3]
-        b = r.T @ (s * j.axis)
-        b = b / np.linalg.norm(b)
+        b = _direction(r.T @ (s * j.axis), tol.noise)
         p = np.zeros(3) if j.point is None else r.T @ (j.point - t)
         o = p - float(p @ b) * b  # foot of the perpendicular from the previous origin
         rb = r_of_b(b)
@@ -153,7 +167,7 @@ def shapes_from_poe(
         f = f @ v_matrix(shape["b"], shape["l"], 0.0)
         prev = j.name
     g = se3.inv(f) @ model.home
-    tool = _tool_shape(g)
+    tool = _tool_shape(g, tol.noise)
     if tool["b"][0] == 0.0 and tool["b"][1] == 0.0 and tool["b"][2] < 0.0:
         notes.append(_singular_note(prev, "tool z"))
     shapes.append(tool)

@@ -110,7 +110,7 @@ def common_normal(
     rho = math.hypot(ux, uy)
     off_parallel = math.atan2(rho, abs(uz))
     parallel_angle = max(tol.parallel_angle, tol.noise)  # round-off is never geometry
-    distance = max(tol.intersect_distance, tol.noise * size)
+    distance = tol.distance(size)
     judgements: list[Judgement] = []
     if rho == 0.0 or off_parallel <= max(parallel_angle, tol.meet_angle):
         # (Nearly) parallel. Pivot on the tool origin (the frame lands on it, the tool's own d

@@ -172,9 +172,20 @@ class PoeModel:
         pts.append(self.home[:3, 3])
         return float(max(np.linalg.norm(p) for p in pts))
 
+    def travel(self) -> float:
+        """How far the joints can translate the tip along their axes: prismatic travel within
+        the limits (within the extent where unknown) and helical advance over the rotation
+        range (:meth:`limits`)."""
+        lim = self.limits()
+        return float(sum(
+            abs(j.translation * j.scale) * float(np.abs(lim[i]).max())
+            for i, j in enumerate(self.joints) if j.translation
+        ))
+
     def size(self) -> float:
-        """The length that errors are measured against: :meth:`extent`, or 1 when that is 0."""
-        e = self.extent()
+        """The length errors are measured against: the extent at home plus the travel of the
+        sliding joints (or 1 for a chain that is all at the origin and cannot slide)."""
+        e = self.extent() + self.travel()
         return e if e > 0.0 else 1.0
 
     def reach(self) -> float:
@@ -202,9 +213,10 @@ class PoeModel:
 
     def limits(self) -> NDArray[np.float64]:
         """``(n, 2)`` sampling ranges for ``q``: the joint limits where known, else
-        ``[-pi, pi]`` for rotating joints and ``[-size, size]`` (in ``s``) for prismatic ones."""
+        ``[-pi, pi]`` for rotating joints and ``[-extent, extent]`` (in ``s``) for prismatic
+        ones (``[-1, 1]`` for a chain that is all at the origin)."""
         out = np.empty((self.n, 2))
-        size = self.size()
+        size = self.extent() or 1.0
         for i, j in enumerate(self.joints):
             if j.lower is not None and j.upper is not None and j.upper > j.lower:
                 out[i] = (j.lower, j.upper)

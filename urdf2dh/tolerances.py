@@ -38,9 +38,12 @@ class Tolerances:
         the previous axis there: ``a = 0`` and its exact direction is kept. This is exact, so it
         applies with ``--exact`` too.
     intersect_distance
-        Source length unit. Lines closer than this count as intersecting: non-parallel pairs
-        get ``alpha > 0`` (their tiny ``a`` is kept, exactly), parallel pairs are treated as
-        coincident (``a = 0``, ``theta = 0``).
+        Source length unit, or ``None`` for ``intersect_relative`` x the robot's size. Lines
+        closer than this count as intersecting: non-parallel pairs get ``alpha > 0`` (their
+        tiny ``a`` is kept, exactly), parallel pairs are treated as coincident (``a = 0``,
+        ``theta = 0``).
+    intersect_relative
+        The default distance above, as a fraction of the robot's size.
     check_position, check_rotation
         The self-check: a table whose forward kinematics deviates from the source's by more than
         ``check_position`` x robot size (position) or ``check_rotation`` rad (orientation), beyond
@@ -49,6 +52,10 @@ class Tolerances:
         CPC's R(b) is singular at b = -z. A CPC frame whose axis direction has
         ``b_z < cpc_reverse_below`` in the previous frame is reversed (its joint gets
         ``scale = -scale``), as SPEC §2 allows.
+    cpc_singular_margin
+        When the tool z would point against the last CPC frame's z, a run of last frames is
+        reversed; the frame pair that then turns round must stay this far (in ``b_z``) from
+        -1, or it would trade one singularity for another.
     far_factor
         A D-H ``|d|`` or ``|a|`` larger than ``far_factor`` x the robot's extent is warned about.
     rotation_input
@@ -65,10 +72,12 @@ class Tolerances:
 
     parallel_angle: float = 1e-4
     meet_angle: float = 1e-3
-    intersect_distance: float = 1e-9
+    intersect_distance: float | None = None
+    intersect_relative: float = 1e-9
     check_position: float = 1e-10
     check_rotation: float = 1e-10
     cpc_reverse_below: float = -0.5
+    cpc_singular_margin: float = 1e-3
     far_factor: float = 10.0
     rotation_input: float = 1e-3
     noise: float = 256 * EPS
@@ -78,6 +87,12 @@ class Tolerances:
     def exact(self) -> bool:
         """True when no geometric snapping is done (``--exact``)."""
         return self.parallel_angle == 0.0 and self.intersect_distance == 0.0
+
+    def distance(self, size: float) -> float:
+        """The intersect distance for a robot of this size (never below float round-off)."""
+        chosen = self.intersect_relative * size if self.intersect_distance is None \
+            else self.intersect_distance
+        return max(chosen, self.noise * size)
 
     def with_exact(self) -> Tolerances:
         """The same tolerances with snapping turned off."""

@@ -1,0 +1,164 @@
+"""Bad input never crashes and never lies: each case exits 2 with one line on stderr naming the
+file, link or joint, no traceback, and no output file left behind."""
+
+from __future__ import annotations
+
+import pytest
+
+from urdf2dh.cli import main
+
+LINKS = '<link name="base"/><link name="a"/><link name="b"/>'
+
+
+def robot(body: str, links: str = LINKS) -> str:
+    return f'<robot name="r">{links}{body}</robot>'
+
+
+def joint(name="j", jtype="revolute", parent="base", child="a", extra="") -> str:
+    return (f'<joint name="{name}" type="{jtype}"><parent link="{parent}"/>'
+            f'<child link="{child}"/>{extra}</joint>')
+
+
+CHAIN = joint("j1") + joint("j2", parent="a", child="b")
+
+# name -> (file content (str or bytes), extra CLI args, message fragments)
+CASES = {
+    "malformed XML": ("<robot name='r'><link name='a'>", [], ["malformed XML"]),
+    "not a robot": ("<model name='x'/>", [], ["not a URDF robot", "<model>"]),
+    "robot without name": ("<robot><link name='a'/></robot>", [], ["no name attribute"]),
+    "empty file": ("", [], ["empty file"]),
+    "whitespace file": ("  \n\t ", [], ["empty file"]),
+    "binary file": (b"\x89PNG\r\n\x1a\n\x00\x00\x00", [], ["binary file"]),
+    "no links": ("<robot name='r'/>", [], ["declares no links"]),
+    "undeclared child link": (robot(joint(child="c")), [],
+                              ["joint 'j'", "undeclared link 'c'", "child"]),
+    "undeclared parent link": (robot(joint(parent="nowhere")), [],
+                               ["joint 'j'", "undeclared link 'nowhere'"]),
+    "missing child element": (robot('<joint name="j" type="fixed"><parent link="base"/></joint>'),
+                              [], ["joint 'j'", "no <child link=...>"]),
+    "link with two parents": (robot(joint("j1") + joint("j2", parent="b", child="a")), [],
+                              ["link 'a' is the child of both", "kinematic loop"]),
+    "cycle without root": (robot(joint("j1", parent="a", child="b")
+                                 + joint("j2", parent="b", child="a"),
+                                 links='<link name="a"/><link name="b"/>'),
+                           [], ["kinematic loop"]),
+    "detached cycle": (robot(joint("j0", parent="base", child="c")
+                             + joint("j1", parent="a", child="b")
+                             + joint("j2", parent="b", child="a"),
+                             links=LINKS + '<link name="c"/>'),
+                       [], ["not connected to root 'base'", "kinematic loop"]),
+    "several roots": (robot(joint("j1", parent="base", child="a"),
+                            links=LINKS), [], ["several root links", "base", "b"]),
+    "zero axis": (robot(joint(extra='<axis xyz="0 0 0"/>')), [], ["joint 'j'", "zero axis"]),
+    "NaN axis": (robot(joint(extra='<axis xyz="0 nan 1"/>')), [], ["joint 'j'", "not finite"]),
+    "non-numeric axis": (robot(joint(extra='<axis xyz="0 one 1"/>')), [],
+                         ["joint 'j'", "axis xyz '0 one 1' is not 3 numbers"]),
+    "short axis": (robot(joint(extra='<axis xyz="0 1"/>')), [], ["joint 'j'", "not 3 numbers"]),
+    "NaN origin": (robot(joint(extra='<origin xyz="0 0 nan"/>')), [],
+                   ["joint 'j'", "origin xyz", "not finite"]),
+    "infinite origin": (robot(joint(extra='<origin xyz="0 0 1e999"/>')), [],
+                        ["joint 'j'", "not finite"]),
+    "non-numeric origin": (robot(joint(extra='<origin rpy="0 x 0"/>')), [],
+                           ["joint 'j'", "origin rpy '0 x 0' is not 3 numbers"]),
+    "non-numeric limit": (robot(joint(extra='<limit lower="a" upper="1"/>')), [],
+                          ["joint 'j'", "limit lower"]),
+    "unknown joint type": (robot(joint(jtype="ball")), [], ["joint 'j'", "unknown type 'ball'"]),
+    "floating joint on the chain": (robot(joint("j1", jtype="floating")
+                                          + joint("j2", parent="a", child="b")), [],
+                                    ["joint 'j1'", "is floating"]),
+    "planar joint on the chain": (robot(joint("j1", jtype="planar")
+                                        + joint("j2", parent="a", child="b")), [],
+                                  ["joint 'j1'", "is planar"]),
+    "duplicate joint": (robot(joint("j") + joint("j", parent="a", child="b")), [],
+                        ["joint 'j' is declared twice"]),
+    "duplicate link": (robot(joint(), links=LINKS + '<link name="a"/>'), [],
+                       ["link 'a' is declared twice"]),
+    "unknown base": (robot(CHAIN), ["--base", "nope"], ["unknown base link 'nope'", "base"]),
+    "unknown tip": (robot(CHAIN), ["--tip", "nope"], ["unknown tip link 'nope'"]),
+    "tip not below base": (robot(CHAIN), ["--base", "b", "--tip", "a"],
+                           ["tip link 'a' is not below base link 'b'"]),
+    "mimic on the chain": (robot(joint("j1") + joint("j2", parent="a", child="b",
+                                                     extra='<mimic joint="j1"/>')), [],
+                           ["joint 'j2'", "mimics joint 'j1'", "--ignore-mimic"]),
+}
+
+
+@pytest.mark.parametrize("case", sorted(CASES))
+@pytest.mark.parametrize("command", ["convert", "verify", "info"])
+def test_bad_urdf(case, command, tmp_path, capsys):
+    content, args, fragments = CASES[case]
+    path = tmp_path / "bad.urdf"
+    path.write_bytes(content if isinstance(content, bytes) else content.encode())
+    if command == "info" and ("--tip" in args or "--base" in args or case in (
+            "floating joint on the chain", "planar joint on the chain", "mimic on the chain")):
+        pytest.skip("info reports chain problems as text instead of failing")
+    out = tmp_path / "out.json"
+    argv = [command, str(path), *args] + (["-o", str(out)] if command == "convert" else [])
+    assert main(argv) == 2
+    captured = capsys.readouterr()
+    err = captured.err
+    assert err.startswith("urdf2dh: error: ") and err.count("\n") == 1, err
+    assert "Traceback" not in err + captured.out
+    for fragment in fragments:
+        assert fragment in err, (fragment, err)
+    assert str(path) in err or "bad.urdf" in err or fragments[0].startswith(("unknown", "tip"))
+    assert not out.exists()
+    assert [p.name for p in tmp_path.iterdir()] == ["bad.urdf"]
+
+
+def test_info_reports_chain_problems_without_failing(tmp_path, capsys):
+    path = tmp_path / "bad.urdf"
+    path.write_text(CASES["floating joint on the chain"][0])
+    assert main(["info", str(path)]) == 0
+    assert "chain: not determined" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("content, suffix, fragment", [
+    ("format: poe\njoints: [\n", ".yaml", "malformed YAML"),
+    ('{"format": "poe", "joints": [}', ".json", "malformed JSON"),
+    ("just some words", ".yaml", "not a URDF, POE model"),
+    ("format: poe\njoints: 3\ntool: {twist: [0,0,0,0,0,0]}\n", ".yaml", "'joints' must be a list"),
+    ("format: poe\njoints: []\n", ".yaml", "'tool' must give either"),
+    ("schema: urdf2dh/1\nconvention: xyz\n", ".yaml", "convention must be one of"),
+])
+def test_bad_model_and_table_files(content, suffix, fragment, tmp_path, capsys):
+    path = tmp_path / f"bad{suffix}"
+    path.write_text(content)
+    out = tmp_path / "out.txt"
+    assert main(["convert", str(path), "-o", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert fragment in err and err.count("\n") == 1 and "Traceback" not in err
+    assert not out.exists()
+
+
+def test_missing_files_directories_and_outputs(tmp_path, capsys):
+    assert main(["convert", str(tmp_path / "none.urdf")]) == 2
+    assert "none.urdf: no such file" in capsys.readouterr().err
+    assert main(["convert", str(tmp_path)]) == 2
+    assert "is a directory" in capsys.readouterr().err
+    assert main(["convert", "ur5", "-o", str(tmp_path / "no" / "dir" / "x.txt")]) == 2
+    assert "does not exist" in capsys.readouterr().err
+    assert main(["convert", "puma560-actual", "--base", "x"]) == 2
+    assert "--base/--tip apply to URDF sources" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("argv", [
+    ["convert", "ur5", "--convention", "xyz"],
+    ["convert", "ur5", "--format", "pdf"],
+    ["verify", "ur5", "--samples", "0"],
+    ["convert", "ur5", "--parallel-angle", "-1"],
+    ["convert", "ur5", "--parallel-angle", "nan"],
+    ["convert"],
+    ["frobnicate"],
+])
+def test_bad_usage_exits_2(argv, capsys):
+    with pytest.raises(SystemExit) as e:
+        main(argv)
+    assert e.value.code == 2
+    err = capsys.readouterr().err
+    assert "usage:" in err and "Traceback" not in err
+
+
+def test_style_ur_with_cpc_is_a_usage_error(capsys):
+    assert main(["convert", "ur5", "--convention", "cpc", "--style", "ur"]) == 2
+    assert "--style ur applies to the D-H conventions" in capsys.readouterr().err
