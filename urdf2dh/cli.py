@@ -102,6 +102,28 @@ def get_argument_parser() -> argparse.ArgumentParser:
                    help="random seed (default %(default)s)")
     _add_tolerances(p)
 
+    p = sub.add_parser("diff", help="compare two parameter sets (calibration: nominal vs actual)")
+    p.add_argument("nominal", metavar="NOMINAL", help="URDF, POE model, table file or robot")
+    p.add_argument("actual", metavar="ACTUAL", help="URDF, POE model, table file or robot")
+    p.add_argument("--base", metavar="LINK", help="base link of URDF sources")
+    p.add_argument("--tip", metavar="LINK", help="tip link of URDF sources")
+    p.add_argument("--ignore-mimic", action="store_true",
+                   help="treat mimic joints on the chain as independent joints")
+    p.add_argument("--convention", choices=CONVENTIONS, default="dh",
+                   help="convention to compare in (default %(default)s)")
+    p.add_argument("--style", choices=("wu", "ur"), default="wu", help="D-H choices (see convert)")
+    p.add_argument("--angle-threshold", type=_nonnegative_float, default=60.0, metavar="DEG",
+                   help="mark angle changes over this, modulo 180 (default %(default)g, as "
+                        "Wu 2019 Table II)")
+    p.add_argument("--length-threshold", type=_nonnegative_float, metavar="LENGTH",
+                   help="mark length changes over this (default 30 mm in the tables' unit)")
+    p.add_argument("--parallel-within", type=_nonnegative_float, default=5.0, metavar="DEG",
+                   help="name axis pairs this close to parallel in either model as "
+                        "ill-conditioned for D-H (default %(default)g)")
+    p.add_argument("--format", choices=("text", "json"), default="text")
+    p.add_argument("-o", "--output", metavar="FILE", help="write to FILE instead of stdout")
+    _add_tolerances(p)
+
     p = sub.add_parser("info", help="links, joints, the chain, candidate tips, identifiability")
     _add_chain(p)
 
@@ -166,6 +188,43 @@ def _verify(args: argparse.Namespace) -> int:
     return 0
 
 
+def _diff(args: argparse.Namespace) -> int:
+    import math
+
+    from .convert import to_table
+    from .diff import compare, default_length_threshold, ill_conditioned, render_diff
+    from .errors import InputError
+    from .sources import open_source
+    from .urdfwrite import METRES_PER_UNIT
+
+    tol = _tolerances(args)
+    models, names = [], []
+    for text in (args.nominal, args.actual):
+        source = open_source(text, tol)
+        models.append(source.model(args.base, args.tip, args.ignore_mimic))
+        names.append(source.name)
+    nominal, actual = models
+    if actual.length_unit != nominal.length_unit:
+        units = (nominal.length_unit, actual.length_unit)
+        if not all(u in METRES_PER_UNIT for u in units):
+            raise InputError(f"NOMINAL is in {units[0]} and ACTUAL in {units[1]}: cannot compare")
+        factor = METRES_PER_UNIT[units[1]] / METRES_PER_UNIT[units[0]]
+        actual = actual.scaled(factor, units[0])
+    tables = [to_table(m, args.convention, tol, samples=args.check_samples, style=args.style)
+              for m in (nominal, actual)]
+    length = (args.length_threshold if args.length_threshold is not None
+              else default_length_threshold(nominal.length_unit))
+    angle = math.radians(args.angle_threshold)
+    changes = compare(tables[0], tables[1], angle, length)
+    pairs = ill_conditioned(nominal, actual, math.radians(args.parallel_within))
+    info = {"convention": args.convention, "nominal": names[0], "actual": names[1],
+            "units": {"length": nominal.length_unit, "angle": "rad"},
+            "thresholds": {"angle": angle, "length": length},
+            "warnings": [w for t in tables for w in t.warnings]}
+    write_output(render_diff(info, changes, pairs, args.format), args.output)
+    return 0
+
+
 def _info(args: argparse.Namespace) -> int:
     from .info import describe
     from .sources import open_source
@@ -185,7 +244,8 @@ def _robots(args: argparse.Namespace) -> int:
     return 0
 
 
-COMMANDS = {"convert": _convert, "verify": _verify, "info": _info, "robots": _robots}
+COMMANDS = {"convert": _convert, "verify": _verify, "diff": _diff, "info": _info,
+            "robots": _robots}
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -18,7 +18,7 @@ from typing import Any
 from .errors import UsageError, choices
 from .table import Table, convention_module
 
-__all__ = ["FORMATS", "render"]
+__all__ = ["FORMATS", "fixed", "render"]
 
 FORMATS = ("text", "json", "yaml", "csv", "markdown", "urdf", "poe")
 
@@ -112,14 +112,20 @@ def _csv(table: Table) -> str:
 # --------------------------------------------------------------------------- for people
 
 
+def fixed(value: float, decimals: int, sign: str = "") -> str:
+    """``value`` with ``decimals`` decimals, never printed as ``-0.000``."""
+    text = f"{value:{sign}.{decimals}f}"
+    if float(text) == 0.0:
+        return f"{0.0:{sign}.{decimals}f}"
+    return text
+
+
 def _cell(name: str, value: float, unit: str) -> str:
     if name.split("_")[0] in ANGLES:
-        text = f"{math.degrees(value):.4f}"
-    elif name.startswith("b_"):
-        text = f"{value:.6f}"
-    else:
-        text = f"{value:.{LENGTH_DECIMALS.get(unit, 6)}f}"
-    return "0." + "0" * (len(text) - text.index(".") - 1) if float(text) == 0.0 else text
+        return fixed(math.degrees(value), 4)
+    if name.startswith("b_"):
+        return fixed(value, 6)
+    return fixed(value, LENGTH_DECIMALS.get(unit, 6))
 
 
 def _header(name: str, unit: str) -> str:

@@ -211,6 +211,20 @@ class PoeModel:
             out = out @ g
         return out @ self.home
 
+    def scaled(self, factor: float, unit: str) -> PoeModel:
+        """The same chain with lengths multiplied by ``factor`` and called ``unit`` (points,
+        tip position, helix pitch; prismatic joints move ``factor`` times as far per ``q``)."""
+        joints = tuple(
+            Joint(j.name, j.kind, j.axis, None if j.point is None else factor * j.point,
+                  factor * j.pitch, factor * j.scale if j.kind == "prismatic" else j.scale,
+                  j.lower, j.upper)
+            for j in self.joints
+        )
+        home = self.home.copy()
+        home[:3, 3] *= factor
+        return PoeModel(joints, home, self.name, self.source, self.base_link, self.tip_link,
+                        unit, self.warnings)
+
     def limits(self) -> NDArray[np.float64]:
         """``(n, 2)`` sampling ranges for ``q``: the joint limits where known, else
         ``[-pi, pi]`` for rotating joints and ``[-extent, extent]`` (in ``s``) for prismatic

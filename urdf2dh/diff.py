@@ -1,0 +1,198 @@
+"""``urdf2dh diff NOMINAL ACTUAL``: two parameter sets side by side, for calibration.
+
+Both sources become tables in the same convention and their parameters are compared row by row.
+A change is *marked* when it exceeds the thresholds, as Wu 2019 Table II marks the jumps caused
+by parallel axes (> 60 degrees or > 30 mm there). Angles are compared modulo 180 degrees: D-H
+may describe the same pair of lines with (theta, alpha, a) or (theta + pi, -alpha, -a), and a
+sign rule such as a >= 0 switches between them when a crosses 0 (Table II's 0H1 alpha, 90 ->
+-88.854, is not marked).
+
+The axis pairs where D-H is ill-conditioned are named: consecutive lines (base z, joint axes,
+tool z) that are nearly parallel in either model. There the common normal, and with it d, a and
+theta, jump under small changes (Wu 2019 §V-B): identify with CPC or the POE model and convert
+back. Modified D-H uses the same common normals and shares the problem.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass
+from typing import Any
+
+import numpy as np
+
+from .errors import InputError, UsageError
+from .formats import fixed
+from .screws import PoeModel
+from .table import Row, Table
+from .urdfwrite import METRES_PER_UNIT
+
+__all__ = ["Change", "IllPair", "compare", "ill_conditioned", "render_diff"]
+
+SCHEMA = "urdf2dh-diff/1"
+ANGLES = ("theta", "alpha", "beta")
+
+
+@dataclass(frozen=True)
+class Change:
+    """One parameter in both tables. Angles in radians, lengths in the nominal's unit; for the
+    CPC vectors ``b`` the change is the angle between them, for ``l`` the distance."""
+
+    row: str
+    param: str
+    nominal: Any
+    actual: Any
+    change: float
+    kind: str  # "angle", "length", "direction", "pitch" or "scale"
+    marked: bool
+
+
+@dataclass(frozen=True)
+class IllPair:
+    """Consecutive lines nearly parallel in at least one model (angles from parallel, rad)."""
+
+    first: str
+    second: str
+    nominal_angle: float
+    actual_angle: float
+
+
+def _angle_mod_pi(delta: float) -> float:
+    return abs(math.remainder(delta, math.pi))
+
+
+def _kind(param: str) -> str:
+    if param in ANGLES:
+        return "angle"
+    if param == "b":
+        return "direction"
+    return "length"
+
+
+def compare(nominal: Table, actual: Table, angle_threshold: float,
+            length_threshold: float) -> list[Change]:
+    """Row-by-row changes from ``nominal`` to ``actual`` (same convention, same unit)."""
+    if nominal.convention != actual.convention:
+        raise UsageError("diff compares tables of one convention")
+    if nominal.n != actual.n:
+        raise InputError(
+            f"NOMINAL has {nominal.n} joints and ACTUAL {actual.n}: the tables do not match"
+        )
+    rows: list[tuple[str, Any, Any, Row | None, Row | None]] = [
+        ("base", nominal.base, actual.base, None, None)
+    ]
+    for a, b in zip(nominal.rows, actual.rows, strict=True):
+        label = a.name if a.name == b.name else f"{a.name}/{b.name}"
+        rows.append((label, a.params, b.params, a, b))
+    rows.append(("tool", nominal.tool, actual.tool, None, None))
+    out = []
+    for label, pa, pb, ra, rb in rows:
+        for param in pa:
+            kind = _kind(param)
+            va, vb = pa[param], pb[param]
+            if kind == "angle":
+                change = float(vb) - float(va)
+                size = _angle_mod_pi(change)
+                marked = size > angle_threshold
+                change = math.remainder(change, 2 * math.pi)
+            elif kind == "direction":
+                change = math.acos(max(-1.0, min(1.0, float(np.dot(va, vb)))))
+                marked = change > angle_threshold
+            elif isinstance(va, list):
+                change = float(np.linalg.norm(np.subtract(vb, va)))
+                marked = change > length_threshold
+            else:
+                change = float(vb) - float(va)
+                marked = abs(change) > length_threshold
+            out.append(Change(label, param, va, vb, change, kind, marked))
+        if ra is not None and rb is not None:
+            out.append(Change(label, "pitch", ra.pitch, rb.pitch, rb.pitch - ra.pitch, "pitch",
+                              False))
+            out.append(Change(label, "scale", ra.scale, rb.scale, rb.scale - ra.scale, "scale",
+                              False))
+    return out
+
+
+def _lines(model: PoeModel) -> list[tuple[str, np.ndarray]]:
+    return ([("base z", np.array([0.0, 0.0, 1.0]))]
+            + [(j.name, j.axis) for j in model.joints] + [("tool z", model.home[:3, 2])])
+
+
+def ill_conditioned(nominal: PoeModel, actual: PoeModel, within: float) -> list[IllPair]:
+    """Consecutive lines within ``within`` rad of (anti-)parallel in either model."""
+    out = []
+    la, lb = _lines(nominal), _lines(actual)
+    for k in range(len(la) - 1):
+        angles = []
+        for lines in (la, lb):
+            u, v = lines[k][1], lines[k + 1][1]
+            angles.append(math.atan2(float(np.linalg.norm(np.cross(u, v))), abs(float(u @ v))))
+        if min(angles) <= within:
+            out.append(IllPair(la[k][0], la[k + 1][0], angles[0], angles[1]))
+    return out
+
+
+def default_length_threshold(unit: str) -> float:
+    """30 mm (Wu 2019 Table II's threshold) in ``unit``."""
+    if unit not in METRES_PER_UNIT:
+        raise UsageError(f"unknown length unit '{unit}': give --length-threshold")
+    return 0.030 / METRES_PER_UNIT[unit]
+
+
+RECOMMENDATION = (
+    "D-H parameters jump near (nearly) parallel axes (Wu 2019 §V-B): identify with CPC or the "
+    "POE model and convert back for compensation; modified D-H uses the same common normals and "
+    "shares the problem"
+)
+
+
+def render_diff(info: dict[str, Any], changes: list[Change], pairs: list[IllPair],
+                fmt: str) -> str:
+    """Text (angles in degrees) or JSON (radians) report."""
+    if fmt == "json":
+        import json
+
+        tree = {"schema": SCHEMA, **info, "parameters": [asdict(c) for c in changes],
+                "ill_conditioned": [asdict(p) for p in pairs],
+                "recommendation": RECOMMENDATION if pairs else None}
+        return json.dumps(tree, indent=2) + "\n"
+    unit = info["units"]["length"]
+
+    def show(value: Any, kind: str) -> str:
+        if isinstance(value, list):
+            return "[" + ", ".join(fixed(v, 4) for v in value) + "]"
+        if kind == "angle":
+            return fixed(math.degrees(value), 4)
+        if kind == "pitch":
+            return f"{value * math.pi / 180:.6g}"
+        return f"{value:.6g}" if kind == "scale" else fixed(value, 4)
+
+    def delta(c: Change) -> str:
+        if c.kind in ("angle", "direction"):
+            return f"{fixed(math.degrees(c.change), 4, '+')} deg"
+        if c.kind == "pitch":
+            return f"{c.change * math.pi / 180:+.3g} {unit}/deg"
+        return f"{c.change:+.6g}" if c.kind == "scale" else f"{fixed(c.change, 4, '+')} {unit}"
+
+    width = max(len(c.row) for c in changes)
+    thresholds = info["thresholds"]
+    out = [
+        f"diff ({info['convention']}): {info['nominal']} -> {info['actual']}; marked (*): "
+        f"changes over {math.degrees(thresholds['angle']):g} deg (modulo 180) or "
+        f"{thresholds['length']:g} {unit}",
+        f"{'row':<{width}}  {'param':<6} {'nominal':>28} {'actual':>28}  change",
+    ]
+    for c in changes:
+        if c.kind in ("pitch", "scale") and c.change == 0.0:
+            continue
+        out.append(f"{c.row:<{width}}  {c.param:<6} {show(c.nominal, c.kind):>28} "
+                   f"{show(c.actual, c.kind):>28}  {delta(c)}{'  *' if c.marked else ''}")
+    out.append(f"{sum(c.marked for c in changes)} parameters changed beyond the thresholds")
+    if pairs:
+        names = ", ".join(
+            f"({p.first}, {p.second}) {math.degrees(p.nominal_angle):.3f} / "
+            f"{math.degrees(p.actual_angle):.3f} deg" for p in pairs
+        )
+        out.append(f"ill-conditioned axis pairs (nearly parallel; nominal / actual): {names}")
+        out.append(RECOMMENDATION)
+    return "\n".join(out) + "\n"
