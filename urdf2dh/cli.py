@@ -191,36 +191,16 @@ def _verify(args: argparse.Namespace) -> int:
 def _diff(args: argparse.Namespace) -> int:
     import math
 
-    from .convert import to_table
-    from .diff import compare, default_length_threshold, ill_conditioned, render_diff
-    from .errors import InputError
-    from .sources import open_source
-    from .urdfwrite import METRES_PER_UNIT
+    from .diff import diff_sources, render_diff
 
-    tol = _tolerances(args)
-    models, names = [], []
-    for text in (args.nominal, args.actual):
-        source = open_source(text, tol)
-        models.append(source.model(args.base, args.tip, args.ignore_mimic))
-        names.append(source.name)
-    nominal, actual = models
-    if actual.length_unit != nominal.length_unit:
-        units = (nominal.length_unit, actual.length_unit)
-        if not all(u in METRES_PER_UNIT for u in units):
-            raise InputError(f"NOMINAL is in {units[0]} and ACTUAL in {units[1]}: cannot compare")
-        factor = METRES_PER_UNIT[units[1]] / METRES_PER_UNIT[units[0]]
-        actual = actual.scaled(factor, units[0])
-    tables = [to_table(m, args.convention, tol, samples=args.check_samples, style=args.style)
-              for m in (nominal, actual)]
-    length = (args.length_threshold if args.length_threshold is not None
-              else default_length_threshold(nominal.length_unit))
-    angle = math.radians(args.angle_threshold)
-    changes = compare(tables[0], tables[1], angle, length)
-    pairs = ill_conditioned(nominal, actual, math.radians(args.parallel_within))
-    info = {"convention": args.convention, "nominal": names[0], "actual": names[1],
-            "units": {"length": nominal.length_unit, "angle": "rad"},
-            "thresholds": {"angle": angle, "length": length},
-            "warnings": [w for t in tables for w in t.warnings]}
+    info, changes, pairs = diff_sources(
+        args.nominal, args.actual, args.convention, _tolerances(args),
+        angle_threshold=math.radians(args.angle_threshold),
+        length_threshold=args.length_threshold,
+        parallel_within=math.radians(args.parallel_within),
+        base=args.base, tip=args.tip, ignore_mimic=args.ignore_mimic, style=args.style,
+        samples=args.check_samples,
+    )
     write_output(render_diff(info, changes, pairs, args.format), args.output)
     return 0
 

@@ -25,9 +25,10 @@ from .errors import InputError, UsageError
 from .formats import fixed
 from .screws import PoeModel
 from .table import Row, Table
+from .tolerances import Tolerances
 from .urdfwrite import METRES_PER_UNIT
 
-__all__ = ["Change", "IllPair", "compare", "ill_conditioned", "render_diff"]
+__all__ = ["Change", "IllPair", "compare", "diff_sources", "ill_conditioned", "render_diff"]
 
 SCHEMA = "urdf2dh-diff/1"
 ANGLES = ("theta", "alpha", "beta")
@@ -137,6 +138,51 @@ def default_length_threshold(unit: str) -> float:
     if unit not in METRES_PER_UNIT:
         raise UsageError(f"unknown length unit '{unit}': give --length-threshold")
     return 0.030 / METRES_PER_UNIT[unit]
+
+
+def diff_sources(
+    nominal_source: str,
+    actual_source: str,
+    convention: str,
+    tol: Tolerances,
+    angle_threshold: float,
+    length_threshold: float | None,
+    parallel_within: float,
+    base: str | None = None,
+    tip: str | None = None,
+    ignore_mimic: bool = False,
+    style: str = "wu",
+    samples: int = 1000,
+) -> tuple[dict[str, Any], list[Change], list[IllPair]]:
+    """Both SOURCEs as tables of ``convention`` (ACTUAL in NOMINAL's length unit), compared.
+
+    Returns the report's header fields, the parameter changes and the ill-conditioned pairs.
+    ``length_threshold`` ``None`` means 30 mm in the nominal's unit.
+    """
+    from .convert import to_table
+    from .sources import open_source
+
+    models, names = [], []
+    for text in (nominal_source, actual_source):
+        source = open_source(text, tol)
+        models.append(source.model(base, tip, ignore_mimic))
+        names.append(source.name)
+    nominal, actual = models
+    if actual.length_unit != nominal.length_unit:
+        units = (nominal.length_unit, actual.length_unit)
+        if not all(u in METRES_PER_UNIT for u in units):
+            raise InputError(f"NOMINAL is in {units[0]} and ACTUAL in {units[1]}: cannot compare")
+        actual = actual.scaled(METRES_PER_UNIT[units[1]] / METRES_PER_UNIT[units[0]], units[0])
+    tables = [to_table(m, convention, tol, samples=samples, style=style)
+              for m in (nominal, actual)]
+    length = (default_length_threshold(nominal.length_unit) if length_threshold is None
+              else length_threshold)
+    info = {"convention": convention, "nominal": names[0], "actual": names[1],
+            "units": {"length": nominal.length_unit, "angle": "rad"},
+            "thresholds": {"angle": angle_threshold, "length": length},
+            "warnings": [w for t in tables for w in t.warnings]}
+    changes = compare(tables[0], tables[1], angle_threshold, length)
+    return info, changes, ill_conditioned(nominal, actual, parallel_within)
 
 
 RECOMMENDATION = (
