@@ -23,6 +23,7 @@ __all__ = ["get_argument_parser", "main"]
 
 FORMATS = ("text", "json", "yaml", "csv", "markdown")
 CONVENTIONS = ("dh", "mdh", "cpc")
+STYLES = ("wu", "ur", "zero")  # dh.STYLES
 
 
 def _positive_int(text: str) -> int:
@@ -88,9 +89,9 @@ def get_argument_parser() -> argparse.ArgumentParser:
                    help="dh (standard), mdh (modified, Craig) or cpc (default %(default)s)")
     p.add_argument("--format", choices=FORMATS, default="text",
                    help="output format (default %(default)s)")
-    p.add_argument("--style", choices=("wu", "ur"), default="wu",
-                   help="D-H choices: wu (Wu 2019, a >= 0; default) or ur (zero theta offsets, "
-                        "Universal Robots' signs)")
+    p.add_argument("--style", choices=STYLES, default="wu",
+                   help="D-H choices: wu (Wu 2019, a >= 0; default), ur (zero theta offsets, "
+                        "Universal Robots' signs) or zero (zero theta offsets wherever possible)")
     p.add_argument("-o", "--output", metavar="FILE", help="write to FILE instead of stdout")
     _add_tolerances(p)
 
