@@ -1,4 +1,4 @@
-"""The ``urdf2dh`` command (SPEC §1): ``convert``, ``verify``, ``info``, ``robots``.
+"""The ``urdf2dh`` command (SPEC §1): ``convert``, ``verify``, ``info``, ``export``, ``robots``.
 
 Exit codes: 0 success, 1 verification failed (or a table failed its own check), 2 bad usage or
 bad input. Errors are one line on stderr naming the file, link or joint; output files are
@@ -24,6 +24,7 @@ __all__ = ["get_argument_parser", "main"]
 FORMATS = ("text", "json", "yaml", "csv", "markdown")
 CONVENTIONS = ("dh", "mdh", "cpc")
 STYLES = ("wu", "ur", "zero")  # dh.STYLES
+EXPORT_TARGETS = ("ur", "linuxcnc", "rtb", "matlab", "kdl", "corke-matlab")  # export.TARGETS
 
 
 def _positive_int(text: str) -> int:
@@ -106,6 +107,22 @@ def get_argument_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("info", help="links, joints, the chain, candidate tips, identifiability")
     _add_chain(p)
 
+    p = sub.add_parser("export", help="write a controller or toolbox configuration file")
+    _add_chain(p)
+    p.add_argument("--to", required=True, choices=EXPORT_TARGETS, metavar="TARGET",
+                   help="ur (UR default_kinematics.yaml), linuxcnc (genserkins HAL), rtb "
+                        "(roboticstoolbox-python), matlab (Robotics System Toolbox), kdl (PyKDL), "
+                        "corke-matlab (Robotics Toolbox for MATLAB)")
+    p.add_argument("--convention", choices=("dh", "mdh"), default=None,
+                   help="D-H convention of rtb, matlab, kdl and corke-matlab files (default dh; "
+                        "ur is dh, linuxcnc mdh)")
+    p.add_argument("--style", choices=STYLES, default=None,
+                   help="D-H choices (default ur for ur, zero for linuxcnc, wu otherwise)")
+    p.add_argument("--units", choices=("mm", "inch"), default=None,
+                   help="linuxcnc: length unit of A and D (default mm)")
+    p.add_argument("-o", "--output", metavar="FILE", help="write to FILE instead of stdout")
+    _add_tolerances(p)
+
     sub.add_parser("robots", help="list the bundled robots")
     return parser
 
@@ -176,6 +193,22 @@ def _info(args: argparse.Namespace) -> int:
     return 0
 
 
+def _export(args: argparse.Namespace) -> int:
+    from .convert import to_table
+    from .errors import UsageError
+    from .export import Options, export_table, table_choices
+    from .sources import open_source
+
+    if args.units is not None and args.to != "linuxcnc":
+        raise UsageError(f"--units applies to --to linuxcnc, not --to {args.to}")
+    convention, style = table_choices(args.to, args.convention, args.style)
+    tol = _tolerances(args)
+    model = open_source(args.source, tol).model(args.base, args.tip, args.ignore_mimic)
+    table = to_table(model, convention, tol, samples=args.check_samples, style=style)
+    write_output(export_table(table, args.to, Options(args.units, tol)), args.output)
+    return 0
+
+
 def _robots(args: argparse.Namespace) -> int:
     from .catalog import ROBOTS
 
@@ -186,7 +219,13 @@ def _robots(args: argparse.Namespace) -> int:
     return 0
 
 
-COMMANDS = {"convert": _convert, "verify": _verify, "info": _info, "robots": _robots}
+COMMANDS = {
+    "convert": _convert,
+    "verify": _verify,
+    "info": _info,
+    "export": _export,
+    "robots": _robots,
+}
 
 
 def main(argv: list[str] | None = None) -> int:
