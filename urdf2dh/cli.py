@@ -47,6 +47,13 @@ def _nonnegative_float(text: str) -> float:
     return value
 
 
+def _package_path(text: str) -> tuple[str, str]:
+    name, sep, directory = text.partition("=")
+    if not sep or not name or not directory:
+        raise argparse.ArgumentTypeError(f"expected NAME=DIR, not '{text}'")
+    return name, directory
+
+
 def _add_chain(p: argparse.ArgumentParser) -> None:
     p.add_argument("source", metavar="SOURCE",
                    help="URDF file, POE model file, table file, or bundled robot name")
@@ -55,6 +62,10 @@ def _add_chain(p: argparse.ArgumentParser) -> None:
                    help="tip link (default: the single deepest leaf below the base)")
     p.add_argument("--ignore-mimic", action="store_true",
                    help="treat mimic joints on the chain as independent joints (with a warning)")
+    p.add_argument("--package-path", type=_package_path, action="append", default=[],
+                   metavar="NAME=DIR",
+                   help="for .xacro sources: the directory of ROS package NAME, for $(find NAME) "
+                        "and package://NAME (repeatable)")
 
 
 def _add_tolerances(p: argparse.ArgumentParser) -> None:
@@ -140,16 +151,22 @@ def _tolerances(args: argparse.Namespace) -> Any:
     return tol.with_exact() if args.exact else tol
 
 
+def _open(args: argparse.Namespace, tol: Any = None) -> Any:
+    from .sources import open_source
+    from .tolerances import DEFAULT
+
+    return open_source(args.source, tol or DEFAULT, dict(args.package_path))
+
+
 # --------------------------------------------------------------------------- commands
 
 
 def _convert(args: argparse.Namespace) -> int:
     from .convert import to_table
     from .formats import render
-    from .sources import open_source
 
     tol = _tolerances(args)
-    source = open_source(args.source, tol)
+    source = _open(args, tol)
     model = source.model(args.base, args.tip, args.ignore_mimic)
     table = to_table(model, args.convention, tol, samples=args.check_samples, style=args.style)
     write_output(render(table, args.format), args.output)
@@ -157,11 +174,10 @@ def _convert(args: argparse.Namespace) -> int:
 
 
 def _verify(args: argparse.Namespace) -> int:
-    from .sources import open_source
     from .verify import verify
 
     tol = _tolerances(args)
-    source = open_source(args.source, tol)
+    source = _open(args, tol)
     model = source.model(args.base, args.tip, args.ignore_mimic)
     results = verify(source, model, args.samples, args.seed, tol)
     unit, size = model.length_unit, model.size()
@@ -186,9 +202,8 @@ def _verify(args: argparse.Namespace) -> int:
 
 def _info(args: argparse.Namespace) -> int:
     from .info import describe
-    from .sources import open_source
 
-    source = open_source(args.source)
+    source = _open(args)
     sys.stdout.write(describe(source, args.base, args.tip, args.ignore_mimic))
     return 0
 
@@ -197,13 +212,12 @@ def _export(args: argparse.Namespace) -> int:
     from .convert import to_table
     from .errors import UsageError
     from .export import Options, export_table, table_choices
-    from .sources import open_source
 
     if args.units is not None and args.to != "linuxcnc":
         raise UsageError(f"--units applies to --to linuxcnc, not --to {args.to}")
     convention, style = table_choices(args.to, args.convention, args.style)
     tol = _tolerances(args)
-    model = open_source(args.source, tol).model(args.base, args.tip, args.ignore_mimic)
+    model = _open(args, tol).model(args.base, args.tip, args.ignore_mimic)
     table = to_table(model, convention, tol, samples=args.check_samples, style=style)
     write_output(export_table(table, args.to, Options(args.units, tol)), args.output)
     return 0
