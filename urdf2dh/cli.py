@@ -1,4 +1,5 @@
-"""The ``urdf2dh`` command (SPEC §1): ``convert``, ``verify``, ``info``, ``export``, ``robots``.
+"""The ``urdf2dh`` command (SPEC §1): ``convert``, ``verify``, ``info``, ``export``, ``plot``,
+``robots``.
 
 Exit codes: 0 success, 1 verification failed (or a table failed its own check), 2 bad usage or
 bad input. Errors are one line on stderr naming the file, link or joint; output files are
@@ -134,6 +135,16 @@ def get_argument_parser() -> argparse.ArgumentParser:
     p.add_argument("-o", "--output", metavar="FILE", help="write to FILE instead of stdout")
     _add_tolerances(p)
 
+    p = sub.add_parser("plot", help="draw the arm at home with its D-H frames (png, svg, pdf)")
+    _add_chain(p)
+    p.add_argument("-o", "--output", required=True, metavar="FILE",
+                   help="image file; its suffix picks the format (.png, .svg, .pdf)")
+    p.add_argument("--convention", choices=("dh", "mdh"), default="dh",
+                   help="which D-H frames to draw (default %(default)s)")
+    p.add_argument("--style", choices=STYLES, default="wu",
+                   help="D-H choices (default %(default)s)")
+    _add_tolerances(p)
+
     sub.add_parser("robots", help="list the bundled robots")
     return parser
 
@@ -223,6 +234,20 @@ def _export(args: argparse.Namespace) -> int:
     return 0
 
 
+def _plot(args: argparse.Namespace) -> int:
+    from pathlib import Path
+
+    from .convert import to_table
+    from .plot import render
+
+    fmt = Path(args.output).suffix.lower().lstrip(".") or "png"
+    tol = _tolerances(args)
+    model = _open(args, tol).model(args.base, args.tip, args.ignore_mimic)
+    table = to_table(model, args.convention, tol, samples=args.check_samples, style=args.style)
+    write_output(render(table, fmt), args.output)
+    return 0
+
+
 def _robots(args: argparse.Namespace) -> int:
     from .catalog import ROBOTS
 
@@ -238,6 +263,7 @@ COMMANDS = {
     "verify": _verify,
     "info": _info,
     "export": _export,
+    "plot": _plot,
     "robots": _robots,
 }
 
