@@ -232,3 +232,20 @@ def test_cli_export_writes_the_file_and_refusals_leave_none(tmp_path, capsys):
     assert "--units applies to --to linuxcnc" in capsys.readouterr().err
     assert main(["export", "panda", "--to", "kdl", "--convention", "mdh"]) == 0
     assert "kdl.Frame.DH_Craig1989(" in capsys.readouterr().out
+
+
+def test_help_imports_no_heavy_optional_package():
+    code = (
+        "import sys\n"
+        "from urdf2dh.cli import main\n"
+        "for argv in (['--help'], ['export', '--help'], ['plot', '--help']):\n"
+        "    try:\n"
+        "        main(argv)\n"
+        "    except SystemExit:\n"
+        "        pass\n"
+        "heavy = {'yourdfpy', 'pinocchio', 'matplotlib', 'roboticstoolbox', 'xacro', 'PyKDL'}\n"
+        "print(sorted(heavy & {m.split('.')[0] for m in sys.modules}))\n"
+    )
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.strip().splitlines()[-1] == "[]"

@@ -11,7 +11,7 @@ import PyKDL as kdl
 def build_chain() -> kdl.Chain:
     """panda_link0 -> panda_link8 as a KDL chain of 7 joints."""
     chain = kdl.Chain()
-    chain.addSegment(kdl.Segment('panda_link0', kdl.Joint('panda_link0', kdl.Joint.Fixed), kdl.Frame.DH_Craig1989(0.0, 0.0, 0.0, 0.0) * kdl.Frame.DH_Craig1989(0.0, 0.0, 0.333, 3.14159265358979)))
+    chain.addSegment(kdl.Segment('panda_link0', kdl.Joint('panda_link0', kdl.Joint.Fixed), kdl.Frame.DH_Craig1989(0.0, 0.0, 0.333, 3.14159265358979)))
     chain.addSegment(kdl.Segment('panda_joint1', kdl.Joint('panda_joint1', kdl.Joint.RotZ), kdl.Frame.DH_Craig1989(0.0, 1.5707963267949, 0.0, 3.14159265358979)))
     chain.addSegment(kdl.Segment('panda_joint2', kdl.Joint('panda_joint2', kdl.Joint.RotZ), kdl.Frame.DH_Craig1989(0.0, 1.5707963267949, 0.316, 0.0)))
     chain.addSegment(kdl.Segment('panda_joint3', kdl.Joint('panda_joint3', kdl.Joint.RotZ), kdl.Frame.DH_Craig1989(0.0825, 1.5707963267949, 0.0, 3.14159265358979)))

@@ -62,7 +62,9 @@ def render(table: Table, opts: Options) -> str:
         frames = [_frame("DH_Craig1989", dict(r.params), numbers) for r in table.rows]
         frames.append(_frame("DH_Craig1989", dict(table.tool), numbers))
         base = _frame("DH_Craig1989", dict(table.base), numbers)
-        lines.append(_segment(base_name, "Fixed", f"{base} * {frames[0]}"))
+        if base != "kdl.Frame.DH_Craig1989(0.0, 0.0, 0.0, 0.0)":  # B = I is left out
+            frames[0] = f"{base} * {frames[0]}"
+        lines.append(_segment(base_name, "Fixed", frames[0]))
         for row, frame in zip(table.rows, frames[1:], strict=True):
             lines.append(_segment(row.name, JOINT_TYPES[row.kind], frame))
     doc = header(table, "PyKDL Chain")

@@ -76,7 +76,8 @@ def _links(table: Table, opts: Options) -> list[tuple[float, float, float]]:
     if not close_to(table, table.tool_matrix, dh_matrix(0.0, float(tool["d"]), 0.0, 0.0), tol):
         raise _refuse(table, f"has no tool transform beyond a length along the last axis, and "
                       f"'{table.tip_link}' is turned or offset from it (tool alpha = "
-                      f"{tool['alpha']:.6g}, a = {tool['a']:.6g}, theta = {tool['theta']:.6g}); "
+                      f"{math.degrees(tool['alpha']):.6g} deg, a = {tool['a']:.6g} "
+                      f"{table.length_unit}, theta = {math.degrees(tool['theta']):.6g} deg); "
                       "choose a tip link on the last joint's axis with the same x")
     a, alpha, d = links[-1]
     links[-1] = (a, alpha, d + float(tool["d"]))

@@ -145,13 +145,15 @@ def _check(table: Table, opts: Options) -> None:
     if not close_to(table, flange, np.eye(4), opts.tol):
         raise ExportError(
             f"ur: ur_macro.xacro puts tool0 on D-H frame 6 (UR's flange), but '{table.tip_link}'"
-            f" is elsewhere (last row alpha = {last['alpha']:.6g}, a = {last['a']:.6g}; tool "
+            f" is elsewhere (last row alpha = {math.degrees(last['alpha']):.6g} deg, a = "
+            f"{last['a']:.6g} {table.length_unit}; tool "
             f"{_params(table.tool)}); export to the UR description's tool0"
         )
 
 
 def _params(p: Mapping[str, Any]) -> str:
-    return ", ".join(f"{k} = {float(v):.6g}" for k, v in p.items())
+    return ", ".join(f"{k} = {math.degrees(v):.6g} deg" if k in ("theta", "alpha")
+                     else f"{k} = {float(v):.6g}" for k, v in p.items())
 
 
 def joint_origins(table: Table) -> list[Mat]:
