@@ -1,4 +1,5 @@
-"""The ``urdf2dh`` command (SPEC §1): ``convert``, ``verify``, ``info``, ``robots``.
+"""The ``urdf2dh`` command (SPEC §1): ``convert``, ``verify``, ``info``, ``export``, ``plot``,
+``robots``.
 
 Exit codes: 0 success, 1 verification failed (or a table failed its own check), 2 bad usage or
 bad input. Errors are one line on stderr naming the file, link or joint; output files are
@@ -23,6 +24,8 @@ __all__ = ["get_argument_parser", "main"]
 
 FORMATS = ("text", "json", "yaml", "csv", "markdown", "urdf", "poe")
 CONVENTIONS = ("dh", "mdh", "cpc")
+STYLES = ("wu", "ur", "zero")  # dh.STYLES
+EXPORT_TARGETS = ("ur", "linuxcnc", "rtb", "matlab", "kdl", "corke-matlab")  # export.TARGETS
 
 
 def _positive_int(text: str) -> int:
@@ -45,6 +48,13 @@ def _nonnegative_float(text: str) -> float:
     return value
 
 
+def _package_path(text: str) -> tuple[str, str]:
+    name, sep, directory = text.partition("=")
+    if not sep or not name or not directory:
+        raise argparse.ArgumentTypeError(f"expected NAME=DIR, not '{text}'")
+    return name, directory
+
+
 def _add_chain(p: argparse.ArgumentParser) -> None:
     p.add_argument("source", metavar="SOURCE",
                    help="URDF file, POE model file, table file, or bundled robot name")
@@ -53,6 +63,10 @@ def _add_chain(p: argparse.ArgumentParser) -> None:
                    help="tip link (default: the single deepest leaf below the base)")
     p.add_argument("--ignore-mimic", action="store_true",
                    help="treat mimic joints on the chain as independent joints (with a warning)")
+    p.add_argument("--package-path", type=_package_path, action="append", default=[],
+                   metavar="NAME=DIR",
+                   help="for .xacro sources: the directory of ROS package NAME, for $(find NAME) "
+                        "and package://NAME (repeatable)")
 
 
 def _add_tolerances(p: argparse.ArgumentParser) -> None:
@@ -88,9 +102,9 @@ def get_argument_parser() -> argparse.ArgumentParser:
                    help="dh (standard), mdh (modified, Craig) or cpc (default %(default)s)")
     p.add_argument("--format", choices=FORMATS, default="text",
                    help="output format (default %(default)s)")
-    p.add_argument("--style", choices=("wu", "ur"), default="wu",
-                   help="D-H choices: wu (Wu 2019, a >= 0; default) or ur (zero theta offsets, "
-                        "Universal Robots' signs)")
+    p.add_argument("--style", choices=STYLES, default="wu",
+                   help="D-H choices: wu (Wu 2019, a >= 0; default), ur (zero theta offsets, "
+                        "Universal Robots' signs) or zero (zero theta offsets wherever possible)")
     p.add_argument("-o", "--output", metavar="FILE", help="write to FILE instead of stdout")
     _add_tolerances(p)
 
@@ -111,7 +125,9 @@ def get_argument_parser() -> argparse.ArgumentParser:
                    help="treat mimic joints on the chain as independent joints")
     p.add_argument("--convention", choices=CONVENTIONS, default="dh",
                    help="convention to compare in (default %(default)s)")
-    p.add_argument("--style", choices=("wu", "ur"), default="wu", help="D-H choices (see convert)")
+    p.add_argument("--style", choices=STYLES, default="wu", help="D-H choices (see convert)")
+    p.add_argument("--package-path", type=_package_path, action="append", default=[],
+                   metavar="NAME=DIR", help="for .xacro sources (see convert)")
     p.add_argument("--angle-threshold", type=_nonnegative_float, default=60.0, metavar="DEG",
                    help="mark angle changes over this, modulo 180 (default %(default)g, as "
                         "Wu 2019 Table II)")
@@ -126,6 +142,32 @@ def get_argument_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("info", help="links, joints, the chain, candidate tips, identifiability")
     _add_chain(p)
+
+    p = sub.add_parser("export", help="write a controller or toolbox configuration file")
+    _add_chain(p)
+    p.add_argument("--to", required=True, choices=EXPORT_TARGETS, metavar="TARGET",
+                   help="ur (UR default_kinematics.yaml), linuxcnc (genserkins HAL), rtb "
+                        "(roboticstoolbox-python), matlab (Robotics System Toolbox), kdl (PyKDL), "
+                        "corke-matlab (Robotics Toolbox for MATLAB)")
+    p.add_argument("--convention", choices=("dh", "mdh"), default=None,
+                   help="D-H convention of rtb, matlab, kdl and corke-matlab files (default dh; "
+                        "ur is dh, linuxcnc mdh)")
+    p.add_argument("--style", choices=STYLES, default=None,
+                   help="D-H choices (default ur for ur, zero for linuxcnc, wu otherwise)")
+    p.add_argument("--units", choices=("mm", "inch"), default=None,
+                   help="linuxcnc: length unit of A and D (default mm)")
+    p.add_argument("-o", "--output", metavar="FILE", help="write to FILE instead of stdout")
+    _add_tolerances(p)
+
+    p = sub.add_parser("plot", help="draw the arm at home with its D-H frames (png, svg, pdf)")
+    _add_chain(p)
+    p.add_argument("-o", "--output", required=True, metavar="FILE",
+                   help="image file; its suffix picks the format (.png, .svg, .pdf)")
+    p.add_argument("--convention", choices=("dh", "mdh"), default="dh",
+                   help="which D-H frames to draw (default %(default)s)")
+    p.add_argument("--style", choices=STYLES, default="wu",
+                   help="D-H choices (default %(default)s)")
+    _add_tolerances(p)
 
     sub.add_parser("robots", help="list the bundled robots")
     return parser
@@ -144,16 +186,22 @@ def _tolerances(args: argparse.Namespace) -> Any:
     return tol.with_exact() if args.exact else tol
 
 
+def _open(args: argparse.Namespace, tol: Any = None) -> Any:
+    from .sources import open_source
+    from .tolerances import DEFAULT
+
+    return open_source(args.source, tol or DEFAULT, dict(args.package_path))
+
+
 # --------------------------------------------------------------------------- commands
 
 
 def _convert(args: argparse.Namespace) -> int:
     from .convert import to_table
     from .formats import render
-    from .sources import open_source
 
     tol = _tolerances(args)
-    source = open_source(args.source, tol)
+    source = _open(args, tol)
     model = source.model(args.base, args.tip, args.ignore_mimic)
     table = to_table(model, args.convention, tol, samples=args.check_samples, style=args.style)
     write_output(render(table, args.format), args.output)
@@ -161,11 +209,10 @@ def _convert(args: argparse.Namespace) -> int:
 
 
 def _verify(args: argparse.Namespace) -> int:
-    from .sources import open_source
     from .verify import verify
 
     tol = _tolerances(args)
-    source = open_source(args.source, tol)
+    source = _open(args, tol)
     model = source.model(args.base, args.tip, args.ignore_mimic)
     results = verify(source, model, args.samples, args.seed, tol)
     unit, size = model.length_unit, model.size()
@@ -199,7 +246,7 @@ def _diff(args: argparse.Namespace) -> int:
         length_threshold=args.length_threshold,
         parallel_within=math.radians(args.parallel_within),
         base=args.base, tip=args.tip, ignore_mimic=args.ignore_mimic, style=args.style,
-        samples=args.check_samples,
+        samples=args.check_samples, package_paths=dict(args.package_path),
     )
     write_output(render_diff(info, changes, pairs, args.format), args.output)
     return 0
@@ -207,10 +254,38 @@ def _diff(args: argparse.Namespace) -> int:
 
 def _info(args: argparse.Namespace) -> int:
     from .info import describe
-    from .sources import open_source
 
-    source = open_source(args.source)
+    source = _open(args)
     sys.stdout.write(describe(source, args.base, args.tip, args.ignore_mimic))
+    return 0
+
+
+def _export(args: argparse.Namespace) -> int:
+    from .convert import to_table
+    from .errors import UsageError
+    from .export import Options, export_table, table_choices
+
+    if args.units is not None and args.to != "linuxcnc":
+        raise UsageError(f"--units applies to --to linuxcnc, not --to {args.to}")
+    convention, style = table_choices(args.to, args.convention, args.style)
+    tol = _tolerances(args)
+    model = _open(args, tol).model(args.base, args.tip, args.ignore_mimic)
+    table = to_table(model, convention, tol, samples=args.check_samples, style=style)
+    write_output(export_table(table, args.to, Options(args.units, tol)), args.output)
+    return 0
+
+
+def _plot(args: argparse.Namespace) -> int:
+    from pathlib import Path
+
+    from .convert import to_table
+    from .plot import render
+
+    fmt = Path(args.output).suffix.lower().lstrip(".") or "png"
+    tol = _tolerances(args)
+    model = _open(args, tol).model(args.base, args.tip, args.ignore_mimic)
+    table = to_table(model, args.convention, tol, samples=args.check_samples, style=args.style)
+    write_output(render(table, fmt), args.output)
     return 0
 
 
@@ -224,8 +299,15 @@ def _robots(args: argparse.Namespace) -> int:
     return 0
 
 
-COMMANDS = {"convert": _convert, "verify": _verify, "diff": _diff, "info": _info,
-            "robots": _robots}
+COMMANDS = {
+    "convert": _convert,
+    "verify": _verify,
+    "diff": _diff,
+    "info": _info,
+    "export": _export,
+    "plot": _plot,
+    "robots": _robots,
+}
 
 
 def main(argv: list[str] | None = None) -> int:

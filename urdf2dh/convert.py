@@ -44,8 +44,9 @@ def build_table(
 ) -> tuple[Table, list[Any]]:
     """Convert without checking. Returns the table and the judgements/notes made.
 
-    ``style`` chooses among equivalent D-H tables: ``wu`` (SPEC §3, Wu 2019) or ``ur`` (zero
-    theta offsets and Universal Robots' sign choices); it does not apply to ``cpc``.
+    ``style`` chooses among equivalent D-H tables: ``wu`` (SPEC §3, Wu 2019), ``ur`` (zero
+    theta offsets and Universal Robots' sign choices) or ``zero`` (zero theta offsets, the
+    base's included, wherever the geometry allows); it does not apply to ``cpc``.
     """
     if convention not in CONVENTIONS:
         raise UsageError(f"unknown convention '{convention}'; valid: {choices(CONVENTIONS)}")

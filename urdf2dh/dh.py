@@ -57,7 +57,7 @@ def tool_matrix(p: dict[str, Any]) -> Mat:
     return dh_matrix(p["theta"], p["d"], 0.0, 0.0)
 
 
-STYLES = ("wu", "ur")
+STYLES = ("wu", "ur", "zero")
 
 
 def _prefer_small_theta(link: LinkParams) -> LinkParams:
@@ -73,7 +73,9 @@ def links_from_poe(
 
     ``style="wu"`` follows Wu 2019 §III (SPEC §3: ``a >= 0``). ``style="ur"`` prefers zero
     ``theta`` offsets, and where an x axis is free (coincident axes) turns it so that the next
-    link's ``alpha`` is positive: Universal Robots' own sign choices.
+    link's ``alpha`` is positive: Universal Robots' own sign choices. ``style="zero"`` prefers
+    zero ``theta`` offsets and leaves free x axes at ``theta = 0`` (the base's included), as
+    controllers without offsets (LinuxCNC genserkins) need.
 
     Frames are built from the parameters as they will be evaluated (``F = F . H``), so the
     rounding of each row is seen by the next one and never accumulates unchecked.
@@ -106,7 +108,7 @@ def links_from_poe(
         p = np.zeros(3) if point is None else r.T @ (point - t)
         link, found = common_normal(u, p, tol, (names[k], names[k + 1]), size, tool=is_tool)
         found = [replace(j, source_angle=source_angle(k)) for j in found]
-        return (_prefer_small_theta(link) if style == "ur" else link), found
+        return (_prefer_small_theta(link) if style in ("ur", "zero") else link), found
 
     for k in range(len(lines)):
         link, found = link_to(k)

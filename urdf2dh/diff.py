@@ -153,6 +153,7 @@ def diff_sources(
     ignore_mimic: bool = False,
     style: str = "wu",
     samples: int = 1000,
+    package_paths: dict[str, str] | None = None,
 ) -> tuple[dict[str, Any], list[Change], list[IllPair]]:
     """Both SOURCEs as tables of ``convention`` (ACTUAL in NOMINAL's length unit), compared.
 
@@ -164,7 +165,7 @@ def diff_sources(
 
     models, names = [], []
     for text in (nominal_source, actual_source):
-        source = open_source(text, tol)
+        source = open_source(text, tol, package_paths)
         models.append(source.model(base, tip, ignore_mimic))
         names.append(source.name)
     nominal, actual = models

@@ -13,6 +13,7 @@ from collections.abc import Iterable
 __all__ = [
     "ChainError",
     "ConversionError",
+    "ExportError",
     "InputError",
     "SourceError",
     "TableFileError",
@@ -47,6 +48,10 @@ class ChainError(InputError):
 
 class TableFileError(InputError):
     """A table file (SPEC §2) that is malformed or contradicts itself."""
+
+
+class ExportError(InputError):
+    """A chain that an export target cannot carry; the message names the target and says why."""
 
 
 class ConversionError(Urdf2DhError):

@@ -19,6 +19,7 @@ from numpy.typing import NDArray
 __all__ = [
     "adjoint",
     "as_configurations",
+    "from_rpy",
     "inv",
     "line_screw_batch",
     "pose_errors",
@@ -26,12 +27,15 @@ __all__ = [
     "rot_x",
     "rot_y",
     "rot_z",
+    "rpy",
     "skew",
     "trans",
     "twist_exp",
 ]
 
 Mat = NDArray[np.float64]
+
+EPS = float(np.finfo(float).eps)
 
 
 def as_configurations(q: NDArray[np.float64], n: int) -> NDArray[np.float64]:
@@ -68,6 +72,33 @@ def trans(x: float = 0.0, y: float = 0.0, z: float = 0.0) -> Mat:
     out = np.eye(4)
     out[:3, 3] = (x, y, z)
     return out
+
+
+def from_rpy(xyz: tuple[float, float, float], rpy_angles: tuple[float, float, float]) -> Mat:
+    """A URDF ``<origin xyz rpy>``: ``T(xyz) Rz(yaw) Ry(pitch) Rx(roll)`` (fixed-axis roll,
+    pitch, yaw about x, y, z, as the URDF specification defines it)."""
+    roll, pitch, yaw = rpy_angles
+    out = rot_z(yaw) @ rot_y(pitch) @ rot_x(roll)
+    out[:3, 3] = xyz
+    return out
+
+
+def rpy(r: Mat) -> tuple[float, float, float]:
+    """``(roll, pitch, yaw)`` of a rotation (3x3, or the rotation of a 4x4), URDF convention
+    ``R = Rz(yaw) Ry(pitch) Rx(roll)``, with pitch in ``[-pi/2, pi/2]``.
+
+    At pitch = +-pi/2 only ``yaw -+ roll`` is defined; roll is then 0.
+    """
+    r = np.asarray(r, dtype=float)[:3, :3]
+    cos_pitch = math.hypot(r[0, 0], r[1, 0])
+    pitch = math.atan2(-r[2, 0], cos_pitch)
+    if cos_pitch > 16.0 * EPS:
+        roll = math.atan2(r[2, 1], r[2, 2])
+        yaw = math.atan2(r[1, 0], r[0, 0])
+    else:
+        roll = 0.0
+        yaw = math.atan2(-r[0, 1], r[1, 1])
+    return roll + 0.0, pitch + 0.0, yaw + 0.0
 
 
 def skew(w: NDArray[np.float64]) -> Mat:

@@ -7,6 +7,7 @@ model of the chain between the requested links.
 from __future__ import annotations
 
 import json
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -74,14 +75,15 @@ def read_mapping(path: Path, display: str, data: bytes) -> Any:
         raise InputError(f"{display}: malformed YAML ({where}{problem})") from e
 
 
-def _from_file(path: Path, display: str, tol: Tolerances, bundled: Bundled | None) -> Source:
+def _from_file(path: Path, display: str, tol: Tolerances, bundled: Bundled | None,
+               package_paths: Mapping[str, str] | None = None) -> Source:
     data = read_file(path, display)
     suffix = path.suffix.lower()
     head = data.lstrip()[:1]
     if suffix == ".xacro":
         from .xacro import expand
 
-        text = expand(path, display)
+        text = expand(path, display, package_paths)
         tree = parse_tree(text, display)
         return Source("urdf", display, bundled.name if bundled else tree.name, tree, text,
                       bundled=bundled)
@@ -112,11 +114,15 @@ def _from_file(path: Path, display: str, tol: Tolerances, bundled: Bundled | Non
     )
 
 
-def open_source(source: str, tol: Tolerances = DEFAULT) -> Source:
-    """Resolve SOURCE: an existing file, else a bundled robot name (``urdf2dh robots``)."""
+def open_source(source: str, tol: Tolerances = DEFAULT,
+                package_paths: Mapping[str, str] | None = None) -> Source:
+    """Resolve SOURCE: an existing file, else a bundled robot name (``urdf2dh robots``).
+
+    ``package_paths`` maps ROS package names to directories, for ``.xacro`` sources.
+    """
     path = Path(source)
     if path.exists():
-        return _from_file(path, source, tol, None)
+        return _from_file(path, source, tol, None, package_paths)
     if source in ROBOTS:
         bundled = ROBOTS[source]
         file = robot_path(bundled)

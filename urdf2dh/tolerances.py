@@ -10,9 +10,15 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-__all__ = ["DEFAULT", "EXACT", "Tolerances"]
+__all__ = ["DEFAULT", "EXACT", "HASH_DECIMALS", "Tolerances"]
 
 EPS = float(np.finfo(float).eps)
+
+# Decimals kept of each D-H value before Universal Robots' calibration hash is taken
+# (export/ur.py): an exact table carries round-off (theta = -4.9e-12 where UR writes 0, a length
+# one ulp off its decimal) that would change the hash's %g text; 1e-10 is far below the 6
+# significant digits the hash sees and far above round-off.
+HASH_DECIMALS = 10
 
 
 @dataclass(frozen=True)

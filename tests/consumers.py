@@ -1,0 +1,418 @@
+"""The export targets' consumers, for the tests: the real ones where they install here, and
+otherwise evaluations of the generated text exactly as the consumer documents it.
+
+Nothing here imports urdf2dh's own kinematics: every consumer is written from its documentation
+with plain numpy, so a generated file is judged by the rules its reader applies.
+
+* roboticstoolbox-python: real (a test dependency).
+* PyKDL: real where Debian's ``python3-pykdl`` is installed (no wheel on PyPI), else
+  :class:`FakeKdl`, which implements KDL's documented ``Frame.DH`` / ``Frame.DH_Craig1989``,
+  ``Segment`` and ``ChainFkSolverPos_recursive`` semantics, so the generated script runs either way.
+* MATLAB Robotics System Toolbox, Peter Corke's MATLAB toolbox, LinuxCNC genserkins: parsed back
+  statement by statement (anything unexpected fails) and evaluated with the documented formulas.
+* Universal_Robots_ROS2_Description: the yaml's joint origins are put into a URDF exactly as
+  ``ur_macro.xacro`` places them, and Pinocchio evaluates that URDF.
+"""
+
+from __future__ import annotations
+
+import glob
+import importlib.util
+import math
+import re
+import sys
+import types
+from typing import Any
+
+import numpy as np
+
+# --------------------------------------------------------------------------- elementary transforms
+
+
+def rz(t: float) -> np.ndarray:
+    c, s = math.cos(t), math.sin(t)
+    return np.array([[c, -s, 0, 0], [s, c, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1.0]])
+
+
+def rx(t: float) -> np.ndarray:
+    c, s = math.cos(t), math.sin(t)
+    return np.array([[1.0, 0, 0, 0], [0, c, -s, 0], [0, s, c, 0], [0, 0, 0, 1]])
+
+
+def tr(x: float = 0.0, y: float = 0.0, z: float = 0.0) -> np.ndarray:
+    out = np.eye(4)
+    out[:3, 3] = (x, y, z)
+    return out
+
+
+def standard_dh(a: float, alpha: float, d: float, theta: float) -> np.ndarray:
+    """``Rz(theta) Tz(d) Tx(a) Rx(alpha)``."""
+    return rz(theta) @ tr(z=d) @ tr(x=a) @ rx(alpha)
+
+
+def craig_dh(a: float, alpha: float, d: float, theta: float) -> np.ndarray:
+    """``Rx(alpha) Tx(a) Rz(theta) Tz(d)`` (Craig 1989, modified D-H)."""
+    return rx(alpha) @ tr(x=a) @ rz(theta) @ tr(z=d)
+
+
+def motion(kind: str, q: float) -> np.ndarray:
+    return rz(q) if kind == "revolute" else tr(z=q)
+
+
+def _numbers(text: str) -> list[float]:
+    return [float(x) for x in re.split(r"[\s;,]+", text.strip().strip("[]")) if x]
+
+
+def _matrix(text: str) -> np.ndarray:
+    values = _numbers(text)
+    if len(values) != 16:
+        raise AssertionError(f"not a 4x4 matrix literal: {text}")
+    return np.array(values).reshape(4, 4)
+
+
+# --------------------------------------------------------------------------- MATLAB RST
+
+
+class RigidBodyTree:
+    """MATLAB Robotics System Toolbox ``rigidBodyTree``, from a script like ours.
+
+    A body's pose in its parent is ``JointToParentTransform . J(q) . ChildToJointTransform``;
+    ``setFixedTransform(j, [a alpha d theta], "dh")`` sets ``ChildToJoint`` to the standard D-H
+    matrix and ``JointToParent`` to I, ``"mdh"`` sets ``JointToParent`` to Craig's matrix and
+    ``ChildToJoint`` to I, ``setFixedTransform(j, T)`` sets ``JointToParent`` to T and
+    ``ChildToJoint`` to I; theta is ignored for revolute joints, d for prismatic ones.
+    """
+
+    def __init__(self, script: str) -> None:
+        self.base = "base"
+        self.bodies: dict[str, dict[str, Any]] = {}
+        self.order: list[str] = []  # movable joints in the order bodies were added
+        body: dict[str, Any] | None = None
+        joint: dict[str, Any] | None = None
+        parent = None
+        for raw in script.splitlines():
+            line = raw.split("%", 1)[0].strip()
+            if not line:
+                continue
+            if m := re.fullmatch(r'robot = rigidBodyTree\("DataFormat", "row"\);', line):
+                continue
+            if m := re.fullmatch(r'robot\.BaseName = "(.+)";', line):
+                self.base = m[1]
+            elif line == "parent = robot.BaseName;":
+                parent = self.base
+            elif m := re.fullmatch(r'body = rigidBody\("(.+)"\);', line):
+                body = {"name": m[1]}
+            elif m := re.fullmatch(
+                r'joint = rigidBodyJoint\("(.+)", "(revolute|prismatic|fixed)"\);', line
+            ):
+                joint = {"name": m[1], "type": m[2], "j2p": np.eye(4), "c2j": np.eye(4)}
+            elif m := re.fullmatch(r"joint\.(PositionLimits|HomePosition) = (.+);", line):
+                assert joint is not None
+                joint[m[1]] = _numbers(m[2])
+            elif m := re.fullmatch(r'setFixedTransform\(joint, (\[.+\]), "(dh|mdh)"\);', line):
+                assert joint is not None
+                a, alpha, d, theta = _numbers(m[1])
+                if joint["type"] == "revolute":
+                    theta = 0.0
+                elif joint["type"] == "prismatic":
+                    d = 0.0
+                if m[2] == "dh":
+                    joint["j2p"], joint["c2j"] = np.eye(4), standard_dh(a, alpha, d, theta)
+                else:
+                    joint["j2p"], joint["c2j"] = craig_dh(a, alpha, d, theta), np.eye(4)
+            elif m := re.fullmatch(r"setFixedTransform\(joint, (\[.+\])\);", line):
+                assert joint is not None
+                joint["j2p"], joint["c2j"] = _matrix(m[1]), np.eye(4)
+            elif line == "body.Joint = joint;":
+                assert body is not None
+                body["joint"] = joint
+            elif line == "addBody(robot, body, parent);":
+                assert body is not None and parent is not None and "joint" in body
+                if body["name"] in self.bodies or body["name"] == self.base:
+                    raise AssertionError(f"duplicate body name {body['name']}")
+                body["parent"] = parent
+                self.bodies[body["name"]] = body
+                if body["joint"]["type"] != "fixed":
+                    self.order.append(body["name"])
+            elif line == "parent = body.Name;":
+                assert body is not None
+                parent = body["name"]
+            else:
+                raise AssertionError(f"MATLAB statement not understood: {raw!r}")
+
+    def get_transform(self, q: np.ndarray, body: str) -> np.ndarray:
+        """``getTransform(robot, q, body)``: the body's pose in the base."""
+        index = {name: i for i, name in enumerate(self.order)}
+        out = np.eye(4)
+        while body != self.base:
+            b = self.bodies[body]
+            j = b["joint"]
+            move = np.eye(4) if j["type"] == "fixed" else motion(j["type"], q[index[body]])
+            out = j["j2p"] @ move @ j["c2j"] @ out
+            body = b["parent"]
+        return out
+
+
+# --------------------------------------------------------------------------- Corke RTB (MATLAB)
+
+
+class SerialLink:
+    """Peter Corke's MATLAB ``SerialLink``, from ``L(i) = Link(...)`` lines and one
+    ``robot = SerialLink(L, ...)``: ``fkine = base . prod A_i . tool`` with standard
+    ``Rz(theta) Tz(d) Tx(a) Rx(alpha)`` or modified ``Rx(alpha) Tx(a) Rz(theta) Tz(d)`` links,
+    the joint variable plus ``offset`` being theta (revolute) or d (prismatic)."""
+
+    def __init__(self, script: str) -> None:
+        self.links: list[dict[str, Any]] = []
+        self.base = self.tool = np.eye(4)
+        for raw in script.splitlines():
+            line = raw.split("%", 1)[0].strip()
+            if not line:
+                continue
+            if m := re.fullmatch(r"L\((\d+)\) = Link\((.+)\);", line):
+                assert int(m[1]) == len(self.links) + 1
+                self.links.append(self._link(m[2]))
+            elif m := re.fullmatch(
+                r"robot = SerialLink\(L, 'name', '(.*)', 'base', (\[.+?\]), 'tool', (\[.+?\])\);",
+                line,
+            ):
+                self.base, self.tool = _matrix(m[2]), _matrix(m[3])
+            else:
+                raise AssertionError(f"MATLAB statement not understood: {raw!r}")
+
+    @staticmethod
+    def _link(args: str) -> dict[str, Any]:
+        tokens = re.findall(r"'[^']*'|\[[^\]]*\]|[-+0-9.eE]+", args)
+        link: dict[str, Any] = {"theta": 0.0, "d": 0.0, "a": 0.0, "alpha": 0.0, "offset": 0.0}
+        i = 0
+        while i < len(tokens):
+            key = tokens[i].strip("'")
+            if key in ("revolute", "prismatic"):
+                link["kind"] = key
+            elif key in ("standard", "modified"):
+                link["flavour"] = key
+            elif key in ("theta", "d", "a", "alpha", "offset"):
+                link[key] = float(tokens[i + 1])
+                i += 1
+            elif key == "qlim":
+                link["qlim"] = _numbers(tokens[i + 1])
+                i += 1
+            else:
+                raise AssertionError(f"Link option not understood: {key}")
+            i += 1
+        return link
+
+    def fkine(self, q: np.ndarray) -> np.ndarray:
+        out = self.base.copy()
+        for link, value in zip(self.links, q, strict=True):
+            theta, d = link["theta"], link["d"]
+            if link["kind"] == "revolute":
+                theta = value + link["offset"]
+            else:
+                d = value + link["offset"]
+            make = standard_dh if link["flavour"] == "standard" else craig_dh
+            out = out @ make(link["a"], link["alpha"], d, theta)
+        return out @ self.tool
+
+
+# --------------------------------------------------------------------------- LinuxCNC genserkins
+
+
+def genserkins_links(hal: str) -> list[tuple[float, float, float]]:
+    """``(A-i, ALPHA-i, D-i)`` for i = 0..5 from ``setp genserkins.*`` lines."""
+    values: dict[str, float] = {}
+    for raw in hal.splitlines():
+        line = raw.split("#", 1)[0].strip()
+        if not line:
+            continue
+        m = re.fullmatch(r"setp genserkins\.(A|ALPHA|D)-([0-5]) (\S+)", line)
+        if not m:
+            raise AssertionError(f"HAL line not understood: {raw!r}")
+        values[f"{m[1]}-{m[2]}"] = float(m[3])
+    return [(values[f"A-{i}"], values[f"ALPHA-{i}"], values[f"D-{i}"]) for i in range(6)]
+
+
+def genserkins_fk(links: list[tuple[float, float, float]], joints_deg: np.ndarray) -> np.ndarray:
+    """genserkins' forward kinematics: joints in degrees, link i = go_dh_pose_convert(a, alpha,
+    d, theta = joint i) = Rx(alpha) Tx(a) Rz(theta) Tz(d), multiplied from link 0."""
+    out = np.eye(4)
+    for (a, alpha, d), joint in zip(links, joints_deg, strict=True):
+        out = out @ craig_dh(a, alpha, d, math.radians(joint))
+    return out
+
+
+# --------------------------------------------------------------------------- KDL
+
+
+def real_pykdl() -> types.ModuleType | None:
+    """PyKDL if it imports: from the environment, or Debian's python3-pykdl build for this
+    Python (it installs outside the virtual environment)."""
+    try:
+        import PyKDL
+
+        return PyKDL
+    except ImportError:
+        pass
+    tag = f"cpython-{sys.version_info.major}{sys.version_info.minor}"
+    for path in glob.glob(f"/usr/lib/python3/dist-packages/PyKDL.{tag}-*.so"):
+        spec = importlib.util.spec_from_file_location("PyKDL", path)
+        if spec is None or spec.loader is None:
+            continue
+        module = importlib.util.module_from_spec(spec)
+        try:
+            spec.loader.exec_module(module)
+        except ImportError:
+            return None
+        return module
+    return None
+
+
+class _Frame:
+    def __init__(self, m: np.ndarray | None = None) -> None:
+        self.m = np.eye(4) if m is None else m
+
+    @classmethod
+    def DH(cls, a: float, alpha: float, d: float, theta: float) -> _Frame:
+        return cls(standard_dh(a, alpha, d, theta))
+
+    @classmethod
+    def DH_Craig1989(cls, a: float, alpha: float, d: float, theta: float) -> _Frame:
+        return cls(craig_dh(a, alpha, d, theta))
+
+    def __mul__(self, other: _Frame) -> _Frame:
+        return _Frame(self.m @ other.m)
+
+
+class _Joint:
+    Fixed, RotZ, TransZ = "Fixed", "RotZ", "TransZ"
+
+    def __init__(self, name: str, kind: str) -> None:
+        self.name, self.kind = name, kind
+
+    def pose(self, q: float) -> np.ndarray:
+        return {"Fixed": np.eye(4), "RotZ": rz(q), "TransZ": tr(z=q)}[self.kind]
+
+
+class _Segment:
+    def __init__(self, name: str, joint: _Joint, f_tip: _Frame) -> None:
+        self.name, self.joint, self.f_tip = name, joint, f_tip
+
+
+class _Chain:
+    def __init__(self) -> None:
+        self.segments: list[_Segment] = []
+
+    def addSegment(self, segment: _Segment) -> None:
+        self.segments.append(segment)
+
+    def getNrOfJoints(self) -> int:
+        return sum(s.joint.kind != "Fixed" for s in self.segments)
+
+
+class _JntArray(list):  # type: ignore[type-arg]
+    def __init__(self, n: int) -> None:
+        super().__init__([0.0] * n)
+
+
+class _Solver:
+    """KDL ``ChainFkSolverPos_recursive``: the product of ``joint.pose(q) . f_tip``."""
+
+    def __init__(self, chain: _Chain) -> None:
+        self.chain = chain
+
+    def JntToCart(self, q: _JntArray, out: _Frame) -> int:
+        pose, k = np.eye(4), 0
+        for s in self.chain.segments:
+            value = 0.0
+            if s.joint.kind != "Fixed":
+                value, k = q[k], k + 1
+            pose = pose @ s.joint.pose(value) @ s.f_tip.m
+        out.m = pose
+        return 0
+
+
+FakeKdl = types.SimpleNamespace(
+    Frame=_Frame, Joint=_Joint, Segment=_Segment, Chain=_Chain, JntArray=_JntArray,
+    ChainFkSolverPos_recursive=_Solver,
+)
+
+
+def kdl_fk(kdl: Any, script: str, q: np.ndarray) -> np.ndarray:
+    """Run the generated script's ``build_chain()`` with module ``kdl`` as ``PyKDL`` and
+    evaluate its forward kinematics at configurations ``q`` (N, n)."""
+    saved = sys.modules.get("PyKDL")
+    sys.modules["PyKDL"] = kdl
+    try:
+        namespace: dict[str, Any] = {"__name__": "generated_kdl"}
+        exec(compile(script, "generated_kdl.py", "exec"), namespace)
+        chain = namespace["build_chain"]()
+    finally:
+        if saved is None:
+            sys.modules.pop("PyKDL", None)
+        else:
+            sys.modules["PyKDL"] = saved
+    solver = kdl.ChainFkSolverPos_recursive(chain)
+    out = np.empty((len(q), 4, 4))
+    for k, row in enumerate(q):
+        joints = kdl.JntArray(chain.getNrOfJoints())
+        for i, value in enumerate(row):
+            joints[i] = float(value)
+        frame = kdl.Frame()
+        solver.JntToCart(joints, frame)
+        out[k] = _to_matrix(frame)
+    return out
+
+
+def _to_matrix(frame: Any) -> np.ndarray:
+    if isinstance(frame, _Frame):
+        return frame.m
+    out = np.eye(4)
+    for i in range(3):
+        for j in range(3):
+            out[i, j] = frame.M[i, j]
+        out[i, 3] = frame.p[i]
+    return out
+
+
+# --------------------------------------------------------------------------- UR description
+
+UR_JOINTS = (
+    ("shoulder", "shoulder_pan_joint", "base_link_inertia", "shoulder_link"),
+    ("upper_arm", "shoulder_lift_joint", "shoulder_link", "upper_arm_link"),
+    ("forearm", "elbow_joint", "upper_arm_link", "forearm_link"),
+    ("wrist_1", "wrist_1_joint", "forearm_link", "wrist_1_link"),
+    ("wrist_2", "wrist_2_joint", "wrist_1_link", "wrist_2_link"),
+    ("wrist_3", "wrist_3_joint", "wrist_2_link", "wrist_3_link"),
+)
+
+
+def ur_description_urdf(kinematics: dict[str, Any]) -> str:
+    """The kinematic skeleton ``ur_macro.xacro`` builds from a kinematics yaml: ``base_link`` ->
+    ``base_link_inertia`` turned by pi about z, each joint's origin the yaml's x y z and
+    roll pitch yaw verbatim with its axis along z, and ``wrist_3_link`` -> ``flange`` (rpy 0,
+    -pi/2, -pi/2) -> ``tool0`` (rpy pi/2, 0, pi/2)."""
+    def f(x: Any) -> str:
+        return repr(float(x))
+
+    pi = math.pi
+    parts = ['<robot name="ur">', '<link name="base_link"/>', '<link name="base_link_inertia"/>',
+             '<joint name="base_link-base_link_inertia" type="fixed"><parent link="base_link"/>'
+             f'<child link="base_link_inertia"/><origin xyz="0 0 0" rpy="0 0 {f(pi)}"/></joint>']
+    for key, joint, parent, child in UR_JOINTS:
+        k = kinematics[key]
+        parts.append(f'<link name="{child}"/>')
+        parts.append(
+            f'<joint name="{joint}" type="revolute"><parent link="{parent}"/>'
+            f'<child link="{child}"/><origin xyz="{f(k["x"])} {f(k["y"])} {f(k["z"])}" '
+            f'rpy="{f(k["roll"])} {f(k["pitch"])} {f(k["yaw"])}"/><axis xyz="0 0 1"/>'
+            '<limit lower="-6.28" upper="6.28" effort="1" velocity="1"/></joint>'
+        )
+    parts += [
+        '<link name="flange"/>', '<link name="tool0"/>',
+        '<joint name="wrist_3-flange" type="fixed"><parent link="wrist_3_link"/>'
+        f'<child link="flange"/><origin xyz="0 0 0" rpy="0 {f(-pi / 2)} {f(-pi / 2)}"/></joint>',
+        '<joint name="flange-tool0" type="fixed"><parent link="flange"/>'
+        f'<child link="tool0"/><origin xyz="0 0 0" rpy="{f(pi / 2)} 0 {f(pi / 2)}"/></joint>',
+        "</robot>",
+    ]
+    return "\n".join(parts)

@@ -1,0 +1,251 @@
+"""Every export target, evaluated by its consumer (real, or exactly as documented: see
+consumers.py) at seeded configurations, against Pinocchio: <= 1e-9 (relative to the robot's size,
+and in radians)."""
+
+from __future__ import annotations
+
+import math
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+from chains import random_chain_urdf
+from consumers import (
+    FakeKdl,
+    RigidBodyTree,
+    SerialLink,
+    genserkins_fk,
+    genserkins_links,
+    kdl_fk,
+    real_pykdl,
+)
+from oracle import assert_fk_matches, pin_reference
+
+from urdf2dh.errors import ExportError, UsageError
+from urdf2dh.export import TARGETS, Options, export
+from urdf2dh.sources import Source, open_source
+from urdf2dh.urdf import parse_tree, tree_to_poe
+
+DATA = Path(__file__).parent / "data"
+AGREE = 1e-9  # the issue's bound: every target matches Pinocchio to this
+ROBOTS = ["ur5", "panda", "kinova", "stanford", "scara", "tiago-arm", "puma560-nominal"]
+PYKDL = real_pykdl()
+
+
+def _random_source(seed: int) -> tuple[Source, object]:
+    text, _ = random_chain_urdf(seed, 3 + seed % 5, scale=0.5 + seed % 3)
+    tree = parse_tree(text.encode(), f"random{seed}.urdf")
+    source = Source("urdf", f"random{seed}.urdf", tree.name, tree, text.encode())
+    return source, tree_to_poe(tree, "base", "tool")
+
+
+def _cases():
+    for robot in ROBOTS:
+        yield pytest.param(robot, id=robot)
+    for seed in range(6):
+        yield pytest.param(seed, id=f"random{seed}")
+
+
+def _source(case):
+    if isinstance(case, int):
+        return _random_source(case)
+    source = open_source(case)
+    return source, source.model()
+
+
+def _rtb_fk(script: str, q: np.ndarray) -> np.ndarray:
+    namespace: dict = {"__name__": "generated_rtb"}
+    exec(compile(script, "generated_rtb.py", "exec"), namespace)
+    robot = namespace["robot"]
+    return np.array([robot.fkine(row).A for row in q])
+
+
+def _matlab_fk(script: str, tip: str, q: np.ndarray) -> np.ndarray:
+    tree = RigidBodyTree(script)
+    return np.array([tree.get_transform(row, tip) for row in q])
+
+
+def _corke_fk(script: str, q: np.ndarray) -> np.ndarray:
+    robot = SerialLink(script)
+    return np.array([robot.fkine(row) for row in q])
+
+
+@pytest.mark.parametrize("convention", ["dh", "mdh"])
+@pytest.mark.parametrize("case", list(_cases()))
+def test_toolbox_targets_move_like_pinocchio(case, convention):
+    source, model = _source(case)
+    q, reference = pin_reference(source, model, samples=40, seed=11)
+    size = model.size()
+    label = f"{case} {convention}"
+    scripts = {t: export(model, t, convention) for t in ("rtb", "kdl", "matlab", "corke-matlab")}
+    assert_fk_matches(f"rtb {label}", _rtb_fk(scripts["rtb"], q), reference, size, q,
+                      rel=AGREE, rot=AGREE)
+    assert_fk_matches(f"kdl (as documented) {label}", kdl_fk(FakeKdl, scripts["kdl"], q),
+                      reference, size, q, rel=AGREE, rot=AGREE)
+    if PYKDL is not None:
+        assert_fk_matches(f"PyKDL {label}", kdl_fk(PYKDL, scripts["kdl"], q), reference, size,
+                          q, rel=AGREE, rot=AGREE)
+    tip = model.tip_link or "tool"
+    assert_fk_matches(f"matlab {label}", _matlab_fk(scripts["matlab"], tip, q), reference, size,
+                      q, rel=AGREE, rot=AGREE)
+    assert_fk_matches(f"corke-matlab {label}", _corke_fk(scripts["corke-matlab"], q), reference,
+                      size, q, rel=AGREE, rot=AGREE)
+
+
+@pytest.mark.skipif(PYKDL is None, reason="PyKDL is not installed (Debian: python3-pykdl)")
+def test_real_pykdl_reads_the_documented_frames():
+    """The emulation's formulas are KDL's: Frame.DH and Frame.DH_Craig1989 agree with PyKDL."""
+    rng = np.random.default_rng(5)
+    for a, alpha, d, theta in rng.uniform(-2, 2, (20, 4)):
+        for name in ("DH", "DH_Craig1989"):
+            real = getattr(PYKDL.Frame, name)(a, alpha, d, theta)
+            ours = getattr(FakeKdl.Frame, name)(a, alpha, d, theta).m
+            got = np.array([[real.M[i, j] for j in range(3)] + [real.p[i]] for i in range(3)])
+            np.testing.assert_allclose(got, ours[:3], atol=1e-14)
+
+
+def test_matlab_offsets_sit_in_fixed_bodies():
+    script = export(open_source("ur5").model(), "matlab")
+    assert script.count('"dh");') == 6
+    # setFixedTransform(..., "dh") ignores theta of revolute joints: every row passes 0 there
+    assert all(line.rstrip().endswith('0], "dh");')
+               for line in script.splitlines() if line.endswith('"dh");'))
+    assert 'rigidBody("body1_offset")' in script  # UR5 (Wu style) has theta_1 = pi
+    mdh = export(open_source("stanford").model(), "matlab", "mdh")
+    lines = mdh.splitlines()
+    joint3 = lines.index('joint = rigidBodyJoint("joint3", "prismatic");')
+    assert lines[joint3 + 2].startswith("setFixedTransform(joint, [") and " 0 " in lines[joint3 + 2]
+
+
+def test_rtb_script_runs_standalone(tmp_path):
+    script = tmp_path / "ur5_rtb.py"
+    script.write_text(export(open_source("ur5").model(), "rtb", style="ur"))
+    proc = subprocess.run([sys.executable, str(script)], capture_output=True, text=True,
+                          timeout=300)
+    assert proc.returncode == 0, proc.stderr
+    assert "DHRobot: ur5, 6 joints (RRRRRR), standard DH" in proc.stdout
+
+
+# --------------------------------------------------------------------------- linuxcnc
+
+
+def _genser_check(text: str, source: Source, model, unit_in_m: float) -> tuple[float, float]:
+    links = genserkins_links(text)
+    links_m = [(a * unit_in_m, alpha, d * unit_in_m) for a, alpha, d in links]
+    q, reference = pin_reference(source, model, samples=60, seed=2)
+    q_deg = np.degrees(np.pad(q, ((0, 0), (0, 6 - model.n))))
+    poses = np.array([genserkins_fk(links_m, row) for row in q_deg])
+    return assert_fk_matches("genserkins", poses, reference, model.size(), q, rel=AGREE,
+                             rot=AGREE)
+
+
+@pytest.mark.parametrize(("units", "metres"), [(None, 0.001), ("mm", 0.001), ("inch", 0.0254)])
+def test_genserkins_parameters_move_like_pinocchio(units, metres):
+    source = open_source(str(DATA / "genser6.urdf"))
+    model = source.model()
+    text = export(model, "linuxcnc", opts=Options(units=units))
+    links = genserkins_links(text)
+    assert math.isclose(links[0][2] * metres, 0.6, rel_tol=1e-12)  # pedestal 0.25 + 0.35
+    assert math.isclose(links[5][2] * metres, 0.1, rel_tol=1e-12)  # tool length in D-5
+    _genser_check(text, source, model, metres)
+
+
+def test_genserkins_pads_short_chains_with_zero_links():
+    source = open_source(str(DATA / "genser6.urdf"))
+    model = source.model(tip="link4")
+    text = export(model, "linuxcnc")
+    assert genserkins_links(text)[4:] == [(0.0, 0.0, 0.0), (0.0, 0.0, 0.0)]
+    assert "# joint 5: none" in text
+    _genser_check(text, source, model, 0.001)
+
+
+@pytest.mark.parametrize(
+    ("robot", "style", "message"),
+    [
+        ("ur5", "zero", "has no tool transform"),  # UR5's base_link -> tool0 needs a half turn
+        ("ur5", "ur", "has no base transform"),  # ... which UR's own style puts in the base
+        ("genser6-turned-tool", "zero", "has no tool transform"),
+        ("panda", "zero", "evaluates 6 joints, and this chain has 7"),
+        ("stanford", "zero", "linuxcnc has revolute joints only"),
+        ("kinova", "zero", "has no theta offsets"),
+        ("puma560-actual", "zero", "linuxcnc has revolute joints only"),
+    ],
+)
+def test_genserkins_refuses_what_it_cannot_carry(robot, style, message):
+    if robot == "genser6-turned-tool":
+        model = _turn_tool(open_source(str(DATA / "genser6.urdf")).model(tip="link5"))
+    else:
+        model = open_source(robot).model()
+    with pytest.raises(ExportError, match=message):
+        export(model, "linuxcnc", style=style)
+
+
+def _turn_tool(model):
+    """The same chain with its tool turned 90 degrees about x: no length along z fits it."""
+    from dataclasses import replace
+
+    from urdf2dh.se3 import rot_x
+
+    return replace(model, home=model.home @ rot_x(math.pi / 2))
+
+
+# --------------------------------------------------------------------------- refusals, CLI
+
+
+@pytest.mark.parametrize("target", sorted(TARGETS))
+def test_helical_joints_are_refused_by_every_target(target):
+    with pytest.raises(ExportError, match="helical"):
+        export(open_source("puma560-actual").model(), target, opts=Options())
+
+
+def test_targets_refuse_other_conventions_and_styles():
+    model = open_source("ur5").model()
+    with pytest.raises(UsageError, match="--to linuxcnc takes mdh tables"):
+        export(model, "linuxcnc", "dh")
+    with pytest.raises(UsageError, match="unknown export target 'vrml'"):
+        export(model, "vrml")
+
+
+def test_cli_names_every_target():
+    from urdf2dh.cli import EXPORT_TARGETS, STYLES
+    from urdf2dh.dh import STYLES as DH_STYLES
+
+    assert sorted(EXPORT_TARGETS) == sorted(TARGETS)
+    assert STYLES == DH_STYLES
+
+
+def test_cli_export_writes_the_file_and_refusals_leave_none(tmp_path, capsys):
+    from urdf2dh.cli import main
+
+    target = tmp_path / "ur10.yaml"
+    assert main(["export", "ur10", "--to", "ur", "-o", str(target)]) == 0
+    assert target.read_text().rstrip().endswith("hash: calib_17227329492635474227")
+    hal = tmp_path / "ur5.hal"
+    assert main(["export", "ur5", "--to", "linuxcnc", "-o", str(hal)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "genserkins has no tool transform" in err
+    assert "Traceback" not in err and not hal.exists()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["ur10.yaml"]
+    assert main(["export", "ur5", "--to", "rtb", "--units", "inch"]) == 2
+    assert "--units applies to --to linuxcnc" in capsys.readouterr().err
+    assert main(["export", "panda", "--to", "kdl", "--convention", "mdh"]) == 0
+    assert "kdl.Frame.DH_Craig1989(" in capsys.readouterr().out
+
+
+def test_help_imports_no_heavy_optional_package():
+    code = (
+        "import sys\n"
+        "from urdf2dh.cli import main\n"
+        "for argv in (['--help'], ['export', '--help'], ['plot', '--help']):\n"
+        "    try:\n"
+        "        main(argv)\n"
+        "    except SystemExit:\n"
+        "        pass\n"
+        "heavy = {'yourdfpy', 'pinocchio', 'matplotlib', 'roboticstoolbox', 'xacro', 'PyKDL'}\n"
+        "print(sorted(heavy & {m.split('.')[0] for m in sys.modules}))\n"
+    )
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.strip().splitlines()[-1] == "[]"

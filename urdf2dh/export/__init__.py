@@ -1,0 +1,112 @@
+"""Controller and toolbox configuration files, each generated from a checked table.
+
+One module per target; :func:`export` is the entry point. Every target starts from
+:func:`~urdf2dh.convert.to_table` (so from a table whose forward kinematics was measured against
+the source) and only formats its parameters, or refuses the chain with the reason
+(:class:`~urdf2dh.errors.ExportError`, exit 2).
+
+=================  ====================================================  ===========  ========
+target             file                                                  conventions  style
+=================  ====================================================  ===========  ========
+``ur``             UR ``default_kinematics.yaml`` (+ calibration hash)   dh           ur
+``linuxcnc``       LinuxCNC ``genserkins`` HAL ``setp`` lines            mdh          zero
+``rtb``            roboticstoolbox-python ``DHRobot`` script             dh, mdh      any
+``matlab``         Robotics System Toolbox ``rigidBodyTree`` script      dh, mdh      any
+``kdl``            PyKDL ``Chain`` script                                dh, mdh      any
+``corke-matlab``   Peter Corke's MATLAB toolbox ``SerialLink`` script    dh, mdh      any
+=================  ====================================================  ===========  ========
+
+The first convention and style listed are the defaults.
+"""
+
+from __future__ import annotations
+
+import importlib
+from dataclasses import dataclass
+
+from ..errors import UsageError, choices
+from ..screws import PoeModel
+from ..table import Table
+from .common import Options
+
+__all__ = ["TARGETS", "Options", "Target", "export", "export_table"]
+
+
+@dataclass(frozen=True)
+class Target:
+    """An export target: its module, what it writes, and the tables it reads."""
+
+    name: str
+    module: str
+    summary: str
+    conventions: tuple[str, ...]
+    styles: tuple[str, ...]
+    suffix: str
+
+    def render(self, table: Table, opts: Options) -> str:
+        mod = importlib.import_module(f"urdf2dh.export.{self.module}")
+        return str(mod.render(table, opts))
+
+
+TARGETS: dict[str, Target] = {
+    t.name: t
+    for t in [
+        Target("ur", "ur", "Universal Robots default_kinematics.yaml with calibration hash",
+               ("dh",), ("ur",), ".yaml"),
+        Target("linuxcnc", "linuxcnc", "LinuxCNC genserkins HAL parameters (Craig D-H)",
+               ("mdh",), ("zero", "ur", "wu"), ".hal"),
+        Target("rtb", "rtb", "roboticstoolbox-python DHRobot script",
+               ("dh", "mdh"), ("wu", "ur", "zero"), ".py"),
+        Target("matlab", "matlab", "MATLAB Robotics System Toolbox rigidBodyTree script",
+               ("dh", "mdh"), ("wu", "ur", "zero"), ".m"),
+        Target("kdl", "kdl", "PyKDL Chain script (Frame.DH / Frame.DH_Craig1989)",
+               ("dh", "mdh"), ("wu", "ur", "zero"), ".py"),
+        Target("corke-matlab", "corke_matlab", "Peter Corke's MATLAB Robotics Toolbox SerialLink"
+               " script", ("dh", "mdh"), ("wu", "ur", "zero"), ".m"),
+    ]
+}
+
+
+def _target(name: str) -> Target:
+    if name not in TARGETS:
+        raise UsageError(f"unknown export target '{name}'; valid: {choices(TARGETS)}")
+    return TARGETS[name]
+
+
+def table_choices(target: str, convention: str | None, style: str | None) -> tuple[str, str]:
+    """The convention and style a target's table is built with (its defaults where ``None``)."""
+    t = _target(target)
+    convention = convention or t.conventions[0]
+    style = style or t.styles[0]
+    if convention not in t.conventions:
+        raise UsageError(
+            f"--to {target} takes {' or '.join(t.conventions)} tables, not --convention "
+            f"{convention}"
+        )
+    if style not in t.styles:
+        raise UsageError(
+            f"--to {target} takes --style {' or '.join(t.styles)}, not {style}"
+        )
+    return convention, style
+
+
+def export_table(table: Table, target: str, opts: Options | None = None) -> str:
+    """Render an already checked table for ``target``."""
+    return _target(target).render(table, opts or Options())
+
+
+def export(
+    model: PoeModel,
+    target: str,
+    convention: str | None = None,
+    style: str | None = None,
+    opts: Options | None = None,
+    samples: int = 1000,
+) -> str:
+    """Convert ``model`` for ``target`` (a name in :data:`TARGETS`) and render the file text."""
+    from ..convert import to_table
+
+    opts = opts or Options()
+    convention, style = table_choices(target, convention, style)
+    table = to_table(model, convention, opts.tol, samples=samples, style=style)
+    return export_table(table, target, opts)

@@ -1,0 +1,184 @@
+"""What every export target shares: number text, the header, the checks that refuse a table.
+
+A target is generated from a checked :class:`~urdf2dh.table.Table` only; these helpers never
+change a parameter, they format it or refuse it with the reason.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import ExportError, UsageError, choices
+from ..se3 import pose_errors
+from ..table import Table
+from ..tolerances import DEFAULT, Tolerances
+
+__all__ = [
+    "LENGTH_UNITS",
+    "Numbers",
+    "Options",
+    "close_to",
+    "header",
+    "length_factor",
+    "matlab_matrix",
+    "num",
+    "require",
+    "require_convention",
+    "require_joint_kinds",
+    "require_unit_scale",
+]
+
+# Metres per unit, for the length units a source may carry and a target may ask for.
+LENGTH_UNITS = {"m": 1.0, "cm": 0.01, "mm": 0.001, "um": 1e-6, "in": 0.0254, "inch": 0.0254}
+
+FK_FORMULAS = {
+    "dh": "T(q) = B . prod_i [Rz(q_i + theta_i) Tz(d_i) Rx(alpha_i) Tx(a_i)] . T  (standard D-H)",
+    "mdh": "T(q) = B . prod_i [Rx(alpha_i) Tx(a_i) Rz(q_i + theta_i) Tz(d_i)] . T  "
+    "(modified D-H, Craig)",
+}
+
+
+@dataclass(frozen=True)
+class Options:
+    """What a user may choose beyond the table: the length unit of targets that fix one
+    (``None``: the target's default), and the tolerances that decide what counts as zero."""
+
+    units: str | None = None
+    tol: Tolerances = DEFAULT
+
+
+def close_to(table: Table, a: np.ndarray, b: np.ndarray, tol: Tolerances) -> bool:
+    """Whether two transforms agree within the exactness a table promises (``check_position``
+    x robot size, ``check_rotation``): what a target may drop without the user noticing."""
+    pos, rot = pose_errors(np.asarray(a)[None], np.asarray(b)[None])
+    return pos <= tol.check_position * table.to_poe().size() and rot <= tol.check_rotation
+
+
+def num(x: float) -> str:
+    """The shortest text that reads back as exactly ``x`` (Python ``repr``), without ``-0``.
+
+    Valid as a number literal in Python, MATLAB and YAML 1.2 alike.
+    """
+    x = float(x) + 0.0
+    if not math.isfinite(x):
+        raise ExportError(f"non-finite parameter {x!r}")
+    return repr(x)
+
+
+@dataclass(frozen=True)
+class Numbers:
+    """How a target writes a table's numbers: 15 significant digits (1e-15 relative, far below
+    the exactness promised), and round-off as zero: a length within ``noise x size`` of 0, an
+    angle or a rotation-matrix entry within ``noise``. So files carry ``0`` and ``0.39225``
+    where the arithmetic left ``1.2e-16`` and ``0.39225000000000004``, and read the same on
+    every platform; the table's genuine values (a rounded pi/2 leaving 4.9e-12) are kept."""
+
+    size: float
+    noise: float
+    length_scale: float = 1.0
+
+    @classmethod
+    def of(cls, table: Table, tol: Tolerances, length_scale: float = 1.0) -> Numbers:
+        return cls(table.to_poe().size() * length_scale, tol.noise, length_scale)
+
+    def angle(self, x: float) -> float:
+        return 0.0 if abs(x) <= self.noise else float(f"{x:.15g}") + 0.0
+
+    def length(self, x: float) -> float:
+        """A length of the table, in the target's unit (times ``length_scale``)."""
+        x *= self.length_scale
+        return 0.0 if abs(x) <= self.noise * self.size else float(f"{x:.15g}") + 0.0
+
+    def ang(self, x: float) -> str:
+        """An angle's text."""
+        return num(self.angle(x))
+
+    def lin(self, x: float) -> str:
+        """A length's text, in the target's unit."""
+        return num(self.length(x))
+
+    def matrix(self, m: np.ndarray) -> list[list[float]]:
+        """A 4x4 transform's entries: rotation as angles, translation as lengths."""
+        return [[self.length(m[i, j]) if j == 3 and i < 3 else self.angle(m[i, j])
+                 for j in range(4)] for i in range(4)]
+
+
+def matlab_matrix(m: np.ndarray, numbers: Numbers) -> str:
+    """A 4x4 transform as a MATLAB matrix literal ``[r11 r12 r13 x; ...; 0 0 0 1]``."""
+    return "[" + "; ".join(" ".join(repr(v) for v in row) for row in numbers.matrix(m)) + "]"
+
+
+def length_factor(source_unit: str, target_unit: str) -> float:
+    """Multiply a length in ``source_unit`` by this to get ``target_unit``."""
+    for unit in (source_unit, target_unit):
+        if unit not in LENGTH_UNITS:
+            raise ExportError(
+                f"unknown length unit '{unit}'; known units are {choices(LENGTH_UNITS)}"
+            )
+    return LENGTH_UNITS[source_unit] / LENGTH_UNITS[target_unit]
+
+
+def _chain(table: Table) -> str:
+    where = table.source or table.robot or "the source"
+    if table.base_link or table.tip_link:
+        where += f": {table.base_link} -> {table.tip_link}"
+    return where
+
+
+def header(table: Table, what: str) -> list[str]:
+    """Comment lines (without the comment marker) naming the robot, the chain, the convention's
+    FK formula and the table's own check."""
+    lines = [f"{what} for {table.robot or 'robot'} ({_chain(table)}), generated by urdf2dh."]
+    if table.convention in FK_FORMULAS:
+        lines.append(FK_FORMULAS[table.convention])
+    lines.append(f"Lengths in {table.length_unit} unless stated, angles in radians.")
+    if table.check is not None:
+        lines.append(
+            f"Table checked against the source at {table.check.samples} configurations: "
+            f"{table.check.max_position_error:.2g} {table.length_unit}, "
+            f"{table.check.max_rotation_error:.2g} rad."
+        )
+    lines.extend(f"warning: {w}" for w in table.warnings)
+    return lines
+
+
+def require(table: Table, target: str, conventions: Iterable[str],
+            kinds: Iterable[str] = ("revolute", "prismatic")) -> None:
+    """What every target checks first: the table's convention, its joint kinds, unit scales."""
+    require_convention(table, target, conventions)
+    require_joint_kinds(table, target, kinds)
+    require_unit_scale(table, target)
+
+
+def require_joint_kinds(table: Table, target: str, allowed: Iterable[str]) -> None:
+    """Refuse joints whose kind the target has no joint type for (e.g. helical)."""
+    allowed = tuple(allowed)
+    bad = [f"'{r.name}' ({r.kind})" for r in table.rows if r.kind not in allowed]
+    if bad:
+        raise ExportError(
+            f"{target}: joints {', '.join(bad)} cannot be written; {target} has "
+            f"{' and '.join(allowed)} joints only"
+        )
+
+
+def require_unit_scale(table: Table, target: str) -> None:
+    """Refuse joints whose table variable is a scaled URDF position (``s = scale q``)."""
+    bad = [f"'{r.name}' (scale {r.scale:g})" for r in table.rows if r.scale != 1.0]
+    if bad:
+        raise ExportError(
+            f"{target}: joints {', '.join(bad)} move by a multiple of their position; "
+            f"{target} has no joint scale"
+        )
+
+
+def require_convention(table: Table, target: str, allowed: Iterable[str]) -> None:
+    """Refuse a table in a convention the target does not read."""
+    allowed = tuple(allowed)
+    if table.convention not in allowed:
+        raise UsageError(
+            f"{target} takes {' or '.join(allowed)} tables, not {table.convention}"
+        )

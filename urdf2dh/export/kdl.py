@@ -1,0 +1,87 @@
+"""Orocos KDL (PyKDL): a script that builds the table as a ``Chain`` of ``Segment`` objects.
+
+The consumer: a KDL segment's pose is ``joint.pose(q) . f_tip`` (the joint moves first, then the
+segment's fixed frame), a chain is the product of its segments, and KDL documents
+``Frame.DH(a, alpha, d, theta) = Rz(theta) Tz(d) Tx(a) Rx(alpha)`` and
+``Frame.DH_Craig1989(a, alpha, d, theta) = Rx(alpha) Tx(a) Rz(theta) Tz(d)``.
+
+* ``dh``: a fixed segment for the base ``Frame.DH`` (``B = Rz Tz Rx Tx``), one ``RotZ`` /
+  ``TransZ`` segment per row with ``Frame.DH`` of the row (``Q_i`` then ``Rz Tz Rx Tx``: the
+  table's formula), and a fixed segment for the tool ``Frame.DH(0, 0, d, theta)``.
+* ``mdh``: row ``i`` is ``Rx Tx . Q_i . Rz Tz``, and ``Q_i`` commutes with ``Rz(theta_i)
+  Tz(d_i)``, so it equals ``Frame.DH_Craig1989(row i) . Q_i``: a fixed segment carries the base
+  and row 1's ``DH_Craig1989``, joint ``i``'s segment carries row ``i + 1``'s, and the last
+  joint's carries the tool's (``Rx Tx Rz Tz``, Craig's form too).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from ..table import Table
+from .common import (
+    Numbers,
+    Options,
+    header,
+    require,
+)
+
+__all__ = ["render"]
+
+JOINT_TYPES = {"revolute": "RotZ", "prismatic": "TransZ"}
+
+
+def _frame(kind: str, p: dict[str, Any], numbers: Numbers) -> str:
+    """``kdl.Frame.DH(a, alpha, d, theta)`` or ``DH_Craig1989``; absent parameters are 0."""
+    a = numbers.lin(p.get("a", 0.0))
+    alpha = numbers.ang(p.get("alpha", 0.0))
+    d = numbers.lin(p.get("d", 0.0))
+    theta = numbers.ang(p.get("theta", 0.0))
+    return f"kdl.Frame.{kind}({a}, {alpha}, {d}, {theta})"
+
+
+def _segment(name: str, joint_type: str, frame: str) -> str:
+    joint = f"kdl.Joint({name!r}, kdl.Joint.{joint_type})"
+    return f"    chain.addSegment(kdl.Segment({name!r}, {joint}, {frame}))"
+
+
+def render(table: Table, opts: Options) -> str:
+    """A Python script with ``build_chain() -> PyKDL.Chain`` for the table."""
+    require(table, "kdl", ("dh", "mdh"))
+    numbers = Numbers.of(table, opts.tol)
+    base_name = table.base_link or "base"
+    tip_name = table.tip_link or "tool"
+    lines = []
+    if table.convention == "dh":
+        lines.append(_segment(base_name, "Fixed", _frame("DH", dict(table.base), numbers)))
+        for row in table.rows:
+            lines.append(_segment(row.name, JOINT_TYPES[row.kind],
+                                  _frame("DH", dict(row.params), numbers)))
+        lines.append(_segment(tip_name, "Fixed", _frame("DH", dict(table.tool), numbers)))
+    else:
+        frames = [_frame("DH_Craig1989", dict(r.params), numbers) for r in table.rows]
+        frames.append(_frame("DH_Craig1989", dict(table.tool), numbers))
+        base = _frame("DH_Craig1989", dict(table.base), numbers)
+        if base != "kdl.Frame.DH_Craig1989(0.0, 0.0, 0.0, 0.0)":  # B = I is left out
+            frames[0] = f"{base} * {frames[0]}"
+        lines.append(_segment(base_name, "Fixed", frames[0]))
+        for row, frame in zip(table.rows, frames[1:], strict=True):
+            lines.append(_segment(row.name, JOINT_TYPES[row.kind], frame))
+    doc = header(table, "PyKDL Chain")
+    doc.append(f"Joints in chain order: {', '.join(r.name for r in table.rows)}.")
+    out = ['"""' + "\n".join(doc) + '\n"""', "", "import PyKDL as kdl", "", ""]
+    out.append("def build_chain() -> kdl.Chain:")
+    out.append(f'    """{table.base_link or "base"} -> {table.tip_link or "tool"} as a KDL chain'
+               f' of {table.n} joints."""')
+    out.append("    chain = kdl.Chain()")
+    out.extend(lines)
+    out.append("    return chain")
+    out.append("")
+    out.append("")
+    out.append('if __name__ == "__main__":')
+    out.append("    chain = build_chain()")
+    out.append("    pose = kdl.Frame()")
+    out.append("    kdl.ChainFkSolverPos_recursive(chain).JntToCart("
+               "kdl.JntArray(chain.getNrOfJoints()), pose)")
+    out.append("    print(pose)")
+    return "\n".join(out) + "\n"

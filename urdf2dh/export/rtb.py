@@ -1,0 +1,94 @@
+"""roboticstoolbox-python: a script that builds the table as a ``DHRobot``.
+
+The consumer (roboticstoolbox-python 1.x, ``DHRobot.fkine``) evaluates
+``base . A_1(q_1) ... A_n(q_n) . tool`` with, for ``RevoluteDH`` / ``PrismaticDH``,
+``A = Rz(theta) Tz(d) Tx(a) Rx(alpha)`` and for ``RevoluteMDH`` / ``PrismaticMDH``
+``A = Rx(alpha) Tx(a) Rz(theta) Tz(d)``, where the joint variable plus ``offset`` is ``theta``
+(revolute) or ``d`` (prismatic). That is the table's own formula (``Tx`` and ``Rx`` commute, and
+``Q_i`` commutes with ``Rz(theta_i) Tz(d_i)``), so the rows go over one to one: ``offset`` is
+the table's ``theta`` (revolute) or ``d`` (prismatic). ``qlim`` comes from the URDF limits, and
+``base`` / ``tool`` are written as the table's own products of elementary ``SE3`` transforms.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import Any
+
+from ..table import Row, Table
+from .common import (
+    Numbers,
+    Options,
+    header,
+    require,
+)
+
+__all__ = ["render"]
+
+CLASSES = {
+    ("dh", "revolute"): "RevoluteDH",
+    ("dh", "prismatic"): "PrismaticDH",
+    ("mdh", "revolute"): "RevoluteMDH",
+    ("mdh", "prismatic"): "PrismaticMDH",
+}
+
+
+def _se3(parts: list[tuple[str, float]], numbers: Numbers) -> str:
+    """``SE3.Rz(..) * SE3.Tz(..) * ...``; zero factors dropped (``SE3()`` if all are)."""
+    terms = []
+    for op, value in parts:
+        text = numbers.ang(value) if op.startswith("R") else numbers.lin(value)
+        if float(text) != 0.0:
+            terms.append(f"SE3.{op}({text})")
+    return " * ".join(terms) or "SE3()"
+
+
+def _base_tool(table: Table, which: Mapping[str, Any], order: tuple[str, ...]) -> list[
+        tuple[str, float]]:
+    ops = {"theta": "Rz", "d": "Tz", "alpha": "Rx", "a": "Tx"}
+    return [(ops[k], float(which[k])) for k in order]
+
+
+def _link(table: Table, row: Row, numbers: Numbers) -> str:
+    p = row.params
+    cls = CLASSES[(table.convention, row.kind)]
+    if row.kind == "revolute":
+        args = [f"d={numbers.lin(p['d'])}", f"offset={numbers.ang(p['theta'])}"]
+    else:
+        args = [f"theta={numbers.ang(p['theta'])}", f"offset={numbers.lin(p['d'])}"]
+    args[1:1] = [f"a={numbers.lin(p['a'])}", f"alpha={numbers.ang(p['alpha'])}"]
+    if row.lower is not None and row.upper is not None:
+        lim = (numbers.ang if row.kind == "revolute" else numbers.lin)
+        args.append(f"qlim=[{lim(row.lower)}, {lim(row.upper)}]")
+    args.append(f"name={row.name!r}")
+    return f"        {cls}({', '.join(args)}),"
+
+
+def render(table: Table, opts: Options) -> str:
+    """A Python script defining ``robot``, a roboticstoolbox ``DHRobot`` of the table."""
+    require(table, "rtb", ("dh", "mdh"))
+    numbers = Numbers.of(table, opts.tol)
+    if table.convention == "dh":
+        base = _base_tool(table, table.base, ("theta", "d", "alpha", "a"))
+        tool = _base_tool(table, table.tool, ("theta", "d"))
+    else:
+        base = _base_tool(table, table.base, ("theta", "d"))
+        tool = _base_tool(table, table.tool, ("alpha", "a", "theta", "d"))
+    classes = sorted({CLASSES[(table.convention, r.kind)] for r in table.rows})
+    out = ['"""' + "\n".join(header(table, "roboticstoolbox-python DHRobot")) + '\n"""', ""]
+    out.append(f"from roboticstoolbox import DHRobot, {', '.join(classes)}")
+    out.append("from spatialmath import SE3")
+    out.append("")
+    out.append("robot = DHRobot(")
+    out.append("    [")
+    out.extend(_link(table, r, numbers) for r in table.rows)
+    out.append("    ],")
+    out.append(f"    name={(table.robot or 'robot')!r},")
+    out.append(f"    base={_se3(base, numbers)},")
+    out.append(f"    tool={_se3(tool, numbers)},")
+    out.append(")")
+    out.append("")
+    out.append('if __name__ == "__main__":')
+    out.append("    print(robot)")
+    out.append("    print(robot.fkine([0.0] * robot.n))")
+    return "\n".join(out) + "\n"
