@@ -113,3 +113,14 @@ def test_console_script_runs_without_traceback(tmp_path):
     assert proc.returncode == 2
     assert "malformed XML" in proc.stderr and "Traceback" not in proc.stderr
     assert proc.stderr.count("\n") == 1
+
+
+def test_output_file_gets_the_usual_permissions(tmp_path, capsys):
+    import os
+    import stat
+
+    target = tmp_path / "ur5.csv"
+    assert main(["convert", "ur5", "--format", "csv", "-o", str(target)]) == 0
+    umask = os.umask(0)
+    os.umask(umask)
+    assert stat.S_IMODE(target.stat().st_mode) == 0o666 & ~umask
