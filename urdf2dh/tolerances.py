@@ -6,13 +6,12 @@ The defaults are documented in README.md and overridable per call (keyword) and 
 
 from __future__ import annotations
 
+import sys
 from dataclasses import dataclass, replace
-
-import numpy as np
 
 __all__ = ["DEFAULT", "EXACT", "Tolerances"]
 
-EPS = float(np.finfo(float).eps)
+EPS = sys.float_info.epsilon  # float64's; not numpy's, so that `urdf2dh --help` needs no numpy
 
 
 @dataclass(frozen=True)
