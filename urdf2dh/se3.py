@@ -7,6 +7,9 @@ Conventions (they bite, so they are stated here once):
   with ``v = p x w + h w`` for a screw through point ``p`` with pitch ``h``. Pinocchio's motion
   vectors are ``[v, w]``; convert at that boundary only (``verify.py``).
 * Batched functions take ``(N,)`` joint values and return ``(N, 4, 4)`` stacks.
+* The chain walks (URDF -> POE -> tables) handle one 3-vector or frame at a time, where a numpy
+  call costs far more than its arithmetic; they use the plain-float :data:`Frame` helpers at the
+  end of this module, which do the same IEEE arithmetic without the calls.
 """
 
 from __future__ import annotations
@@ -17,17 +20,28 @@ import numpy as np
 from numpy.typing import NDArray
 
 __all__ = [
+    "IDENTITY",
+    "Frame",
+    "Vec3",
     "adjoint",
+    "between",
+    "compose",
+    "dir_into",
+    "frame_of",
     "inv",
     "line_screw_batch",
+    "matrix_of",
+    "point_into",
     "pose_errors",
     "rot_axis",
     "rot_x",
     "rot_y",
     "rot_z",
+    "rotate",
     "skew",
     "trans",
     "twist_exp",
+    "unit",
 ]
 
 Mat = NDArray[np.float64]
@@ -150,3 +164,68 @@ def pose_errors(a: NDArray[np.float64], b: NDArray[np.float64]) -> tuple[float, 
     dr = np.linalg.norm((a[:, :3, :3] - b[:, :3, :3]).reshape(-1, 9), axis=1)
     ang = 2.0 * np.arcsin(np.minimum(1.0, dr / (2.0 * math.sqrt(2.0))))
     return float(dp.max()), float(ang.max())
+
+
+# --------------------------------------------------------------------------- plain-float frames
+
+Vec3 = tuple[float, float, float]
+Frame = tuple[tuple[float, float, float, float], ...]
+"""The top three rows ``[R | t]`` of a homogeneous transform, as plain floats, row by row."""
+
+IDENTITY: Frame = ((1.0, 0.0, 0.0, 0.0), (0.0, 1.0, 0.0, 0.0), (0.0, 0.0, 1.0, 0.0))
+
+
+def frame_of(t: Mat) -> Frame:
+    """The :data:`Frame` of a ``(4, 4)`` transform."""
+    return tuple(map(tuple, t[:3].tolist()))
+
+
+def matrix_of(f: Frame) -> Mat:
+    """The ``(4, 4)`` transform of a :data:`Frame`."""
+    return np.array([*f, (0.0, 0.0, 0.0, 1.0)])
+
+
+def compose(a: Frame, b: Frame) -> Frame:
+    """``a @ b``."""
+    (b00, b01, b02, b03), (b10, b11, b12, b13), (b20, b21, b22, b23) = b
+    return tuple(
+        (
+            x * b00 + y * b10 + z * b20,
+            x * b01 + y * b11 + z * b21,
+            x * b02 + y * b12 + z * b22,
+            x * b03 + y * b13 + z * b23 + w,
+        )
+        for x, y, z, w in a
+    )
+
+
+def rotate(f: Frame, v: Vec3) -> Vec3:
+    """A direction given in the coordinates of ``f``, in the outer frame: ``R v``."""
+    (a, b, c, _), (d, e, g, _), (h, i, k, _) = f
+    x, y, z = v
+    return (a * x + b * y + c * z, d * x + e * y + g * z, h * x + i * y + k * z)
+
+
+def dir_into(f: Frame, v: Vec3) -> Vec3:
+    """A direction given in the outer frame, in the coordinates of ``f``: ``R^T v``."""
+    (a, b, c, _), (d, e, g, _), (h, i, k, _) = f
+    x, y, z = v
+    return (a * x + d * y + h * z, b * x + e * y + i * z, c * x + g * y + k * z)
+
+
+def point_into(f: Frame, p: Vec3) -> Vec3:
+    """A point given in the outer frame, in the coordinates of ``f``: ``R^T (p - t)``."""
+    return dir_into(f, (p[0] - f[0][3], p[1] - f[1][3], p[2] - f[2][3]))
+
+
+def between(a: Frame, b: Frame) -> Frame:
+    """``a^-1 @ b``: the frame ``b`` in the coordinates of ``a``."""
+    x, y, z = (dir_into(a, (b[0][k], b[1][k], b[2][k])) for k in range(3))
+    t = point_into(a, (b[0][3], b[1][3], b[2][3]))
+    return tuple((x[i], y[i], z[i], t[i]) for i in range(3))
+
+
+def unit(v: Vec3) -> Vec3:
+    """``v / |v|`` (``v`` non-zero)."""
+    n = math.hypot(*v)
+    return (v[0] / n, v[1] / n, v[2] / n)

@@ -23,6 +23,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from . import se3
 from .screws import Joint, JointKind, PoeModel
 
 __all__ = ["CONVENTIONS", "SCHEMA", "Check", "Row", "Table", "convention_module"]
@@ -84,31 +85,33 @@ class Table:
     @cached_property
     def base_matrix(self) -> Mat:
         """``(4, 4)`` base transform ``B`` built from ``base`` params."""
-        return convention_module(self.convention).base_matrix(self.base)
+        return se3.matrix_of(convention_module(self.convention).base_frame(self.base))
 
     @cached_property
     def tool_matrix(self) -> Mat:
         """``(4, 4)`` tool transform ``T`` built from ``tool`` params."""
-        return convention_module(self.convention).tool_matrix(self.tool)
+        return se3.matrix_of(convention_module(self.convention).tool_frame(self.tool))
 
     @cached_property
-    def links(self) -> tuple[Mat, ...]:
-        """The ``n + 1`` constant transforms ``G_0 .. G_n`` between the joint motions."""
+    def links(self) -> Mat:
+        """``(n + 1, 4, 4)``: the constant transforms ``G_0 .. G_n`` between the joint motions."""
         mod = convention_module(self.convention)
-        out: list[Mat] = []
-        g = self.base_matrix
+        out: list[se3.Frame] = []
+        g = mod.base_frame(self.base)
         for row in self.rows:
-            pre, post = mod.row_matrices(row.params)
-            out.append(g if pre is None else g @ pre)
+            pre, post = mod.row_frames(row.params)
+            out.append(g if pre is None else se3.compose(g, pre))
             g = post
-        out.append(g @ self.tool_matrix)
-        return tuple(out)
+        out.append(se3.compose(g, mod.tool_frame(self.tool)))
+        return np.array([[*f, (0.0, 0.0, 0.0, 1.0)] for f in out])
 
     @cached_property
     def _motion(self) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
-        rot = np.array([0.0 if r.kind == "prismatic" else 1.0 for r in self.rows])
-        lin = np.array([1.0 if r.kind == "prismatic" else r.pitch for r in self.rows])
-        scale = np.array([r.scale for r in self.rows], dtype=float)
+        """Per joint: rotation and translation per unit of ``s``, and the scale; ``(n,)`` each."""
+        rot, lin, scale = np.array(
+            [(0.0, 1.0, r.scale) if r.kind == "prismatic" else (1.0, r.pitch, r.scale)
+             for r in self.rows], dtype=float,
+        ).reshape(-1, 3).T
         return rot, lin, scale
 
     def fk(self, q: NDArray[np.float64]) -> Mat:
