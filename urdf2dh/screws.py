@@ -15,12 +15,11 @@ from __future__ import annotations
 import itertools
 import math
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import Literal
 
 import numpy as np
 from numpy.typing import NDArray
-
-from . import se3
 
 __all__ = ["KINDS", "Joint", "JointKind", "PoeModel", "joint_from_twist"]
 
@@ -28,6 +27,11 @@ JointKind = Literal["revolute", "prismatic", "helical"]
 KINDS: tuple[str, ...] = ("revolute", "prismatic", "helical")
 
 Vec = NDArray[np.float64]
+
+FK_BLOCK = 4096  # configurations per block of the batched FK (stays in cache)
+_ZERO_ROW = (0.0, 0.0, 0.0, 0.0)
+_IDENTITY_ROWS = ((1.0, 0.0, 0.0, 0.0), (0.0, 1.0, 0.0, 0.0), (0.0, 0.0, 1.0, 0.0),
+                  (0.0, 0.0, 0.0, 1.0))
 
 
 def _frozen(a: NDArray[np.float64] | None) -> NDArray[np.float64] | None:
@@ -168,9 +172,7 @@ class PoeModel:
     def extent(self) -> float:
         """The robot's size: the largest distance from the base origin of any joint's axis
         point or of the tip at the home pose (0 for a chain that is all at the origin)."""
-        pts = [j.point for j in self.joints if j.point is not None]
-        pts.append(self.home[:3, 3])
-        return float(max(np.linalg.norm(p) for p in pts))
+        return max(math.hypot(*p) for p in self._points()[1:])
 
     def size(self) -> float:
         """The length that errors are measured against: :meth:`extent`, or 1 when that is 0."""
@@ -181,35 +183,104 @@ class PoeModel:
         """An upper bound on any point's distance from the base origin over all configurations
         within reach of the chain's geometry: the length of the polyline through the joint axis
         points and the tip (used to bound the effect of a tolerance judgement)."""
-        pts = [np.zeros(3)] + [j.point for j in self.joints if j.point is not None]
-        pts.append(self.home[:3, 3])
-        return float(sum(np.linalg.norm(b - a) for a, b in itertools.pairwise(pts)))
+        return math.fsum(math.dist(a, b) for a, b in itertools.pairwise(self._points()))
+
+    def _points(self) -> list[list[float]]:
+        """The base origin, the joints' axis points and the tip's origin, as plain floats."""
+        pts = [[0.0, 0.0, 0.0]]
+        pts += [j.point.tolist() for j in self.joints if j.point is not None]
+        pts.append(self.home[:3, 3].tolist())
+        return pts
 
     def fk(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
         """Pose of the tip for one configuration ``q`` of shape ``(n,)``."""
         return self.fk_batch(np.asarray(q, dtype=float).reshape(1, -1))[0]
 
+    @cached_property
+    def _exponentials(self) -> tuple[NDArray[np.float64], tuple[tuple[int, ...], ...]]:
+        """Per joint, the transposed weights ``W^T`` of its exponential, ``(n, 4, 16)``, and the
+        terms it uses.
+
+        ``X = [[u]x, p x u; 0, 0]`` is the 4x4 matrix of the joint's unit screw of zero pitch
+        and ``E = [0, u; 0, 0]`` its translation along the axis; they commute (``X E = E X = 0``)
+        and ``X^3 = -X``, so the exponential of a joint's motion is, in closed form (Rodrigues;
+        Murray, Li & Sastry 1994, eq. 2.36)::
+
+            exp(s) = I + sin(rot s) X + (1 - cos(rot s)) X^2 + (trans s) E
+
+        Terms are numbered 0: ``sin``, 1: ``1 - cos``, 2: ``trans s``. ``W`` stacks ``I`` and the
+        matrices of the terms used (``X``, ``X^2``, ``E``), then zeros.
+        """
+        weights, uses = [], []
+        for j in self.joints:
+            used, rows = [], list(_IDENTITY_ROWS)
+            if j.rotation:
+                assert j.point is not None  # revolute and helical joints always carry a point
+                (ux, uy, uz), (px, py, pz) = j.axis.tolist(), j.point.tolist()
+                vx, vy, vz = py * uz - pz * uy, pz * ux - px * uz, px * uy - py * ux  # p x u
+                wx, wy, wz = uy * vz - uz * vy, uz * vx - ux * vz, ux * vy - uy * vx  # u x v
+                used += [0, 1]
+                rows += [(0.0, -uz, uy, vx), (uz, 0.0, -ux, vy), (-uy, ux, 0.0, vz), _ZERO_ROW]
+                rows += [  # X^2 = [[u u^T - |u|^2 I, u x v], [0, 0]]
+                    (-(uy * uy + uz * uz), ux * uy, ux * uz, wx),
+                    (uy * ux, -(ux * ux + uz * uz), uy * uz, wy),
+                    (uz * ux, uz * uy, -(ux * ux + uy * uy), wz),
+                    _ZERO_ROW,
+                ]
+            if j.translation:
+                used.append(2)
+                rows += [(0.0, 0.0, 0.0, c) for c in j.axis.tolist()] + [_ZERO_ROW]
+            weights.append(rows + [_ZERO_ROW] * (16 - len(rows)))
+            uses.append(tuple(used))
+        return np.array(weights).reshape(-1, 16, 4).transpose(0, 2, 1), tuple(uses)
+
     def fk_batch(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
-        """Poses ``(N, 4, 4)`` of the tip for configurations ``q`` of shape ``(N, n)``."""
+        """Poses ``(N, 4, 4)`` of the tip for configurations ``q`` of shape ``(N, n)``.
+
+        The screw exponentials in closed form (see ``_exponentials``), a block of ``m``
+        configurations at a time, each pose held transposed and without its constant last row
+        (``F^T[:, :3]``, shape ``(4, 3, m)``): a joint is one matrix product
+        ``(F exp)^T = W^T @ [F; sin F; (1 - cos) F; t F]^T``.
+        """
         q = np.asarray(q, dtype=float).reshape(-1, self.n)
-        out = np.broadcast_to(np.eye(4), (q.shape[0], 4, 4)).copy()
-        zero = np.zeros(3)
-        for i, j in enumerate(self.joints):
-            point = zero if j.point is None else j.point
-            g = se3.line_screw_batch(j.axis, point, j.rotation, j.translation, j.scale * q[:, i])
-            out = out @ g
-        return out @ self.home
+        weights, uses = self._exponentials
+        motion = np.array([(j.scale, j.rotation, j.translation) for j in self.joints],
+                          dtype=float).reshape(-1, 3).T
+        count = q.shape[0]
+        out = np.empty((count, 4, 4))
+        out[:, 3] = (0.0, 0.0, 0.0, 1.0)
+        buffers = np.empty((2, 16 * 3 * min(count, FK_BLOCK)))
+        for lo in range(0, count, FK_BLOCK):
+            m = min(lo + FK_BLOCK, count) - lo
+            s = q[lo : lo + m].T * motion[0, :, None]  # (n, m)
+            terms = np.empty((3, self.n, m))
+            np.sin(s * motion[1, :, None], out=terms[0])
+            np.cos(s * motion[1, :, None], out=terms[1])
+            np.subtract(1.0, terms[1], out=terms[1])
+            np.multiply(s, motion[2, :, None], out=terms[2])
+            terms = np.tile(terms, 3)  # (3, n, 3 m): one value per entry of a row of F^T
+            # the stack [F; sin F; (1 - cos) F; t F]^T as (16, 3 m), and the next one
+            cur, nxt = (buf[: 48 * m].reshape(16, -1) for buf in buffers)
+            cur[:4] = np.repeat(np.eye(4)[:, :3], m, axis=1)  # F^T of the identity
+            for i, used in enumerate(uses):
+                for k, term in enumerate(used, start=1):
+                    np.multiply(cur[:4], terms[term, i], out=cur[4 * k : 4 * k + 4])
+                k = 4 + 4 * len(used)
+                np.matmul(weights[i, :, :k], cur[:k], out=nxt[:4])
+                cur, nxt = nxt, cur
+            f = self.home.T @ cur[:4]
+            out[lo : lo + m, :3] = f.reshape(4, 3, m).transpose(2, 1, 0)
+        return out
 
     def limits(self) -> NDArray[np.float64]:
         """``(n, 2)`` sampling ranges for ``q``: the joint limits where known, else
         ``[-pi, pi]`` for rotating joints and ``[-size, size]`` (in ``s``) for prismatic ones."""
-        out = np.empty((self.n, 2))
+        out = []
         size = self.size()
-        for i, j in enumerate(self.joints):
+        for j in self.joints:
             if j.lower is not None and j.upper is not None and j.upper > j.lower:
-                out[i] = (j.lower, j.upper)
-            elif j.kind == "prismatic":
-                out[i] = (-size / abs(j.scale), size / abs(j.scale))
+                out.append((j.lower, j.upper))
             else:
-                out[i] = (-math.pi / abs(j.scale), math.pi / abs(j.scale))
-        return out
+                half = (size if j.kind == "prismatic" else math.pi) / abs(j.scale)
+                out.append((-half, half))
+        return np.array(out, dtype=float).reshape(-1, 2)
