@@ -17,6 +17,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from . import se3
 from .errors import ChainError, InputError, choices
 from .files import read_file
 from .screws import Joint, JointKind, PoeModel
@@ -25,6 +26,10 @@ __all__ = ["UrdfJoint", "UrdfTree", "load_tree", "parse_tree", "tree_to_poe"]
 
 MOVABLE = {"revolute": "revolute", "continuous": "revolute", "prismatic": "prismatic"}
 KNOWN_TYPES = ("revolute", "continuous", "prismatic", "fixed", "floating", "planar")
+_IDENTITY = np.eye(4)  # a joint without <origin>, shared read-only
+_IDENTITY.setflags(write=False)
+_X_AXIS = np.array([1.0, 0.0, 0.0])  # URDF's default axis, shared read-only
+_X_AXIS.setflags(write=False)
 
 
 @dataclass(frozen=True)
@@ -116,14 +121,13 @@ class UrdfTree:
 def _floats(text: str | None, count: int, what: str, where: str) -> list[float] | None:
     if text is None:
         return None
-    parts = text.split()
     try:
-        values = [float(p) for p in parts]
+        values = list(map(float, text.split()))
     except ValueError as e:
         raise InputError(f"{where}: {what} '{text}' is not {count} numbers") from e
     if len(values) != count:
         raise InputError(f"{where}: {what} '{text}' is not {count} numbers")
-    if not all(math.isfinite(v) for v in values):
+    if not all(map(math.isfinite, values)):
         raise InputError(f"{where}: {what} '{text}' is not finite")
     return values
 
@@ -135,7 +139,7 @@ def _check_xml(root: Any, display: str) -> None:
     if not root.get("name"):
         raise InputError(f"{display}: <robot> has no name attribute")
     links: set[str] = set()
-    for el in root.findall("link"):
+    for el in root.iterchildren("link"):
         name = el.get("name")
         if not name:
             raise InputError(f"{display}: a <link> has no name attribute")
@@ -145,7 +149,7 @@ def _check_xml(root: Any, display: str) -> None:
     if not links:
         raise InputError(f"{display}: robot '{root.get('name')}' declares no links")
     joints: set[str] = set()
-    for el in root.findall("joint"):
+    for el in root.iterchildren("joint"):
         name = el.get("name")
         if not name:
             raise InputError(f"{display}: a <joint> has no name attribute")
@@ -156,28 +160,26 @@ def _check_xml(root: Any, display: str) -> None:
         jtype = el.get("type")
         if jtype not in KNOWN_TYPES:
             raise InputError(f"{where} has unknown type '{jtype}'; valid: {choices(KNOWN_TYPES)}")
+        sub: dict[Any, Any] = {}
+        for child in el:  # one pass; the first of each tag counts, as with find()
+            sub.setdefault(child.tag, child)
         for role in ("parent", "child"):
-            sub = el.find(role)
-            link = sub.get("link") if sub is not None else None
+            link = sub[role].get("link") if role in sub else None
             if not link:
                 raise InputError(f"{where} has no <{role} link=...>")
             if link not in links:
                 raise InputError(f"{where} names undeclared link '{link}' as its {role}")
-        origin = el.find("origin")
-        if origin is not None:
-            _floats(origin.get("xyz"), 3, "origin xyz", where)
-            _floats(origin.get("rpy"), 3, "origin rpy", where)
-        axis = el.find("axis")
-        if axis is not None:
-            xyz = _floats(axis.get("xyz"), 3, "axis xyz", where)
+        if "origin" in sub:
+            _floats(sub["origin"].get("xyz"), 3, "origin xyz", where)
+            _floats(sub["origin"].get("rpy"), 3, "origin rpy", where)
+        if "axis" in sub:
+            xyz = _floats(sub["axis"].get("xyz"), 3, "axis xyz", where)
             if xyz is not None and jtype in MOVABLE and not any(xyz):
                 raise InputError(f"{where} has a zero axis")
-        limit = el.find("limit")
-        if limit is not None:
+        if "limit" in sub:
             for attr in ("lower", "upper"):
-                _floats(limit.get(attr), 1, f"limit {attr}", where)
-        mimic = el.find("mimic")
-        if mimic is not None and not mimic.get("joint"):
+                _floats(sub["limit"].get(attr), 1, f"limit {attr}", where)
+        if "mimic" in sub and not sub["mimic"].get("joint"):
             raise InputError(f"{where} has a <mimic> without a joint attribute")
 
 
@@ -216,15 +218,17 @@ def _from_yourdfpy(data: bytes, display: str, name: str) -> UrdfTree:
         )
     except Exception as e:  # yourdfpy raises many kinds; our checks ran first
         raise InputError(f"{display}: yourdfpy cannot load it ({type(e).__name__}: {e})") from e
-    robot = urdf.robot
+    return _tree_from_robot(urdf.robot, display, name)
+
+
+def _tree_from_robot(robot: Any, display: str, name: str) -> UrdfTree:
+    """The :class:`UrdfTree` of a yourdfpy ``Robot`` (its joints and links)."""
     joints: dict[str, UrdfJoint] = {}
     parent_joint: dict[str, UrdfJoint] = {}
     children: dict[str, list[UrdfJoint]] = {}
     for j in robot.joints:
-        origin = np.eye(4) if j.origin is None else np.asarray(j.origin, dtype=float)
-        axis = np.array([1.0, 0.0, 0.0]) if j.axis is None else np.asarray(j.axis, dtype=float)
-        if not (np.all(np.isfinite(origin)) and np.all(np.isfinite(axis))):
-            raise InputError(f"{display}: joint '{j.name}' has a non-finite origin or axis")
+        origin = _IDENTITY if j.origin is None else np.asarray(j.origin, dtype=float)
+        axis = _X_AXIS if j.axis is None else np.asarray(j.axis, dtype=float)
         lower = upper = None
         if j.limit is not None and j.type != "continuous":
             lower = None if j.limit.lower is None else float(j.limit.lower)
@@ -242,6 +246,11 @@ def _from_yourdfpy(data: bytes, display: str, name: str) -> UrdfTree:
         joints[uj.name] = uj
         parent_joint[uj.child] = uj
         children.setdefault(uj.parent, []).append(uj)
+    values = [a.ravel() for j in joints.values() for a in (j.origin, j.axis)]
+    if values and not np.isfinite(np.concatenate(values)).all():
+        bad = next(j.name for j in joints.values()
+                   if not (np.isfinite(j.origin).all() and np.isfinite(j.axis).all()))
+        raise InputError(f"{display}: joint '{bad}' has a non-finite origin or axis")
     links = tuple(link.name for link in robot.links)
     roots = [link for link in links if link not in parent_joint]
     if not roots:
@@ -287,11 +296,11 @@ def tree_to_poe(
         )
     tip = tip or tree.default_tip(base)
     path = tree.chain(base, tip)
-    t = np.eye(4)
+    t = se3.IDENTITY  # the joint frame at the home pose, in the base frame
     joints: list[Joint] = []
     warnings: list[str] = []
     for uj in path:
-        t = t @ uj.origin
+        t = se3.compose(t, se3.frame_of(uj.origin))
         if uj.type in ("floating", "planar"):
             raise ChainError(
                 f"{tree.path}: joint '{uj.name}' on the chain '{base}' -> '{tip}' is "
@@ -309,11 +318,13 @@ def tree_to_poe(
                 f"joint '{uj.name}' mimics '{uj.mimic}' in the URDF; treated as an independent "
                 "joint (--ignore-mimic)"
             )
-        norm = float(np.linalg.norm(uj.axis))
-        axis = t[:3, :3] @ (uj.axis / norm)
-        axis /= np.linalg.norm(axis)
+        x, y, z = uj.axis.tolist()
+        axis = se3.unit(se3.rotate(t, se3.unit((x, y, z))))
+        point = (t[0][3], t[1][3], t[2][3])
         kind: JointKind = MOVABLE[uj.type]  # type: ignore[assignment]
-        joints.append(Joint(uj.name, kind, axis, t[:3, 3].copy(), 0.0, 1.0, uj.lower, uj.upper))
+        joints.append(Joint(uj.name, kind, np.array(axis), np.array(point), 0.0, 1.0,
+                            uj.lower, uj.upper))
     return PoeModel(
-        tuple(joints), t, name or tree.name, tree.path, base, tip, "m", tuple(warnings)
+        tuple(joints), se3.matrix_of(t), name or tree.name, tree.path, base, tip, "m",
+        tuple(warnings),
     )
