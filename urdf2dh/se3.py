@@ -160,10 +160,12 @@ def pose_errors(a: NDArray[np.float64], b: NDArray[np.float64]) -> tuple[float, 
     b = np.asarray(b, dtype=float).reshape(-1, 4, 4)
     if a.shape[0] == 0:
         return 0.0, 0.0
-    dp = np.linalg.norm(a[:, :3, 3] - b[:, :3, 3], axis=1)
-    dr = np.linalg.norm((a[:, :3, :3] - b[:, :3, :3]).reshape(-1, 9), axis=1)
-    ang = 2.0 * np.arcsin(np.minimum(1.0, dr / (2.0 * math.sqrt(2.0))))
-    return float(dp.max()), float(ang.max())
+    d = a[:, :3] - b[:, :3]
+    d *= d
+    # both measures grow with these sums of squares: take the worst first, then the root
+    pos = math.sqrt(float(d[:, :, 3].sum(axis=1).max()))
+    r = math.sqrt(float(d[:, :, :3].sum(axis=(1, 2)).max())) / (2.0 * math.sqrt(2.0))
+    return pos, (r if math.isnan(r) else 2.0 * math.asin(min(r, 1.0)))
 
 
 # --------------------------------------------------------------------------- plain-float frames
