@@ -185,6 +185,12 @@ def _check_xml(root: Any, display: str) -> None:
 
 def parse_tree(data: bytes, display: str) -> UrdfTree:
     """Parse URDF text into a checked :class:`UrdfTree` (``display`` names it in messages)."""
+    name = _checked_name(data, display)
+    return _tree_from_robot(_yourdfpy_robot(data, display), display, name)
+
+
+def _checked_name(data: bytes, display: str) -> str:
+    """Our own pass over the text (lxml, :func:`_check_xml`); returns the robot's name."""
     from lxml import etree
 
     if not data.strip():
@@ -196,7 +202,7 @@ def parse_tree(data: bytes, display: str) -> UrdfTree:
     except etree.XMLSyntaxError as e:
         raise InputError(f"{display}: malformed XML ({e})") from e
     _check_xml(root, display)
-    return _from_yourdfpy(data, display, root.get("name"))
+    return str(root.get("name"))
 
 
 def load_tree(path: str | Path, display: str | None = None) -> UrdfTree:
@@ -205,7 +211,8 @@ def load_tree(path: str | Path, display: str | None = None) -> UrdfTree:
     return parse_tree(read_file(path, display or str(path)), display or str(path))
 
 
-def _from_yourdfpy(data: bytes, display: str, name: str) -> UrdfTree:
+def _yourdfpy_robot(data: bytes, display: str) -> Any:
+    """yourdfpy's ``Robot`` of the text (joint origins, axes, limits, mimic; no meshes)."""
     import yourdfpy
 
     try:
@@ -218,7 +225,7 @@ def _from_yourdfpy(data: bytes, display: str, name: str) -> UrdfTree:
         )
     except Exception as e:  # yourdfpy raises many kinds; our checks ran first
         raise InputError(f"{display}: yourdfpy cannot load it ({type(e).__name__}: {e})") from e
-    return _tree_from_robot(urdf.robot, display, name)
+    return urdf.robot
 
 
 def _tree_from_robot(robot: Any, display: str, name: str) -> UrdfTree:
