@@ -197,9 +197,9 @@ class PoeModel:
         return self.fk_batch(np.asarray(q, dtype=float).reshape(1, -1))[0]
 
     @cached_property
-    def _exponentials(self) -> tuple[NDArray[np.float64], tuple[tuple[int, ...], ...]]:
-        """Per joint, the transposed weights ``W^T`` of its exponential, ``(n, 4, 16)``, and the
-        terms it uses.
+    def _exponentials(self) -> list[tuple[tuple[int, ...], NDArray[np.float64]]]:
+        """Per joint, the terms its exponential uses and their transposed weights ``W^T``,
+        ``(4, 4 + 4 k)``.
 
         ``X = [[u]x, p x u; 0, 0]`` is the 4x4 matrix of the joint's unit screw of zero pitch
         and ``E = [0, u; 0, 0]`` its translation along the axis; they commute (``X E = E X = 0``)
@@ -209,7 +209,7 @@ class PoeModel:
             exp(s) = I + sin(rot s) X + (1 - cos(rot s)) X^2 + (trans s) E
 
         Terms are numbered 0: ``sin``, 1: ``1 - cos``, 2: ``trans s``. ``W`` stacks ``I`` and the
-        matrices of the terms used (``X``, ``X^2``, ``E``), then zeros.
+        matrices of the terms used (``X``, ``X^2``, ``E``).
         """
         weights, uses = [], []
         for j in self.joints:
@@ -232,7 +232,8 @@ class PoeModel:
                 rows += [(0.0, 0.0, 0.0, c) for c in j.axis.tolist()] + [_ZERO_ROW]
             weights.append(rows + [_ZERO_ROW] * (16 - len(rows)))
             uses.append(tuple(used))
-        return np.array(weights).reshape(-1, 16, 4).transpose(0, 2, 1), tuple(uses)
+        stacked = np.array(weights).reshape(-1, 16, 4).transpose(0, 2, 1)  # one array call
+        return [(u, stacked[i, :, : 4 + 4 * len(u)].copy()) for i, u in enumerate(uses)]
 
     def fk_batch(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
         """Poses ``(N, 4, 4)`` of the tip for configurations ``q`` of shape ``(N, n)``.
@@ -243,7 +244,6 @@ class PoeModel:
         ``(F exp)^T = W^T @ [F; sin F; (1 - cos) F; t F]^T``.
         """
         q = np.asarray(q, dtype=float).reshape(-1, self.n)
-        weights, uses = self._exponentials
         motion = np.array([(j.scale, j.rotation, j.translation) for j in self.joints],
                           dtype=float).reshape(-1, 3).T
         count = q.shape[0]
@@ -258,17 +258,16 @@ class PoeModel:
             np.cos(s * motion[1, :, None], out=terms[1])
             np.subtract(1.0, terms[1], out=terms[1])
             np.multiply(s, motion[2, :, None], out=terms[2])
-            terms = np.tile(terms, 3)  # (3, n, 3 m): one value per entry of a row of F^T
-            # the stack [F; sin F; (1 - cos) F; t F]^T as (16, 3 m), and the next one
-            cur, nxt = (buf[: 48 * m].reshape(16, -1) for buf in buffers)
-            cur[:4] = np.repeat(np.eye(4)[:, :3], m, axis=1)  # F^T of the identity
-            for i, used in enumerate(uses):
+            # the stack [F; sin F; (1 - cos) F; t F]^T, as (16, 3, m) and as (16, 3 m)
+            (cur, cur2), (nxt, nxt2) = ((v.reshape(16, 3, m), v.reshape(16, -1))
+                                        for v in (buf[: 48 * m] for buf in buffers))
+            cur[:4] = np.eye(4)[:, :3, None]  # F^T of the identity
+            for i, (used, w) in enumerate(self._exponentials):
                 for k, term in enumerate(used, start=1):
                     np.multiply(cur[:4], terms[term, i], out=cur[4 * k : 4 * k + 4])
-                k = 4 + 4 * len(used)
-                np.matmul(weights[i, :, :k], cur[:k], out=nxt[:4])
-                cur, nxt = nxt, cur
-            f = self.home.T @ cur[:4]
+                np.dot(w, cur2[: w.shape[1]], out=nxt2[:4])
+                (cur, cur2), (nxt, nxt2) = (nxt, nxt2), (cur, cur2)
+            f = self.home.T @ cur2[:4]
             out[lo : lo + m, :3] = f.reshape(4, 3, m).transpose(2, 1, 0)
         return out
 

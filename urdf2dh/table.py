@@ -139,19 +139,24 @@ class Table:
         for lo in range(0, count, FK_BLOCK):
             m = min(lo + FK_BLOCK, count) - lo
             s = (q[lo : lo + m] * scale).T  # (n, m)
-            turn = np.empty(s.shape, dtype=complex)  # e^{-i phi}, phi = rot * s
-            np.cos(rot[:, None] * s, out=turn.real)
-            np.sin(-rot[:, None] * s, out=turn.imag)
-            f, g = (b[: 12 * m].reshape(3, m, 4) for b in buffers)  # contiguous
-            f[...] = links[0, :3, None, :]
+            angle = rot[:, None] * s
+            turn = np.empty(s.shape, dtype=complex)  # e^{-i angle}
+            np.cos(angle, out=turn.real)
+            np.sin(angle, out=turn.imag)
+            np.negative(turn.imag, out=turn.imag)
+            # per buffer: the poses (3, m, 4), their x + i y columns, and the (3 m, 4) rows
+            views = [(v, v[:, :, :2].view(complex)[:, :, 0], v.reshape(-1, 4))
+                     for v in (b[: 12 * m].reshape(3, m, 4) for b in buffers)]
+            views[0][0][...] = links[0, :3, None, :]
             for i in range(self.n):
+                (f, xy, rows), nxt = views
                 if rot[i]:
-                    f[:, :, :2].view(complex)[:, :, 0] *= turn[i]
+                    xy *= turn[i]
                 if lin[i]:
                     f[:, :, 3] += (lin[i] * s[i]) * f[:, :, 2]
-                np.matmul(f.reshape(-1, 4), links[i + 1], out=g.reshape(-1, 4))
-                f, g = g, f
-            out[lo : lo + m, :3] = f.transpose(1, 0, 2)
+                np.dot(rows, links[i + 1], out=nxt[2])
+                views = [nxt, views[0]]
+            out[lo : lo + m, :3] = views[0][0].transpose(1, 0, 2)
         return out
 
     def frames(self) -> list[Mat]:
