@@ -93,3 +93,13 @@ def test_empty_batches():
     assert model.fk_batch(np.zeros((0, 3))).shape == (0, 4, 4)
     for conv in CONVENTIONS:
         assert to_table(model, conv).fk_batch(np.zeros((0, 3))).shape == (0, 4, 4)
+
+
+def test_self_check_samples_are_generator_uniform_draws():
+    """sample_configurations computes low + (high - low) * random() itself: the same numbers
+    as Generator.uniform(low, high, size), without its slow broadcasting path."""
+    model = mixed_model(6)
+    lim = model.limits()
+    for seed in range(5):
+        expected = np.random.default_rng(seed).uniform(lim[:, 0], lim[:, 1], size=(50, 6))
+        assert np.array_equal(sample_configurations(model, 50, seed), expected)
