@@ -134,7 +134,6 @@ class Table:
         links = self.links
         count = q.shape[0]
         out = np.empty((count, 4, 4))
-        out[:, 3] = (0.0, 0.0, 0.0, 1.0)
         buffers = np.empty((2, 12 * min(count, FK_BLOCK)))
         for lo in range(0, count, FK_BLOCK):
             m = min(lo + FK_BLOCK, count) - lo
@@ -157,6 +156,7 @@ class Table:
                 np.dot(rows, links[i + 1], out=nxt[2])
                 views = [nxt, views[0]]
             out[lo : lo + m, :3] = views[0][0].transpose(1, 0, 2)
+            out[lo : lo + m, 3] = (0.0, 0.0, 0.0, 1.0)
         return out
 
     def frames(self) -> list[Mat]:
