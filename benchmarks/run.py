@@ -23,7 +23,7 @@ import yourdfpy
 ROOT = Path(__file__).resolve().parents[1]
 sys.path[:0] = [str(ROOT / "tests"), str(Path(__file__).resolve().parent)]
 
-from chains import random_chain_urdf  # noqa: E402 - tests/chains.py: seeded random URDF chains
+from scale import chain_lengths  # noqa: E402
 from timing import Figure, best_of, import_ms, peak_alloc, print_table, run_process  # noqa: E402
 
 from urdf2dh.catalog import ROBOTS, robot_path  # noqa: E402
@@ -36,8 +36,7 @@ from urdf2dh.convert import (  # noqa: E402
 )
 from urdf2dh.files import read_file  # noqa: E402
 from urdf2dh.se3 import pose_errors  # noqa: E402
-from urdf2dh.sources import Source, open_source  # noqa: E402
-from urdf2dh.table import CONVENTIONS  # noqa: E402
+from urdf2dh.sources import open_source  # noqa: E402
 from urdf2dh.tolerances import DEFAULT  # noqa: E402
 from urdf2dh.urdf import (  # noqa: E402 - the stages of parse_tree, timed one by one
     _checked_name,
@@ -46,7 +45,6 @@ from urdf2dh.urdf import (  # noqa: E402 - the stages of parse_tree, timed one b
     parse_tree,
     tree_to_poe,
 )
-from urdf2dh.verify import pinocchio_fk  # noqa: E402
 
 ARM = "panda"  # the 7-DOF arm of the engine and batch figures
 
@@ -145,56 +143,6 @@ def imports() -> list[Figure]:
                "pinocchio" not in convert),
         Figure("import yourdfpy (not ours)", yd["total"] / 1e3, pin_ms / 1e3, "ms"),
     ]
-
-
-def chain_lengths(sizes: list[int], accuracy_samples: int) -> tuple[list[Figure], list[str]]:
-    """Random chains (tests/chains.py): our pass + dh + self-check vs buildModelFromXML, and the
-    worst FK error of every convention against Pinocchio's."""
-    rows, times, errors, lines = [], [], [], []
-    for n in sizes:
-        text, _ = random_chain_urdf(n, n)
-        data = text.encode()
-        robot = _yourdfpy_robot(data, "chain.urdf")
-
-        def ours(data: bytes = data, robot: object = robot) -> object:
-            tree = _tree_from_robot(robot, "chain.urdf", _checked_name(data, "chain.urdf"))
-            return to_table(tree_to_poe(tree, "base", "tool"), "dh")
-
-        repeat = 5 if n <= 200 else 2
-        pin_t, t = best_of([lambda text=text: pin.buildModelFromXML(text), ours], repeat)
-        times.append(t)
-        ok = t <= 1.0 if n == 1000 else None
-        rows.append(Figure(f"{n} joints: convert to dh, self-check included", t, pin_t, "ms",
-                           "ours <= 1 s" if n == 1000 else "", ok))
-        tree = parse_tree(data, "chain.urdf")
-        model = tree_to_poe(tree, "base", "tool")
-        q = sample_configurations(model, accuracy_samples, 1)
-        reference = pinocchio_fk(Source("urdf", "chain.urdf", tree.name, tree, data), model, q)
-        size = model.size()
-        worst = [pose_errors(model.fk_batch(q), reference)]
-        worst += [pose_errors(to_table(model, c).fk_batch(q), reference) for c in CONVENTIONS]
-        errors.append((n, max(p for p, _ in worst) / size, max(r for _, r in worst)))
-        lines.append(f"| {n} | {size:.3g} | " + " | ".join(f"{p / size:.2e}" for p, _ in worst)
-                     + f" | {max(r for _, r in worst):.2e} |")
-    n_arr, t_arr = np.array(sizes, float), np.array(times)
-    b, a = np.polyfit(n_arr, t_arr, 1)
-    r2 = 1 - np.sum((t_arr - (a + b * n_arr)) ** 2) / np.sum((t_arr - t_arr.mean()) ** 2)
-    big = n_arr >= 100 if (n_arr >= 100).sum() >= 2 else n_arr > 0
-    slope = np.polyfit(np.log(n_arr[big]), np.log(t_arr[big]), 1)[0]
-    fit = [f"Time against joints: t = {a * 1e3:.3g} ms + {b * 1e6:.3g} us x n (R^2 = {r2:.4f}); "
-           f"log-log slope for n >= {int(n_arr[big].min())}: {slope:.2f} (1 = linear); per "
-           "joint: " + ", ".join(f"{n}: {t / n * 1e6:.0f} us" for n, t in zip(sizes, times,
-                                                                                strict=True))]
-    e = np.array([(n, max(p, 2.0**-60), max(r, 2.0**-60)) for n, p, r in errors])
-    pos_slope = np.polyfit(np.log(e[:, 0]), np.log(e[:, 1]), 1)[0]
-    rot_slope = np.polyfit(np.log(e[:, 0]), np.log(e[:, 2]), 1)[0]
-    fit += [f"Worst error against joints (log-log slope; <= 1 is no faster than linear): "
-            f"position / size {pos_slope:.2f}, rotation {rot_slope:.2f}"]
-    header = ["", f"Worst FK error against Pinocchio at {accuracy_samples} configurations, "
-              "position relative to the robot's size, and the worst rotation error (rad):", "",
-              "| joints | size | POE | dh | mdh | cpc | rotation |", "|---:|---:|---:|---:|---:|"
-              "---:|---:|"]
-    return rows, fit + header + lines
 
 
 def batch_fk(count: int, repeat: int) -> list[Figure]:
