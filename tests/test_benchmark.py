@@ -37,7 +37,9 @@ def test_quick_benchmark_reports_every_figure_with_pinocchio_and_ratio():
         assert abs(ours / pin - ratio) <= 0.01 * ratio + 1e-3, m.group(0)  # 3 digits printed
         if m["goal"].strip():
             assert m["goal"].rstrip().endswith(("(met)", "(NOT met)")), m.group(0)
-    # accuracy against chain length, and the batch FK's agreement with Pinocchio, are shown
-    assert "Worst FK error against Pinocchio" in out and "log-log slope" in out
+    # accuracy against chain length (ours and Pinocchio's, against an extended-precision FK),
+    # and the batch FK's agreement with Pinocchio, are shown
+    assert "Worst FK error at" in out and "extended-precision" in out and "log-log slope" in out
+    assert "| joints | size | POE | dh | mdh | cpc | rotation | Pinocchio |" in out
     assert re.search(r"Max difference of the poses: \S+ m", out)
     assert "Goals met:" in out
