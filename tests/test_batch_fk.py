@@ -103,3 +103,15 @@ def test_self_check_samples_are_generator_uniform_draws():
     for seed in range(5):
         expected = np.random.default_rng(seed).uniform(lim[:, 0], lim[:, 1], size=(50, 6))
         assert np.array_equal(sample_configurations(model, 50, seed), expected)
+
+
+def test_fk_takes_one_configuration_or_a_stack():
+    model = mixed_model(4)
+    table = to_table(model, "mdh")
+    q = RNG.uniform(-1.0, 1.0, size=(2, 3, 4))
+    for fk, batch in ((model.fk, model.fk_batch), (table.fk, table.fk_batch)):
+        assert fk(q[0, 0]).shape == (4, 4)
+        assert np.array_equal(fk(q[0, 0]), batch(q[0, :1])[0])
+        assert np.array_equal(fk(q), batch(q.reshape(-1, 4)).reshape(2, 3, 4, 4))
+        with pytest.raises(ValueError, match=r"expected \(\.\.\., 4\)"):
+            fk(q[0, 0, :3])

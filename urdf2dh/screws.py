@@ -172,6 +172,10 @@ class PoeModel:
     def extent(self) -> float:
         """The robot's size: the largest distance from the base origin of any joint's axis
         point or of the tip at the home pose (0 for a chain that is all at the origin)."""
+        return self._extent
+
+    @cached_property
+    def _extent(self) -> float:  # asked for several times per conversion
         return max(math.hypot(*p) for p in self._points()[1:])
 
     def size(self) -> float:
@@ -193,8 +197,12 @@ class PoeModel:
         return pts
 
     def fk(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
-        """Pose of the tip for one configuration ``q`` of shape ``(n,)``."""
-        return self.fk_batch(np.asarray(q, dtype=float).reshape(1, -1))[0]
+        """Pose ``(4, 4)`` of the tip for a configuration ``q`` of shape ``(n,)``; for a stack
+        of shape ``(..., n)``, poses ``(..., 4, 4)`` (computed by :meth:`fk_batch`)."""
+        q = np.asarray(q, dtype=float)
+        if q.shape[-1:] != (self.n,):
+            raise ValueError(f"q has shape {q.shape}; expected (..., {self.n})")
+        return self.fk_batch(q.reshape(-1, self.n)).reshape(*q.shape[:-1], 4, 4)
 
     @cached_property
     def _exponentials(self) -> list[tuple[tuple[int, ...], NDArray[np.float64]]]:

@@ -116,8 +116,12 @@ class Table:
         return rot, lin, scale
 
     def fk(self, q: NDArray[np.float64]) -> Mat:
-        """Pose ``(4, 4)`` of the tool for one configuration ``q`` of shape ``(n,)``."""
-        return self.fk_batch(np.asarray(q, dtype=float).reshape(1, -1))[0]
+        """Pose ``(4, 4)`` of the tool for a configuration ``q`` of shape ``(n,)``; for a stack
+        of shape ``(..., n)``, poses ``(..., 4, 4)`` (computed by :meth:`fk_batch`)."""
+        q = np.asarray(q, dtype=float)
+        if q.shape[-1:] != (self.n,):
+            raise ValueError(f"q has shape {q.shape}; expected (..., {self.n})")
+        return self.fk_batch(q.reshape(-1, self.n)).reshape(*q.shape[:-1], 4, 4)
 
     def fk_batch(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
         """Poses ``(N, 4, 4)`` of the tool for configurations ``q`` of shape ``(N, n)``.
