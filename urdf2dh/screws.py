@@ -35,8 +35,9 @@ _IDENTITY_ROWS = ((1.0, 0.0, 0.0, 0.0), (0.0, 1.0, 0.0, 0.0), (0.0, 0.0, 1.0, 0.
 
 
 def _frozen(a: NDArray[np.float64] | None) -> NDArray[np.float64] | None:
-    if a is None:
-        return None
+    if a is None or (isinstance(a, np.ndarray) and a.dtype == np.float64
+                     and not a.flags.writeable):
+        return a  # None, or already immutable: shared as it is
     out = np.array(a, dtype=float)
     out.setflags(write=False)
     return out
@@ -219,7 +220,8 @@ class PoeModel:
         Terms are numbered 0: ``sin``, 1: ``1 - cos``, 2: ``trans s``. ``W`` stacks ``I`` and the
         matrices of the terms used (``X``, ``X^2``, ``E``).
         """
-        weights, uses = [], []
+        weights: list[float] = []  # flat: one array call for them all
+        uses = []
         for j in self.joints:
             used, rows = [], list(_IDENTITY_ROWS)
             if j.rotation:
@@ -238,10 +240,11 @@ class PoeModel:
             if j.translation:
                 used.append(2)
                 rows += [(0.0, 0.0, 0.0, c) for c in j.axis.tolist()] + [_ZERO_ROW]
-            weights.append(rows + [_ZERO_ROW] * (16 - len(rows)))
+            rows += [_ZERO_ROW] * (16 - len(rows))
+            weights.extend(itertools.chain.from_iterable(rows))
             uses.append(tuple(used))
-        stacked = np.array(weights).reshape(-1, 16, 4).transpose(0, 2, 1)  # one array call
-        return [(u, stacked[i, :, : 4 + 4 * len(u)].copy()) for i, u in enumerate(uses)]
+        stacked = np.fromiter(weights, float, len(weights)).reshape(-1, 16, 4).transpose(0, 2, 1)
+        return [(u, stacked[i, :, : 4 + 4 * len(u)]) for i, u in enumerate(uses)]  # F-order
 
     def fk_batch(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
         """Poses ``(N, 4, 4)`` of the tip for configurations ``q`` of shape ``(N, n)``.

@@ -196,16 +196,16 @@ def matrix_of(f: Frame) -> Mat:
 
 
 def compose(a: Frame, b: Frame) -> Frame:
-    """``a @ b``."""
+    """``a @ b`` (written out: this runs once per joint and row of every conversion)."""
     (b00, b01, b02, b03), (b10, b11, b12, b13), (b20, b21, b22, b23) = b
-    return tuple(
-        (
-            x * b00 + y * b10 + z * b20,
-            x * b01 + y * b11 + z * b21,
-            x * b02 + y * b12 + z * b22,
-            x * b03 + y * b13 + z * b23 + w,
-        )
-        for x, y, z, w in a
+    (x0, y0, z0, w0), (x1, y1, z1, w1), (x2, y2, z2, w2) = a
+    return (
+        (x0 * b00 + y0 * b10 + z0 * b20, x0 * b01 + y0 * b11 + z0 * b21,
+         x0 * b02 + y0 * b12 + z0 * b22, x0 * b03 + y0 * b13 + z0 * b23 + w0),
+        (x1 * b00 + y1 * b10 + z1 * b20, x1 * b01 + y1 * b11 + z1 * b21,
+         x1 * b02 + y1 * b12 + z1 * b22, x1 * b03 + y1 * b13 + z1 * b23 + w1),
+        (x2 * b00 + y2 * b10 + z2 * b20, x2 * b01 + y2 * b11 + z2 * b21,
+         x2 * b02 + y2 * b12 + z2 * b22, x2 * b03 + y2 * b13 + z2 * b23 + w2),
     )
 
 

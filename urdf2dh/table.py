@@ -104,7 +104,8 @@ class Table:
             out.append(g if pre is None else se3.compose(g, pre))
             g = post
         out.append(se3.compose(g, mod.tool_frame(self.tool)))
-        return np.array([[*f, (0.0, 0.0, 0.0, 1.0)] for f in out])
+        flat = [x for f in out for row in (*f, (0.0, 0.0, 0.0, 1.0)) for x in row]
+        return np.fromiter(flat, float, len(flat)).reshape(-1, 4, 4)
 
     @cached_property
     def _motion(self) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:

@@ -24,7 +24,9 @@ from .screws import Joint, JointKind, PoeModel
 
 __all__ = ["UrdfJoint", "UrdfTree", "load_tree", "parse_tree", "tree_to_poe"]
 
-MOVABLE = {"revolute": "revolute", "continuous": "revolute", "prismatic": "prismatic"}
+MOVABLE: dict[str, JointKind] = {
+    "revolute": "revolute", "continuous": "revolute", "prismatic": "prismatic"
+}
 KNOWN_TYPES = ("revolute", "continuous", "prismatic", "fixed", "floating", "planar")
 _IDENTITY = np.eye(4)  # a joint without <origin>, shared read-only
 _IDENTITY.setflags(write=False)
@@ -304,7 +306,7 @@ def tree_to_poe(
     tip = tip or tree.default_tip(base)
     path = tree.chain(base, tip)
     t = se3.IDENTITY  # the joint frame at the home pose, in the base frame
-    joints: list[Joint] = []
+    movable: list[tuple[UrdfJoint, se3.Vec3, se3.Vec3]] = []  # joint, axis, point
     warnings: list[str] = []
     for uj in path:
         t = se3.compose(t, se3.frame_of(uj.origin))
@@ -327,10 +329,16 @@ def tree_to_poe(
             )
         x, y, z = uj.axis.tolist()
         axis = se3.unit(se3.rotate(t, se3.unit((x, y, z))))
-        point = (t[0][3], t[1][3], t[2][3])
-        kind: JointKind = MOVABLE[uj.type]  # type: ignore[assignment]
-        joints.append(Joint(uj.name, kind, np.array(axis), np.array(point), 0.0, 1.0,
-                            uj.lower, uj.upper))
+        movable.append((uj, axis, (t[0][3], t[1][3], t[2][3])))
+    # the joints' axes and points: rows of two read-only arrays (two array calls, not 2 n)
+    axes = np.array([axis for _, axis, _ in movable], dtype=float).reshape(-1, 3)
+    points = np.array([point for _, _, point in movable], dtype=float).reshape(-1, 3)
+    axes.setflags(write=False)
+    points.setflags(write=False)
+    joints = [
+        Joint(uj.name, MOVABLE[uj.type], axis, point, 0.0, 1.0, uj.lower, uj.upper)
+        for (uj, _, _), axis, point in zip(movable, axes, points, strict=True)
+    ]
     return PoeModel(
         tuple(joints), se3.matrix_of(t), name or tree.name, tree.path, base, tip, "m",
         tuple(warnings),
