@@ -32,6 +32,7 @@ FK_BLOCK = 8192  # configurations per block of the batched FK (two (16, 3, 8192)
 _ZERO_ROW = (0.0, 0.0, 0.0, 0.0)
 _IDENTITY_ROWS = ((1.0, 0.0, 0.0, 0.0), (0.0, 1.0, 0.0, 0.0), (0.0, 0.0, 1.0, 0.0),
                   (0.0, 0.0, 0.0, 1.0))
+_IDENTITY_T = np.eye(4)[:, :3, None]  # the identity pose as (F^T)[:, :3], for (4, 3, m) stacks
 
 
 def _frozen(a: NDArray[np.float64] | None) -> NDArray[np.float64] | None:
@@ -206,8 +207,9 @@ class PoeModel:
         return self.fk_batch(q.reshape(-1, self.n)).reshape(*q.shape[:-1], 4, 4)
 
     @cached_property
-    def _exponentials(self) -> list[tuple[tuple[int, ...], NDArray[np.float64]]]:
-        """Per joint, the terms its exponential uses and their transposed weights ``W^T``,
+    def _exponentials(self) -> tuple[NDArray[np.float64], list[tuple[slice, NDArray[np.float64]]]]:
+        """Per joint ``(scale, rot, trans)``, ``(3, n)``; and per joint the terms its exponential
+        uses (a slice of ``(sin, 1 - cos, trans s)``) with their transposed weights ``W^T``,
         ``(4, 4 + 4 k)``.
 
         ``X = [[u]x, p x u; 0, 0]`` is the 4x4 matrix of the joint's unit screw of zero pitch
@@ -217,19 +219,17 @@ class PoeModel:
 
             exp(s) = I + sin(rot s) X + (1 - cos(rot s)) X^2 + (trans s) E
 
-        Terms are numbered 0: ``sin``, 1: ``1 - cos``, 2: ``trans s``. ``W`` stacks ``I`` and the
-        matrices of the terms used (``X``, ``X^2``, ``E``).
+        ``W`` stacks ``I`` and the matrices of the terms used (``X``, ``X^2``, ``E``).
         """
         weights: list[float] = []  # flat: one array call for them all
-        uses = []
+        motion, uses = [], []
         for j in self.joints:
-            used, rows = [], list(_IDENTITY_ROWS)
+            rows = list(_IDENTITY_ROWS)
             if j.rotation:
                 assert j.point is not None  # revolute and helical joints always carry a point
                 (ux, uy, uz), (px, py, pz) = j.axis.tolist(), j.point.tolist()
                 vx, vy, vz = py * uz - pz * uy, pz * ux - px * uz, px * uy - py * ux  # p x u
                 wx, wy, wz = uy * vz - uz * vy, uz * vx - ux * vz, ux * vy - uy * vx  # u x v
-                used += [0, 1]
                 rows += [(0.0, -uz, uy, vx), (uz, 0.0, -ux, vy), (-uy, ux, 0.0, vz), _ZERO_ROW]
                 rows += [  # X^2 = [[u u^T - |u|^2 I, u x v], [0, 0]]
                     (-(uy * uy + uz * uz), ux * uy, ux * uz, wx),
@@ -238,44 +238,44 @@ class PoeModel:
                     _ZERO_ROW,
                 ]
             if j.translation:
-                used.append(2)
                 rows += [(0.0, 0.0, 0.0, c) for c in j.axis.tolist()] + [_ZERO_ROW]
+            uses.append(slice(0 if j.rotation else 2, 3 if j.translation else 2))
+            motion.append((j.scale, j.rotation, j.translation))
             rows += [_ZERO_ROW] * (16 - len(rows))
             weights.extend(itertools.chain.from_iterable(rows))
-            uses.append(tuple(used))
         stacked = np.fromiter(weights, float, len(weights)).reshape(-1, 16, 4).transpose(0, 2, 1)
-        return [(u, stacked[i, :, : 4 + 4 * len(u)]) for i, u in enumerate(uses)]  # F-order
+        stacks = [(u, stacked[i, :, : 4 * (1 + u.stop - u.start)]) for i, u in enumerate(uses)]
+        return np.array(motion, dtype=float).reshape(-1, 3).T, stacks  # W^T: F-ordered views
 
     def fk_batch(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
         """Poses ``(N, 4, 4)`` of the tip for configurations ``q`` of shape ``(N, n)``.
 
         The screw exponentials in closed form (see ``_exponentials``), a block of ``m``
         configurations at a time, each pose held transposed and without its constant last row
-        (``F^T[:, :3]``, shape ``(4, 3, m)``): a joint is one matrix product
-        ``(F exp)^T = W^T @ [F; sin F; (1 - cos) F; t F]^T``.
+        (``F^T[:, :3]``, shape ``(4, 3, m)``): a joint is one product of ``F`` with its terms,
+        then one matrix product ``(F exp)^T = W^T @ [F; sin F; (1 - cos) F; t F]^T``.
         """
         q = np.asarray(q, dtype=float).reshape(-1, self.n)
-        motion = np.array([(j.scale, j.rotation, j.translation) for j in self.joints],
-                          dtype=float).reshape(-1, 3).T
+        motion, stacks = self._exponentials
         count = q.shape[0]
         out = np.empty((count, 4, 4))
         buffers = np.empty((2, 16 * 3 * min(count, FK_BLOCK)))
         for lo in range(0, count, FK_BLOCK):
             m = min(lo + FK_BLOCK, count) - lo
             s = q[lo : lo + m].T * motion[0, :, None]  # (n, m)
-            terms = np.empty((3, self.n, m))
-            np.sin(s * motion[1, :, None], out=terms[0])
-            np.cos(s * motion[1, :, None], out=terms[1])
-            np.subtract(1.0, terms[1], out=terms[1])
-            np.multiply(s, motion[2, :, None], out=terms[2])
-            # the stack [F; sin F; (1 - cos) F; t F]^T, as (16, 3, m) and as (16, 3 m)
-            (cur, cur2), (nxt, nxt2) = ((v.reshape(16, 3, m), v.reshape(16, -1))
+            terms = np.empty((self.n, 3, m))  # per joint: sin, 1 - cos, trans s
+            np.sin(s * motion[1, :, None], out=terms[:, 0])
+            np.cos(s * motion[1, :, None], out=terms[:, 1])
+            np.subtract(1.0, terms[:, 1], out=terms[:, 1])
+            np.multiply(s, motion[2, :, None], out=terms[:, 2])
+            # the stack [F; sin F; (1 - cos) F; t F]^T, as (4, 4, 3, m) and as (16, 3 m)
+            (cur, cur2), (nxt, nxt2) = ((v.reshape(4, 4, 3, m), v.reshape(16, -1))
                                         for v in (buf[: 48 * m] for buf in buffers))
-            cur[:4] = np.eye(4)[:, :3, None]  # F^T of the identity
-            for i, (used, w) in enumerate(self._exponentials):
-                for k, term in enumerate(used, start=1):
-                    np.multiply(cur[:4], terms[term, i], out=cur[4 * k : 4 * k + 4])
-                np.dot(w, cur2[: w.shape[1]], out=nxt2[:4])
+            cur[0] = _IDENTITY_T  # F^T of the identity
+            for i, (used, w) in enumerate(stacks):
+                k = used.stop - used.start
+                np.multiply(cur[:1], terms[i, used, None, None, :], out=cur[1 : 1 + k])
+                np.dot(w, cur2[: 4 + 4 * k], out=nxt2[:4])
                 (cur, cur2), (nxt, nxt2) = (nxt, nxt2), (cur, cur2)
             f = self.home.T @ cur2[:4]
             out[lo : lo + m, :3] = f.reshape(4, 3, m).transpose(2, 1, 0)
