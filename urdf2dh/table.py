@@ -143,11 +143,10 @@ class Table:
         for lo in range(0, count, FK_BLOCK):
             m = min(lo + FK_BLOCK, count) - lo
             s = (q[lo : lo + m] * scale).T  # (n, m)
-            angle = rot[:, None] * s
-            turn = np.empty(s.shape, dtype=complex)  # e^{-i angle}
-            np.cos(angle, out=turn.real)
-            np.sin(angle, out=turn.imag)
-            np.negative(turn.imag, out=turn.imag)
+            minus = s * -rot[:, None]  # -phi
+            turn = np.empty(s.shape, dtype=complex)  # e^{-i phi}
+            np.cos(minus, out=turn.real)
+            np.sin(minus, out=turn.imag)
             # per buffer: the poses (3, m, 4), their x + i y columns, and the (3 m, 4) rows
             views = [(v, v[:, :, :2].view(complex)[:, :, 0], v.reshape(-1, 4))
                      for v in (b[: 12 * m].reshape(3, m, 4) for b in buffers)]
