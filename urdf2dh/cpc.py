@@ -20,6 +20,7 @@ says so.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
@@ -34,12 +35,13 @@ __all__ = [
     "BASE_PARAMS",
     "PARAMS",
     "TOOL_PARAMS",
-    "base_matrix",
+    "base_frame",
     "r_of_b",
     "reversals",
-    "row_matrices",
+    "row_frames",
     "shapes_from_poe",
-    "tool_matrix",
+    "tool_frame",
+    "v_frame",
     "v_matrix",
 ]
 
@@ -48,51 +50,67 @@ BASE_PARAMS = ("b", "l", "beta")
 TOOL_PARAMS: tuple[str, ...] = ()
 
 Mat = NDArray[np.float64]
-Vec = NDArray[np.float64]
+Rows = tuple[se3.Vec3, se3.Vec3, se3.Vec3]
 
 
-def r_of_b(b: Vec) -> Mat:
+def _r_rows(b: Sequence[float]) -> Rows:
+    bx, by, bz = float(b[0]), float(b[1]), float(b[2])
+    rho2 = bx * bx + by * by
+    if rho2 == 0.0:
+        if bz > 0.0:
+            return (1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0)
+        return (-1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, -1.0)
+    c = 1.0 / (1.0 + bz) if bz >= 0.0 else (1.0 - bz) / rho2
+    return (
+        (1.0 - c * bx * bx, -c * bx * by, bx),
+        (-c * bx * by, 1.0 - c * by * by, by),
+        (-bx, -by, bz),
+    )
+
+
+def r_of_b(b: Sequence[float]) -> Mat:
     """``R(b)`` of Sumenkov eq. (4) as a 3x3 rotation taking z to the unit vector ``b``.
 
     Evaluated with ``1/(1 + b_z) = (1 - b_z)/(b_x^2 + b_y^2)`` when ``b_z < 0``, which is the same
     number in exact arithmetic and keeps full precision near ``b = -z``.
     """
-    bx, by, bz = float(b[0]), float(b[1]), float(b[2])
-    rho2 = bx * bx + by * by
-    if rho2 == 0.0:
-        return np.eye(3) if bz > 0.0 else np.diag([-1.0, 1.0, -1.0])
-    c = 1.0 / (1.0 + bz) if bz >= 0.0 else (1.0 - bz) / rho2
-    return np.array(
-        [
-            [1.0 - c * bx * bx, -c * bx * by, bx],
-            [-c * bx * by, 1.0 - c * by * by, by],
-            [-bx, -by, bz],
-        ]
-    )
+    return np.array(_r_rows(b))
 
 
-def v_matrix(b: Vec, l: Vec, beta: float) -> Mat:  # noqa: E741 - the paper's name
-    """``V(b, l, beta) = R(b) Rz(beta) Tx(l_x) Ty(l_y) Tz(l_z)`` (Sumenkov eq. 3)."""
-    out = np.eye(4)
-    r = r_of_b(np.asarray(b, dtype=float)) @ se3.rot_z(beta)[:3, :3]
-    out[:3, :3] = r
-    out[:3, 3] = r @ np.asarray(l, dtype=float)
-    return out
+def v_frame(b: Sequence[float], l: Sequence[float], beta: float) -> se3.Frame:  # noqa: E741
+    """``V(b, l, beta) = R(b) Rz(beta) Tx(l_x) Ty(l_y) Tz(l_z)`` (Sumenkov eq. 3), as a
+    plain-float :data:`~urdf2dh.se3.Frame`."""
+    cb, sb = math.cos(beta), math.sin(beta)
+    lx, ly, lz = (float(c) for c in l)
+    rows = []
+    for r0, r1, r2 in _r_rows(b):
+        x, y = r0 * cb + r1 * sb, r1 * cb - r0 * sb  # the row of R(b) Rz(beta)
+        rows.append((x, y, r2, x * lx + y * ly + r2 * lz))
+    return tuple(rows)
 
 
-def base_matrix(p: dict[str, Any]) -> Mat:
+def v_matrix(b: Sequence[float], l: Sequence[float], beta: float) -> Mat:  # noqa: E741
+    """``V(b, l, beta)`` as a 4x4 array."""
+    return se3.matrix_of(v_frame(b, l, beta))
+
+
+def base_frame(p: dict[str, Any]) -> se3.Frame:
     """``B = V_0``."""
-    return v_matrix(p["b"], p["l"], p["beta"])
+    return v_frame(p["b"], p["l"], p["beta"])
 
 
-def row_matrices(p: dict[str, Any]) -> tuple[Mat | None, Mat]:
+def row_frames(p: dict[str, Any]) -> tuple[se3.Frame | None, se3.Frame]:
     """(before ``Q_i``, after ``Q_i``): ``None`` and ``V_i``."""
-    return None, v_matrix(p["b"], p["l"], p["beta"])
+    return None, v_frame(p["b"], p["l"], p["beta"])
 
 
-def tool_matrix(p: dict[str, Any]) -> Mat:
+def tool_frame(p: dict[str, Any]) -> se3.Frame:
     """The identity: the tool shape matrix lives in the last row (SPEC §2)."""
-    return np.eye(4)
+    return se3.IDENTITY
+
+
+def _dot(a: Sequence[float], b: Sequence[float]) -> float:
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 
 
 def reversals(model: PoeModel, tol: Tolerances) -> list[float]:
@@ -104,17 +122,18 @@ def reversals(model: PoeModel, tol: Tolerances) -> list[float]:
     """
     reverse_below = tol.cpc_reverse_below
     signs: list[float] = []
-    zs = [np.array([0.0, 0.0, 1.0])]
+    zs: list[se3.Vec3] = [(0.0, 0.0, 1.0)]
     for j in model.joints:
-        s = -1.0 if float(zs[-1] @ j.axis) < reverse_below else 1.0
+        x, y, z = j.axis.tolist()
+        s = -1.0 if _dot(zs[-1], (x, y, z)) < reverse_below else 1.0
         signs.append(s)
-        zs.append(s * j.axis)
-    tool_z = model.home[:3, 2]
-    if model.n and float(zs[-1] @ tool_z) < reverse_below:
+        zs.append((s * x, s * y, s * z))
+    tool_z = model.home[:3, 2].tolist()
+    if model.n and _dot(zs[-1], tool_z) < reverse_below:
         # Reverse a run of last frames, starting at joint `first` (1-based): the pair
         # (first - 1, first) then turns round. Prefer the shortest run whose turned pair stays
         # within the preference; else the one whose turned pair is farthest from singular.
-        turned = {first: -float(zs[first - 1] @ zs[first]) for first in range(model.n, 0, -1)}
+        turned = {first: -_dot(zs[first - 1], zs[first]) for first in range(model.n, 0, -1)}
         ok = [f for f, v in turned.items() if v >= reverse_below]
         first = ok[0] if ok else max(turned, key=lambda f: turned[f])
         if turned[first] > -1.0 + tol.cpc_singular_margin:
@@ -123,22 +142,23 @@ def reversals(model: PoeModel, tol: Tolerances) -> list[float]:
     return signs
 
 
-def _direction(v: Vec, noise: float) -> Vec:
+def _direction(v: se3.Vec3, noise: float) -> se3.Vec3:
     """A unit ``b``; within round-off of ``-z`` it is exactly ``-z``, so that ``R(b)`` there is
     the documented ``Ry(pi)`` and not a turn about whatever the round-off points to."""
-    b = v / np.linalg.norm(v)
-    if b[2] < 0.0 and math.hypot(float(b[0]), float(b[1])) <= noise:
-        return np.array([0.0, 0.0, -1.0])
+    b = se3.unit(v)
+    if b[2] < 0.0 and math.hypot(b[0], b[1]) <= noise:
+        return (0.0, 0.0, -1.0)
     return b
 
 
-def _tool_shape(g: Mat, noise: float) -> dict[str, Any]:
+def _tool_shape(g: se3.Frame, noise: float) -> dict[str, Any]:
     """Statement 1: ``b`` is the third column, ``beta`` from ``R(b)^T R``, ``l`` from ``t``."""
-    b = _direction(g[:3, 2], noise)
-    rz = r_of_b(b).T @ g[:3, :3]
-    beta = angle(rz[1, 0], rz[0, 0])
-    r = r_of_b(b) @ se3.rot_z(beta)[:3, :3]
-    return {"b": b.tolist(), "l": (r.T @ g[:3, 3]).tolist(), "beta": beta}
+    b = _direction((g[0][2], g[1][2], g[2][2]), noise)
+    r = _r_rows(b)
+    x = (g[0][0], g[1][0], g[2][0])  # R's first column; R(b)^T x gives beta
+    beta = angle(_dot((r[0][1], r[1][1], r[2][1]), x), _dot((r[0][0], r[1][0], r[2][0]), x))
+    l = se3.dir_into(v_frame(b, (0.0, 0.0, 0.0), beta), (g[0][3], g[1][3], g[2][3]))  # noqa: E741
+    return {"b": list(b), "l": list(l), "beta": beta}
 
 
 def shapes_from_poe(
@@ -150,28 +170,33 @@ def shapes_from_poe(
     previous rows' rounding.
     """
     signs = reversals(model, tol)
-    f = np.eye(4)
+    f = se3.IDENTITY
     shapes: list[dict[str, Any]] = []
     notes: list[str] = []
     prev = "base z"
     for j, s in zip(model.joints, signs, strict=True):
-        r, t = f[:3, :3], f[:3, 3]
-        b = _direction(r.T @ (s * j.axis), tol.noise)
-        p = np.zeros(3) if j.point is None else r.T @ (j.point - t)
-        o = p - float(p @ b) * b  # foot of the perpendicular from the previous origin
-        rb = r_of_b(b)
+        x, y, z = j.axis.tolist()
+        b = _direction(se3.dir_into(f, (s * x, s * y, s * z)), tol.noise)
+        p = (0.0, 0.0, 0.0) if j.point is None else se3.point_into(f, _vec(j.point))
+        pb = _dot(p, b)
+        o = (p[0] - pb * b[0], p[1] - pb * b[1], p[2] - pb * b[2])  # foot of the perpendicular
+        r = _r_rows(b)
         if b[0] == 0.0 and b[1] == 0.0 and b[2] < 0.0:
             notes.append(_singular_note(prev, j.name))
-        shape = {"b": b.tolist(), "l": [float(rb[:, 0] @ o), float(rb[:, 1] @ o), 0.0], "beta": 0.0}
-        shapes.append(shape)
-        f = f @ v_matrix(shape["b"], shape["l"], 0.0)
+        offset = [_dot((r[0][0], r[1][0], r[2][0]), o), _dot((r[0][1], r[1][1], r[2][1]), o), 0.0]
+        shapes.append({"b": list(b), "l": offset, "beta": 0.0})
+        f = se3.compose(f, v_frame(b, offset, 0.0))
         prev = j.name
-    g = se3.inv(f) @ model.home
-    tool = _tool_shape(g, tol.noise)
+    tool = _tool_shape(se3.between(f, se3.frame_of(model.home)), tol.noise)
     if tool["b"][0] == 0.0 and tool["b"][1] == 0.0 and tool["b"][2] < 0.0:
         notes.append(_singular_note(prev, "tool z"))
     shapes.append(tool)
     return shapes, signs, notes
+
+
+def _vec(a: Mat) -> se3.Vec3:
+    x, y, z = a.tolist()
+    return (x, y, z)
 
 
 def _singular_note(first: str, second: str) -> str:

@@ -20,7 +20,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from . import se3
-from .lines import Judgement, LinkParams, angle, common_normal, dh_matrix
+from .lines import Judgement, LinkParams, angle, common_normal, dh_frame
 from .screws import PoeModel
 from .tolerances import Tolerances
 
@@ -29,10 +29,10 @@ __all__ = [
     "PARAMS",
     "STYLES",
     "TOOL_PARAMS",
-    "base_matrix",
+    "base_frame",
     "links_from_poe",
-    "row_matrices",
-    "tool_matrix",
+    "row_frames",
+    "tool_frame",
 ]
 
 PARAMS = ("theta", "d", "alpha", "a")
@@ -42,19 +42,19 @@ TOOL_PARAMS = ("theta", "d")
 Mat = NDArray[np.float64]
 
 
-def base_matrix(p: dict[str, Any]) -> Mat:
+def base_frame(p: dict[str, Any]) -> se3.Frame:
     """``B = Rz(theta) Tz(d) Rx(alpha) Tx(a)``."""
-    return dh_matrix(p["theta"], p["d"], p["alpha"], p["a"])
+    return dh_frame(p["theta"], p["d"], p["alpha"], p["a"])
 
 
-def row_matrices(p: dict[str, Any]) -> tuple[Mat | None, Mat]:
+def row_frames(p: dict[str, Any]) -> tuple[se3.Frame | None, se3.Frame]:
     """(before ``Q_i``, after ``Q_i``): ``None`` and ``Rz Tz Rx Tx``."""
-    return None, dh_matrix(p["theta"], p["d"], p["alpha"], p["a"])
+    return None, dh_frame(p["theta"], p["d"], p["alpha"], p["a"])
 
 
-def tool_matrix(p: dict[str, Any]) -> Mat:
+def tool_frame(p: dict[str, Any]) -> se3.Frame:
     """``T = Rz(theta) Tz(d)``."""
-    return dh_matrix(p["theta"], p["d"], 0.0, 0.0)
+    return dh_frame(p["theta"], p["d"], 0.0, 0.0)
 
 
 STYLES = ("wu", "ur", "zero")
@@ -81,31 +81,31 @@ def links_from_poe(
     rounding of each row is seen by the next one and never accumulates unchecked.
     """
     size = model.size()
-    lines: list[tuple[str, Mat, Mat | None, bool]] = [
-        (j.name, j.axis, j.point, False) for j in model.joints
+    home = se3.frame_of(model.home)
+    lines: list[tuple[str, se3.Vec3, se3.Vec3 | None, bool]] = [
+        (j.name, _vec(j.axis), None if j.point is None else _vec(j.point), False)
+        for j in model.joints
     ]
-    lines.append(("tool z", model.home[:3, 2], model.home[:3, 3], True))
-    frames = [np.eye(4)]
+    lines.append(("tool z", _column(home, 2), _column(home, 3), True))
+    frames = [se3.IDENTITY]
     links: list[LinkParams] = []
     judgements: list[Judgement] = []
     names = ["base z"] + [line[0] for line in lines]
 
-    directions = [np.array([0.0, 0.0, 1.0])] + [line[1] for line in lines]
+    directions: list[se3.Vec3] = [(0.0, 0.0, 1.0)] + [line[1] for line in lines]
 
     def source_angle(k: int) -> float:
         """Angle from parallel between line k and the one before it, in the source (after
         an earlier judgement, the frames are off by that much too: not a new judgement)."""
-        c = abs(float(directions[k] @ directions[k + 1]))
-        s = float(np.linalg.norm(np.cross(directions[k], directions[k + 1])))
-        return math.atan2(s, c)
+        (ax, ay, az), (bx, by, bz) = directions[k], directions[k + 1]
+        cross = math.hypot(ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx)
+        return math.atan2(cross, abs(ax * bx + ay * by + az * bz))
 
     def link_to(k: int) -> tuple[LinkParams, list[Judgement]]:
         _, axis, point, is_tool = lines[k]
-        r, t = frames[k][:3, :3], frames[k][:3, 3]
-        u = r.T @ axis
-        u = u / np.linalg.norm(u)
+        u = se3.unit(se3.dir_into(frames[k], axis))
         # a prismatic axis with a free location passes through the current frame origin (SPEC §3)
-        p = np.zeros(3) if point is None else r.T @ (point - t)
+        p = (0.0, 0.0, 0.0) if point is None else se3.point_into(frames[k], point)
         link, found = common_normal(u, p, tol, (names[k], names[k + 1]), size, tool=is_tool)
         found = [replace(j, source_angle=source_angle(k)) for j in found]
         return (_prefer_small_theta(link) if style in ("ur", "zero") else link), found
@@ -115,10 +115,19 @@ def links_from_poe(
         if style == "ur" and k > 0 and links[-1].free and link.alpha < 0.0:
             links[-1] = links[-1].turned()  # UR: a free x is chosen for a positive next alpha
             prev = links[-1]
-            frames[-1] = frames[-2] @ dh_matrix(prev.theta, prev.d, prev.alpha, prev.a)
+            frames[-1] = se3.compose(frames[-2], dh_frame(prev.theta, prev.d, prev.alpha, prev.a))
             link, found = link_to(k)
         links.append(link)
         judgements.extend(found)
-        frames.append(frames[-1] @ dh_matrix(link.theta, link.d, link.alpha, link.a))
-    g = se3.inv(frames[-1]) @ model.home
-    return links, (angle(g[1, 0], g[0, 0]), float(g[2, 3])), judgements
+        frames.append(se3.compose(frames[-1], dh_frame(link.theta, link.d, link.alpha, link.a)))
+    g = se3.between(frames[-1], home)  # the tool transform Rz(theta) Tz(d) (Lemma 4)
+    return links, (angle(g[1][0], g[0][0]), g[2][3]), judgements
+
+
+def _vec(a: Mat) -> se3.Vec3:
+    x, y, z = a.tolist()
+    return (x, y, z)
+
+
+def _column(f: se3.Frame, k: int) -> se3.Vec3:
+    return (f[0][k], f[1][k], f[2][k])

@@ -18,14 +18,16 @@ are returned as :class:`Judgement` records so the caller can report them.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
 
+from .se3 import Frame, matrix_of
 from .tolerances import Tolerances
 
-__all__ = ["Judgement", "LinkParams", "angle", "common_normal", "dh_matrix"]
+__all__ = ["Judgement", "LinkParams", "angle", "common_normal", "dh_frame", "dh_matrix"]
 
 
 @dataclass(frozen=True)
@@ -67,34 +69,38 @@ def angle(y: float, x: float) -> float:
     return math.pi if out == -math.pi else out + 0.0
 
 
-def dh_matrix(theta: float, d: float, alpha: float, a: float) -> NDArray[np.float64]:
-    """``Rz(theta) Tz(d) Rx(alpha) Tx(a)`` in closed form (Wu 2019 eq. 9)."""
+def dh_frame(theta: float, d: float, alpha: float, a: float) -> Frame:
+    """``Rz(theta) Tz(d) Rx(alpha) Tx(a)`` in closed form (Wu 2019 eq. 9), as a plain-float
+    :data:`~urdf2dh.se3.Frame`."""
     ct, st = math.cos(theta), math.sin(theta)
     ca, sa = math.cos(alpha), math.sin(alpha)
-    return np.array(
-        [
-            [ct, -st * ca, st * sa, a * ct],
-            [st, ct * ca, -ct * sa, a * st],
-            [0.0, sa, ca, d],
-            [0.0, 0.0, 0.0, 1.0],
-        ]
+    return (
+        (ct, -st * ca, st * sa, a * ct),
+        (st, ct * ca, -ct * sa, a * st),
+        (0.0, sa, ca, d),
     )
 
 
-def _far(u: NDArray[np.float64], p: NDArray[np.float64], pivot_d: float, tol: Tolerances,
+def dh_matrix(theta: float, d: float, alpha: float, a: float) -> NDArray[np.float64]:
+    """``Rz(theta) Tz(d) Rx(alpha) Tx(a)`` in closed form (Wu 2019 eq. 9), as a 4x4 array."""
+    return matrix_of(dh_frame(theta, d, alpha, a))
+
+
+def _far(u: Sequence[float], p: Sequence[float], pivot_d: float, tol: Tolerances,
          size: float) -> bool:
     """Whether the exact common normal of nearly parallel lines lies farther than
     ``far_factor x size`` from the pivot: only then does D-H need the parallel judgement. (Lines
     tilted about their common perpendicular keep a near normal, and their exact table is sane.)"""
-    ux, uy = float(u[0]), float(u[1])
-    m = np.cross(p, u)
-    d = (ux * float(m[1]) - uy * float(m[0])) / (ux * ux + uy * uy)
+    ux, uy, uz = (float(c) for c in u)
+    px, py, pz = (float(c) for c in p)
+    mx, my = py * uz - pz * uy, pz * ux - px * uz  # of the moment p x u
+    d = (ux * my - uy * mx) / (ux * ux + uy * uy)
     return abs(d - pivot_d) > tol.far_factor * size
 
 
 def common_normal(
-    u: NDArray[np.float64],
-    p: NDArray[np.float64],
+    u: Sequence[float],
+    p: Sequence[float],
     tol: Tolerances,
     names: tuple[str, str],
     size: float,
@@ -137,8 +143,9 @@ def common_normal(
                 judgements.append(Judgement("parallel", *names, off_parallel, 0.0))
             alpha = 0.0 if uz > 0.0 else math.pi
             return LinkParams(angle(y, x), d, alpha, gap, True), judgements
-    m = np.cross(p, u)  # the line's moment; the same for any point p on the line
-    mx, my, mz = (float(c) for c in m)
+    px, py, pz = (float(c) for c in p)
+    # the line's moment p x u; the same for any point p on the line
+    mx, my, mz = py * uz - pz * uy, pz * ux - px * uz, px * uy - py * ux
     d = (ux * my - uy * mx) / (rho * rho) + 0.0  # Wu eq. after (17), h = 0 in the moment
     a_abs = abs(mz) / rho
     if tool or a_abs <= distance:

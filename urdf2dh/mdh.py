@@ -18,35 +18,31 @@ from __future__ import annotations
 import math
 from typing import Any
 
-import numpy as np
-from numpy.typing import NDArray
+from .lines import dh_frame
+from .se3 import Frame, compose
 
-from .lines import dh_matrix
-
-__all__ = ["BASE_PARAMS", "PARAMS", "TOOL_PARAMS", "base_matrix", "row_matrices", "tool_matrix"]
+__all__ = ["BASE_PARAMS", "PARAMS", "TOOL_PARAMS", "base_frame", "row_frames", "tool_frame"]
 
 PARAMS = ("alpha", "a", "theta", "d")
 BASE_PARAMS = ("theta", "d")
 TOOL_PARAMS = ("alpha", "a", "theta", "d")
 
-Mat = NDArray[np.float64]
 
-
-def _rx_tx(alpha: float, a: float) -> Mat:
+def _rx_tx(alpha: float, a: float) -> Frame:
     c, s = math.cos(alpha), math.sin(alpha)
-    return np.array([[1.0, 0, 0, a], [0, c, -s, 0], [0, s, c, 0], [0, 0, 0, 1]])
+    return ((1.0, 0.0, 0.0, a), (0.0, c, -s, 0.0), (0.0, s, c, 0.0))
 
 
-def base_matrix(p: dict[str, Any]) -> Mat:
+def base_frame(p: dict[str, Any]) -> Frame:
     """``B = Rz(theta) Tz(d)``."""
-    return dh_matrix(p["theta"], p["d"], 0.0, 0.0)
+    return dh_frame(p["theta"], p["d"], 0.0, 0.0)
 
 
-def row_matrices(p: dict[str, Any]) -> tuple[Mat | None, Mat]:
+def row_frames(p: dict[str, Any]) -> tuple[Frame | None, Frame]:
     """(before ``Q_i``, after ``Q_i``): ``Rx Tx`` and ``Rz Tz``."""
-    return _rx_tx(p["alpha"], p["a"]), dh_matrix(p["theta"], p["d"], 0.0, 0.0)
+    return _rx_tx(p["alpha"], p["a"]), dh_frame(p["theta"], p["d"], 0.0, 0.0)
 
 
-def tool_matrix(p: dict[str, Any]) -> Mat:
+def tool_frame(p: dict[str, Any]) -> Frame:
     """``T = Rx(alpha) Tx(a) Rz(theta) Tz(d)``."""
-    return _rx_tx(p["alpha"], p["a"]) @ dh_matrix(p["theta"], p["d"], 0.0, 0.0)
+    return compose(_rx_tx(p["alpha"], p["a"]), dh_frame(p["theta"], p["d"], 0.0, 0.0))

@@ -14,6 +14,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from . import se3
 from .errors import InputError, UsageError
 from .table import Table, convention_module
 
@@ -32,8 +33,8 @@ def dh_frames(table: Table) -> list[Mat]:
     f = table.base_matrix
     out = [f]
     for row in table.rows:
-        pre, post = mod.row_matrices(row.params)
-        f = f @ (post if pre is None else pre @ post)
+        pre, post = mod.row_frames(row.params)
+        f = f @ se3.matrix_of(post if pre is None else se3.compose(pre, post))
         out.append(f)
     out.append(f @ table.tool_matrix)
     return out

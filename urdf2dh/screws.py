@@ -15,6 +15,7 @@ from __future__ import annotations
 import itertools
 import math
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import Literal
 
 import numpy as np
@@ -29,10 +30,17 @@ KINDS: tuple[str, ...] = ("revolute", "prismatic", "helical")
 
 Vec = NDArray[np.float64]
 
+FK_BLOCK = 8192  # configurations per block of the batched FK (two (16, 3, 8192) stacks, 6 MiB)
+_ZERO_ROW = (0.0, 0.0, 0.0, 0.0)
+_IDENTITY_ROWS = ((1.0, 0.0, 0.0, 0.0), (0.0, 1.0, 0.0, 0.0), (0.0, 0.0, 1.0, 0.0),
+                  (0.0, 0.0, 0.0, 1.0))
+_IDENTITY_T = np.eye(4)[:, :3, None]  # the identity pose as (F^T)[:, :3], for (4, 3, m) stacks
+
 
 def _frozen(a: NDArray[np.float64] | None) -> NDArray[np.float64] | None:
-    if a is None:
-        return None
+    if a is None or (isinstance(a, np.ndarray) and a.dtype == np.float64
+                     and not a.flags.writeable):
+        return a  # None, or already immutable: shared as it is
     out = np.array(a, dtype=float)
     out.setflags(write=False)
     return out
@@ -168,9 +176,11 @@ class PoeModel:
     def extent(self) -> float:
         """The robot's size: the largest distance from the base origin of any joint's axis
         point or of the tip at the home pose (0 for a chain that is all at the origin)."""
-        pts = [j.point for j in self.joints if j.point is not None]
-        pts.append(self.home[:3, 3])
-        return float(max(np.linalg.norm(p) for p in pts))
+        return self._extent
+
+    @cached_property
+    def _extent(self) -> float:  # asked for several times per conversion
+        return max(math.hypot(*p) for p in self._points()[1:])
 
     def travel(self) -> float:
         """How far the joints can translate the tip along their axes: prismatic travel within
@@ -192,24 +202,99 @@ class PoeModel:
         """An upper bound on any point's distance from the base origin over all configurations
         within reach of the chain's geometry: the length of the polyline through the joint axis
         points and the tip (used to bound the effect of a tolerance judgement)."""
-        pts = [np.zeros(3)] + [j.point for j in self.joints if j.point is not None]
-        pts.append(self.home[:3, 3])
-        return float(sum(np.linalg.norm(b - a) for a, b in itertools.pairwise(pts)))
+        return math.fsum(math.dist(a, b) for a, b in itertools.pairwise(self._points()))
+
+    def _points(self) -> list[list[float]]:
+        """The base origin, the joints' axis points and the tip's origin, as plain floats."""
+        pts = [[0.0, 0.0, 0.0]]
+        pts += [j.point.tolist() for j in self.joints if j.point is not None]
+        pts.append(self.home[:3, 3].tolist())
+        return pts
 
     def fk(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
-        """Pose of the tip for one configuration ``q`` of shape ``(n,)``."""
-        return self.fk_batch(se3.as_configurations(q, self.n))[0]
+        """Pose ``(4, 4)`` of the tip for a configuration ``q`` of shape ``(n,)``; for a stack
+        of shape ``(..., n)``, poses ``(..., 4, 4)`` (computed by :meth:`fk_batch`)."""
+        q = np.asarray(q, dtype=float)
+        if q.shape[-1:] != (self.n,):
+            raise ValueError(f"q has shape {q.shape}; expected (..., {self.n})")
+        lead = q.shape[:-1]
+        return self.fk_batch(q.reshape(math.prod(lead), self.n)).reshape(*lead, 4, 4)
+
+    @cached_property
+    def _exponentials(self) -> tuple[NDArray[np.float64], list[tuple[slice, NDArray[np.float64]]]]:
+        """Per joint ``(scale, rot, trans)``, ``(3, n)``; and per joint the terms its exponential
+        uses (a slice of ``(sin, 1 - cos, trans s)``) with their transposed weights ``W^T``,
+        ``(4, 4 + 4 k)``.
+
+        ``X = [[u]x, p x u; 0, 0]`` is the 4x4 matrix of the joint's unit screw of zero pitch
+        and ``E = [0, u; 0, 0]`` its translation along the axis; they commute (``X E = E X = 0``)
+        and ``X^3 = -X``, so the exponential of a joint's motion is, in closed form (Rodrigues;
+        Murray, Li & Sastry 1994, eq. 2.36)::
+
+            exp(s) = I + sin(rot s) X + (1 - cos(rot s)) X^2 + (trans s) E
+
+        ``W`` stacks ``I`` and the matrices of the terms used (``X``, ``X^2``, ``E``).
+        """
+        weights: list[float] = []  # flat: one array call for them all
+        motion, uses = [], []
+        for j in self.joints:
+            rows = list(_IDENTITY_ROWS)
+            if j.rotation:
+                assert j.point is not None  # revolute and helical joints always carry a point
+                (ux, uy, uz), (px, py, pz) = j.axis.tolist(), j.point.tolist()
+                vx, vy, vz = py * uz - pz * uy, pz * ux - px * uz, px * uy - py * ux  # p x u
+                wx, wy, wz = uy * vz - uz * vy, uz * vx - ux * vz, ux * vy - uy * vx  # u x v
+                rows += [(0.0, -uz, uy, vx), (uz, 0.0, -ux, vy), (-uy, ux, 0.0, vz), _ZERO_ROW]
+                rows += [  # X^2 = [[u u^T - |u|^2 I, u x v], [0, 0]]
+                    (-(uy * uy + uz * uz), ux * uy, ux * uz, wx),
+                    (uy * ux, -(ux * ux + uz * uz), uy * uz, wy),
+                    (uz * ux, uz * uy, -(ux * ux + uy * uy), wz),
+                    _ZERO_ROW,
+                ]
+            if j.translation:
+                rows += [(0.0, 0.0, 0.0, c) for c in j.axis.tolist()] + [_ZERO_ROW]
+            uses.append(slice(0 if j.rotation else 2, 3 if j.translation else 2))
+            motion.append((j.scale, j.rotation, j.translation))
+            rows += [_ZERO_ROW] * (16 - len(rows))
+            weights.extend(itertools.chain.from_iterable(rows))
+        stacked = np.fromiter(weights, float, len(weights)).reshape(-1, 16, 4).transpose(0, 2, 1)
+        stacks = [(u, stacked[i, :, : 4 * (1 + u.stop - u.start)]) for i, u in enumerate(uses)]
+        return np.array(motion, dtype=float).reshape(-1, 3).T, stacks  # W^T: F-ordered views
 
     def fk_batch(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
-        """Poses ``(N, 4, 4)`` of the tip for configurations ``q`` of shape ``(N, n)``."""
+        """Poses ``(N, 4, 4)`` of the tip for configurations ``q`` of shape ``(N, n)``.
+
+        The screw exponentials in closed form (see ``_exponentials``), a block of ``m``
+        configurations at a time, each pose held transposed and without its constant last row
+        (``F^T[:, :3]``, shape ``(4, 3, m)``): a joint is one product of ``F`` with its terms,
+        then one matrix product ``(F exp)^T = W^T @ [F; sin F; (1 - cos) F; t F]^T``.
+        """
         q = se3.as_configurations(q, self.n)
-        out = np.broadcast_to(np.eye(4), (q.shape[0], 4, 4)).copy()
-        zero = np.zeros(3)
-        for i, j in enumerate(self.joints):
-            point = zero if j.point is None else j.point
-            g = se3.line_screw_batch(j.axis, point, j.rotation, j.translation, j.scale * q[:, i])
-            out = out @ g
-        return out @ self.home
+        motion, stacks = self._exponentials
+        count = q.shape[0]
+        out = np.empty((count, 4, 4))
+        buffers = np.empty((2, 16 * 3 * min(count, FK_BLOCK)))
+        for lo in range(0, count, FK_BLOCK):
+            m = min(lo + FK_BLOCK, count) - lo
+            s = q[lo : lo + m].T * motion[0, :, None]  # (n, m)
+            terms = np.empty((self.n, 3, m))  # per joint: sin, 1 - cos, trans s
+            np.sin(s * motion[1, :, None], out=terms[:, 0])
+            np.cos(s * motion[1, :, None], out=terms[:, 1])
+            np.subtract(1.0, terms[:, 1], out=terms[:, 1])
+            np.multiply(s, motion[2, :, None], out=terms[:, 2])
+            # the stack [F; sin F; (1 - cos) F; t F]^T, as (4, 4, 3, m) and as (16, 3 m)
+            (cur, cur2), (nxt, nxt2) = ((v.reshape(4, 4, 3, m), v.reshape(16, -1))
+                                        for v in (buf[: 48 * m] for buf in buffers))
+            cur[0] = _IDENTITY_T  # F^T of the identity
+            for i, (used, w) in enumerate(stacks):
+                k = used.stop - used.start
+                np.multiply(cur[:1], terms[i, used, None, None, :], out=cur[1 : 1 + k])
+                np.dot(w, cur2[: 4 + 4 * k], out=nxt2[:4])
+                (cur, cur2), (nxt, nxt2) = (nxt, nxt2), (cur, cur2)
+            f = self.home.T @ cur2[:4]
+            out[lo : lo + m, :3] = f.reshape(4, 3, m).transpose(2, 1, 0)
+            out[lo : lo + m, 3] = (0.0, 0.0, 0.0, 1.0)
+        return out
 
     def scaled(self, factor: float, unit: str) -> PoeModel:
         """The same chain with lengths multiplied by ``factor`` and called ``unit`` (points,
@@ -229,13 +314,12 @@ class PoeModel:
         """``(n, 2)`` sampling ranges for ``q``: the joint limits where known, else
         ``[-pi, pi]`` for rotating joints and ``[-extent, extent]`` (in ``s``) for prismatic
         ones (``[-1, 1]`` for a chain that is all at the origin)."""
-        out = np.empty((self.n, 2))
+        out = []
         size = self.extent() or 1.0
-        for i, j in enumerate(self.joints):
+        for j in self.joints:
             if j.lower is not None and j.upper is not None and j.upper > j.lower:
-                out[i] = (j.lower, j.upper)
-            elif j.kind == "prismatic":
-                out[i] = (-size / abs(j.scale), size / abs(j.scale))
+                out.append((j.lower, j.upper))
             else:
-                out[i] = (-math.pi / abs(j.scale), math.pi / abs(j.scale))
-        return out
+                half = (size if j.kind == "prismatic" else math.pi) / abs(j.scale)
+                out.append((-half, half))
+        return np.array(out, dtype=float).reshape(-1, 2)

@@ -7,6 +7,9 @@ Conventions (they bite, so they are stated here once):
   with ``v = p x w + h w`` for a screw through point ``p`` with pitch ``h``. Pinocchio's motion
   vectors are ``[v, w]``; convert at that boundary only (``verify.py``).
 * Batched functions take ``(N,)`` joint values and return ``(N, 4, 4)`` stacks.
+* The chain walks (URDF -> POE -> tables) handle one 3-vector or frame at a time, where a numpy
+  call costs far more than its arithmetic; they use the plain-float :data:`Frame` helpers at the
+  end of this module, which do the same IEEE arithmetic without the calls.
 """
 
 from __future__ import annotations
@@ -17,20 +20,31 @@ import numpy as np
 from numpy.typing import NDArray
 
 __all__ = [
+    "IDENTITY",
+    "Frame",
+    "Vec3",
     "adjoint",
     "as_configurations",
+    "between",
+    "compose",
+    "dir_into",
+    "frame_of",
     "from_rpy",
     "inv",
     "line_screw_batch",
+    "matrix_of",
+    "point_into",
     "pose_errors",
     "rot_axis",
     "rot_x",
     "rot_y",
     "rot_z",
+    "rotate",
     "rpy",
     "skew",
     "trans",
     "twist_exp",
+    "unit",
 ]
 
 Mat = NDArray[np.float64]
@@ -184,12 +198,87 @@ def pose_errors(a: NDArray[np.float64], b: NDArray[np.float64]) -> tuple[float, 
 
     Position: Euclidean distance of the origins. Rotation: the angle of ``Ra^T Rb`` in radians,
     computed as ``2 asin(|Ra - Rb|_F / (2 sqrt 2))``, which stays accurate for tiny angles.
+    Non-finite poses give non-finite errors.
     """
     a = np.asarray(a, dtype=float).reshape(-1, 4, 4)
     b = np.asarray(b, dtype=float).reshape(-1, 4, 4)
     if a.shape[0] == 0:
         return 0.0, 0.0
-    dp = np.linalg.norm(a[:, :3, 3] - b[:, :3, 3], axis=1)
-    dr = np.linalg.norm((a[:, :3, :3] - b[:, :3, :3]).reshape(-1, 9), axis=1)
-    ang = 2.0 * np.arcsin(np.minimum(1.0, dr / (2.0 * math.sqrt(2.0))))
-    return float(dp.max()), float(ang.max())
+    d = (a - b).reshape(-1, 16)
+    d *= d
+    # per pose, the two sums of squares (one product); both measures grow with them, so the
+    # worst is taken first and the root after. (0 x inf in the product is nan: no warning.)
+    with np.errstate(invalid="ignore"):
+        pos2, rot2 = (d @ _ERROR_SUMS).max(axis=0)
+    r = math.sqrt(rot2) / (2.0 * math.sqrt(2.0))
+    return math.sqrt(pos2), (r if math.isnan(r) else 2.0 * math.asin(min(r, 1.0)))
+
+
+_ERROR_SUMS = np.zeros((16, 2))  # picks, of a flattened 4x4, the position and rotation entries
+_ERROR_SUMS[[3, 7, 11], 0] = 1.0
+_ERROR_SUMS[[0, 1, 2, 4, 5, 6, 8, 9, 10], 1] = 1.0
+
+
+# --------------------------------------------------------------------------- plain-float frames
+
+Vec3 = tuple[float, float, float]
+Frame = tuple[tuple[float, float, float, float], ...]
+"""The top three rows ``[R | t]`` of a homogeneous transform, as plain floats, row by row."""
+
+IDENTITY: Frame = ((1.0, 0.0, 0.0, 0.0), (0.0, 1.0, 0.0, 0.0), (0.0, 0.0, 1.0, 0.0))
+
+
+def frame_of(t: Mat) -> Frame:
+    """The :data:`Frame` of a ``(4, 4)`` transform."""
+    return tuple(map(tuple, t[:3].tolist()))
+
+
+def matrix_of(f: Frame) -> Mat:
+    """The ``(4, 4)`` transform of a :data:`Frame`."""
+    return np.array([*f, (0.0, 0.0, 0.0, 1.0)])
+
+
+def compose(a: Frame, b: Frame) -> Frame:
+    """``a @ b`` (written out: this runs once per joint and row of every conversion)."""
+    (b00, b01, b02, b03), (b10, b11, b12, b13), (b20, b21, b22, b23) = b
+    (x0, y0, z0, w0), (x1, y1, z1, w1), (x2, y2, z2, w2) = a
+    return (
+        (x0 * b00 + y0 * b10 + z0 * b20, x0 * b01 + y0 * b11 + z0 * b21,
+         x0 * b02 + y0 * b12 + z0 * b22, x0 * b03 + y0 * b13 + z0 * b23 + w0),
+        (x1 * b00 + y1 * b10 + z1 * b20, x1 * b01 + y1 * b11 + z1 * b21,
+         x1 * b02 + y1 * b12 + z1 * b22, x1 * b03 + y1 * b13 + z1 * b23 + w1),
+        (x2 * b00 + y2 * b10 + z2 * b20, x2 * b01 + y2 * b11 + z2 * b21,
+         x2 * b02 + y2 * b12 + z2 * b22, x2 * b03 + y2 * b13 + z2 * b23 + w2),
+    )
+
+
+def rotate(f: Frame, v: Vec3) -> Vec3:
+    """A direction given in the coordinates of ``f``, in the outer frame: ``R v``."""
+    (a, b, c, _), (d, e, g, _), (h, i, k, _) = f
+    x, y, z = v
+    return (a * x + b * y + c * z, d * x + e * y + g * z, h * x + i * y + k * z)
+
+
+def dir_into(f: Frame, v: Vec3) -> Vec3:
+    """A direction given in the outer frame, in the coordinates of ``f``: ``R^T v``."""
+    (a, b, c, _), (d, e, g, _), (h, i, k, _) = f
+    x, y, z = v
+    return (a * x + d * y + h * z, b * x + e * y + i * z, c * x + g * y + k * z)
+
+
+def point_into(f: Frame, p: Vec3) -> Vec3:
+    """A point given in the outer frame, in the coordinates of ``f``: ``R^T (p - t)``."""
+    return dir_into(f, (p[0] - f[0][3], p[1] - f[1][3], p[2] - f[2][3]))
+
+
+def between(a: Frame, b: Frame) -> Frame:
+    """``a^-1 @ b``: the frame ``b`` in the coordinates of ``a``."""
+    x, y, z = (dir_into(a, (b[0][k], b[1][k], b[2][k])) for k in range(3))
+    t = point_into(a, (b[0][3], b[1][3], b[2][3]))
+    return tuple((x[i], y[i], z[i], t[i]) for i in range(3))
+
+
+def unit(v: Vec3) -> Vec3:
+    """``v / |v|`` (``v`` non-zero)."""
+    n = math.hypot(*v)
+    return (v[0] / n, v[1] / n, v[2] / n)

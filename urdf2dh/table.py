@@ -29,6 +29,7 @@ from .screws import Joint, JointKind, PoeModel
 __all__ = ["CONVENTIONS", "SCHEMA", "Check", "Row", "Table", "convention_module"]
 
 SCHEMA = "urdf2dh/1"
+FK_BLOCK = 8192  # configurations per block of the batched FK (two (3, 8192, 4) buffers, 1.5 MiB)
 CONVENTIONS = ("dh", "mdh", "cpc")
 
 Mat = NDArray[np.float64]
@@ -85,57 +86,82 @@ class Table:
     @cached_property
     def base_matrix(self) -> Mat:
         """``(4, 4)`` base transform ``B`` built from ``base`` params."""
-        return convention_module(self.convention).base_matrix(self.base)
+        return se3.matrix_of(convention_module(self.convention).base_frame(self.base))
 
     @cached_property
     def tool_matrix(self) -> Mat:
         """``(4, 4)`` tool transform ``T`` built from ``tool`` params."""
-        return convention_module(self.convention).tool_matrix(self.tool)
+        return se3.matrix_of(convention_module(self.convention).tool_frame(self.tool))
 
     @cached_property
-    def links(self) -> tuple[Mat, ...]:
-        """The ``n + 1`` constant transforms ``G_0 .. G_n`` between the joint motions."""
+    def links(self) -> Mat:
+        """``(n + 1, 4, 4)``: the constant transforms ``G_0 .. G_n`` between the joint motions."""
         mod = convention_module(self.convention)
-        out: list[Mat] = []
-        g = self.base_matrix
+        out: list[se3.Frame] = []
+        g = mod.base_frame(self.base)
         for row in self.rows:
-            pre, post = mod.row_matrices(row.params)
-            out.append(g if pre is None else g @ pre)
+            pre, post = mod.row_frames(row.params)
+            out.append(g if pre is None else se3.compose(g, pre))
             g = post
-        out.append(g @ self.tool_matrix)
-        return tuple(out)
+        out.append(se3.compose(g, mod.tool_frame(self.tool)))
+        flat = [x for f in out for row in (*f, (0.0, 0.0, 0.0, 1.0)) for x in row]
+        return np.fromiter(flat, float, len(flat)).reshape(-1, 4, 4)
 
     @cached_property
     def _motion(self) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
-        rot = np.array([0.0 if r.kind == "prismatic" else 1.0 for r in self.rows])
-        lin = np.array([1.0 if r.kind == "prismatic" else r.pitch for r in self.rows])
-        scale = np.array([r.scale for r in self.rows], dtype=float)
+        """Per joint: rotation and translation per unit of ``s``, and the scale; ``(n,)`` each."""
+        rot, lin, scale = np.array(
+            [(0.0, 1.0, r.scale) if r.kind == "prismatic" else (1.0, r.pitch, r.scale)
+             for r in self.rows], dtype=float,
+        ).reshape(-1, 3).T
         return rot, lin, scale
 
     def fk(self, q: NDArray[np.float64]) -> Mat:
-        """Pose ``(4, 4)`` of the tool for one configuration ``q`` of shape ``(n,)``."""
-        return self.fk_batch(se3.as_configurations(q, self.n))[0]
+        """Pose ``(4, 4)`` of the tool for a configuration ``q`` of shape ``(n,)``; for a stack
+        of shape ``(..., n)``, poses ``(..., 4, 4)`` (computed by :meth:`fk_batch`)."""
+        q = np.asarray(q, dtype=float)
+        if q.shape[-1:] != (self.n,):
+            raise ValueError(f"q has shape {q.shape}; expected (..., {self.n})")
+        lead = q.shape[:-1]
+        return self.fk_batch(q.reshape(math.prod(lead), self.n)).reshape(*lead, 4, 4)
 
     def fk_batch(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
         """Poses ``(N, 4, 4)`` of the tool for configurations ``q`` of shape ``(N, n)``.
 
-        Vectorised over N: each joint costs one ``(N, 4, 4) @ (4, 4)`` product and a column
-        rotation, whatever N is.
+        Vectorised over N, a block of ``m`` configurations at a time (so that the work stays
+        in cache), the poses held as their top three rows, row-major over the block
+        (``(3, m, 4)``). Per joint, ``Rz(phi)`` turns the x and y columns, which is one complex
+        product: with ``z = x + i y``, ``[x y] Rz(phi)`` is ``z e^{-i phi}``; ``Tz(t)`` adds ``t``
+        times the z column to the position; then the constant link is a single
+        ``(3 m, 4) @ (4, 4)`` matrix product.
         """
         q = se3.as_configurations(q, self.n)
         rot, lin, scale = self._motion
-        s = q * scale
         links = self.links
-        out = np.broadcast_to(links[0], (q.shape[0], 4, 4)).copy()
-        for i in range(self.n):
-            if rot[i]:
-                c, sn = np.cos(s[:, i]), np.sin(s[:, i])
-                x = out[:, :, 0].copy()
-                out[:, :, 0] = c[:, None] * x + sn[:, None] * out[:, :, 1]
-                out[:, :, 1] = c[:, None] * out[:, :, 1] - sn[:, None] * x
-            if lin[i]:
-                out[:, :, 3] += (lin[i] * s[:, i])[:, None] * out[:, :, 2]
-            out = out @ links[i + 1]
+        count = q.shape[0]
+        out = np.empty((count, 4, 4))
+        buffers = np.empty((2, 12 * min(count, FK_BLOCK)))
+        for lo in range(0, count, FK_BLOCK):
+            m = min(lo + FK_BLOCK, count) - lo
+            s = (q[lo : lo + m] * scale).T  # (n, m)
+            minus = s * -rot[:, None]  # -phi
+            turn = np.empty(s.shape, dtype=complex)  # e^{-i phi}
+            np.cos(minus, out=turn.real)
+            np.sin(minus, out=turn.imag)
+            # per buffer: the poses (3, m, 4), their x + i y columns, and the (3 m, 4) rows
+            views = [(v, v[:, :, :2].view(complex)[:, :, 0], v.reshape(-1, 4))
+                     for v in (b[: 12 * m].reshape(3, m, 4) for b in buffers)]
+            views[0][0][...] = links[0, :3, None, :]
+            for i in range(self.n):
+                (f, xy, rows), nxt = views
+                if rot[i]:
+                    xy *= turn[i]
+                if lin[i]:
+                    f[:, :, 3] += (lin[i] * s[i]) * f[:, :, 2]
+                np.dot(rows, links[i + 1], out=nxt[2])
+                views = [nxt, views[0]]
+            out[lo : lo + m, :3] = views[0][0].transpose(1, 0, 2)
+            out[lo : lo + m, 3] = (0.0, 0.0, 0.0, 1.0)
         return out
 
     def frames(self) -> list[Mat]:

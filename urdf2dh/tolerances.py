@@ -6,13 +6,12 @@ The defaults are documented in README.md and overridable per call (keyword) and 
 
 from __future__ import annotations
 
+import sys
 from dataclasses import dataclass, replace
-
-import numpy as np
 
 __all__ = ["DEFAULT", "EXACT", "HASH_DECIMALS", "Tolerances"]
 
-EPS = float(np.finfo(float).eps)
+EPS = sys.float_info.epsilon  # float64's; not numpy's, so that `urdf2dh --help` needs no numpy
 
 # Decimals kept of each D-H value before Universal Robots' calibration hash is taken
 # (export/ur.py): an exact table carries round-off (theta = -4.9e-12 where UR writes 0, a length

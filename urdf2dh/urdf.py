@@ -12,19 +12,26 @@ import io
 import math
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
 
+from . import se3
 from .errors import ChainError, InputError, choices
 from .files import read_file
 from .screws import Joint, JointKind, PoeModel
 
 __all__ = ["UrdfJoint", "UrdfTree", "load_tree", "parse_tree", "tree_to_poe"]
 
-MOVABLE = {"revolute": "revolute", "continuous": "revolute", "prismatic": "prismatic"}
+MOVABLE: dict[str, JointKind] = {
+    "revolute": "revolute", "continuous": "revolute", "prismatic": "prismatic"
+}
 KNOWN_TYPES = ("revolute", "continuous", "prismatic", "fixed", "floating", "planar")
+_IDENTITY = np.eye(4)  # a joint without <origin>, shared read-only
+_IDENTITY.setflags(write=False)
+_X_AXIS = np.array([1.0, 0.0, 0.0])  # URDF's default axis, shared read-only
+_X_AXIS.setflags(write=False)
 
 
 @dataclass(frozen=True)
@@ -118,14 +125,13 @@ class UrdfTree:
 def _floats(text: str | None, count: int, what: str, where: str) -> list[float] | None:
     if text is None:
         return None
-    parts = text.split()
     try:
-        values = [float(p) for p in parts]
+        values = list(map(float, text.split()))
     except ValueError as e:
         raise InputError(f"{where}: {what} '{text}' is not {count} numbers") from e
     if len(values) != count:
         raise InputError(f"{where}: {what} '{text}' is not {count} numbers")
-    if not all(math.isfinite(v) for v in values):
+    if not all(map(math.isfinite, values)):
         raise InputError(f"{where}: {what} '{text}' is not finite")
     return values
 
@@ -137,7 +143,7 @@ def _check_xml(root: Any, display: str) -> None:
     if not root.get("name"):
         raise InputError(f"{display}: <robot> has no name attribute")
     links: set[str] = set()
-    for el in root.findall("link"):
+    for el in root.iterchildren("link"):
         name = el.get("name")
         if not name:
             raise InputError(f"{display}: a <link> has no name attribute")
@@ -147,7 +153,7 @@ def _check_xml(root: Any, display: str) -> None:
     if not links:
         raise InputError(f"{display}: robot '{root.get('name')}' declares no links")
     joints: set[str] = set()
-    for el in root.findall("joint"):
+    for el in root.iterchildren("joint"):
         name = el.get("name")
         if not name:
             raise InputError(f"{display}: a <joint> has no name attribute")
@@ -158,33 +164,37 @@ def _check_xml(root: Any, display: str) -> None:
         jtype = el.get("type")
         if jtype not in KNOWN_TYPES:
             raise InputError(f"{where} has unknown type '{jtype}'; valid: {choices(KNOWN_TYPES)}")
+        sub: dict[Any, Any] = {}
+        for child in el:  # one pass; the first of each tag counts, as with find()
+            sub.setdefault(child.tag, child)
         for role in ("parent", "child"):
-            sub = el.find(role)
-            link = sub.get("link") if sub is not None else None
+            link = sub[role].get("link") if role in sub else None
             if not link:
                 raise InputError(f"{where} has no <{role} link=...>")
             if link not in links:
                 raise InputError(f"{where} names undeclared link '{link}' as its {role}")
-        origin = el.find("origin")
-        if origin is not None:
-            _floats(origin.get("xyz"), 3, "origin xyz", where)
-            _floats(origin.get("rpy"), 3, "origin rpy", where)
-        axis = el.find("axis")
-        if axis is not None:
-            xyz = _floats(axis.get("xyz"), 3, "axis xyz", where)
+        if "origin" in sub:
+            _floats(sub["origin"].get("xyz"), 3, "origin xyz", where)
+            _floats(sub["origin"].get("rpy"), 3, "origin rpy", where)
+        if "axis" in sub:
+            xyz = _floats(sub["axis"].get("xyz"), 3, "axis xyz", where)
             if xyz is not None and jtype in MOVABLE and not any(xyz):
                 raise InputError(f"{where} has a zero axis")
-        limit = el.find("limit")
-        if limit is not None:
+        if "limit" in sub:
             for attr in ("lower", "upper"):
-                _floats(limit.get(attr), 1, f"limit {attr}", where)
-        mimic = el.find("mimic")
-        if mimic is not None and not mimic.get("joint"):
+                _floats(sub["limit"].get(attr), 1, f"limit {attr}", where)
+        if "mimic" in sub and not sub["mimic"].get("joint"):
             raise InputError(f"{where} has a <mimic> without a joint attribute")
 
 
 def parse_tree(data: bytes, display: str) -> UrdfTree:
     """Parse URDF text into a checked :class:`UrdfTree` (``display`` names it in messages)."""
+    name = _checked_name(data, display)
+    return _tree_from_robot(_yourdfpy_robot(data, display), display, name)
+
+
+def _checked_name(data: bytes, display: str) -> str:
+    """Our own pass over the text (lxml, :func:`_check_xml`); returns the robot's name."""
     from lxml import etree
 
     if not data.strip():
@@ -196,7 +206,7 @@ def parse_tree(data: bytes, display: str) -> UrdfTree:
     except etree.XMLSyntaxError as e:
         raise InputError(f"{display}: malformed XML ({e})") from e
     _check_xml(root, display)
-    return _from_yourdfpy(data, display, root.get("name"))
+    return str(root.get("name"))
 
 
 def load_tree(path: str | Path, display: str | None = None) -> UrdfTree:
@@ -205,7 +215,8 @@ def load_tree(path: str | Path, display: str | None = None) -> UrdfTree:
     return parse_tree(read_file(path, display or str(path)), display or str(path))
 
 
-def _from_yourdfpy(data: bytes, display: str, name: str) -> UrdfTree:
+def _yourdfpy_robot(data: bytes, display: str) -> Any:
+    """yourdfpy's ``Robot`` of the text (joint origins, axes, limits, mimic; no meshes)."""
     import yourdfpy
 
     try:
@@ -218,15 +229,17 @@ def _from_yourdfpy(data: bytes, display: str, name: str) -> UrdfTree:
         )
     except Exception as e:  # yourdfpy raises many kinds; our checks ran first
         raise InputError(f"{display}: yourdfpy cannot load it ({type(e).__name__}: {e})") from e
-    robot = urdf.robot
+    return urdf.robot
+
+
+def _tree_from_robot(robot: Any, display: str, name: str) -> UrdfTree:
+    """The :class:`UrdfTree` of a yourdfpy ``Robot`` (its joints and links)."""
     joints: dict[str, UrdfJoint] = {}
     parent_joint: dict[str, UrdfJoint] = {}
     children: dict[str, list[UrdfJoint]] = {}
     for j in robot.joints:
-        origin = np.eye(4) if j.origin is None else np.asarray(j.origin, dtype=float)
-        axis = np.array([1.0, 0.0, 0.0]) if j.axis is None else np.asarray(j.axis, dtype=float)
-        if not (np.all(np.isfinite(origin)) and np.all(np.isfinite(axis))):
-            raise InputError(f"{display}: joint '{j.name}' has a non-finite origin or axis")
+        origin = _IDENTITY if j.origin is None else np.asarray(j.origin, dtype=float)
+        axis = _X_AXIS if j.axis is None else np.asarray(j.axis, dtype=float)
         lower = upper = None
         if j.limit is not None and j.type != "continuous":
             lower = None if j.limit.lower is None else float(j.limit.lower)
@@ -247,6 +260,11 @@ def _from_yourdfpy(data: bytes, display: str, name: str) -> UrdfTree:
         joints[uj.name] = uj
         parent_joint[uj.child] = uj
         children.setdefault(uj.parent, []).append(uj)
+    values = [a.ravel() for j in joints.values() for a in (j.origin, j.axis)]
+    if values and not np.isfinite(np.concatenate(values)).all():
+        bad = next(j.name for j in joints.values()
+                   if not (np.isfinite(j.origin).all() and np.isfinite(j.axis).all()))
+        raise InputError(f"{display}: joint '{bad}' has a non-finite origin or axis")
     links = tuple(link.name for link in robot.links)
     roots = [link for link in links if link not in parent_joint]
     if not roots:
@@ -272,15 +290,25 @@ def _from_yourdfpy(data: bytes, display: str, name: str) -> UrdfTree:
 # --------------------------------------------------------------------------- chain -> POE
 
 
-def _helical_lead(uj: UrdfJoint, axis: NDArray[np.float64], joints: list[Joint]) -> float | None:
+class _Movable(NamedTuple):
+    name: str
+    kind: JointKind
+    axis: se3.Vec3
+    point: se3.Vec3
+    pitch: float
+    lower: float | None
+    upper: float | None
+
+
+def _helical_lead(uj: UrdfJoint, axis: se3.Vec3, movable: list[_Movable]) -> float | None:
     """The pitch, if ``uj`` is the lead of a helical joint as urdf2dh writes one: a prismatic
     joint mimicking the revolute joint just before it on the chain (offset 0), along its axis."""
-    if uj.type != "prismatic" or uj.mimic is None or uj.offset != 0.0 or not joints:
+    if uj.type != "prismatic" or uj.mimic is None or uj.offset != 0.0 or not movable:
         return None
-    prev = joints[-1]
+    prev = movable[-1]
     if prev.name != uj.mimic or prev.kind != "revolute":
         return None
-    cos = float(axis @ prev.axis)
+    cos = sum(a * b for a, b in zip(axis, prev.axis, strict=True))
     if abs(abs(cos) - 1.0) > 1e-12:
         return None
     return uj.multiplier * (1.0 if cos > 0 else -1.0)
@@ -306,11 +334,11 @@ def tree_to_poe(
         )
     tip = tip or tree.default_tip(base)
     path = tree.chain(base, tip)
-    t = np.eye(4)
-    joints: list[Joint] = []
+    t = se3.IDENTITY  # the joint frame at the home pose, in the base frame
+    movable: list[_Movable] = []
     warnings: list[str] = []
     for uj in path:
-        t = t @ uj.origin
+        t = se3.compose(t, se3.frame_of(uj.origin))
         if uj.type in ("floating", "planar"):
             raise ChainError(
                 f"{tree.path}: joint '{uj.name}' on the chain '{base}' -> '{tip}' is "
@@ -318,14 +346,11 @@ def tree_to_poe(
             )
         if uj.type == "fixed":
             continue
-        norm = float(np.linalg.norm(uj.axis))
-        axis = t[:3, :3] @ (uj.axis / norm)
-        axis /= np.linalg.norm(axis)
-        lead = _helical_lead(uj, axis, joints)
+        x, y, z = uj.axis.tolist()
+        axis = se3.unit(se3.rotate(t, se3.unit((x, y, z))))
+        lead = _helical_lead(uj, axis, movable)
         if lead is not None:  # revolute + coaxial prismatic mimicking it = one helical joint
-            prev = joints[-1]
-            joints[-1] = Joint(prev.name, "helical", prev.axis, prev.point, lead, 1.0,
-                               prev.lower, prev.upper)
+            movable[-1] = movable[-1]._replace(kind="helical", pitch=lead)
             continue
         if uj.mimic is not None:
             if not ignore_mimic:
@@ -337,8 +362,19 @@ def tree_to_poe(
                 f"joint '{uj.name}' mimics '{uj.mimic}' in the URDF; treated as an independent "
                 "joint (--ignore-mimic)"
             )
-        kind: JointKind = MOVABLE[uj.type]  # type: ignore[assignment]
-        joints.append(Joint(uj.name, kind, axis, t[:3, 3].copy(), 0.0, 1.0, uj.lower, uj.upper))
+        kind: JointKind = MOVABLE[uj.type]
+        movable.append(_Movable(uj.name, kind, axis, (t[0][3], t[1][3], t[2][3]), 0.0,
+                                uj.lower, uj.upper))
+    # the joints' axes and points: rows of two read-only arrays (two array calls, not 2 n)
+    axes = np.array([m.axis for m in movable], dtype=float).reshape(-1, 3)
+    points = np.array([m.point for m in movable], dtype=float).reshape(-1, 3)
+    axes.setflags(write=False)
+    points.setflags(write=False)
+    joints = [
+        Joint(m.name, m.kind, axis, point, m.pitch, 1.0, m.lower, m.upper)
+        for m, axis, point in zip(movable, axes, points, strict=True)
+    ]
     return PoeModel(
-        tuple(joints), t, name or tree.name, tree.path, base, tip, "m", tuple(warnings)
+        tuple(joints), se3.matrix_of(t), name or tree.name, tree.path, base, tip, "m",
+        tuple(warnings),
     )

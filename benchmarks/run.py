@@ -1,0 +1,276 @@
+"""Speed and scale of urdf2dh, measured side by side with Pinocchio on one machine (issue 6).
+
+    python benchmarks/run.py            # the full run (a few minutes)
+    python benchmarks/run.py --quick    # CI's run: fewer repeats and sizes (under a minute)
+
+Every figure is printed beside its Pinocchio counterpart with the ratio ours / Pinocchio's, and
+the goal it is held to. Goals are reported, never asserted: speed is measured, not tested. Times
+are the best of several interleaved runs; each section says what "ours" includes.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import platform
+import sys
+from pathlib import Path
+
+import numpy as np
+import pinocchio as pin
+import yourdfpy
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path[:0] = [str(ROOT / "tests"), str(Path(__file__).resolve().parent)]
+
+from scale import chain_lengths  # noqa: E402
+from timing import Figure, best_of, import_ms, peak_alloc, print_table, run_process  # noqa: E402
+
+from urdf2dh.catalog import ROBOTS, robot_path  # noqa: E402
+from urdf2dh.convert import (  # noqa: E402
+    DEFAULT_SAMPLES,
+    build_table,
+    sample_configurations,
+    self_check,
+    to_table,
+)
+from urdf2dh.files import read_file  # noqa: E402
+from urdf2dh.se3 import pose_errors  # noqa: E402
+from urdf2dh.sources import open_source  # noqa: E402
+from urdf2dh.tolerances import DEFAULT  # noqa: E402
+from urdf2dh.urdf import (  # noqa: E402 - the stages of parse_tree, timed one by one
+    _checked_name,
+    _tree_from_robot,
+    _yourdfpy_robot,
+    parse_tree,
+    tree_to_poe,
+)
+
+ARM = "panda"  # the 7-DOF arm of the engine and batch figures
+
+
+def engine(repeat: int) -> list[Figure]:
+    """In one process: our URDF pass + chain walk + dh + self-check vs buildModelFromUrdf."""
+    bundled = ROBOTS[ARM]
+    path = robot_path(bundled)
+    data = path.read_bytes()
+    robot = _yourdfpy_robot(data, path.name)  # yourdfpy's part, timed separately below
+    tree = parse_tree(data, path.name)
+    model = tree_to_poe(tree, bundled.base, bundled.tip)
+    table, _ = build_table(model, "dh", DEFAULT)
+
+    def ours(samples: int) -> object:
+        text = read_file(path, path.name)
+        tree = _tree_from_robot(robot, path.name, _checked_name(text, path.name))
+        return to_table(tree_to_poe(tree, bundled.base, bundled.tip), "dh", samples=samples)
+
+    stages = {
+        "read + lxml parse + our URDF check": lambda: _checked_name(read_file(path, ""), ""),
+        "tree from yourdfpy's joints": lambda: _tree_from_robot(robot, "", ""),
+        "chain walk -> POE": lambda: tree_to_poe(tree, bundled.base, bundled.tip),
+        "dh conversion (no check)": lambda: build_table(model, "dh", DEFAULT),
+        "self-check at 100 configurations": lambda: self_check(model, table, 100),
+        f"self-check at {DEFAULT_SAMPLES} configurations": lambda: self_check(model, table),
+    }
+    def from_tree(samples: int) -> object:
+        return to_table(tree_to_poe(tree, bundled.base, bundled.tip), "dh", samples=samples)
+
+    times = best_of([lambda: pin.buildModelFromUrdf(str(path)), lambda: ours(100),
+                     lambda: ours(DEFAULT_SAMPLES), lambda: from_tree(100)], repeat)
+    stage_times = best_of(list(stages.values()), repeat)
+    load = best_of([lambda: _yourdfpy_robot(data, "")], max(3, repeat // 10))[0]
+    print(f"\n{ARM}: {model.n} joints, {path.stat().st_size} bytes of URDF. Ours = reading the "
+          "file, lxml parse + our URDF check, the tree from yourdfpy's joint objects, the chain "
+          "walk to the POE model, the dh conversion and its self-check. yourdfpy's own "
+          "URDF.load (its XML parse and objects) is reported separately. Pinocchio = "
+          "buildModelFromUrdf(path), which reads and parses the file too. Stages, best of each:")
+    for (name, _), t in zip(stages.items(), stage_times, strict=True):
+        print(f"  {name:<38} {t * 1e3:7.3f} ms")
+    pin_t = times[0]
+    return [
+        Figure("engine, self-check at 100 configurations (SPEC's minimum)", times[1], pin_t,
+               "ms", "<= 1x", times[1] <= pin_t),
+        Figure(f"engine, self-check at {DEFAULT_SAMPLES} configurations (the default)",
+               times[2], pin_t, "ms", "<= 1x", times[2] <= pin_t),
+        Figure("from the parsed tree: chain walk + dh + self-check at 100 (no XML)", times[3],
+               pin_t, "ms"),
+        Figure("yourdfpy's URDF.load of the same text (not ours)", load, pin_t, "ms"),
+    ]
+
+
+# Timed inside a new process: what comes after importing yourdfpy (our imports and the
+# conversion, output to /dev/null), and Pinocchio's import and model build.
+OUR_SHARE = """import os, sys, time, yourdfpy
+t0 = time.perf_counter()
+from urdf2dh.cli import main
+sys.stdout = open(os.devnull, "w")
+main(["convert", {arm!r}])
+sys.__stdout__.write(repr(time.perf_counter() - t0))
+"""
+PIN_SHARE = """import time
+t0 = time.perf_counter()
+import pinocchio
+pinocchio.buildModelFromUrdf({path!r})
+print(repr(time.perf_counter() - t0))
+"""
+
+
+def whole_command(runs: int) -> list[Figure]:
+    """New processes: urdf2dh convert vs importing yourdfpy only vs Pinocchio loading the URDF."""
+    path = str(robot_path(ROBOTS[ARM]))
+    convert = run_process(["-m", "urdf2dh.cli", "convert", ARM], runs)
+    only_yourdfpy = run_process(["-c", "import yourdfpy"], runs)
+    pinocchio = run_process(["-c", f"import pinocchio; pinocchio.buildModelFromUrdf({path!r})"],
+                            runs)
+    help_ = run_process(["-m", "urdf2dh.cli", "--help"], runs)
+    only_pin = run_process(["-c", "import pinocchio"], runs)
+    share, pin_share = (min(float(run_process(["-c", code], 1).stdout) for _ in range(runs))
+                        for code in (OUR_SHARE.format(arm=ARM), PIN_SHARE.format(path=path)))
+    print(f"\nNew processes, best of {runs}: `urdf2dh convert {ARM}` (python -m urdf2dh.cli) "
+          f"{convert.seconds:.3f} s; one that only imports yourdfpy {only_yourdfpy.seconds:.3f} s "
+          f"(difference {convert.seconds - only_yourdfpy.seconds:.3f} s); Pinocchio importing and "
+          f"loading the URDF {pinocchio.seconds:.3f} s. Our share, timed inside a new process: "
+          "what follows `import yourdfpy` (our imports and the conversion); Pinocchio's: its "
+          "import and model build.")
+    return [
+        Figure(f"whole command: urdf2dh convert {ARM}", convert.seconds, pinocchio.seconds, "s"),
+        Figure("our share of it vs Pinocchio's (import + build)", share, pin_share, "s",
+               "ours <= 0.25 s", share <= 0.25),
+        Figure("start-up: urdf2dh --help vs python -c 'import pinocchio'", help_.seconds,
+               only_pin.seconds, "s"),
+        Figure(f"peak memory: convert {ARM} vs Pinocchio loading it", convert.peak_bytes,
+               pinocchio.peak_bytes, "MiB"),
+    ]
+
+
+def imports() -> list[Figure]:
+    """Import times (-X importtime, cumulative, new processes) against `import pinocchio`."""
+    pin_ms = import_ms("import pinocchio")["total"]
+    cli = import_ms("import urdf2dh.cli")
+    convert = import_ms("import urdf2dh.convert, urdf2dh.sources, urdf2dh.formats, urdf2dh.urdf")
+    yd = import_ms("import yourdfpy")
+    hygiene = run_process(["-c", "import sys; from urdf2dh.cli import main\ntry: main(['--help'])\n"
+                           "except SystemExit: pass\nprint(sorted({m.split('.')[0] for m in "
+                           "sys.modules} & {'numpy', 'yourdfpy', 'pinocchio', 'lxml'}))"], 1)
+    print(f"\nModules `urdf2dh --help` imports of numpy, yourdfpy, pinocchio, lxml: "
+          f"{hygiene.stdout.strip().splitlines()[-1]}")
+    return [
+        Figure("import urdf2dh.cli (all that --help needs)", cli["total"] / 1e3, pin_ms / 1e3,
+               "ms", "no yourdfpy, no Pinocchio", "yourdfpy" not in cli and "pinocchio" not in cli),
+        Figure("import of convert's modules (ours, numpy; yourdfpy is imported on use)",
+               convert["total"] / 1e3, pin_ms / 1e3, "ms", "no Pinocchio",
+               "pinocchio" not in convert),
+        Figure("import yourdfpy (not ours)", yd["total"] / 1e3, pin_ms / 1e3, "ms"),
+    ]
+
+
+def batch_fk(count: int, repeat: int) -> list[Figure]:
+    """Table.fk_batch over (N, 7) against Pinocchio's forwardKinematics in a Python loop."""
+    source = open_source(ARM)
+    model = source.model()
+    table = to_table(model, "dh")
+    q = sample_configurations(model, count, 3)
+    full = pin.buildModelFromUrdf(str(robot_path(ROBOTS[ARM])))
+    arm = {j.name for j in model.joints}
+    lock = [i for i in range(1, full.njoints) if full.names[i] not in arm]  # the fingers
+    reduced = pin.buildReducedModel(full, lock, pin.neutral(full))
+    data, tip = reduced.createData(), reduced.getFrameId(model.tip_link)
+    order = [reduced.joints[reduced.getJointId(j.name)].idx_q for j in model.joints]
+    qp = np.zeros((count, reduced.nq))
+    qp[:, order] = q  # the base link is Pinocchio's root: poses compare as they are
+
+    def loop() -> np.ndarray:
+        out = np.empty((count, 4, 4))
+        for k, config in enumerate(qp):
+            pin.forwardKinematics(reduced, data, config)
+            out[k] = pin.updateFramePlacement(reduced, data, tip).homogeneous
+        return out
+
+    def fk_only() -> None:
+        for config in qp:
+            pin.forwardKinematics(reduced, data, config)
+
+    ours_t, poe_t, loop_t, bare_t = best_of(
+        [lambda: table.fk_batch(q), lambda: model.fk_batch(q), loop, fk_only], repeat)
+    ours, theirs = table.fk_batch(q), loop()
+    pos, rot = pose_errors(ours, theirs)
+    print(f"\n{ARM}, N = {count:,} configurations within the joint limits; Pinocchio's model is "
+          f"the URDF's reduced to the 7 arm joints. Max difference of the poses: {pos:.2e} m, "
+          f"{rot:.2e} rad; largest entry {np.abs(ours - theirs).max():.2e}. numpy "
+          f"{np.__version__}, OPENBLAS_NUM_THREADS={os.environ.get('OPENBLAS_NUM_THREADS', '-')}")
+    return [
+        Figure("batch FK: Table.fk_batch vs loop of forwardKinematics + tip pose", ours_t,
+               loop_t, "ms", "<= 0.1x (10x throughput)", ours_t <= 0.1 * loop_t),
+        Figure("batch FK vs the loop's forwardKinematics alone (poses not read out)", ours_t,
+               bare_t, "ms"),
+        Figure("batch FK of the POE model (the self-check's other side) vs the loop", poe_t,
+               loop_t, "ms"),
+        Figure("batch FK peak allocation vs the loop's", peak_alloc(lambda: table.fk_batch(q)),
+               peak_alloc(loop), "MiB"),
+    ]
+
+
+ORACLE = """import numpy as np, pinocchio as pin
+model = pin.buildModelFromUrdf({path!r})
+data, tip = model.createData(), model.getFrameId({tip!r})
+q = np.random.default_rng(0).uniform(model.lowerPositionLimit, model.upperPositionLimit,
+                                     size=({samples}, model.nq))
+out = np.empty(({samples}, 4, 4))
+for k, config in enumerate(q):
+    pin.forwardKinematics(model, data, config)
+    out[k] = pin.updateFramePlacement(model, data, tip).homogeneous
+"""
+
+
+def verify_run(samples: int, runs: int) -> list[Figure]:
+    """`urdf2dh verify` in a new process vs one in which Pinocchio loads the URDF and computes
+    the tip pose at as many configurations (the oracle's own work)."""
+    ours = run_process(["-m", "urdf2dh.cli", "verify", ARM, "--samples", str(samples)], runs)
+    bundled = ROBOTS[ARM]
+    oracle = ORACLE.format(path=str(robot_path(bundled)), tip=bundled.tip, samples=samples)
+    theirs = run_process(["-c", oracle], runs)
+    return [
+        Figure(f"urdf2dh verify {ARM} --samples {samples} vs Pinocchio's FK at as many",
+               ours.seconds, theirs.seconds, "s"),
+        Figure("peak memory of the verify run vs Pinocchio's", ours.peak_bytes,
+               theirs.peak_bytes, "MiB"),
+    ]
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true", help="CI's short run")
+    args = parser.parse_args(argv)
+    quick = args.quick
+    print(f"# urdf2dh benchmark{' (quick)' if quick else ''}\n\nPython {platform.python_version()}"
+          f", Pinocchio {pin.__version__}, yourdfpy {yourdfpy.__version__}, numpy "
+          f"{np.__version__}; {os.cpu_count()} CPUs; load average {os.getloadavg()[0]:.2f}")
+    figures = engine(repeat=20 if quick else 200)
+    print_table("Engine (one process)", figures)
+    rows = whole_command(runs=1 if quick else 5)
+    print_table("Whole command and start-up (new processes)", rows)
+    figures += rows
+    rows = imports()
+    print_table("Import times", rows)
+    figures += rows
+    sizes = [10, 50, 200] if quick else [10, 20, 50, 100, 200, 500, 1000, 2000]
+    rows, notes = chain_lengths(sizes, accuracy_samples=20 if quick else 200)
+    print_table("Chain length (random chains, in one process)", rows)
+    print("\n" + "\n".join(notes))
+    figures += rows
+    rows = batch_fk(count=10_000 if quick else 100_000, repeat=2 if quick else 3)
+    print_table("Batch forward kinematics", rows)
+    figures += rows
+    rows = verify_run(samples=1000 if quick else 10_000, runs=1 if quick else 3)
+    print_table("verify", rows)
+    figures += rows
+    goals = [f for f in figures if f.met is not None]
+    print(f"\nGoals met: {sum(f.met is True for f in goals)} of {len(goals)}"
+          + "".join(f"\n  NOT met: {f.name} ({f.ratio:.3g}x; goal {f.goal})"
+                    for f in goals if not f.met)
+          + f"\nLoad average at the end: {os.getloadavg()[0]:.2f}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

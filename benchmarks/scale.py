@@ -1,0 +1,99 @@
+"""Chain length: conversion time and FK accuracy of random chains from 10 to 2,000 joints, beside
+Pinocchio's model build and Pinocchio's own FK accuracy (part of ``benchmarks/run.py``)."""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+import pinocchio as pin
+from chains import random_chain_urdf  # tests/chains.py: seeded random URDF chains
+from reference import chain_fk
+from timing import Figure, best_of, peak_alloc
+
+from urdf2dh.convert import sample_configurations, to_table
+from urdf2dh.se3 import pose_errors
+from urdf2dh.sources import Source
+from urdf2dh.table import CONVENTIONS
+from urdf2dh.urdf import _checked_name, _tree_from_robot, _yourdfpy_robot, tree_to_poe
+from urdf2dh.verify import pinocchio_fk
+
+__all__ = ["PIN_FK_MAX", "chain_lengths"]
+
+PIN_FK_MAX = 200  # Pinocchio's Data takes O(n^3) memory: 0.5 GB at 200 joints, 1.7 GB at 300
+
+
+def chain_lengths(sizes: list[int], accuracy_samples: int) -> tuple[list[Figure], list[str]]:
+    """Random chains (tests/chains.py): our pass + dh + self-check vs buildModelFromXML, and the
+    worst FK error of every convention (and of Pinocchio) against an extended-precision FK."""
+    rows, times, errors, lines, loads = [], [], [], [], []
+    for n in sizes:
+        text, _ = random_chain_urdf(n, n)
+        data = text.encode()
+        t0 = time.perf_counter()
+        robot = _yourdfpy_robot(data, "chain.urdf")
+        loads.append(f"{n}: {time.perf_counter() - t0:.3g} s")
+
+        def ours(data: bytes = data, robot: object = robot) -> object:
+            tree = _tree_from_robot(robot, "chain.urdf", _checked_name(data, "chain.urdf"))
+            return to_table(tree_to_poe(tree, "base", "tool"), "dh")
+
+        repeat = 5 if n <= 200 else 2
+        pin_t, t = best_of([lambda text=text: pin.buildModelFromXML(text), ours], repeat)
+        times.append(t)
+        ok = t <= 1.0 if n == 1000 else None
+        rows.append(Figure(f"{n} joints: convert to dh, self-check included", t, pin_t, "ms",
+                           "ours <= 1 s" if n == 1000 else "", ok))
+        tree = _tree_from_robot(robot, "chain.urdf", _checked_name(data, "chain.urdf"))
+        model = tree_to_poe(tree, "base", "tool")
+        q = sample_configurations(model, accuracy_samples, 1)
+        exact = chain_fk(text, "base", "tool", q).astype(float)  # rounding: < 1 ulp
+        size = model.size()
+        ours_err = [pose_errors(model.fk_batch(q), exact)]
+        ours_err += [pose_errors(to_table(model, c).fk_batch(q), exact) for c in CONVENTIONS]
+        pos, rot = max(p for p, _ in ours_err) / size, max(r for _, r in ours_err)
+        theirs = (None if n > PIN_FK_MAX else pose_errors(pinocchio_fk(
+            Source("urdf", "chain.urdf", tree.name, tree, data), model, q), exact))
+        errors.append((n, pos, rot, theirs and theirs[0] / size, theirs and theirs[1]))
+        pin_cells = ("n/a | n/a" if theirs is None
+                     else f"{theirs[0] / size:.2e} | {theirs[1]:.2e}")
+        lines.append(f"| {n} | {size:.3g} | " + " | ".join(f"{p / size:.2e}" for p, _ in ours_err)
+                     + f" | {rot:.2e} | {pin_cells} |")
+    notes = [
+        f"Largest chain ({sizes[-1]} joints): peak allocation of the conversion "
+        f"{peak_alloc(ours) / 2**20:.1f} MiB.",  # ours: the last chain's
+        f"yourdfpy's own load of these chains (not ours; excluded above): {', '.join(loads)}.",
+        "",
+        f"Worst FK error at {accuracy_samples} configurations against an extended-precision FK "
+        "of the URDF text (benchmarks/reference.py): position relative to the robot's size for "
+        "the POE model and each convention, and the worst rotation error (rad); Pinocchio's own "
+        f"beside them (n/a beyond {PIN_FK_MAX} joints: its Data needs O(n^3) memory).",
+        "",
+        "| joints | size | POE | dh | mdh | cpc | rotation | Pinocchio | Pinocchio rotation |",
+        "|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
+    ]
+    return rows, [*_fits(sizes, times, errors), *notes, *lines]
+
+
+def _fits(sizes: list[int], times: list[float], errors: list[tuple]) -> list[str]:
+    """Linear fit of time against joints, and log-log slopes of time and error."""
+    n_arr, t_arr = np.array(sizes, float), np.array(times)
+    b, a = np.polyfit(n_arr, t_arr, 1)
+    r2 = 1 - np.sum((t_arr - (a + b * n_arr)) ** 2) / np.sum((t_arr - t_arr.mean()) ** 2)
+    big = n_arr >= 100 if (n_arr >= 100).sum() >= 2 else n_arr > 0
+    slope = np.polyfit(np.log(n_arr[big]), np.log(t_arr[big]), 1)[0]
+    out = [f"Time against joints: t = {a * 1e3:.3g} ms + {b * 1e6:.3g} us x n (R^2 = {r2:.4f}); "
+           f"log-log slope for n >= {int(n_arr[big].min())}: {slope:.2f} (1 = linear); per joint: "
+           + ", ".join(f"{n}: {t / n * 1e6:.0f} us" for n, t in zip(sizes, times, strict=True))]
+    floor = 2.0**-60  # an error of exactly 0 has no logarithm
+
+    def loglog(k: int, rows: list[tuple]) -> str:
+        x = np.log([r[0] for r in rows])
+        return f"{np.polyfit(x, np.log([max(r[k], floor) for r in rows]), 1)[0]:.2f}"
+
+    theirs = [e for e in errors if e[3] is not None]
+    slopes = ("Worst error against joints, log-log slope (<= 1: no faster than linear): ours, "
+              f"position / size {loglog(1, errors)}, rotation {loglog(2, errors)}")
+    if len(theirs) > 1:
+        slopes += f"; Pinocchio (n <= {PIN_FK_MAX}) {loglog(3, theirs)} and {loglog(4, theirs)}"
+    return [*out, slopes]

@@ -1,0 +1,57 @@
+"""Start-up hygiene (issue 6): `urdf2dh --help` imports neither yourdfpy nor Pinocchio (nor numpy),
+and `convert` never imports Pinocchio. Each command runs in a new interpreter, which then lists
+the heavy packages it ended up importing."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+
+import pytest
+
+HEAVY = ("numpy", "yourdfpy", "trimesh", "scipy", "pinocchio", "lxml")
+
+PROBE = """
+import json, sys
+from urdf2dh.cli import main
+try:
+    code = main({argv!r})
+except SystemExit as e:
+    code = e.code
+heavy = sorted({{m.split(".")[0] for m in sys.modules}} & set({heavy!r}))
+print("\\nIMPORTED " + json.dumps([code, heavy]))
+"""
+
+
+def imported(*argv: str) -> tuple[int, list[str]]:
+    proc = subprocess.run([sys.executable, "-c", PROBE.format(argv=list(argv), heavy=HEAVY)],
+                          capture_output=True, text=True, timeout=120)
+    line = proc.stdout.rsplit("IMPORTED ", 1)[-1]
+    assert proc.returncode == 0 and line != proc.stdout, proc.stdout + proc.stderr
+    code, heavy = json.loads(line)
+    return code, heavy
+
+
+@pytest.mark.parametrize("argv", [["--help"], ["convert", "--help"], ["--version"], []])
+def test_help_imports_no_heavy_package(argv):
+    code, heavy = imported(*argv)
+    assert code in (0, 2)
+    assert heavy == [], f"urdf2dh {' '.join(argv)} imported {heavy}"
+
+
+@pytest.mark.parametrize("argv", [
+    ["convert", "ur5"],
+    ["convert", "panda", "--convention", "cpc", "--format", "json"],
+    ["convert", "puma560-actual", "--convention", "mdh", "--format", "yaml"],
+])
+def test_convert_never_imports_pinocchio(argv):
+    code, heavy = imported(*argv)
+    assert code == 0
+    assert "pinocchio" not in heavy, heavy
+    assert "numpy" in heavy  # the probe sees what a conversion does import
+
+
+def test_verify_does_import_pinocchio():
+    code, heavy = imported("verify", "ur5", "--samples", "10")
+    assert code == 0 and "pinocchio" in heavy
