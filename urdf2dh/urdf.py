@@ -9,7 +9,10 @@ absent loads all the same.
 from __future__ import annotations
 
 import io
+import logging
 import math
+import re
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, NamedTuple
@@ -188,9 +191,86 @@ def _check_xml(root: Any, display: str) -> None:
 
 
 def parse_tree(data: bytes, display: str) -> UrdfTree:
-    """Parse URDF text into a checked :class:`UrdfTree` (``display`` names it in messages)."""
-    name = _checked_name(data, display)
-    return _tree_from_robot(_yourdfpy_robot(data, display), display, name)
+    """Parse URDF text into a checked :class:`UrdfTree` (``display`` names it in messages).
+
+    yourdfpy parses the text and :func:`_check_robot` checks what it made; only when either
+    fails does our own pass over the XML (:func:`_checked_name`) run, to name the joint or link
+    at fault. A sound file is parsed once.
+    """
+    if not data.strip():
+        raise InputError(f"{display}: empty file")
+    if b"\x00" in data[:4096]:
+        raise InputError(f"{display}: binary file, not URDF XML")
+    robot = None
+    if _root_tag(data) == b"robot":
+        try:
+            robot = _yourdfpy_robot(data, display)
+        except InputError:
+            robot = None
+    return _tree_of(data, robot, display)
+
+
+def _tree_of(data: bytes, robot: Any, display: str) -> UrdfTree:
+    """Our part of :func:`parse_tree`, given yourdfpy's ``Robot`` of ``data`` (``None`` if it
+    could not make one): check it and build the tree; on any doubt, our XML pass names the
+    fault (and if it finds none, yourdfpy's own complaint stands)."""
+    if robot is not None:
+        try:
+            _check_robot(robot, display)
+        except InputError:
+            robot = None
+    if robot is None:
+        name = _checked_name(data, display)  # raises, naming the fault, if it finds one
+        robot = _yourdfpy_robot(data, display)
+        _check_robot(robot, display)
+        return _tree_from_robot(robot, display, name)
+    return _tree_from_robot(robot, display, str(robot.name))
+
+
+_ROOT = re.compile(
+    rb"\s*(?:<\?.*?\?>\s*|<!--.*?-->\s*|<!DOCTYPE[^>]*>\s*)*<([A-Za-z_][\w:.-]*)", re.S
+)
+
+
+def _root_tag(data: bytes) -> bytes | None:
+    """The root element's tag, read off the text (``None`` if it does not look like XML)."""
+    m = _ROOT.match(data)
+    return m.group(1) if m else None
+
+
+def _check_robot(robot: Any, display: str) -> None:
+    """What :func:`_check_xml` guarantees, checked on yourdfpy's objects (cheap: no second
+    parse). A failure here only says *that* something is wrong; the XML pass then says what."""
+    problem = f"{display}: not a sound URDF"
+    links = [link.name for link in robot.links]
+    if not robot.name or not links or not all(links) or len(set(links)) != len(links):
+        raise InputError(problem)
+    declared = set(links)
+    names = [j.name for j in robot.joints]
+    if not all(names) or len(set(names)) != len(names):
+        raise InputError(problem)
+    origins, axes = [], []
+    for j in robot.joints:
+        if j.type not in KNOWN_TYPES or j.parent not in declared or j.child not in declared:
+            raise InputError(problem)
+        if j.origin is not None:
+            origins.append(j.origin)
+        if j.axis is not None and j.type in MOVABLE:
+            axes.append(j.axis)
+        if j.limit is not None and not all(v is None or math.isfinite(float(v))
+                                           for v in (j.limit.lower, j.limit.upper)):
+            raise InputError(problem)
+        if j.mimic is not None and not j.mimic.joint:
+            raise InputError(problem)
+    try:  # all origins 4x4 and all movable axes 3-vectors, finite, the axes not zero
+        o = np.array(origins, dtype=float) if origins else np.zeros((0, 4, 4))
+        a = np.array(axes, dtype=float) if axes else np.zeros((0, 3))
+    except ValueError as e:  # ragged: some element has the wrong number of values
+        raise InputError(problem) from e
+    if o.shape[1:] != (4, 4) or a.shape[1:] != (3,):
+        raise InputError(problem)
+    if not (np.isfinite(o).all() and np.isfinite(a).all() and np.abs(a).max(axis=1).all()):
+        raise InputError(problem)
 
 
 def _checked_name(data: bytes, display: str) -> str:
@@ -215,20 +295,46 @@ def load_tree(path: str | Path, display: str | None = None) -> UrdfTree:
     return parse_tree(read_file(path, display or str(path)), display or str(path))
 
 
+class _Errors(logging.Handler):
+    """Collects what yourdfpy logs as errors: it logs a failed strict parse, then recovers."""
+
+    def __init__(self) -> None:
+        super().__init__(logging.ERROR)
+        self.messages: list[str] = []
+
+    def emit(self, record: logging.LogRecord) -> None:
+        self.messages.append(record.getMessage())
+
+
 def _yourdfpy_robot(data: bytes, display: str) -> Any:
-    """yourdfpy's ``Robot`` of the text (joint origins, axes, limits, mimic; no meshes)."""
+    """yourdfpy's ``Robot`` of the text (joint origins, axes, limits, mimic; no meshes).
+
+    yourdfpy parses strictly and, if that fails, logs the error and parses again recovering
+    what it can; a recovered parse is malformed XML to us, and its log stays off the terminal.
+    """
     import yourdfpy
 
-    try:
-        urdf = yourdfpy.URDF.load(
-            io.BytesIO(data),
-            build_scene_graph=False,
-            build_collision_scene_graph=False,
-            load_meshes=False,
-            load_collision_meshes=False,
-        )
-    except Exception as e:  # yourdfpy raises many kinds; our checks ran first
+    log = logging.getLogger("yourdfpy.urdf")
+    errors, propagate = _Errors(), log.propagate
+    log.addHandler(errors)
+    log.propagate = False
+    try:  # non-finite values make its matrix code warn; our checks report them instead
+        with warnings.catch_warnings(), np.errstate(all="ignore"):
+            warnings.simplefilter("ignore")
+            urdf = yourdfpy.URDF.load(
+                io.BytesIO(data),
+                build_scene_graph=False,
+                build_collision_scene_graph=False,
+                load_meshes=False,
+                load_collision_meshes=False,
+            )
+    except Exception as e:  # yourdfpy raises many kinds
         raise InputError(f"{display}: yourdfpy cannot load it ({type(e).__name__}: {e})") from e
+    finally:
+        log.removeHandler(errors)
+        log.propagate = propagate
+    if errors.messages:
+        raise InputError(f"{display}: malformed XML ({errors.messages[0]})")
     return urdf.robot
 
 
@@ -260,11 +366,6 @@ def _tree_from_robot(robot: Any, display: str, name: str) -> UrdfTree:
         joints[uj.name] = uj
         parent_joint[uj.child] = uj
         children.setdefault(uj.parent, []).append(uj)
-    values = [a.ravel() for j in joints.values() for a in (j.origin, j.axis)]
-    if values and not np.isfinite(np.concatenate(values)).all():
-        bad = next(j.name for j in joints.values()
-                   if not (np.isfinite(j.origin).all() and np.isfinite(j.axis).all()))
-        raise InputError(f"{display}: joint '{bad}' has a non-finite origin or axis")
     links = tuple(link.name for link in robot.links)
     roots = [link for link in links if link not in parent_joint]
     if not roots:
