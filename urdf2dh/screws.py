@@ -186,15 +186,19 @@ class PoeModel:
         """How far the joints can translate the tip along their axes: prismatic travel within
         the limits (within the extent where unknown) and helical advance over the rotation
         range (:meth:`limits`)."""
-        lim = self.limits()
+        lim = self._limits
         return float(sum(
-            abs(j.translation * j.scale) * float(np.abs(lim[i]).max())
+            abs(j.translation * j.scale) * max(abs(lim[i][0]), abs(lim[i][1]))
             for i, j in enumerate(self.joints) if j.translation
         ))
 
     def size(self) -> float:
         """The length errors are measured against: the extent at home plus the travel of the
         sliding joints (or 1 for a chain that is all at the origin and cannot slide)."""
+        return self._size
+
+    @cached_property
+    def _size(self) -> float:  # asked for several times per conversion
         e = self.extent() + self.travel()
         return e if e > 0.0 else 1.0
 
@@ -314,6 +318,10 @@ class PoeModel:
         """``(n, 2)`` sampling ranges for ``q``: the joint limits where known, else
         ``[-pi, pi]`` for rotating joints and ``[-extent, extent]`` (in ``s``) for prismatic
         ones (``[-1, 1]`` for a chain that is all at the origin)."""
+        return np.array(self._limits, dtype=float).reshape(-1, 2)
+
+    @cached_property
+    def _limits(self) -> list[tuple[float, float]]:  # asked for several times per conversion
         out = []
         size = self.extent() or 1.0
         for j in self.joints:
@@ -322,4 +330,4 @@ class PoeModel:
             else:
                 half = (size if j.kind == "prismatic" else math.pi) / abs(j.scale)
                 out.append((-half, half))
-        return np.array(out, dtype=float).reshape(-1, 2)
+        return out
