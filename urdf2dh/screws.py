@@ -218,11 +218,7 @@ class PoeModel:
     def fk(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
         """Pose ``(4, 4)`` of the tip for a configuration ``q`` of shape ``(n,)``; for a stack
         of shape ``(..., n)``, poses ``(..., 4, 4)`` (computed by :meth:`fk_batch`)."""
-        q = np.asarray(q, dtype=float)
-        if q.shape[-1:] != (self.n,):
-            raise ValueError(f"q has shape {q.shape}; expected (..., {self.n})")
-        lead = q.shape[:-1]
-        return self.fk_batch(q.reshape(math.prod(lead), self.n)).reshape(*lead, 4, 4)
+        return se3.fk_of_stack(self.fk_batch, q, self.n)
 
     @cached_property
     def _exponentials(self) -> tuple[NDArray[np.float64], list[tuple[slice, NDArray[np.float64]]]]:

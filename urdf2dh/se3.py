@@ -15,6 +15,8 @@ Conventions (they bite, so they are stated here once):
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -28,6 +30,7 @@ __all__ = [
     "between",
     "compose",
     "dir_into",
+    "fk_of_stack",
     "frame_of",
     "from_rpy",
     "inv",
@@ -61,6 +64,18 @@ def as_configurations(q: NDArray[np.float64], n: int) -> NDArray[np.float64]:
     if q.ndim != 2 or q.shape[1] != n:
         raise ValueError(f"expected configurations of shape (N, {n}), got {q.shape}")
     return q
+
+
+def fk_of_stack(
+    batch: Callable[[NDArray[np.float64]], NDArray[np.float64]], q: Any, n: int
+) -> NDArray[np.float64]:
+    """A batched FK ``(N, n) -> (N, 4, 4)`` applied to one configuration ``(n,)`` (a ``(4, 4)``
+    pose) or to a stack ``(..., n)`` (poses ``(..., 4, 4)``)."""
+    q = np.asarray(q, dtype=float)
+    if q.shape[-1:] != (n,):
+        raise ValueError(f"q has shape {q.shape}; expected (..., {n})")
+    lead = q.shape[:-1]
+    return batch(q.reshape(math.prod(lead), n)).reshape(*lead, 4, 4)
 
 
 def rot_x(a: float) -> Mat:

@@ -119,11 +119,7 @@ class Table:
     def fk(self, q: NDArray[np.float64]) -> Mat:
         """Pose ``(4, 4)`` of the tool for a configuration ``q`` of shape ``(n,)``; for a stack
         of shape ``(..., n)``, poses ``(..., 4, 4)`` (computed by :meth:`fk_batch`)."""
-        q = np.asarray(q, dtype=float)
-        if q.shape[-1:] != (self.n,):
-            raise ValueError(f"q has shape {q.shape}; expected (..., {self.n})")
-        lead = q.shape[:-1]
-        return self.fk_batch(q.reshape(math.prod(lead), self.n)).reshape(*lead, 4, 4)
+        return se3.fk_of_stack(self.fk_batch, q, self.n)
 
     def fk_batch(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
         """Poses ``(N, 4, 4)`` of the tool for configurations ``q`` of shape ``(N, n)``.
