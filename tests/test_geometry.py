@@ -11,6 +11,7 @@ import pytest
 from urdf2dh import se3
 from urdf2dh.cpc import r_of_b, v_matrix
 from urdf2dh.lines import common_normal, dh_matrix
+from urdf2dh.screws import Joint, PoeModel
 from urdf2dh.tolerances import DEFAULT
 
 RNG = np.random.default_rng(20261121)
@@ -20,12 +21,13 @@ def unit(v):
     return v / np.linalg.norm(v)
 
 
-def test_exp_matches_line_screw_and_adjoint_identity():
+def test_poe_exponentials_match_the_general_exp_and_adjoint_identity():
     for _ in range(50):
         u, p = unit(RNG.normal(size=3)), RNG.normal(size=3)
         h, s = RNG.normal(), RNG.normal(size=4)
         xi = np.concatenate([u, np.cross(p, u) + h * u])
-        batch = se3.line_screw_batch(u, p, 1.0, h, s)
+        helical = PoeModel((Joint("h", "helical", u, p, h, 1.0),), np.eye(4))
+        batch = helical.fk_batch(s[:, None])
         for k in range(4):
             assert np.allclose(se3.twist_exp(xi, s[k]), batch[k], atol=1e-13)
         g = se3.twist_exp(RNG.normal(size=6))

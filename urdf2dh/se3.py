@@ -34,7 +34,6 @@ __all__ = [
     "frame_of",
     "from_rpy",
     "inv",
-    "line_screw_batch",
     "matrix_of",
     "point_into",
     "pose_errors",
@@ -174,37 +173,6 @@ def twist_exp(xi: NDArray[np.float64], q: float = 1.0) -> Mat:
     out[:3, :3] = np.eye(3) + math.sin(theta) * k + (1.0 - math.cos(theta)) * k2
     g = np.eye(3) * theta + (1.0 - math.cos(theta)) * k + (theta - math.sin(theta)) * k2
     out[:3, 3] = g @ (v / theta)
-    return out
-
-
-def line_screw_batch(
-    u: NDArray[np.float64],
-    point: NDArray[np.float64],
-    rotation: float,
-    translation: float,
-    s: NDArray[np.float64],
-) -> NDArray[np.float64]:
-    """Screw motions about the line through ``point`` along unit ``u``, batched over ``s``.
-
-    Each motion rotates by ``rotation * s`` about the line and translates ``translation * s``
-    along it: revolute ``(1, 0)``, prismatic ``(0, 1)``, helical ``(1, pitch)``. Written in the
-    point-and-direction form ``t = (I - R) p + h s u``, which keeps full relative precision.
-
-    Returns an ``(N, 4, 4)`` stack.
-    """
-    n = s.shape[0]
-    out = np.zeros((n, 4, 4))
-    out[:, 3, 3] = 1.0
-    if rotation == 0.0:
-        out[:, 0, 0] = out[:, 1, 1] = out[:, 2, 2] = 1.0
-        out[:, :3, 3] = (translation * s)[:, None] * u
-        return out
-    ang = rotation * s
-    k = skew(u)
-    k2 = k @ k
-    r = np.eye(3) + np.sin(ang)[:, None, None] * k + (1.0 - np.cos(ang))[:, None, None] * k2
-    out[:, :3, :3] = r
-    out[:, :3, 3] = point - r @ point + (translation * s)[:, None] * u
     return out
 
 
