@@ -18,7 +18,7 @@ from typing import Any
 from .errors import UsageError, choices
 from .table import Table, convention_module
 
-__all__ = ["FORMATS", "fixed", "render"]
+__all__ = ["FORMATS", "fixed", "render", "summary"]
 
 FORMATS = ("text", "json", "yaml", "csv", "markdown", "urdf", "poe")
 
@@ -159,7 +159,8 @@ def _grid(table: Table) -> tuple[list[str], list[list[str]]]:
     return head, body
 
 
-def _summary(table: Table) -> list[str]:
+def summary(table: Table) -> list[str]:
+    """The self-check and the warnings, one line each (text tables and exported files)."""
     lines = []
     if table.check is not None:
         c = table.check
@@ -192,7 +193,7 @@ def _text(table: Table) -> str:
     out.append("  ".join("-" * w for w in widths))
     out.extend(fmt(r) for r in body)
     out.append("")
-    out.extend(_summary(table))
+    out.extend(summary(table))
     return "\n".join(out) + "\n"
 
 
@@ -203,8 +204,8 @@ def _markdown(table: Table) -> str:
     out.append("| " + " | ".join(head) + " |")
     out.append("|" + "|".join("---" if i < 3 else "---:" for i in range(len(head))) + "|")
     out.extend("| " + " | ".join(r) + " |" for r in body)
-    summary = _summary(table)
-    if summary:
+    lines = summary(table)
+    if lines:
         out.append("")
-        out.extend(f"- {s}" for s in summary)
+        out.extend(f"- {s}" for s in lines)
     return "\n".join(out) + "\n"

@@ -13,6 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import ExportError, UsageError, choices
+from ..formats import summary
 from ..se3 import pose_errors
 from ..table import Table
 from ..tolerances import DEFAULT, Tolerances
@@ -136,13 +137,7 @@ def header(table: Table, what: str) -> list[str]:
     if table.convention in FK_FORMULAS:
         lines.append(FK_FORMULAS[table.convention])
     lines.append(f"Lengths in {table.length_unit} unless stated, angles in radians.")
-    if table.check is not None:
-        lines.append(
-            f"Table checked against the source at {table.check.samples} configurations: "
-            f"{table.check.max_position_error:.2g} {table.length_unit}, "
-            f"{table.check.max_rotation_error:.2g} rad."
-        )
-    lines.extend(f"warning: {w}" for w in table.warnings)
+    lines.extend(summary(table))
     return lines
 
 
