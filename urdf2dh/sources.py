@@ -78,24 +78,19 @@ def read_mapping(path: Path, display: str, data: bytes) -> Any:
 def _from_file(path: Path, display: str, tol: Tolerances, bundled: Bundled | None,
                package_paths: Mapping[str, str] | None = None) -> Source:
     data = read_file(path, display)
+    if not data.strip():
+        raise InputError(f"{display}: empty file")
+    if b"\x00" in data[:4096]:
+        raise InputError(f"{display}: binary file, not a URDF, POE or table file")
     suffix = path.suffix.lower()
-    head = data.lstrip()[:1]
     if suffix == ".xacro":
         from .xacro import expand
 
-        text = expand(path, display, package_paths)
-        tree = parse_tree(text, display)
-        return Source("urdf", display, bundled.name if bundled else tree.name, tree, text,
-                      bundled=bundled)
-    if suffix in (".urdf", ".xml") or head == b"<" or (not data.strip() and suffix != ".json"
-                                                      and suffix not in (".yaml", ".yml")):
+        data = expand(path, display, package_paths)
+    if suffix in (".xacro", ".urdf", ".xml") or data.lstrip()[:1] == b"<":
         tree = parse_tree(data, display)
         return Source("urdf", display, bundled.name if bundled else tree.name, tree, data,
                       bundled=bundled)
-    if b"\x00" in data[:4096]:
-        raise InputError(f"{display}: binary file, not a URDF, POE or table file")
-    if not data.strip():
-        raise InputError(f"{display}: empty file")
     tree_data = read_mapping(path, display, data)
     if isinstance(tree_data, dict) and tree_data.get("format") == "poe":
         from .poefile import read_poe
