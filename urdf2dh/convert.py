@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import itertools
 import math
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
@@ -176,7 +177,4 @@ def to_table(
             f"{allowed_rot:.3g} rad); the table is not written"
             + ("" if math.isfinite(check.max_position_error) else " (non-finite result)")
         )
-    return Table(
-        table.convention, table.base, table.rows, table.tool, table.robot, table.source,
-        table.base_link, table.tip_link, table.length_unit, check, tuple(warnings),
-    )
+    return replace(table, check=check, warnings=tuple(warnings))

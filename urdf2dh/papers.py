@@ -8,14 +8,14 @@ unit of the printed number's last digit.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
 
 from .catalog import our_robots_dir
 from .convert import to_table
-from .screws import PoeModel, joint_from_twist
+from .screws import joint_from_twist
 from .sources import open_source
 from .tolerances import DEFAULT
 
@@ -80,8 +80,7 @@ def sumenkov_table3(joint6_as_behind_rows_6_7: bool = False) -> list[Cell]:
     if joint6_as_behind_rows_6_7:
         xi = np.array(ref["joint6_twist_behind_rows_6_7"], dtype=float)
         joints = (*model.joints[:5], joint_from_twist("j6", xi, DEFAULT.noise))
-        model = PoeModel(joints, model.home, model.name, model.source, model.base_link,
-                         model.tip_link, model.length_unit)
+        model = replace(model, joints=joints, warnings=())
     table = to_table(model, "cpc")
     cells = []
     for k, (params, printed) in enumerate(zip([table.base, *(r.params for r in table.rows)],

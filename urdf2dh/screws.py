@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import itertools
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from functools import cached_property
 from typing import Literal
 
@@ -307,8 +307,7 @@ class PoeModel:
         )
         home = self.home.copy()
         home[:3, 3] *= factor
-        return PoeModel(joints, home, self.name, self.source, self.base_link, self.tip_link,
-                        unit, self.warnings)
+        return replace(self, joints=joints, home=home, length_unit=unit)
 
     def limits(self) -> NDArray[np.float64]:
         """``(n, 2)`` sampling ranges for ``q``: the joint limits where known, else
