@@ -124,3 +124,20 @@ def test_output_file_gets_the_usual_permissions(tmp_path, capsys):
     umask = os.umask(0)
     os.umask(umask)
     assert stat.S_IMODE(target.stat().st_mode) == 0o666 & ~umask
+
+
+def test_verify_checks_the_written_table_at_configurations_of_its_own():
+    import numpy as np
+
+    from urdf2dh.convert import sample_configurations
+    from urdf2dh.sources import open_source
+    from urdf2dh.verify import VERIFY_STREAM, verify
+
+    source = open_source("so100")
+    model = source.model()
+    results = verify(source, model, samples=300, seed=0, check_samples=150)
+    assert [r.table.check.samples for r in results[1:]] == [150, 150, 150]
+    assert all(r.ok for r in results)
+    ours = sample_configurations(model, 300, (0, VERIFY_STREAM))
+    checks = sample_configurations(model, 300, 0)
+    assert not np.allclose(ours, checks)

@@ -214,7 +214,8 @@ def _verify(args: argparse.Namespace) -> int:
     tol = _tolerances(args)
     source = _open(args, tol)
     model = source.model(args.base, args.tip, args.ignore_mimic)
-    results = verify(source, model, args.samples, args.seed, tol)
+    results = verify(source, model, args.samples, args.seed, tol,
+                     check_samples=args.check_samples)
     unit, size = model.length_unit, model.size()
     chain = f"{model.base_link} -> {model.tip_link}, " if model.base_link else ""
     print(f"{source.name}: {chain}{model.n} joints; against Pinocchio at {args.samples} "

@@ -29,8 +29,11 @@ __all__ = ["DEFAULT_SAMPLES", "build_table", "sample_configurations", "self_chec
 DEFAULT_SAMPLES = 1000
 
 
-def sample_configurations(model: PoeModel, samples: int, seed: int) -> NDArray[np.float64]:
-    """``(samples, n)`` joint positions drawn uniformly within the model's limits (seeded)."""
+def sample_configurations(
+    model: PoeModel, samples: int, seed: int | tuple[int, ...]
+) -> NDArray[np.float64]:
+    """``(samples, n)`` joint positions drawn uniformly within the model's limits (seeded; a
+    tuple seed names a separate stream, as ``numpy.random.default_rng`` takes it)."""
     lim = model.limits()
     # the same numbers as rng.uniform(low, high, size), without its slow broadcasting path
     unit = np.random.default_rng(seed).random((samples, model.n))
