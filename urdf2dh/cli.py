@@ -58,6 +58,10 @@ def _package_path(text: str) -> tuple[str, str]:
 def _add_chain(p: argparse.ArgumentParser) -> None:
     p.add_argument("source", metavar="SOURCE",
                    help="URDF file, POE model file, table file, or bundled robot name")
+    _add_chain_options(p)
+
+
+def _add_chain_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--base", metavar="LINK", help="base link (default: the URDF root link)")
     p.add_argument("--tip", metavar="LINK",
                    help="tip link (default: the single deepest leaf below the base)")
@@ -119,15 +123,10 @@ def get_argument_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("diff", help="compare two parameter sets (calibration: nominal vs actual)")
     p.add_argument("nominal", metavar="NOMINAL", help="URDF, POE model, table file or robot")
     p.add_argument("actual", metavar="ACTUAL", help="URDF, POE model, table file or robot")
-    p.add_argument("--base", metavar="LINK", help="base link of URDF sources")
-    p.add_argument("--tip", metavar="LINK", help="tip link of URDF sources")
-    p.add_argument("--ignore-mimic", action="store_true",
-                   help="treat mimic joints on the chain as independent joints")
+    _add_chain_options(p)
     p.add_argument("--convention", choices=CONVENTIONS, default="dh",
                    help="convention to compare in (default %(default)s)")
     p.add_argument("--style", choices=STYLES, default="wu", help="D-H choices (see convert)")
-    p.add_argument("--package-path", type=_package_path, action="append", default=[],
-                   metavar="NAME=DIR", help="for .xacro sources (see convert)")
     p.add_argument("--angle-threshold", type=_nonnegative_float, default=60.0, metavar="DEG",
                    help="mark angle changes over this, modulo 180 (default %(default)g, as "
                         "Wu 2019 Table II)")
