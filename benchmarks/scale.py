@@ -15,7 +15,7 @@ from urdf2dh.convert import sample_configurations, to_table
 from urdf2dh.se3 import pose_errors
 from urdf2dh.sources import Source
 from urdf2dh.table import CONVENTIONS
-from urdf2dh.urdf import _checked_name, _tree_from_robot, _yourdfpy_robot, tree_to_poe
+from urdf2dh.urdf import _tree_of, _yourdfpy_robot, tree_to_poe
 from urdf2dh.verify import pinocchio_fk
 
 __all__ = ["PIN_FK_MAX", "chain_lengths"]
@@ -24,7 +24,7 @@ PIN_FK_MAX = 200  # Pinocchio's Data takes O(n^3) memory: 0.5 GB at 200 joints, 
 
 
 def chain_lengths(sizes: list[int], accuracy_samples: int) -> tuple[list[Figure], list[str]]:
-    """Random chains (tests/chains.py): our pass + dh + self-check vs buildModelFromXML, and the
+    """Random chains (tests/chains.py): our checks + dh + self-check vs buildModelFromXML, and the
     worst FK error of every convention (and of Pinocchio) against an extended-precision FK."""
     rows, times, errors, lines, loads = [], [], [], [], []
     for n in sizes:
@@ -35,7 +35,7 @@ def chain_lengths(sizes: list[int], accuracy_samples: int) -> tuple[list[Figure]
         loads.append(f"{n}: {time.perf_counter() - t0:.3g} s")
 
         def ours(data: bytes = data, robot: object = robot) -> object:
-            tree = _tree_from_robot(robot, "chain.urdf", _checked_name(data, "chain.urdf"))
+            tree = _tree_of(data, robot, "chain.urdf")  # as parse_tree after yourdfpy's load
             return to_table(tree_to_poe(tree, "base", "tool"), "dh")
 
         repeat = 5 if n <= 200 else 2
@@ -44,7 +44,7 @@ def chain_lengths(sizes: list[int], accuracy_samples: int) -> tuple[list[Figure]
         ok = t <= 1.0 if n == 1000 else None
         rows.append(Figure(f"{n} joints: convert to dh, self-check included", t, pin_t, "ms",
                            "ours <= 1 s" if n == 1000 else "", ok))
-        tree = _tree_from_robot(robot, "chain.urdf", _checked_name(data, "chain.urdf"))
+        tree = _tree_of(data, robot, "chain.urdf")
         model = tree_to_poe(tree, "base", "tool")
         q = sample_configurations(model, accuracy_samples, 1)
         exact = chain_fk(text, "base", "tool", q).astype(float)  # rounding: < 1 ulp
