@@ -10,8 +10,7 @@ import numpy as np
 import pytest
 from chains import random_chain_urdf
 
-from urdf2dh import screws, se3
-from urdf2dh import table as table_module
+from urdf2dh import chainfk, screws, se3, trig
 from urdf2dh.convert import sample_configurations, to_table
 from urdf2dh.screws import Joint, PoeModel
 from urdf2dh.table import CONVENTIONS
@@ -64,9 +63,10 @@ def links_one_by_one(table, q):
     return np.array(out).reshape(-1, 4, 4)
 
 
-@pytest.mark.parametrize("block", [1, 3, 4096])
-def test_poe_fk_batch_is_the_product_of_exponentials(monkeypatch, block):
+@pytest.mark.parametrize(("block", "poly"), [(1, False), (3, True), (4096, False), (4096, True)])
+def test_poe_fk_batch_is_the_product_of_exponentials(monkeypatch, block, poly):
     monkeypatch.setattr(screws, "FK_BLOCK", block)
+    monkeypatch.setattr(trig, "POLY_MIN", 0 if poly else 10**9)
     for n in (1, 5, 12):
         model = mixed_model(n)
         q = RNG.uniform(-math.pi, math.pi, size=(10, n))
@@ -75,9 +75,15 @@ def test_poe_fk_batch_is_the_product_of_exponentials(monkeypatch, block):
         assert np.allclose(model.fk(q[3]), model.fk_batch(q)[3], rtol=0, atol=1e-15)
 
 
-@pytest.mark.parametrize("block", [1, 3, 8192])
-def test_table_fk_batch_is_its_links_one_by_one(monkeypatch, block):
-    monkeypatch.setattr(table_module, "FK_BLOCK", block)
+@pytest.mark.parametrize(("block", "threads", "poly"), [(1, 1, False), (3, 1, False),
+                                                      (3, 2, True), (16384, 1, True)])
+def test_table_fk_batch_is_its_links_one_by_one(monkeypatch, block, threads, poly):
+    """Across block boundaries, on one thread and on two, with the C library's sines and
+    cosines and with urdf2dh.trig's polynomials."""
+    monkeypatch.setattr(chainfk, "BLOCK", block)
+    monkeypatch.setattr(chainfk, "THREADS_FROM", 0)
+    monkeypatch.setenv("URDF2DH_THREADS", str(threads))
+    monkeypatch.setattr(trig, "POLY_MIN", 0 if poly else 10**9)
     text, _ = random_chain_urdf(5, 9)
     urdf_model = tree_to_poe(parse_tree(text.encode(), "r.urdf"), "base", "tool")
     for model in (urdf_model, mixed_model(7)):

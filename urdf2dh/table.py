@@ -23,13 +23,12 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from . import se3
+from . import chainfk, se3
 from .screws import Joint, JointKind, PoeModel
 
 __all__ = ["CONVENTIONS", "SCHEMA", "Check", "Row", "Table", "convention_module"]
 
 SCHEMA = "urdf2dh/1"
-FK_BLOCK = 8192  # configurations per block of the batched FK (two (3, 8192, 4) buffers, 1.5 MiB)
 CONVENTIONS = ("dh", "mdh", "cpc")
 
 Mat = NDArray[np.float64]
@@ -108,13 +107,28 @@ class Table:
         return np.fromiter(flat, float, len(flat)).reshape(-1, 4, 4)
 
     @cached_property
-    def _motion(self) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
-        """Per joint: rotation and translation per unit of ``s``, and the scale; ``(n,)`` each."""
-        rot, lin, scale = np.array(
-            [(0.0, 1.0, r.scale) if r.kind == "prismatic" else (1.0, r.pitch, r.scale)
-             for r in self.rows], dtype=float,
-        ).reshape(-1, 3).T
-        return rot, lin, scale
+    def _program(self) -> chainfk.Program:
+        """The FK as elementary motions (see :mod:`urdf2dh.chainfk`): each joint's offsets
+        joined to its motion, the rest as ``Rx``, ``Tx``, ``Rz``, ``Tz`` or a dense ``V``."""
+        joints: list[tuple[float, float, float, float, float]] = []
+        between: list[tuple[list[tuple[int, Any]], list[tuple[int, Any]]]] = []
+        for r in self.rows:
+            rot, lin = (0.0, 1.0) if r.kind == "prismatic" else (1.0, r.pitch)
+            p = r.params
+            if self.convention == "cpc":
+                joints.append((rot, lin, r.scale, 0.0, 0.0))
+                v = se3.matrix_of(convention_module("cpc").v_frame(p["b"], p["l"], p["beta"]))
+                between.append(([], [(chainfk.MATRIX, v)]))
+                continue
+            joints.append((rot, lin, r.scale, p["theta"], p["d"]))
+            link = chainfk.rx(p["alpha"]) + chainfk.translate(chainfk.TX, p["a"])
+            between.append(([], link) if self.convention == "dh" else (link, []))
+        t = self.tool
+        tool = [] if self.convention == "cpc" else (
+            chainfk.rz(t["theta"]) + chainfk.translate(chainfk.TZ, t["d"]))
+        if self.convention == "mdh":
+            tool = chainfk.rx(t["alpha"]) + chainfk.translate(chainfk.TX, t["a"]) + tool
+        return chainfk.Program.build(self.base_matrix, joints, between, tool)
 
     def fk(self, q: NDArray[np.float64]) -> Mat:
         """Pose ``(4, 4)`` of the tool for a configuration ``q`` of shape ``(n,)``; for a stack
@@ -122,43 +136,9 @@ class Table:
         return se3.fk_of_stack(self.fk_batch, q, self.n)
 
     def fk_batch(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
-        """Poses ``(N, 4, 4)`` of the tool for configurations ``q`` of shape ``(N, n)``.
-
-        Vectorised over N, a block of ``m`` configurations at a time (so that the work stays
-        in cache), the poses held as their top three rows, row-major over the block
-        (``(3, m, 4)``). Per joint, ``Rz(phi)`` turns the x and y columns, which is one complex
-        product: with ``z = x + i y``, ``[x y] Rz(phi)`` is ``z e^{-i phi}``; ``Tz(t)`` adds ``t``
-        times the z column to the position; then the constant link is a single
-        ``(3 m, 4) @ (4, 4)`` matrix product.
-        """
-        q = se3.as_configurations(q, self.n)
-        rot, lin, scale = self._motion
-        links = self.links
-        count = q.shape[0]
-        out = np.empty((count, 4, 4))
-        buffers = np.empty((2, 12 * min(count, FK_BLOCK)))
-        for lo in range(0, count, FK_BLOCK):
-            m = min(lo + FK_BLOCK, count) - lo
-            s = (q[lo : lo + m] * scale).T  # (n, m)
-            minus = s * -rot[:, None]  # -phi
-            turn = np.empty(s.shape, dtype=complex)  # e^{-i phi}
-            np.cos(minus, out=turn.real)
-            np.sin(minus, out=turn.imag)
-            # per buffer: the poses (3, m, 4), their x + i y columns, and the (3 m, 4) rows
-            views = [(v, v[:, :, :2].view(complex)[:, :, 0], v.reshape(-1, 4))
-                     for v in (b[: 12 * m].reshape(3, m, 4) for b in buffers)]
-            views[0][0][...] = links[0, :3, None, :]
-            for i in range(self.n):
-                (f, xy, rows), nxt = views
-                if rot[i]:
-                    xy *= turn[i]
-                if lin[i]:
-                    f[:, :, 3] += (lin[i] * s[i]) * f[:, :, 2]
-                np.dot(rows, links[i + 1], out=nxt[2])
-                views = [nxt, views[0]]
-            out[lo : lo + m, :3] = views[0][0].transpose(1, 0, 2)
-            out[lo : lo + m, 3] = (0.0, 0.0, 0.0, 1.0)
-        return out
+        """Poses ``(N, 4, 4)`` of the tool for configurations ``q`` of shape ``(N, n)``,
+        vectorised over N (:func:`urdf2dh.chainfk.run`; threads for large N)."""
+        return chainfk.run(self._program, se3.as_configurations(q, self.n))
 
     def frames(self) -> list[Mat]:
         """Home-pose frames: ``[B.A_1, ..]`` where each joint's z axis is, then the tool."""
