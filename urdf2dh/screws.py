@@ -22,6 +22,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from . import se3
+from .trig import expi
 
 __all__ = ["KINDS", "Joint", "JointKind", "PoeModel", "joint_from_twist"]
 
@@ -278,9 +279,10 @@ class PoeModel:
             m = min(lo + FK_BLOCK, count) - lo
             s = q[lo : lo + m].T * motion[0, :, None]  # (n, m)
             terms = np.empty((self.n, 3, m))  # per joint: sin, 1 - cos, trans s
-            np.sin(s * motion[1, :, None], out=terms[:, 0])
-            np.cos(s * motion[1, :, None], out=terms[:, 1])
-            np.subtract(1.0, terms[:, 1], out=terms[:, 1])
+            turns = np.empty((self.n, m), dtype=np.complex128)
+            expi(s * motion[1, :, None], turns)  # cos + i sin
+            terms[:, 0] = turns.imag
+            np.subtract(1.0, turns.real, out=terms[:, 1])
             np.multiply(s, motion[2, :, None], out=terms[:, 2])
             # the stack [F; sin F; (1 - cos) F; t F]^T, as (4, 4, 3, m) and as (16, 3 m)
             (cur, cur2), (nxt, nxt2) = ((v.reshape(4, 4, 3, m), v.reshape(16, -1))
