@@ -26,7 +26,7 @@ def test_convert_ur5_prints_the_table(capsys):
     assert "shoulder_pan_joint" in out and "wrist_3_joint" in out
     assert "0.089159" in out and "0.425000" in out and "0.392250" in out
     assert "theta [deg]" in out and "d [m]" in out
-    assert "check: FK against the source at 1000 configurations" in out
+    assert "check: FK against the source at 100 configurations" in out
 
 
 @pytest.mark.parametrize("conv", ["dh", "mdh", "cpc"])
@@ -42,7 +42,7 @@ def test_json_and_yaml_hold_the_spec_tree(capsys, conv):
     assert len(tree["joints"]) == 6
     assert set(tree["joints"][0]) >= {"name", "type", "pitch", "scale", "params"}
     assert len(tree["base"]["matrix"]) == 4 and len(tree["tool"]["matrix"]) == 4
-    assert tree["check"]["samples"] == 1000
+    assert tree["check"]["samples"] == 100
     assert tree["check"]["max_position_error"] < 1e-12
     code, out_yaml, _ = run(capsys, "convert", "ur5", "--convention", conv, "--format", "yaml")
     assert yaml.safe_load(out_yaml) == tree

@@ -21,7 +21,7 @@ ROOT = Path(__file__).resolve().parents[1]
 GOLDEN = ROOT / "tests" / "golden"
 NUMBER = re.compile(r"([-+]?(?:\d+\.\d*|\.\d+|\d+)(?:[eE][-+]?\d+)?)")
 # The table's self-check is round-off measured on this machine: compared as text up to there.
-CHECK = re.compile(r"(checked against the source at \d+ configurations:)[^\n]*")
+CHECK = re.compile(r"(check: FK against the source at \d+ configurations:)[^\n]*")
 
 # (golden file, source, target, convention, options)
 CASES = [

@@ -35,6 +35,7 @@ from .trig import expi
 __all__ = ["BLOCK", "Program", "map_blocks", "run", "workers"]
 
 BLOCK = 16384  # configurations per block (the block's work arrays, ~3 MiB for 7 joints, in cache)
+FUSE_BELOW = 512  # configurations: smaller blocks take the fused program
 THREADS_FROM = 4 * BLOCK  # configurations: below this, one thread
 
 Mat = NDArray[np.float64]
@@ -52,6 +53,9 @@ class Program:
     ``e^{i angle}`` is the factor of ``x + i y``); ``SLIDE i`` is ``Tz(slide[i, 0] q_i +
     slide[i, 1])``; ``RZ e`` and ``RX e`` multiply by the unit complex ``e`` (``e^{-i theta}``);
     ``TZ d`` and ``TX a`` translate; ``MATRIX G`` multiplies by a dense 4x4.
+
+    ``fused`` is the same with each run of two or more constant operations multiplied out into
+    one ``MATRIX``: fewer numpy calls, more arithmetic; the better for small blocks.
     """
 
     n: int
@@ -59,6 +63,7 @@ class Program:
     turn: Mat  # (n, 2): per joint, angle = c q + o (rows of prismatic joints: unused)
     slide: Mat  # (n, 2): per joint, t = c q + o
     ops: tuple[tuple[int, Any], ...]
+    fused: tuple[tuple[int, Any], ...]
 
     @staticmethod
     def build(
@@ -88,7 +93,42 @@ class Program:
                 ops.extend(translate(TZ, d))
             ops.extend(after)
         ops.extend(tool)
-        return Program(len(joints), base, turn, slide, tuple(ops))
+        while ops and ops[0][0] not in (TURN, SLIDE):  # constants before the first joint
+            base = base @ matrix(*ops.pop(0))
+        return Program(len(joints), base, turn, slide, tuple(ops), tuple(_fuse(ops)))
+
+
+def matrix(op: int, arg: Any) -> Mat:
+    """The 4x4 matrix of a constant operation."""
+    if op == MATRIX:
+        return np.asarray(arg, dtype=float)
+    out = np.eye(4)
+    if op in (RZ, RX):  # arg = e^{-i angle}
+        c, s = arg.real, -arg.imag
+        i, j = (0, 1) if op == RZ else (1, 2)
+        out[i, i], out[i, j], out[j, i], out[j, j] = c, -s, s, c
+    else:
+        out[2 if op == TZ else 0, 3] = arg
+    return out
+
+
+def _fuse(ops: list[tuple[int, Any]]) -> list[tuple[int, Any]]:
+    """``ops`` with each run of two or more constant operations as one ``MATRIX``."""
+    out: list[tuple[int, Any]] = []
+    run: list[tuple[int, Any]] = []
+    for op in [*ops, (TURN, -1)]:  # a sentinel ends the last run
+        if op[0] not in (TURN, SLIDE):
+            run.append(op)
+            continue
+        if len(run) > 1:
+            product = np.eye(4)
+            for constant in run:
+                product = product @ matrix(*constant)
+            run = [(MATRIX, product)]
+        out.extend(run)
+        out.append(op)
+        run = []
+    return out[:-1]
 
 
 def rz(theta: float) -> list[tuple[int, Any]]:
@@ -109,68 +149,69 @@ def translate(op: int, length: float) -> list[tuple[int, Any]]:
 class _Work:
     """One thread's scratch arrays for blocks of up to ``m`` configurations."""
 
-    def __init__(self, n: int, m: int, dense: bool) -> None:
-        self.frames = np.empty((2 if dense else 1, 12 * m))
+    def __init__(self, n: int, m: int) -> None:
+        self.frames = np.empty((2, 12 * m))
         self.angles = np.empty(n * m)
         self.turns = np.empty(n * m, dtype=np.complex128)
-        self.tmp = np.empty(3 * m)
-        self.t = np.empty(m)
+        self.tmp = np.empty(4 * m)
+
+
+class _Frames:
+    """A block's frames ``(3, m, 4)`` and views of them: ``x + i y`` and ``y + i z`` (complex),
+    ``x``, ``z``, ``p``, and the rows ``(3 m, 4)``."""
+
+    def __init__(self, flat: Mat, m: int) -> None:
+        self.f = f = flat[: 12 * m].reshape(3, m, 4)
+        self.xy = f[:, :, 0:2].view(np.complex128)[:, :, 0]
+        self.yz = f[:, :, 1:3].view(np.complex128)[:, :, 0]
+        self.x, self.z, self.p = f[:, :, 0], f[:, :, 2], f[:, :, 3]
+        self.rows = f.reshape(3 * m, 4)
 
 
 def _block(program: Program, q: Mat, out: Mat, work: _Work) -> None:
     """Poses ``out`` ``(m, 4, 4)`` for configurations ``q`` ``(m, n)``."""
     m, n = q.shape
-    buffers = [b[: 12 * m].reshape(3, m, 4) for b in work.frames]
-    f = buffers[0]
-    for c in range(4):
-        f[:, :, c] = program.base[:3, c, None]
     angles = work.angles[: n * m].reshape(n, m)
     np.multiply(q.T, program.turn[:, :1], out=angles)
     angles += program.turn[:, 1:]
     turns = work.turns[: n * m].reshape(n, m)
     expi(angles, turns)
-    tmp, t = work.tmp[: 3 * m].reshape(3, m), work.t[:m]
-
-    def views(f: Mat) -> tuple[Complexes, Complexes, Mat, Mat, Mat]:
-        """``x + i y``, ``y + i z`` (complex views), ``x``, ``z`` and ``p`` of the frames."""
-        pair = f[:, :, 0:2].view(np.complex128)[:, :, 0], f[:, :, 1:3].view(np.complex128)
-        return pair[0], pair[1][:, :, 0], f[:, :, 0], f[:, :, 2], f[:, :, 3]
-
-    xy, yz, x, z, p = views(f)
-    for op, arg in program.ops:
+    tmp, t = work.tmp[: 3 * m].reshape(3, m), work.tmp[3 * m : 4 * m]
+    cur, other = _Frames(work.frames[0], m), None
+    for c in range(4):
+        cur.f[:, :, c] = program.base[:3, c, None]
+    for op, arg in program.ops if m >= FUSE_BELOW else program.fused:
         if op == TURN:
-            xy *= turns[arg]
+            cur.xy *= turns[arg]
         elif op == SLIDE:
             c, o = program.slide[arg]
             np.multiply(q[:, arg], c, out=t)
             t += o
-            np.multiply(z, t, out=tmp)
-            p += tmp
+            np.multiply(cur.z, t, out=tmp)
+            cur.p += tmp
         elif op == RZ:
-            xy *= arg
+            cur.xy *= arg
         elif op == RX:
-            yz *= arg
+            cur.yz *= arg
         elif op == MATRIX:
-            g = buffers[1] if f is buffers[0] else buffers[0]
-            np.dot(f.reshape(-1, 4), arg, out=g.reshape(-1, 4))
-            f = g
-            xy, yz, x, z, p = views(f)
+            other = other or _Frames(work.frames[1], m)
+            np.dot(cur.rows, arg, out=other.rows)
+            cur, other = other, cur
         else:  # TZ, TX
-            np.multiply(z if op == TZ else x, arg, out=tmp)
-            p += tmp
-    out[:, :3] = f.transpose(1, 0, 2)
+            np.multiply(cur.z if op == TZ else cur.x, arg, out=tmp)
+            cur.p += tmp
+    out[:, :3] = cur.f.transpose(1, 0, 2)
     out[:, 3] = (0.0, 0.0, 0.0, 1.0)
 
 
 def run(program: Program, q: Mat) -> Mat:
     """Poses ``(N, 4, 4)`` of configurations ``q`` ``(N, n)``."""
     out = np.empty((q.shape[0], 4, 4))
-    dense = any(op == MATRIX for op, _ in program.ops)
 
     def job(lo: int, hi: int, work: _Work) -> None:
         _block(program, q[lo:hi], out[lo:hi], work)
 
-    map_blocks(q.shape[0], BLOCK, job, lambda m: _Work(program.n, m, dense))
+    map_blocks(q.shape[0], BLOCK, job, lambda m: _Work(program.n, m))
     return out
 
 

@@ -22,7 +22,7 @@ from numpy.typing import NDArray
 
 __all__ = ["POLY_MIN", "expi", "expi_table"]
 
-POLY_MIN = 16384  # elements: below this, numpy's cos and sin are as fast
+POLY_MIN = 2048  # elements: below this, numpy's cos and sin are faster (per-call costs)
 CHUNK = 32768  # elements evaluated at a time (the scratch arrays stay in cache)
 STEPS = 1024  # table entries over one turn
 LIMIT = 2.0**20  # largest |k| for which k times a 33-bit piece of h is exact

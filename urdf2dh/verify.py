@@ -17,7 +17,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from .convert import DEFAULT_SAMPLES, sample_configurations, to_table
+from .convert import sample_configurations, to_table
 from .errors import InputError
 from .screws import PoeModel
 from .se3 import pose_errors
@@ -150,7 +150,7 @@ def verify(
     seed: int = 0,
     tol: Tolerances = DEFAULT,
     conventions: tuple[str, ...] = CONVENTIONS,
-    check_samples: int = DEFAULT_SAMPLES,
+    check_samples: int | None = None,
 ) -> list[Result]:
     """The source's POE model and each convention's table against Pinocchio.
 
