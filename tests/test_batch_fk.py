@@ -75,16 +75,14 @@ def test_poe_fk_batch_is_the_product_of_exponentials(monkeypatch, block, poly):
         assert np.allclose(model.fk(q[3]), model.fk_batch(q)[3], rtol=0, atol=1e-15)
 
 
-@pytest.mark.parametrize(("block", "threads", "poly", "fused"), [
-    (1, 1, False, False), (3, 1, False, True), (3, 2, True, False), (3, 2, True, True),
-    (16384, 1, True, False), (16384, 1, False, True),
+@pytest.mark.parametrize(("block", "threads", "poly"), [
+    (1, 1, False), (3, 1, True), (3, 2, False), (3, 2, True), (16384, 1, True),
 ])
-def test_table_fk_batch_is_its_links_one_by_one(monkeypatch, block, threads, poly, fused):
+def test_table_fk_batch_is_its_links_one_by_one(monkeypatch, block, threads, poly):
     """Across block boundaries, on one thread and on two, with the C library's sines and
-    cosines and with urdf2dh.trig's, by elementary motions and with the constants fused."""
+    cosines and with urdf2dh.trig's."""
     monkeypatch.setattr(chainfk, "BLOCK", block)
     monkeypatch.setattr(chainfk, "THREADS_FROM", 0)
-    monkeypatch.setattr(chainfk, "FUSE_BELOW", 10**9 if fused else 0)
     monkeypatch.setenv("URDF2DH_THREADS", str(threads))
     monkeypatch.setattr(trig, "POLY_MIN", 0 if poly else 10**9)
     text, _ = random_chain_urdf(5, 9)

@@ -30,12 +30,12 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from . import se3
 from .trig import expi
 
 __all__ = ["BLOCK", "Program", "map_blocks", "run", "workers"]
 
 BLOCK = 16384  # configurations per block (the block's work arrays, ~3 MiB for 7 joints, in cache)
-FUSE_BELOW = 512  # configurations: smaller blocks take the fused program
 THREADS_FROM = 4 * BLOCK  # configurations: below this, one thread
 
 Mat = NDArray[np.float64]
@@ -52,10 +52,8 @@ class Program:
     ``TURN i`` is ``Rz(-angle_i)`` with ``angle_i = turn[i, 0] q_i + turn[i, 1]`` (so that
     ``e^{i angle}`` is the factor of ``x + i y``); ``SLIDE i`` is ``Tz(slide[i, 0] q_i +
     slide[i, 1])``; ``RZ e`` and ``RX e`` multiply by the unit complex ``e`` (``e^{-i theta}``);
-    ``TZ d`` and ``TX a`` translate; ``MATRIX G`` multiplies by a dense 4x4.
-
-    ``fused`` is the same with each run of two or more constant operations multiplied out into
-    one ``MATRIX``: fewer numpy calls, more arithmetic; the better for small blocks.
+    ``TZ d`` and ``TX a`` translate; ``MATRIX G`` multiplies by a dense 4x4. Constant
+    operations before the first joint are folded into ``base``.
     """
 
     n: int
@@ -63,7 +61,6 @@ class Program:
     turn: Mat  # (n, 2): per joint, angle = c q + o (rows of prismatic joints: unused)
     slide: Mat  # (n, 2): per joint, t = c q + o
     ops: tuple[tuple[int, Any], ...]
-    fused: tuple[tuple[int, Any], ...]
 
     @staticmethod
     def build(
@@ -93,42 +90,30 @@ class Program:
                 ops.extend(translate(TZ, d))
             ops.extend(after)
         ops.extend(tool)
-        while ops and ops[0][0] not in (TURN, SLIDE):  # constants before the first joint
-            base = base @ matrix(*ops.pop(0))
-        return Program(len(joints), base, turn, slide, tuple(ops), tuple(_fuse(ops)))
+        if ops and ops[0][0] not in (TURN, SLIDE):  # constants before the first joint
+            lead = next(k for k, (op, _) in enumerate([*ops, (TURN, -1)]) if op in (TURN, SLIDE))
+            base = se3.matrix_of(_product(se3.frame_of(base), ops[:lead]))
+            del ops[:lead]
+        return Program(len(joints), base, turn, slide, tuple(ops))
 
 
-def matrix(op: int, arg: Any) -> Mat:
-    """The 4x4 matrix of a constant operation."""
+def frame(op: int, arg: Any) -> se3.Frame:
+    """The :data:`~urdf2dh.se3.Frame` of a constant operation."""
     if op == MATRIX:
-        return np.asarray(arg, dtype=float)
-    out = np.eye(4)
-    if op in (RZ, RX):  # arg = e^{-i angle}
-        c, s = arg.real, -arg.imag
-        i, j = (0, 1) if op == RZ else (1, 2)
-        out[i, i], out[i, j], out[j, i], out[j, j] = c, -s, s, c
-    else:
-        out[2 if op == TZ else 0, 3] = arg
-    return out
+        return se3.frame_of(arg)
+    if op in (TZ, TX):
+        z, x = (arg, 0.0) if op == TZ else (0.0, arg)
+        return ((1.0, 0.0, 0.0, x), (0.0, 1.0, 0.0, 0.0), (0.0, 0.0, 1.0, z))
+    c, s = arg.real, -arg.imag  # arg = e^{-i angle}
+    if op == RZ:
+        return ((c, -s, 0.0, 0.0), (s, c, 0.0, 0.0), (0.0, 0.0, 1.0, 0.0))
+    return ((1.0, 0.0, 0.0, 0.0), (0.0, c, -s, 0.0), (0.0, s, c, 0.0))
 
 
-def _fuse(ops: list[tuple[int, Any]]) -> list[tuple[int, Any]]:
-    """``ops`` with each run of two or more constant operations as one ``MATRIX``."""
-    out: list[tuple[int, Any]] = []
-    run: list[tuple[int, Any]] = []
-    for op in [*ops, (TURN, -1)]:  # a sentinel ends the last run
-        if op[0] not in (TURN, SLIDE):
-            run.append(op)
-            continue
-        if len(run) > 1:
-            product = np.eye(4)
-            for constant in run:
-                product = product @ matrix(*constant)
-            run = [(MATRIX, product)]
-        out.extend(run)
-        out.append(op)
-        run = []
-    return out[:-1]
+def _product(f: se3.Frame, ops: Sequence[tuple[int, Any]]) -> se3.Frame:
+    for op in ops:
+        f = se3.compose(f, frame(*op))
+    return f
 
 
 def rz(theta: float) -> list[tuple[int, Any]]:
@@ -180,7 +165,7 @@ def _block(program: Program, q: Mat, out: Mat, work: _Work) -> None:
     cur, other = _Frames(work.frames[0], m), None
     for c in range(4):
         cur.f[:, :, c] = program.base[:3, c, None]
-    for op, arg in program.ops if m >= FUSE_BELOW else program.fused:
+    for op, arg in program.ops:
         if op == TURN:
             cur.xy *= turns[arg]
         elif op == SLIDE:
