@@ -457,13 +457,12 @@ def tree_to_poe(
             )
         if uj.type == "fixed":
             continue
-        x, y, z = uj.axis.tolist()
-        axis = se3.unit(se3.rotate(t, se3.unit((x, y, z))))
-        lead = _helical_lead(uj, axis, movable)
-        if lead is not None:  # revolute + coaxial prismatic mimicking it = one helical joint
-            movable[-1] = movable[-1]._replace(kind="helical", pitch=lead)
-            continue
+        axis = se3.unit(se3.rotate(t, se3.unit(uj.axis.tolist())))
         if uj.mimic is not None:
+            lead = _helical_lead(uj, axis, movable)
+            if lead is not None:  # revolute + coaxial prismatic mimicking it = one helical joint
+                movable[-1] = movable[-1]._replace(kind="helical", pitch=lead)
+                continue
             if not ignore_mimic:
                 raise ChainError(
                     f"{tree.path}: joint '{uj.name}' on the chain mimics joint '{uj.mimic}'; "
@@ -485,7 +484,8 @@ def tree_to_poe(
         Joint(m.name, m.kind, axis, point, m.pitch, 1.0, m.lower, m.upper)
         for m, axis, point in zip(movable, axes, points, strict=True)
     ]
+    home = se3.matrix_of(t)
+    home.setflags(write=False)  # the model's own: no copy
     return PoeModel(
-        tuple(joints), se3.matrix_of(t), name or tree.name, tree.path, base, tip, "m",
-        tuple(warnings),
+        tuple(joints), home, name or tree.name, tree.path, base, tip, "m", tuple(warnings)
     )
