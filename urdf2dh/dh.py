@@ -13,14 +13,13 @@ expressed in the frame built so far (the adjoint step) and Lemmas 1-3 give the n
 from __future__ import annotations
 
 import math
-from dataclasses import replace
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
 from . import se3
-from .lines import Judgement, LinkParams, angle, common_normal, dh_frame
+from .lines import Judgement, Limits, LinkParams, angle, dh_frame, link_to_line
 from .screws import PoeModel
 from .tolerances import Tolerances
 
@@ -80,8 +79,8 @@ def links_from_poe(
     Frames are built from the parameters as they will be evaluated (``F = F . H``), so the
     rounding of each row is seen by the next one and never accumulates unchecked.
     """
-    size = model.size()
     home = se3.frame_of(model.home)
+    limits = Limits.of(tol, model.size())
     lines: list[tuple[str, se3.Vec3, se3.Vec3 | None, bool]] = [
         (j.name, _vec(j.axis), None if j.point is None else _vec(j.point), False)
         for j in model.joints
@@ -91,13 +90,13 @@ def links_from_poe(
     links: list[LinkParams] = []
     judgements: list[Judgement] = []
     names = ["base z"] + [line[0] for line in lines]
-
-    directions: list[se3.Vec3] = [(0.0, 0.0, 1.0)] + [line[1] for line in lines]
+    prefer_small_theta = style in ("ur", "zero")
 
     def source_angle(k: int) -> float:
         """Angle from parallel between line k and the one before it, in the source (after
         an earlier judgement, the frames are off by that much too: not a new judgement)."""
-        (ax, ay, az), (bx, by, bz) = directions[k], directions[k + 1]
+        ax, ay, az = (0.0, 0.0, 1.0) if k == 0 else lines[k - 1][1]
+        bx, by, bz = lines[k][1]
         cross = math.hypot(ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx)
         return math.atan2(cross, abs(ax * bx + ay * by + az * bz))
 
@@ -106,9 +105,11 @@ def links_from_poe(
         u = se3.unit(se3.dir_into(frames[k], axis))
         # a prismatic axis with a free location passes through the current frame origin (SPEC §3)
         p = (0.0, 0.0, 0.0) if point is None else se3.point_into(frames[k], point)
-        link, found = common_normal(u, p, tol, (names[k], names[k + 1]), size, tool=is_tool)
-        found = [replace(j, source_angle=source_angle(k)) for j in found]
-        return (_prefer_small_theta(link) if style in ("ur", "zero") else link), found
+        link, found = link_to_line(u, p, limits, (names[k], names[k + 1]), is_tool)
+        if found:
+            source = source_angle(k)
+            found = [Judgement(j.kind, j.first, j.second, j.angle, j.gap, source) for j in found]
+        return (_prefer_small_theta(link) if prefer_small_theta else link), found
 
     for k in range(len(lines)):
         link, found = link_to(k)

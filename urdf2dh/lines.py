@@ -20,14 +20,24 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
 
-from .se3 import Frame, matrix_of
+from .se3 import Frame, Vec3, matrix_of
 from .tolerances import Tolerances
 
-__all__ = ["Judgement", "LinkParams", "angle", "common_normal", "dh_frame", "dh_matrix"]
+__all__ = [
+    "Judgement",
+    "Limits",
+    "LinkParams",
+    "angle",
+    "common_normal",
+    "dh_frame",
+    "dh_matrix",
+    "link_to_line",
+]
 
 
 @dataclass(frozen=True)
@@ -42,10 +52,11 @@ class Judgement:
     source_angle: float | None = None  # the same angle between the lines in the source model
 
 
-@dataclass(frozen=True)
-class LinkParams:
+class LinkParams(NamedTuple):
     """``Rz(theta) Tz(d) Rx(alpha) Tx(a)``; ``parallel`` if the lines were (treated as)
-    parallel, ``free`` if the new x axis was free (coincident lines) and ``theta = 0`` chosen."""
+    parallel, ``free`` if the new x axis was free (coincident lines) and ``theta = 0`` chosen.
+
+    A named tuple, not a dataclass: one is made per row of every conversion."""
 
     theta: float
     d: float
@@ -86,16 +97,33 @@ def dh_matrix(theta: float, d: float, alpha: float, a: float) -> NDArray[np.floa
     return matrix_of(dh_frame(theta, d, alpha, a))
 
 
-def _far(u: Sequence[float], p: Sequence[float], pivot_d: float, tol: Tolerances,
-         size: float) -> bool:
-    """Whether the exact common normal of nearly parallel lines lies farther than
-    ``far_factor x size`` from the pivot: only then does D-H need the parallel judgement. (Lines
-    tilted about their common perpendicular keep a near normal, and their exact table is sane.)"""
-    ux, uy, uz = (float(c) for c in u)
-    px, py, pz = (float(c) for c in p)
+class Limits(NamedTuple):
+    """The thresholds of :func:`common_normal` for one robot, worked out once per conversion."""
+
+    parallel: float  # treated as parallel within this angle (never below round-off)
+    snap: float  # below this angle, parallel or meeting at the pivot is considered
+    distance: float  # lines closer than this intersect
+    far: float  # a common normal farther than this from the pivot is too far for D-H
+    noise: float  # float round-off, as an angle
+
+    @classmethod
+    def of(cls, tol: Tolerances, size: float) -> Limits:
+        """The thresholds of ``tol`` for a robot of ``size``."""
+        parallel = max(tol.parallel_angle, tol.noise)  # round-off is never geometry
+        return cls(parallel, max(parallel, tol.meet_angle), tol.distance(size),
+                   tol.far_factor * size, tol.noise)
+
+
+def _far(u: Vec3, p: Vec3, pivot_d: float, far: float) -> bool:
+    """Whether the exact common normal of nearly parallel lines lies farther than ``far``
+    (``far_factor x size``) from the pivot: only then does D-H need the parallel judgement.
+    (Lines tilted about their common perpendicular keep a near normal, and their exact table is
+    sane.)"""
+    ux, uy, uz = u
+    px, py, pz = p
     mx, my = py * uz - pz * uy, pz * ux - px * uz  # of the moment p x u
     d = (ux * my - uy * mx) / (ux * ux + uy * uy)
-    return abs(d - pivot_d) > tol.far_factor * size
+    return abs(d - pivot_d) > far
 
 
 def common_normal(
@@ -113,42 +141,49 @@ def common_normal(
     Returns the parameters and the tolerance judgements made (possibly none).
     """
     ux, uy, uz = (float(c) for c in u)
+    px, py, pz = (float(c) for c in p)
+    return link_to_line((ux, uy, uz), (px, py, pz), Limits.of(tol, size), names, tool)
+
+
+def link_to_line(
+    u: Vec3, p: Vec3, lim: Limits, names: tuple[str, str], tool: bool = False
+) -> tuple[LinkParams, list[Judgement]]:
+    """:func:`common_normal` of plain floats, with the thresholds worked out beforehand."""
+    ux, uy, uz = u
     rho = math.hypot(ux, uy)
     off_parallel = math.atan2(rho, abs(uz))
-    parallel_angle = max(tol.parallel_angle, tol.noise)  # round-off is never geometry
-    distance = tol.distance(size)
     judgements: list[Judgement] = []
-    if rho == 0.0 or off_parallel <= max(parallel_angle, tol.meet_angle):
+    if rho == 0.0 or off_parallel <= lim.snap:
         # (Nearly) parallel. Pivot on the tool origin (the frame lands on it, the tool's own d
         # is 0), or on the line's crossing of the local xy plane (d = 0, Wu's parallel case).
         if tool:
-            x, y, d = float(p[0]), float(p[1]), float(p[2])
+            x, y, d = p
         else:
-            t = float(p[2]) / uz
-            x, y, d = float(p[0]) - t * ux, float(p[1]) - t * uy, 0.0
+            t = p[2] / uz
+            x, y, d = p[0] - t * ux, p[1] - t * uy, 0.0
         gap = math.hypot(x, y)
-        if gap <= distance:
+        if gap <= lim.distance:
             # The lines meet at the pivot: a = 0 and the exact direction is kept, which is
             # exact however small the angle, where the common-normal formula is ill-conditioned.
             if gap > 0.0:
                 judgements.append(Judgement("coincident", *names, 0.0, gap))
-            if off_parallel <= tol.noise:  # float round-off: a clean alpha = 0 or pi
+            if off_parallel <= lim.noise:  # float round-off: a clean alpha = 0 or pi
                 alpha = 0.0 if uz > 0.0 else math.pi
-                return LinkParams(0.0, d, alpha, 0.0, True, free=True), judgements
+                return LinkParams(0.0, d, alpha, 0.0, True, True), judgements
             return LinkParams(angle(ux, -uy), d, angle(rho, uz), 0.0, True), judgements
-        if off_parallel <= tol.noise or (
-            off_parallel <= parallel_angle and _far(u, p, d, tol, size)
+        if off_parallel <= lim.noise or (
+            off_parallel <= lim.parallel and _far(u, p, d, lim.far)
         ):
             if rho > 0.0:
                 judgements.append(Judgement("parallel", *names, off_parallel, 0.0))
             alpha = 0.0 if uz > 0.0 else math.pi
             return LinkParams(angle(y, x), d, alpha, gap, True), judgements
-    px, py, pz = (float(c) for c in p)
+    px, py, pz = p
     # the line's moment p x u; the same for any point p on the line
     mx, my, mz = py * uz - pz * uy, pz * ux - px * uz, px * uy - py * ux
     d = (ux * my - uy * mx) / (rho * rho) + 0.0  # Wu eq. after (17), h = 0 in the moment
     a_abs = abs(mz) / rho
-    if tool or a_abs <= distance:
+    if tool or a_abs <= lim.distance:
         # Tool (Lemma 4) or (nearly) intersecting lines: alpha > 0 and a keeps its exact,
         # possibly tiny negative, value. No judgement is needed: this is exact.
         sigma, a = 1.0, -mz / rho + 0.0

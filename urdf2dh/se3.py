@@ -213,7 +213,8 @@ IDENTITY: Frame = ((1.0, 0.0, 0.0, 0.0), (0.0, 1.0, 0.0, 0.0), (0.0, 0.0, 1.0, 0
 
 def frame_of(t: Mat) -> Frame:
     """The :data:`Frame` of a ``(4, 4)`` transform."""
-    return tuple(map(tuple, t[:3].tolist()))
+    r0, r1, r2, _ = t.tolist()
+    return (tuple(r0), tuple(r1), tuple(r2))
 
 
 def matrix_of(f: Frame) -> Mat:
@@ -251,17 +252,29 @@ def dir_into(f: Frame, v: Vec3) -> Vec3:
 
 def point_into(f: Frame, p: Vec3) -> Vec3:
     """A point given in the outer frame, in the coordinates of ``f``: ``R^T (p - t)``."""
-    return dir_into(f, (p[0] - f[0][3], p[1] - f[1][3], p[2] - f[2][3]))
+    (a, b, c, tx), (d, e, g, ty), (h, i, k, tz) = f
+    x, y, z = p[0] - tx, p[1] - ty, p[2] - tz
+    return (a * x + d * y + h * z, b * x + e * y + i * z, c * x + g * y + k * z)
 
 
 def between(a: Frame, b: Frame) -> Frame:
-    """``a^-1 @ b``: the frame ``b`` in the coordinates of ``a``."""
-    x, y, z = (dir_into(a, (b[0][k], b[1][k], b[2][k])) for k in range(3))
-    t = point_into(a, (b[0][3], b[1][3], b[2][3]))
-    return tuple((x[i], y[i], z[i], t[i]) for i in range(3))
+    """``a^-1 @ b``: the frame ``b`` in the coordinates of ``a`` (``R_a^T [R_b | t_b - t_a]``,
+    written out as :func:`compose` is)."""
+    (a00, a01, a02, a03), (a10, a11, a12, a13), (a20, a21, a22, a23) = a
+    (b00, b01, b02, b03), (b10, b11, b12, b13), (b20, b21, b22, b23) = b
+    x, y, z = b03 - a03, b13 - a13, b23 - a23
+    return (
+        (a00 * b00 + a10 * b10 + a20 * b20, a00 * b01 + a10 * b11 + a20 * b21,
+         a00 * b02 + a10 * b12 + a20 * b22, a00 * x + a10 * y + a20 * z),
+        (a01 * b00 + a11 * b10 + a21 * b20, a01 * b01 + a11 * b11 + a21 * b21,
+         a01 * b02 + a11 * b12 + a21 * b22, a01 * x + a11 * y + a21 * z),
+        (a02 * b00 + a12 * b10 + a22 * b20, a02 * b01 + a12 * b11 + a22 * b21,
+         a02 * b02 + a12 * b12 + a22 * b22, a02 * x + a12 * y + a22 * z),
+    )
 
 
 def unit(v: Vec3) -> Vec3:
     """``v / |v|`` (``v`` non-zero)."""
-    n = math.hypot(*v)
-    return (v[0] / n, v[1] / n, v[2] / n)
+    x, y, z = v
+    n = math.hypot(x, y, z)
+    return (x / n, y / n, z / n)

@@ -37,9 +37,11 @@ _X_AXIS = np.array([1.0, 0.0, 0.0])  # URDF's default axis, shared read-only
 _X_AXIS.setflags(write=False)
 
 
-@dataclass(frozen=True)
-class UrdfJoint:
-    """A URDF joint as the chain walk needs it (origin is the 4x4 parent->child transform)."""
+class UrdfJoint(NamedTuple):
+    """A URDF joint as the chain walk needs it (origin is the 4x4 parent->child transform).
+
+    A named tuple, not a dataclass: one is made per joint of every file read, and a frozen
+    dataclass takes four times as long to make."""
 
     name: str
     type: str
@@ -76,11 +78,12 @@ class UrdfTree:
 
     def subtree(self, link: str) -> list[str]:
         """``link`` and every link below it."""
-        out, stack = [], [link]
+        out, stack, children = [], [link], self.children
         while stack:
             cur = stack.pop()
             out.append(cur)
-            stack.extend(j.child for j in self.children.get(cur, ()))
+            for j in children.get(cur, ()):
+                stack.append(j.child)
         return out
 
     def leaves(self, below: str | None = None) -> list[str]:
@@ -193,7 +196,7 @@ def _check_xml(root: Any, display: str) -> None:
 def parse_tree(data: bytes, display: str) -> UrdfTree:
     """Parse URDF text into a checked :class:`UrdfTree` (``display`` names it in messages).
 
-    yourdfpy parses the text and :func:`_check_robot` checks what it made; only when either
+    yourdfpy parses the text and :func:`_tree_from_robot` checks what it made; only when either
     fails does our own pass over the XML (:func:`_checked_name`) run, to name the joint or link
     at fault. A sound file is parsed once.
     """
@@ -216,15 +219,11 @@ def _tree_of(data: bytes, robot: Any, display: str) -> UrdfTree:
     fault (and if it finds none, yourdfpy's own complaint stands)."""
     if robot is not None:
         try:
-            _check_robot(robot, display)
-        except InputError:
-            robot = None
-    if robot is None:
-        name = _checked_name(data, display)  # raises, naming the fault, if it finds one
-        robot = _yourdfpy_robot(data, display)
-        _check_robot(robot, display)
-        return _tree_from_robot(robot, display, name)
-    return _tree_from_robot(robot, display, str(robot.name))
+            return _tree_from_robot(robot, display, str(robot.name))
+        except _Unsound:
+            pass
+    name = _checked_name(data, display)  # raises, naming the fault, if it finds one
+    return _tree_from_robot(_yourdfpy_robot(data, display), display, name)
 
 
 _ROOT = re.compile(
@@ -236,41 +235,6 @@ def _root_tag(data: bytes) -> bytes | None:
     """The root element's tag, read off the text (``None`` if it does not look like XML)."""
     m = _ROOT.match(data)
     return m.group(1) if m else None
-
-
-def _check_robot(robot: Any, display: str) -> None:
-    """What :func:`_check_xml` guarantees, checked on yourdfpy's objects (cheap: no second
-    parse). A failure here only says *that* something is wrong; the XML pass then says what."""
-    problem = f"{display}: not a sound URDF"
-    links = [link.name for link in robot.links]
-    if not robot.name or not links or not all(links) or len(set(links)) != len(links):
-        raise InputError(problem)
-    declared = set(links)
-    names = [j.name for j in robot.joints]
-    if not all(names) or len(set(names)) != len(names):
-        raise InputError(problem)
-    origins, axes = [], []
-    for j in robot.joints:
-        if j.type not in KNOWN_TYPES or j.parent not in declared or j.child not in declared:
-            raise InputError(problem)
-        if j.origin is not None:
-            origins.append(j.origin)
-        if j.axis is not None and j.type in MOVABLE:
-            axes.append(j.axis)
-        if j.limit is not None and not all(v is None or math.isfinite(float(v))
-                                           for v in (j.limit.lower, j.limit.upper)):
-            raise InputError(problem)
-        if j.mimic is not None and not j.mimic.joint:
-            raise InputError(problem)
-    try:  # all origins 4x4 and all movable axes 3-vectors, finite, the axes not zero
-        o = np.array(origins, dtype=float) if origins else np.zeros((0, 4, 4))
-        a = np.array(axes, dtype=float) if axes else np.zeros((0, 3))
-    except ValueError as e:  # ragged: some element has the wrong number of values
-        raise InputError(problem) from e
-    if o.shape[1:] != (4, 4) or a.shape[1:] != (3,):
-        raise InputError(problem)
-    if not (np.isfinite(o).all() and np.isfinite(a).all() and np.abs(a).max(axis=1).all()):
-        raise InputError(problem)
 
 
 def _checked_name(data: bytes, display: str) -> str:
@@ -338,35 +302,81 @@ def _yourdfpy_robot(data: bytes, display: str) -> Any:
     return urdf.robot
 
 
+class _Unsound(InputError):
+    """yourdfpy's objects break what :func:`_check_xml` guarantees (the XML pass says what)."""
+
+
 def _tree_from_robot(robot: Any, display: str, name: str) -> UrdfTree:
-    """The :class:`UrdfTree` of a yourdfpy ``Robot`` (its joints and links)."""
+    """The :class:`UrdfTree` of a yourdfpy ``Robot`` (its joints and links), checked in the same
+    pass for what :func:`_check_xml` guarantees (cheap: no second parse). A failed check raises
+    :class:`_Unsound`, which only says *that* something is wrong; the XML pass then says what.
+    A tree that is not one (a loop, several roots) is reported once the checks pass."""
+    problem = f"{display}: not a sound URDF"
+    links = tuple(link.name for link in robot.links)
+    declared = set(links)
+    if not robot.name or not links or not all(links) or len(declared) != len(links):
+        raise _Unsound(problem)
     joints: dict[str, UrdfJoint] = {}
     parent_joint: dict[str, UrdfJoint] = {}
     children: dict[str, list[UrdfJoint]] = {}
+    origins: list[NDArray[np.float64]] = []
+    loop: tuple[str, str, str] | None = None  # the first link with two parent joints
     for j in robot.joints:
-        origin = _IDENTITY if j.origin is None else np.asarray(j.origin, dtype=float)
-        axis = _X_AXIS if j.axis is None else np.asarray(j.axis, dtype=float)
+        jname, jtype, parent, child, limit, mimic = (
+            j.name, j.type, j.parent, j.child, j.limit, j.mimic
+        )
+        if (not jname or jname in joints or jtype not in KNOWN_TYPES or parent not in declared
+                or child not in declared):
+            raise _Unsound(problem)
+        origin = _IDENTITY
+        if j.origin is not None:
+            origin = np.asarray(j.origin, dtype=float)
+            origins.append(origin)
+        axis = _X_AXIS
+        if j.axis is not None:
+            axis = np.asarray(j.axis, dtype=float)
+            if jtype in MOVABLE:  # a 3-vector, finite, not zero
+                if axis.shape != (3,):
+                    raise _Unsound(problem)
+                x, y, z = axis.tolist()
+                if not (math.isfinite(x) and math.isfinite(y) and math.isfinite(z)
+                        and (x or y or z)):
+                    raise _Unsound(problem)
         lower = upper = None
-        if j.limit is not None and j.type != "continuous":
-            lower = None if j.limit.lower is None else float(j.limit.lower)
-            upper = None if j.limit.upper is None else float(j.limit.upper)
-        mimic = j.mimic
+        if limit is not None:
+            lo = None if limit.lower is None else float(limit.lower)
+            up = None if limit.upper is None else float(limit.upper)
+            if (lo is not None and not math.isfinite(lo)) or (
+                up is not None and not math.isfinite(up)
+            ):
+                raise _Unsound(problem)
+            if jtype != "continuous":
+                lower, upper = lo, up
+        if mimic is not None and not mimic.joint:
+            raise _Unsound(problem)
         uj = UrdfJoint(
-            j.name, j.type, j.parent, j.child, origin, axis, lower, upper,
+            jname, jtype, parent, child, origin, axis, lower, upper,
             None if mimic is None else mimic.joint,
             1.0 if mimic is None or mimic.multiplier is None else float(mimic.multiplier),
             0.0 if mimic is None or mimic.offset is None else float(mimic.offset),
         )
-        if uj.child in parent_joint:
-            other = parent_joint[uj.child].name
-            raise InputError(
-                f"{display}: link '{uj.child}' is the child of both joint '{other}' and joint "
-                f"'{uj.name}' (a kinematic loop; URDF describes trees only)"
-            )
-        joints[uj.name] = uj
-        parent_joint[uj.child] = uj
-        children.setdefault(uj.parent, []).append(uj)
-    links = tuple(link.name for link in robot.links)
+        joints[jname] = uj
+        if child in parent_joint:
+            loop = loop or (child, parent_joint[child].name, jname)
+            continue
+        parent_joint[child] = uj
+        children.setdefault(parent, []).append(uj)
+    try:  # all origins 4x4 and finite: one array for them all
+        o = np.array(origins) if origins else np.zeros((0, 4, 4))
+    except ValueError as e:  # ragged: some element has the wrong number of values
+        raise _Unsound(problem) from e
+    if o.shape[1:] != (4, 4) or not np.isfinite(o).all():
+        raise _Unsound(problem)
+    if loop is not None:
+        raise InputError(
+            f"{display}: link '{loop[0]}' is the child of both joint '{loop[1]}' and joint "
+            f"'{loop[2]}' (a kinematic loop; URDF describes trees only)"
+        )
     roots = [link for link in links if link not in parent_joint]
     if not roots:
         raise InputError(f"{display}: every link has a parent joint (a kinematic loop)")
@@ -378,9 +388,9 @@ def _tree_from_robot(robot: Any, display: str, name: str) -> UrdfTree:
         name, display, links, joints, parent_joint,
         {k: tuple(v) for k, v in children.items()}, roots[0],
     )
-    reached = set(tree.subtree(roots[0]))
-    unreached = [link for link in links if link not in reached]
-    if unreached:
+    reached = tree.subtree(roots[0])  # each link at most once: it has at most one parent
+    if len(reached) != len(links):
+        unreached = [link for link in links if link not in set(reached)]
         raise InputError(
             f"{display}: links {choices(unreached)} are not connected to root '{roots[0]}' "
             "(a kinematic loop)"
@@ -447,13 +457,12 @@ def tree_to_poe(
             )
         if uj.type == "fixed":
             continue
-        x, y, z = uj.axis.tolist()
-        axis = se3.unit(se3.rotate(t, se3.unit((x, y, z))))
-        lead = _helical_lead(uj, axis, movable)
-        if lead is not None:  # revolute + coaxial prismatic mimicking it = one helical joint
-            movable[-1] = movable[-1]._replace(kind="helical", pitch=lead)
-            continue
+        axis = se3.unit(se3.rotate(t, se3.unit(uj.axis.tolist())))
         if uj.mimic is not None:
+            lead = _helical_lead(uj, axis, movable)
+            if lead is not None:  # revolute + coaxial prismatic mimicking it = one helical joint
+                movable[-1] = movable[-1]._replace(kind="helical", pitch=lead)
+                continue
             if not ignore_mimic:
                 raise ChainError(
                     f"{tree.path}: joint '{uj.name}' on the chain mimics joint '{uj.mimic}'; "
@@ -475,7 +484,8 @@ def tree_to_poe(
         Joint(m.name, m.kind, axis, point, m.pitch, 1.0, m.lower, m.upper)
         for m, axis, point in zip(movable, axes, points, strict=True)
     ]
+    home = se3.matrix_of(t)
+    home.setflags(write=False)  # the model's own: no copy
     return PoeModel(
-        tuple(joints), se3.matrix_of(t), name or tree.name, tree.path, base, tip, "m",
-        tuple(warnings),
+        tuple(joints), home, name or tree.name, tree.path, base, tip, "m", tuple(warnings)
     )
