@@ -122,3 +122,29 @@ def test_fk_takes_one_configuration_or_a_stack():
         assert np.array_equal(fk(q), batch(q.reshape(-1, 4)).reshape(2, 3, 4, 4))
         with pytest.raises(ValueError, match=r"expected \(\.\.\., 4\)"):
             fk(q[0, 0, :3])
+
+
+@pytest.mark.parametrize(("block", "threads"), [(3, 1), (3, 2), (16384, 1)])
+def test_link_forms_are_the_same_fk(monkeypatch, block, threads):
+    """The self-check's evaluation: a POE model's exponentials written as C Q C^-1 and a
+    table's links, each alone and side by side, against the products one by one."""
+    monkeypatch.setattr(chainfk, "BLOCK", block)
+    monkeypatch.setattr(chainfk, "THREADS_FROM", 0)
+    monkeypatch.setenv("URDF2DH_THREADS", str(threads))
+    text, _ = random_chain_urdf(6, 9)
+    urdf_model = tree_to_poe(parse_tree(text.encode(), "r.urdf"), "base", "tool")
+    for model in (urdf_model, mixed_model(7)):
+        q = sample_configurations(model, 10, 2)
+        frames, motions = model.link_form()
+        alone = chainfk.run_links(se3.stack(frames)[None], np.array(motions)[None], q)[0]
+        diff = np.abs(alone - product_of_exponentials(model, q)).max()
+        assert diff <= 1e-13 * model.size(), diff
+        for conv in CONVENTIONS:
+            table = to_table(model, conv)
+            table_frames, table_motions = table.link_form()
+            pair = chainfk.run_links(
+                se3.stack(table_frames + frames).reshape(2, -1, 4, 4),
+                np.array(table_motions + motions).reshape(2, -1, 2), q)
+            assert np.array_equal(pair[1], alone), conv
+            diff = np.abs(pair[0] - links_one_by_one(table, q)).max()
+            assert diff <= 1e-13 * model.size(), (conv, diff)

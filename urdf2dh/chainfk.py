@@ -33,7 +33,7 @@ from numpy.typing import NDArray
 from . import se3
 from .trig import expi
 
-__all__ = ["BLOCK", "Program", "map_blocks", "run", "workers"]
+__all__ = ["BLOCK", "Program", "map_blocks", "run", "run_links", "workers"]
 
 BLOCK = 16384  # configurations per block (the block's work arrays, ~3 MiB for 7 joints, in cache)
 THREADS_FROM = 4 * BLOCK  # configurations: below this, one thread
@@ -198,6 +198,81 @@ def run(program: Program, q: Mat) -> Mat:
 
     map_blocks(q.shape[0], BLOCK, job, lambda m: _Work(program.n, m))
     return out
+
+
+def run_links(links: Mat, motions: Mat, q: Mat) -> Mat:
+    """Poses ``(k, N, 4, 4)`` of ``k`` chains in link form, ``T = G_0 Q_1 G_1 ... Q_n G_n``
+    with ``Q_i = Rz(motions[.., i, 0] q_i) Tz(motions[.., i, 1] q_i)``, at the same
+    configurations ``q`` ``(N, n)``: ``links`` ``(k, n + 1, 4, 4)``, ``motions`` ``(k, n, 2)``.
+
+    The chains share every numpy call (a joint is one complex product and one stacked matrix
+    product for all ``k``), which is what makes a small batch cheap.
+    """
+    k, count = len(links), q.shape[0]
+    out = np.empty((k, count, 4, 4))
+
+    def job(lo: int, hi: int, work: Mat) -> None:
+        f = _links_block(links, motions, q[lo:hi], work)
+        out[:, lo:hi, :3] = f.transpose(0, 2, 1, 3)
+        out[:, lo:hi, 3] = (0.0, 0.0, 0.0, 1.0)
+
+    map_blocks(count, BLOCK, job, lambda m: np.empty((2, k * 12 * m)))
+    return out
+
+
+def compare_links(links: Mat, motions: Mat, q: Mat) -> tuple[float, float]:
+    """The worst position and rotation difference (as :func:`urdf2dh.se3.pose_errors`
+    measures them) between two chains in link form (``k = 2`` in :func:`run_links`' terms)
+    at configurations ``q``: the self-check, without building the poses."""
+    worst: list[tuple[float, float]] = []
+
+    def job(lo: int, hi: int, work: Mat) -> None:
+        f = _links_block(links, motions, q[lo:hi], work)
+        d = f[0] - f[1]  # (3, m, 4)
+        d *= d
+        worst.append((d[:, :, 3].sum(axis=0).max(), d[:, :, :3].sum(axis=(0, 2)).max()))
+
+    map_blocks(q.shape[0], BLOCK, job, lambda m: np.empty((2, 24 * m)))
+    if not worst:
+        return 0.0, 0.0
+    pos2, rot2 = (max(w) if not any(math.isnan(x) for x in w) else math.nan
+                  for w in zip(*worst, strict=True))
+    return se3.errors_of_squares(pos2, rot2)
+
+
+def _links_block(links: Mat, motions: Mat, q: Mat, work: Mat) -> Mat:
+    """The frames ``(k, 3, m, 4)`` (top three rows, row-major over the block) of ``q``."""
+    (m, n), k = q.shape, len(links)
+    frames = [w[: k * 12 * m].reshape(k, 3, m, 4) for w in work]
+    views = [(f[:, :, :, 0:2].view(np.complex128)[..., 0], f[:, :, :, 2], f[:, :, :, 3],
+              f.reshape(k, 3 * m, 4)) for f in frames]
+    chains = motions.tolist()  # plain floats: which joints turn or slide, decided in Python
+    rotations = [[r for r, _ in chain] for chain in chains]
+    turning = [any(chain[i] for chain in rotations) for i in range(n)]
+    sliding = [any(chain[i][1] for chain in chains) for i in range(n)]
+    shared = all(r == rotations[0] for r in rotations)  # the same turns in every chain: once
+    turns = np.empty((1 if shared else k, n, m), dtype=np.complex128)
+    expi(np.multiply(q.T, -motions[:1 if shared else k, :, 0, None]), turns)  # e^{-i rot q}
+    lin = motions[:, :, 1]
+    # the frames start as G_0 (the first joint's turn applied as they are set)
+    xy, z, p, _ = views[0]
+    start = np.ascontiguousarray(links[:, 0, :3]).view(np.complex128)  # (k, 3, 2): x + i y, ..
+    if n and turning[0]:
+        np.multiply(start[:, :, 0, None], turns[:, 0, None, :], out=xy)
+    else:
+        xy[...] = start[:, :, 0, None]
+    z[...], p[...] = links[:, 0, :3, 2, None], links[:, 0, :3, 3, None]
+    cur, nxt = 0, 1
+    for i in range(n):
+        xy, z, p, rows = views[cur]
+        if turning[i] and i:
+            xy *= turns[:, i, None, :]
+        if sliding[i]:
+            shift = np.multiply(q[:, i], lin[:, i, None])  # (k, m)
+            p += shift[:, None, :] * z
+        np.matmul(rows, links[:, i + 1], out=views[nxt][3])
+        cur, nxt = nxt, cur
+    return frames[cur]
 
 
 def workers(count: int) -> int:

@@ -19,7 +19,8 @@ __all__ = ["read_file", "write_output"]
 def read_file(path: Path, display: str) -> bytes:
     """The bytes of ``path``; ``display`` names it in error messages."""
     try:
-        return path.read_bytes()
+        with open(path, "rb", buffering=0) as f:  # unbuffered: one read of the whole file
+            return f.read()
     except FileNotFoundError as e:
         raise InputError(f"{display}: no such file") from e
     except IsADirectoryError as e:

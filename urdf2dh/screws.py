@@ -208,7 +208,7 @@ class PoeModel:
 
     @cached_property
     def _extent(self) -> float:  # asked for several times per conversion
-        return max(math.hypot(*p) for p in self._points()[1:])
+        return max(math.hypot(*p) for p in self._points[1:])
 
     def travel(self) -> float:
         """How far the joints can translate the tip along their axes: prismatic travel within
@@ -234,8 +234,9 @@ class PoeModel:
         """An upper bound on any point's distance from the base origin over all configurations
         within reach of the chain's geometry: the length of the polyline through the joint axis
         points and the tip (used to bound the effect of a tolerance judgement)."""
-        return math.fsum(math.dist(a, b) for a, b in itertools.pairwise(self._points()))
+        return math.fsum(math.dist(a, b) for a, b in itertools.pairwise(self._points))
 
+    @cached_property
     def _points(self) -> list[list[float]]:
         """The base origin, the joints' axis points and the tip's origin, as plain floats."""
         pts = [[0.0, 0.0, 0.0]]
@@ -324,6 +325,28 @@ class PoeModel:
             out[lo : lo + m, :3] = f.reshape(4, 3, m).transpose(2, 1, 0)
             out[lo : lo + m, 3] = (0.0, 0.0, 0.0, 1.0)
         return out
+
+    def link_form(self) -> tuple[list[se3.Frame], list[tuple[float, float]]]:
+        """The same FK as ``n + 1`` constant links ``G`` and ``n`` joint motions (rotation,
+        translation per unit of ``q``) with ``T(q) = G_0 Q_1(q_1) G_1 ... Q_n(q_n) G_n``,
+        ``Q = Rz Tz``, as a table's FK is (:meth:`Table.link_form`).
+
+        With ``C_i`` a frame whose z axis is joint ``i``'s axis line, ``exp(xi_i s) =
+        C_i Rz(rot s) Tz(trans s) C_i^-1``, so ``G_0 = C_1``, ``G_i = C_i^-1 C_(i+1)`` and
+        ``G_n = C_n^-1 M``. The self-check evaluates the model this way beside the table.
+        """
+        frames: list[se3.Frame] = []
+        motions: list[tuple[float, float]] = []
+        previous = se3.IDENTITY
+        for j in self.joints:
+            ux, uy, uz = j.axis.tolist()
+            point = (0.0, 0.0, 0.0) if j.point is None else tuple(j.point.tolist())
+            frame = se3.axis_frame((ux, uy, uz), point)
+            frames.append(se3.between(previous, frame))
+            motions.append((j.rotation * j.scale, j.translation * j.scale))
+            previous = frame
+        frames.append(se3.between(previous, se3.frame_of(self.home)))
+        return frames, motions
 
     def scaled(self, factor: float, unit: str) -> PoeModel:
         """The same chain with lengths multiplied by ``factor`` and called ``unit`` (points,

@@ -193,6 +193,12 @@ def pose_errors(a: NDArray[np.float64], b: NDArray[np.float64]) -> tuple[float, 
     # worst is taken first and the root after. (0 x inf in the product is nan: no warning.)
     with np.errstate(invalid="ignore"):
         pos2, rot2 = (d @ _ERROR_SUMS).max(axis=0)
+    return errors_of_squares(float(pos2), float(rot2))
+
+
+def errors_of_squares(pos2: float, rot2: float) -> tuple[float, float]:
+    """Position and rotation error from the worst sums of squared differences of the
+    position entries and of the rotation entries (see :func:`pose_errors`)."""
     r = math.sqrt(rot2) / (2.0 * math.sqrt(2.0))
     return math.sqrt(pos2), (r if math.isnan(r) else 2.0 * math.asin(min(r, 1.0)))
 
@@ -220,6 +226,12 @@ def frame_of(t: Mat) -> Frame:
 def matrix_of(f: Frame) -> Mat:
     """The ``(4, 4)`` transform of a :data:`Frame`."""
     return np.array([*f, (0.0, 0.0, 0.0, 1.0)])
+
+
+def stack(frames: list[Frame]) -> Mat:
+    """Frames as a ``(k, 4, 4)`` array."""
+    flat = [x for f in frames for row in (*f, (0.0, 0.0, 0.0, 1.0)) for x in row]
+    return np.fromiter(flat, float, len(flat)).reshape(-1, 4, 4)
 
 
 def compose(a: Frame, b: Frame) -> Frame:
@@ -271,6 +283,23 @@ def between(a: Frame, b: Frame) -> Frame:
         (a02 * b00 + a12 * b10 + a22 * b20, a02 * b01 + a12 * b11 + a22 * b21,
          a02 * b02 + a12 * b12 + a22 * b22, a02 * x + a12 * y + a22 * z),
     )
+
+
+def axis_frame(u: Vec3, p: Vec3) -> Frame:
+    """A frame whose z axis is the unit direction ``u`` through the point ``p`` (its x axis:
+    the basis vector least aligned with ``u``, made perpendicular to it)."""
+    ux, uy, uz = u
+    ax, ay, az = abs(ux), abs(uy), abs(uz)
+    if ax <= ay and ax <= az:
+        x = (1.0 - ux * ux, -ux * uy, -ux * uz)
+    elif ay <= az:
+        x = (-uy * ux, 1.0 - uy * uy, -uy * uz)
+    else:
+        x = (-uz * ux, -uz * uy, 1.0 - uz * uz)
+    k = 1.0 / math.sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2])
+    xx, xy, xz = x[0] * k, x[1] * k, x[2] * k
+    yx, yy, yz = uy * xz - uz * xy, uz * xx - ux * xz, ux * xy - uy * xx
+    return ((xx, yx, ux, p[0]), (xy, yy, uy, p[1]), (xz, yz, uz, p[2]))
 
 
 def unit(v: Vec3) -> Vec3:

@@ -51,6 +51,20 @@ class Row:
     lower: float | None = None
     upper: float | None = None
 
+    def __init__(
+        self,
+        name: str,
+        kind: JointKind,
+        params: Mapping[str, Any],
+        pitch: float = 0.0,
+        scale: float = 1.0,
+        lower: float | None = None,
+        upper: float | None = None,
+    ) -> None:
+        # one update of the instance's dict, as screws.Joint does (a row per joint per table)
+        vars(self).update(name=name, kind=kind, params=params, pitch=pitch, scale=scale,
+                          lower=lower, upper=upper)
+
 
 @dataclass(frozen=True)
 class Check:
@@ -77,6 +91,26 @@ class Table:
     check: Check | None = None
     warnings: tuple[str, ...] = field(default=())
 
+    def __init__(
+        self,
+        convention: str,
+        base: Mapping[str, Any],
+        rows: tuple[Row, ...],
+        tool: Mapping[str, Any],
+        robot: str = "",
+        source: str = "",
+        base_link: str = "",
+        tip_link: str = "",
+        length_unit: str = "m",
+        check: Check | None = None,
+        warnings: tuple[str, ...] = (),
+    ) -> None:
+        vars(self).update(  # in one update, as Row's fields are
+            convention=convention, base=base, rows=tuple(rows), tool=tool, robot=robot,
+            source=source, base_link=base_link, tip_link=tip_link, length_unit=length_unit,
+            check=check, warnings=tuple(warnings),
+        )
+
     @property
     def n(self) -> int:
         """Number of movable joints."""
@@ -95,6 +129,12 @@ class Table:
     @cached_property
     def links(self) -> Mat:
         """``(n + 1, 4, 4)``: the constant transforms ``G_0 .. G_n`` between the joint motions."""
+        return se3.stack(self.link_form()[0])
+
+    def link_form(self) -> tuple[list[se3.Frame], list[tuple[float, float]]]:
+        """The FK as ``n + 1`` constant links ``G_0 .. G_n`` (plain-float frames) and, per
+        joint, the rotation and translation of ``Q_i`` per unit of ``q``:
+        ``T(q) = G_0 Q_1 G_1 ... Q_n G_n``."""
         mod = convention_module(self.convention)
         out: list[se3.Frame] = []
         g = mod.base_frame(self.base)
@@ -103,8 +143,9 @@ class Table:
             out.append(g if pre is None else se3.compose(g, pre))
             g = post
         out.append(se3.compose(g, mod.tool_frame(self.tool)))
-        flat = [x for f in out for row in (*f, (0.0, 0.0, 0.0, 1.0)) for x in row]
-        return np.fromiter(flat, float, len(flat)).reshape(-1, 4, 4)
+        motions = [(0.0, r.scale) if r.kind == "prismatic" else (r.scale, r.pitch * r.scale)
+                   for r in self.rows]
+        return out, motions
 
     @cached_property
     def _program(self) -> chainfk.Program:
