@@ -148,3 +148,25 @@ def test_link_forms_are_the_same_fk(monkeypatch, block, threads):
             assert np.array_equal(pair[1], alone), conv
             diff = np.abs(pair[0] - links_one_by_one(table, q)).max()
             assert diff <= 1e-13 * model.size(), (conv, diff)
+
+
+def test_compare_links_is_pose_errors_of_the_poses(monkeypatch):
+    """The self-check's comparison without poses measures what se3.pose_errors measures."""
+    monkeypatch.setattr(chainfk, "BLOCK", 7)
+    model = mixed_model(6)
+    q = sample_configurations(model, 30, 4)
+    frames, motions = model.link_form()
+    table_frames, table_motions = to_table(model, "mdh").link_form()
+    links = se3.stack(table_frames + frames).reshape(2, -1, 4, 4)
+    moved = links.copy()
+    moved[0, 3, 0, 3] += 1e-6  # one link off by a micrometre: a measurable difference
+    for pair in (links, moved):
+        mot = np.array(table_motions + motions).reshape(2, -1, 2)
+        poses = chainfk.run_links(pair, mot, q)
+        expected = se3.pose_errors(poses[0], poses[1])
+        assert chainfk.compare_links(pair, mot, q) == pytest.approx(expected, rel=1e-9, abs=1e-30)
+    broken = links.copy()
+    broken[1, 2, 0, 3] = np.nan
+    with np.errstate(invalid="ignore"):
+        pos, _ = chainfk.compare_links(broken, mot, q)
+    assert math.isnan(pos)
