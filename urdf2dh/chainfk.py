@@ -15,6 +15,10 @@ A joint's constant offsets join its motion (``Rz(j s) Rz(theta) = Rz(j s + theta
 revolute joint costs one complex product; the sines and cosines of all joints come from one
 call (:func:`urdf2dh.trig.expi`). Multiplying by 1 or adding 0 is skipped, which changes no
 bit. Large batches are split over threads (numpy releases the GIL in its loops).
+
+:func:`run_links` and :func:`compare_links` evaluate chains given as dense links
+``G_0 Q_1 G_1 ... Q_n G_n`` instead, several side by side in the same numpy calls: the
+self-check's table and POE model.
 """
 
 from __future__ import annotations
@@ -33,7 +37,7 @@ from numpy.typing import NDArray
 from . import se3
 from .trig import expi
 
-__all__ = ["BLOCK", "Program", "map_blocks", "run", "run_links", "workers"]
+__all__ = ["BLOCK", "Program", "compare_links", "map_blocks", "run", "run_links", "workers"]
 
 BLOCK = 16384  # configurations per block (the block's work arrays, ~3 MiB for 7 joints, in cache)
 THREADS_FROM = 4 * BLOCK  # configurations: below this, one thread
