@@ -101,7 +101,7 @@ class Program:
         return Program(len(joints), base, turn, slide, tuple(ops))
 
 
-def frame(op: int, arg: Any) -> se3.Frame:
+def _frame(op: int, arg: Any) -> se3.Frame:
     """The :data:`~urdf2dh.se3.Frame` of a constant operation."""
     if op == MATRIX:
         return se3.frame_of(arg)
@@ -116,7 +116,7 @@ def frame(op: int, arg: Any) -> se3.Frame:
 
 def _product(f: se3.Frame, ops: Sequence[tuple[int, Any]]) -> se3.Frame:
     for op in ops:
-        f = se3.compose(f, frame(*op))
+        f = se3.compose(f, _frame(*op))
     return f
 
 

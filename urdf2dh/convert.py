@@ -116,7 +116,7 @@ def self_check(
 
     Both in link form (:meth:`Table.link_form`; :meth:`PoeModel.link_form`, the exponentials
     written as ``C Q C^-1``), evaluated side by side in the same numpy calls
-    (:func:`urdf2dh.chainfk.run_links`). ``Table.fk_batch`` and ``PoeModel.fk_batch`` are the
+    (:func:`urdf2dh.chainfk.compare_links`). ``Table.fk_batch`` and ``PoeModel.fk_batch`` are the
     same functions evaluated otherwise; the tests hold all of them to each other.
     """
     q = sample_configurations(model, samples, seed)

@@ -24,7 +24,7 @@ from numpy.typing import NDArray
 from . import se3
 from .trig import expi
 
-__all__ = ["KINDS", "Joint", "JointKind", "PoeModel", "joint_from_twist"]
+__all__ = ["KINDS", "Joint", "JointKind", "JointMotion", "PoeModel", "joint_from_twist"]
 
 JointKind = Literal["revolute", "prismatic", "helical"]
 KINDS: tuple[str, ...] = ("revolute", "prismatic", "helical")
@@ -47,8 +47,26 @@ def _frozen(a: NDArray[np.float64] | None) -> NDArray[np.float64] | None:
     return out
 
 
+class JointMotion:
+    """What a joint's ``kind`` and ``pitch`` make of its motion ``Rz(rotation s) Tz(translation
+    s)``: shared by a POE model's :class:`Joint` and a table's row."""
+
+    kind: JointKind
+    pitch: float
+
+    @property
+    def rotation(self) -> float:
+        """Radians of rotation per unit of ``s`` (1 or 0)."""
+        return 0.0 if self.kind == "prismatic" else 1.0
+
+    @property
+    def translation(self) -> float:
+        """Length of translation along the axis per unit of ``s``."""
+        return 1.0 if self.kind == "prismatic" else self.pitch
+
+
 @dataclass(frozen=True, init=False)
-class Joint:
+class Joint(JointMotion):
     """One joint of the chain, at the home pose, in the base frame.
 
     Attributes
@@ -99,16 +117,6 @@ class Joint:
             name=name, kind=kind, axis=_frozen(axis), point=_frozen(point), pitch=pitch,
             scale=scale, lower=lower, upper=upper,
         )
-
-    @property
-    def rotation(self) -> float:
-        """Radians of rotation per unit of ``s`` (1 or 0)."""
-        return 0.0 if self.kind == "prismatic" else 1.0
-
-    @property
-    def translation(self) -> float:
-        """Length of translation along the axis per unit of ``s``."""
-        return 1.0 if self.kind == "prismatic" else self.pitch
 
     def normalized_twist(self) -> Vec:
         """``xi_hat = [w, v]`` with ``|w| = 1`` (or ``w = 0, |v| = 1`` for prismatic)."""

@@ -24,7 +24,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from . import chainfk, se3
-from .screws import Joint, JointKind, PoeModel
+from .screws import Joint, JointKind, JointMotion, PoeModel
 
 __all__ = ["CONVENTIONS", "SCHEMA", "Check", "Row", "Table", "convention_module"]
 
@@ -39,8 +39,8 @@ def convention_module(name: str) -> ModuleType:
     return importlib.import_module(f"urdf2dh.{name}")
 
 
-@dataclass(frozen=True)
-class Row:
+@dataclass(frozen=True, init=False)
+class Row(JointMotion):
     """One movable joint's row: its motion (kind, pitch, scale) and its constant parameters."""
 
     name: str
@@ -75,7 +75,7 @@ class Check:
     max_rotation_error: float
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, init=False)
 class Table:
     """A kinematic parameter table in one convention (``dh``, ``mdh`` or ``cpc``)."""
 
@@ -143,8 +143,7 @@ class Table:
             out.append(g if pre is None else se3.compose(g, pre))
             g = post
         out.append(se3.compose(g, mod.tool_frame(self.tool)))
-        motions = [(0.0, r.scale) if r.kind == "prismatic" else (r.scale, r.pitch * r.scale)
-                   for r in self.rows]
+        motions = [(r.rotation * r.scale, r.translation * r.scale) for r in self.rows]
         return out, motions
 
     @cached_property
@@ -154,7 +153,7 @@ class Table:
         joints: list[tuple[float, float, float, float, float]] = []
         between: list[tuple[list[tuple[int, Any]], list[tuple[int, Any]]]] = []
         for r in self.rows:
-            rot, lin = (0.0, 1.0) if r.kind == "prismatic" else (1.0, r.pitch)
+            rot, lin = r.rotation, r.translation
             p = r.params
             if self.convention == "cpc":
                 joints.append((rot, lin, r.scale, 0.0, 0.0))
