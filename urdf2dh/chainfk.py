@@ -4,17 +4,22 @@ A table's FK (SPEC §2) is a product of elementary motions: joint turns ``Rz(j s
 and slides ``Tz(k s + d)``, and constant ``Rx(alpha)``, ``Tx(a)``, ``Rz``, ``Tz`` (``dh``,
 ``mdh``) or dense shape matrices ``V`` (``cpc``). A :class:`Program` lists them once per
 table; :func:`run` applies them to a block of configurations at a time, vectorised over the
-block, each pose held as its top three rows, row-major over the block (``(3, m, 4)``):
+block:
 
-* ``F Rz(phi)`` turns the x and y columns: with ``w = x + i y`` it is ``w e^{-i phi}``, one
-  complex product (the same for ``Rx(alpha)`` and the y and z columns);
-* ``F Tz(t)`` adds ``t`` times the z column to the position (``Tx``: the x column);
-* a dense ``V`` is one ``(3 m, 4) @ (4, 4)`` matrix product.
+* the rotations are composed base to tip, each held as its three rows, row-major over the
+  block (``(3, m, 4)``): ``R Rz(phi)`` turns the x and y columns, with ``w = x + i y`` it is
+  ``w e^{-i phi}``, one complex product (the same for ``Rx(alpha)`` and the y and z columns);
+  a dense ``V`` is one stacked ``3x3`` matrix product;
+* the position is carried tip to base, ``p = B o_1 (o_2 (... o_K (0)))``: one vector per
+  configuration, so that a turn costs a complex product of ``m`` elements instead of ``3 m``
+  and ``Tz``/``Tx`` one addition to a component instead of an axpy on a column;
+* the rows are copied into the poses as 32-byte items (one loop over the block).
 
 A joint's constant offsets join its motion (``Rz(j s) Rz(theta) = Rz(j s + theta)``), so a
-revolute joint costs one complex product; the sines and cosines of all joints come from one
-call (:func:`urdf2dh.trig.expi`). Multiplying by 1 or adding 0 is skipped, which changes no
-bit. Large batches are split over threads (numpy releases the GIL in its loops).
+revolute joint costs a complex product on the rotations and one on the position; the sines
+and cosines of all joints come from one call (:func:`urdf2dh.trig.expi`). Multiplying by 1 or
+adding 0 is skipped, which changes no bit. Large batches are split over threads (numpy
+releases the GIL in its loops).
 
 :func:`run_links` and :func:`compare_links` evaluate chains given as dense links
 ``G_0 Q_1 G_1 ... Q_n G_n`` instead, several side by side in the same numpy calls: the
@@ -39,7 +44,7 @@ from .trig import expi
 
 __all__ = ["BLOCK", "Program", "compare_links", "map_blocks", "run", "run_links", "workers"]
 
-BLOCK = 16384  # configurations per block (the block's work arrays, ~3 MiB for 7 joints, in cache)
+BLOCK = 16384  # configurations per block (4096 is slower: per-call costs; 32768 no faster)
 THREADS_FROM = 4 * BLOCK  # configurations: below this, one thread
 
 Mat = NDArray[np.float64]
@@ -139,58 +144,107 @@ class _Work:
     """One thread's scratch arrays for blocks of up to ``m`` configurations."""
 
     def __init__(self, n: int, m: int) -> None:
-        self.frames = np.empty((2, 12 * m))
         self.angles = np.empty(n * m)
         self.turns = np.empty(n * m, dtype=np.complex128)
-        self.tmp = np.empty(4 * m)
+        self.frames = np.empty((2, 12 * m))
+        self.vectors = np.empty((2, m, 4))  # the position, carried from the tip (see _position)
+        self.tmp = np.empty(m)
 
 
 class _Frames:
-    """A block's frames ``(3, m, 4)`` and views of them: ``x + i y`` and ``y + i z`` (complex),
-    ``x``, ``z``, ``p``, and the rows ``(3 m, 4)``."""
+    """A block's frames ``(3, m, 4)`` (the top three rows of each pose, row-major over the
+    block) and views of them: ``x + i y`` and ``y + i z`` (complex)."""
 
     def __init__(self, flat: Mat, m: int) -> None:
         self.f = f = flat[: 12 * m].reshape(3, m, 4)
         self.xy = f[:, :, 0:2].view(np.complex128)[:, :, 0]
         self.yz = f[:, :, 1:3].view(np.complex128)[:, :, 0]
-        self.x, self.z, self.p = f[:, :, 0], f[:, :, 2], f[:, :, 3]
-        self.rows = f.reshape(3 * m, 4)
+
+
+ROW = np.dtype((np.void, 32))  # a row of a pose as one item: copies of rows are one loop over m
+LAST_ROW = np.array([0.0, 0.0, 0.0, 1.0]).view(ROW)[0]
 
 
 def _block(program: Program, q: Mat, out: Mat, work: _Work) -> None:
-    """Poses ``out`` ``(m, 4, 4)`` for configurations ``q`` ``(m, n)``."""
+    """Poses ``out`` ``(m, 4, 4)`` (contiguous) for configurations ``q`` ``(m, n)``.
+
+    The rotations are composed base to tip; the position is carried tip to base
+    (:func:`_position`), one vector per configuration instead of a column per row.
+    """
     m, n = q.shape
     angles = work.angles[: n * m].reshape(n, m)
     np.multiply(q.T, program.turn[:, :1], out=angles)
     angles += program.turn[:, 1:]
     turns = work.turns[: n * m].reshape(n, m)
     expi(angles, turns)
-    tmp, t = work.tmp[: 3 * m].reshape(3, m), work.tmp[3 * m : 4 * m]
     cur, other = _Frames(work.frames[0], m), None
-    for c in range(4):
-        cur.f[:, :, c] = program.base[:3, c, None]
-    for op, arg in program.ops:
+    ops = program.ops
+    if ops and ops[0][0] == TURN:  # the base's x + i y times the first turn, written at once
+        start = np.ascontiguousarray(program.base[:3, :2]).view(np.complex128)
+        np.multiply(start, turns[ops[0][1]], out=cur.xy)
+        cur.f[:, :, 2] = program.base[:3, 2, None]
+        ops = ops[1:]
+    else:
+        for c in range(3):
+            cur.f[:, :, c] = program.base[:3, c, None]
+    for op, arg in ops:
         if op == TURN:
             cur.xy *= turns[arg]
-        elif op == SLIDE:
-            c, o = program.slide[arg]
-            np.multiply(q[:, arg], c, out=t)
-            t += o
-            np.multiply(cur.z, t, out=tmp)
-            cur.p += tmp
         elif op == RZ:
             cur.xy *= arg
         elif op == RX:
             cur.yz *= arg
-        elif op == MATRIX:
+        elif op == MATRIX:  # (its translation is the position's)
             other = other or _Frames(work.frames[1], m)
-            np.dot(cur.rows, arg, out=other.rows)
+            np.matmul(cur.f[:, :, :3], arg[:3, :3], out=other.f[:, :, :3])
             cur, other = other, cur
-        else:  # TZ, TX
-            np.multiply(cur.z if op == TZ else cur.x, arg, out=tmp)
-            cur.p += tmp
-    out[:, :3] = cur.f.transpose(1, 0, 2)
-    out[:, 3] = (0.0, 0.0, 0.0, 1.0)
+    _position(program, q, turns, work, cur.f[:, :, 3].T)
+    rows = out.reshape(m, 16).view(ROW)  # (m, 4)
+    for r, row in enumerate(cur.f.reshape(3 * m, 4).view(ROW).reshape(3, m)):
+        rows[:, r] = row
+    rows[:, 3] = LAST_ROW
+
+
+def _position(program: Program, q: Mat, turns: Complexes, work: _Work, out: Mat) -> None:
+    """The positions ``(m, 3)`` of the chain's origin: ``p = B o_1 (o_2 (... o_K (0)))``, the
+    motions applied to a vector from the last to the first (a turn is one complex product of
+    ``m`` elements, a translation one addition to a component).
+
+    The vector is held as ``(x, -y, z, 1)``: then ``Rz(phi)`` acting on it is ``(x - i y)
+    e^{-i phi}`` and ``Rx(alpha)`` is ``(-y + i z) e^{-i alpha}``, the same factors as the
+    rotations' (:class:`Program`).
+    """
+    m = q.shape[0]
+    v, other = work.vectors[0, :m], work.vectors[1, :m]
+    v.view(ROW)[:, 0] = LAST_ROW  # (0, 0, 0, 1)
+    xy = v[:, 0:2].view(np.complex128)[:, 0]
+    yz = v[:, 1:3].view(np.complex128)[:, 0]
+    for op, arg in reversed(program.ops):
+        if op == TURN:
+            xy *= turns[arg]
+        elif op == SLIDE:
+            c, o = program.slide[arg]
+            t = work.tmp[:m]
+            np.multiply(q[:, arg], c, out=t)
+            t += o
+            v[:, 2] += t
+        elif op == RZ:
+            xy *= arg
+        elif op == RX:
+            yz *= arg
+        elif op == TZ:
+            v[:, 2] += arg
+        elif op == TX:
+            v[:, 0] += arg
+        else:  # MATRIX G: v <- G v, in the held coordinates S G S with S = diag(1, -1, 1, 1)
+            np.dot(v, (_FLIP * arg * _FLIP[:, None]).T, out=other)
+            v, other = other, v
+            xy = v[:, 0:2].view(np.complex128)[:, 0]
+            yz = v[:, 1:3].view(np.complex128)[:, 0]
+    np.matmul(v, (program.base[:3] * _FLIP).T, out=out)  # B S (x, -y, z, 1)
+
+
+_FLIP = np.array([1.0, -1.0, 1.0, 1.0])
 
 
 def run(program: Program, q: Mat) -> Mat:
@@ -202,8 +256,6 @@ def run(program: Program, q: Mat) -> Mat:
 
     map_blocks(q.shape[0], BLOCK, job, lambda m: _Work(program.n, m))
     return out
-
-
 def run_links(links: Mat, motions: Mat, q: Mat) -> Mat:
     """Poses ``(k, N, 4, 4)`` of ``k`` chains in link form, ``T = G_0 Q_1 G_1 ... Q_n G_n``
     with ``Q_i = Rz(motions[.., i, 0] q_i) Tz(motions[.., i, 1] q_i)``, at the same

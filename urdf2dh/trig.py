@@ -17,6 +17,8 @@ per-element cost.
 
 from __future__ import annotations
 
+import threading
+
 import numpy as np
 from numpy.typing import NDArray
 
@@ -60,13 +62,24 @@ def expi_table(x: Floats, out: Complexes) -> bool:
         raise ValueError("expi_table writes into a contiguous array")
     x = np.ascontiguousarray(x).reshape(-1)
     flat = out.reshape(-1)  # a view, as out is contiguous
-    size = min(x.size, CHUNK)
-    work, turns = np.empty((4, size)), np.empty(size, dtype=np.complex128)
+    work, turns = _scratch()
     for lo in range(0, x.size, CHUNK):
         hi = min(lo + CHUNK, x.size)
         if not _chunk(x[lo:hi], flat[lo:hi], work[:, : hi - lo], turns[: hi - lo]):
             return False
     return True
+
+
+_LOCAL = threading.local()
+
+
+def _scratch() -> tuple[Floats, Complexes]:
+    """This thread's scratch arrays for a chunk, kept: fresh ones each call cost page faults
+    (they are larger than what the allocator recycles), as much as the work itself."""
+    kept = getattr(_LOCAL, "scratch", None)
+    if kept is None or kept[1].size < CHUNK:
+        kept = _LOCAL.scratch = np.empty((4, CHUNK)), np.empty(CHUNK, dtype=np.complex128)
+    return kept
 
 
 def _chunk(x: Floats, out: Complexes, work: Floats, turns: Complexes) -> bool:
