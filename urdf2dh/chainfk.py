@@ -48,6 +48,7 @@ BLOCK = 16384  # configurations per block (4096 is slower: per-call costs; 32768
 THREADS_FROM = 4 * BLOCK  # configurations: below this, one thread
 
 Mat = NDArray[np.float64]
+Motions = Mat | Sequence[Sequence[tuple[float, float]]]  # (k, n, 2): an array or plain floats
 Complexes = NDArray[np.complex128]
 
 # operations on the current frames F (one per configuration of the block)
@@ -276,19 +277,20 @@ def run_links(links: Mat, motions: Mat, q: Mat) -> Mat:
     return out
 
 
-def compare_links(links: Mat, motions: Mat, q: Mat) -> tuple[float, float]:
+def compare_links(links: Mat, motions: Motions, q: Mat) -> tuple[float, float]:
     """The worst position and rotation difference (as :func:`urdf2dh.se3.pose_errors`
     measures them) between two chains in link form (``k = 2`` in :func:`run_links`' terms)
     at configurations ``q``: the self-check, without building the poses."""
-    worst: list[tuple[float, float]] = []
+    worst: list[list[float]] = []
 
     def job(lo: int, hi: int, work: Mat) -> None:
-        f = _links_block(links, motions, q[lo:hi], work)
-        d = f[0] - f[1]  # (3, m, 4)
-        d *= d
-        worst.append((d[:, :, 3].sum(axis=0).max(), d[:, :, :3].sum(axis=(0, 2)).max()))
+        worst.append(_worst_squares(_links_block(links, motions, q[lo:hi], work)))
 
-    map_blocks(q.shape[0], BLOCK, job, lambda m: np.empty((2, 24 * m)))
+    count = q.shape[0]
+    if 0 < count <= BLOCK:  # one block, evaluated at once
+        worst.append(_worst_squares(_links_block(links, motions, q, np.empty((2, 24 * count)))))
+    else:
+        map_blocks(count, BLOCK, job, lambda m: np.empty((2, 24 * m)))
     if not worst:
         return 0.0, 0.0
     pos2, rot2 = (max(w) if not any(math.isnan(x) for x in w) else math.nan
@@ -296,37 +298,43 @@ def compare_links(links: Mat, motions: Mat, q: Mat) -> tuple[float, float]:
     return se3.errors_of_squares(pos2, rot2)
 
 
-def _links_block(links: Mat, motions: Mat, q: Mat, work: Mat) -> Mat:
+def _worst_squares(f: Mat) -> list[float]:
+    """Of frames ``(2, 3, m, 4)``: the largest sums of squared differences over the position
+    entries and over the rotation entries."""
+    d = np.subtract(f[0], f[1])  # (3, m, 4)
+    d *= d
+    s = d.sum(axis=0)  # per configuration and column, over the rows
+    return [float(s[:, 3].max()), float(s[:, :3].sum(axis=1).max())]
+
+
+def _links_block(links: Mat, motions: Motions, q: Mat, work: Mat) -> Mat:
     """The frames ``(k, 3, m, 4)`` (top three rows, row-major over the block) of ``q``."""
     (m, n), k = q.shape, len(links)
     frames = [w[: k * 12 * m].reshape(k, 3, m, 4) for w in work]
-    views = [(f[:, :, :, 0:2].view(np.complex128)[..., 0], f[:, :, :, 2], f[:, :, :, 3],
-              f.reshape(k, 3 * m, 4)) for f in frames]
-    chains = motions.tolist()  # plain floats: which joints turn or slide, decided in Python
-    rotations = [[r for r, _ in chain] for chain in chains]
-    turning = [any(chain[i] for chain in rotations) for i in range(n)]
-    sliding = [any(chain[i][1] for chain in chains) for i in range(n)]
-    shared = all(r == rotations[0] for r in rotations)  # the same turns in every chain: once
-    turns = np.empty((1 if shared else k, n, m), dtype=np.complex128)
-    expi(np.multiply(q.T, -motions[:1 if shared else k, :, 0, None]), turns)  # e^{-i rot q}
-    lin = motions[:, :, 1]
-    # the frames start as G_0 (the first joint's turn applied as they are set)
-    xy, z, p, _ = views[0]
-    start = np.ascontiguousarray(links[:, 0, :3]).view(np.complex128)  # (k, 3, 2): x + i y, ..
-    if n and turning[0]:
-        np.multiply(start[:, :, 0, None], turns[:, 0, None, :], out=xy)
-    else:
-        xy[...] = start[:, :, 0, None]
-    z[...], p[...] = links[:, 0, :3, 2, None], links[:, 0, :3, 3, None]
+    xys = [f[:, :, :, 0:2].view(np.complex128)[..., 0] for f in frames]
+    rows = [f.reshape(k, 3 * m, 4) for f in frames]
+    # which joints turn or slide in some chain, and whether all chains turn alike (plain floats,
+    # decided in Python)
+    chains = motions.tolist() if isinstance(motions, np.ndarray) else motions
+    rotations = [[chain[i][0] for chain in chains] for i in range(n)]  # per joint, per chain
+    translations = [[chain[i][1] for chain in chains] for i in range(n)]
+    turning = [any(r) for r in rotations]
+    sliding = [any(t) for t in translations]
+    shared = all(min(r) == max(r) for r in rotations)  # then the turns are computed once
+    width = 1 if shared else k
+    rate = np.array([[-x for x in r[:width]] for r in rotations]).reshape(n, width, 1, 1)
+    turns = np.empty((n, width, 1, m), dtype=np.complex128)  # turns[i] meets (k, 3, m)
+    expi(np.multiply(q.T[:, None, None, :], rate), turns)  # e^{-i rot q}
+    frames[0][...] = links[:, 0, :3, None, :]  # G_0
     cur, nxt = 0, 1
     for i in range(n):
-        xy, z, p, rows = views[cur]
-        if turning[i] and i:
-            xy *= turns[:, i, None, :]
+        if turning[i]:
+            xys[cur] *= turns[i]
         if sliding[i]:
-            shift = np.multiply(q[:, i], lin[:, i, None])  # (k, m)
-            p += shift[:, None, :] * z
-        np.matmul(rows, links[:, i + 1], out=views[nxt][3])
+            f = frames[cur]
+            shift = np.multiply(q[:, i], np.array(translations[i])[:, None])  # (k, m)
+            f[:, :, :, 3] += shift[:, None, :] * f[:, :, :, 2]
+        np.matmul(rows[cur], links[:, i + 1], out=rows[nxt])
         cur, nxt = nxt, cur
     return frames[cur]
 

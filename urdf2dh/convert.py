@@ -8,6 +8,7 @@ deviation is not accounted for.
 
 from __future__ import annotations
 
+import functools
 import itertools
 import math
 from dataclasses import replace
@@ -48,9 +49,15 @@ def sample_configurations(
     lim = model.limits()
     # the same numbers as rng.uniform(low, high, size), without its slow broadcasting path
     # default_rng(seed), by way of its SeedSequence (the quicker path, the same stream)
-    unit = np.random.Generator(np.random.PCG64(np.random.SeedSequence(seed))).random(
-        (samples, model.n))
+    unit = np.random.Generator(np.random.PCG64(_seed_sequence(seed))).random((samples, model.n))
     return lim[:, 0] + (lim[:, 1] - lim[:, 0]) * unit
+
+
+@functools.lru_cache(maxsize=64)
+def _seed_sequence(seed: int | tuple[int, ...]) -> np.random.SeedSequence:
+    """The seed's entropy, hashed once per process (a third of the cost of starting a
+    generator; a SeedSequence is not changed by the generators made from it)."""
+    return np.random.SeedSequence(seed)
 
 
 def _link(p: LinkParams) -> dict[str, float]:
@@ -122,8 +129,7 @@ def self_check(
     q = sample_configurations(model, samples, seed)
     (table_links, table_motions), (poe_links, poe_motions) = table.link_form(), model.link_form()
     links = se3.stack(table_links + poe_links).reshape(2, -1, 4, 4)
-    motions = np.array(table_motions + poe_motions, dtype=float).reshape(2, -1, 2)
-    pos, rot = chainfk.compare_links(links, motions, q)
+    pos, rot = chainfk.compare_links(links, [table_motions, poe_motions], q)
     return Check(samples, pos, rot)
 
 
