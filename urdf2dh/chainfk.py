@@ -257,6 +257,8 @@ def run(program: Program, q: Mat) -> Mat:
 
     map_blocks(q.shape[0], BLOCK, job, lambda m: _Work(program.n, m))
     return out
+
+
 def run_links(links: Mat, motions: Mat, q: Mat) -> Mat:
     """Poses ``(k, N, 4, 4)`` of ``k`` chains in link form, ``T = G_0 Q_1 G_1 ... Q_n G_n``
     with ``Q_i = Rz(motions[.., i, 0] q_i) Tz(motions[.., i, 1] q_i)``, at the same
