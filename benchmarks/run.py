@@ -276,7 +276,7 @@ def main(argv: list[str] | None = None) -> int:
     print_table("Chain length (random chains, in one process)", rows)
     print("\n" + "\n".join(notes))
     figures += rows
-    rows = batch_fk(count=10_000 if quick else 100_000, repeat=2 if quick else 3)
+    rows = batch_fk(count=10_000 if quick else 100_000, repeat=2 if quick else 7)
     print_table("Batch forward kinematics", rows)
     figures += rows
     rows = verify_run(samples=1000 if quick else 10_000, runs=1 if quick else 3)

@@ -10,9 +10,10 @@ block:
   block (``(3, m, 4)``): ``R Rz(phi)`` turns the x and y columns, with ``w = x + i y`` it is
   ``w e^{-i phi}``, one complex product (the same for ``Rx(alpha)`` and the y and z columns);
   a dense ``V`` is one stacked ``3x3`` matrix product;
-* the position is carried tip to base, ``p = B o_1 (o_2 (... o_K (0)))``: one vector per
-  configuration, so that a turn costs a complex product of ``m`` elements instead of ``3 m``
-  and ``Tz``/``Tx`` one addition to a component instead of an axpy on a column;
+* the position is carried tip to base, ``p = o_1 (o_2 (... o_K (0)))`` (the base's motions
+  first): one vector per configuration, so that a turn costs a complex product of ``m``
+  elements instead of ``3 m`` and ``Tz``/``Tx`` one addition to a component instead of an axpy
+  on a column (a ``dh`` or ``mdh`` table's FK has no dense product at all, so no BLAS call);
 * the rows are copied into the poses as 32-byte items (one loop over the block).
 
 A joint's constant offsets join its motion (``Rz(j s) Rz(theta) = Rz(j s + theta)``), so a
@@ -62,8 +63,9 @@ class Program:
     ``TURN i`` is ``Rz(-angle_i)`` with ``angle_i = turn[i, 0] q_i + turn[i, 1]`` (so that
     ``e^{i angle}`` is the factor of ``x + i y``); ``SLIDE i`` is ``Tz(slide[i, 0] q_i +
     slide[i, 1])``; ``RZ e`` and ``RX e`` multiply by the unit complex ``e`` (``e^{-i theta}``);
-    ``TZ d`` and ``TX a`` translate; ``MATRIX G`` multiplies by a dense 4x4. Constant
-    operations before the first joint are folded into ``base``.
+    ``TZ d`` and ``TX a`` translate; ``MATRIX G`` multiplies by a dense 4x4. The constant
+    operations before the first joint, ``lead``, are folded into ``base`` for the rotations
+    and applied one by one to the position (no dense product where the base is elementary).
     """
 
     n: int
@@ -71,18 +73,20 @@ class Program:
     turn: Mat  # (n, 2): per joint, angle = c q + o (rows of prismatic joints: unused)
     slide: Mat  # (n, 2): per joint, t = c q + o
     ops: tuple[tuple[int, Any], ...]
+    lead: tuple[tuple[int, Any], ...]
 
     @staticmethod
     def build(
-        base: Mat,
+        base: Mat | list[tuple[int, Any]],
         joints: Sequence[tuple[float, float, float, float, float]],
         between: Sequence[tuple[list[tuple[int, Any]], list[tuple[int, Any]]]],
         tool: list[tuple[int, Any]],
     ) -> Program:
-        """From each joint's ``(rotation, translation, scale, theta, d)`` (the motion
-        ``Rz(rotation s + theta) Tz(translation s + d)``, ``s = scale q``), the constant
-        operations ``(before, after)`` it, and the tool's operations."""
-        ops: list[tuple[int, Any]] = []
+        """From the base (a 4x4, or its elementary operations), each joint's ``(rotation,
+        translation, scale, theta, d)`` (the motion ``Rz(rotation s + theta) Tz(translation s
+        + d)``, ``s = scale q``), the constant operations ``(before, after)`` it, and the
+        tool's operations."""
+        ops: list[tuple[int, Any]] = list(base) if isinstance(base, list) else [(MATRIX, base)]
         turn, slide = np.zeros((len(joints), 2)), np.zeros((len(joints), 2))
         for i, ((rot, lin, scale, theta, d), (before, after)) in enumerate(
             zip(joints, between, strict=True)
@@ -100,11 +104,11 @@ class Program:
                 ops.extend(translate(TZ, d))
             ops.extend(after)
         ops.extend(tool)
-        if ops and ops[0][0] not in (TURN, SLIDE):  # constants before the first joint
-            lead = next(k for k, (op, _) in enumerate([*ops, (TURN, -1)]) if op in (TURN, SLIDE))
-            base = se3.matrix_of(_product(se3.frame_of(base), ops[:lead]))
-            del ops[:lead]
-        return Program(len(joints), base, turn, slide, tuple(ops))
+        first = next(k for k, (op, _) in enumerate([*ops, (TURN, -1)]) if op in (TURN, SLIDE))
+        lead = ops[:first]
+        del ops[:first]
+        return Program(len(joints), se3.matrix_of(_product(se3.IDENTITY, lead)), turn, slide,
+                       tuple(ops), tuple(lead))
 
 
 def _frame(op: int, arg: Any) -> se3.Frame:
@@ -207,9 +211,9 @@ def _block(program: Program, q: Mat, out: Mat, work: _Work) -> None:
 
 
 def _position(program: Program, q: Mat, turns: Complexes, work: _Work, out: Mat) -> None:
-    """The positions ``(m, 3)`` of the chain's origin: ``p = B o_1 (o_2 (... o_K (0)))``, the
-    motions applied to a vector from the last to the first (a turn is one complex product of
-    ``m`` elements, a translation one addition to a component).
+    """The positions ``(m, 3)`` of the chain's origin: ``p = o_1 (o_2 (... o_K (0)))``, the
+    motions (the base's first) applied to a vector from the last to the first (a turn is one
+    complex product of ``m`` elements, a translation one addition to a component).
 
     The vector is held as ``(x, -y, z, 1)``: then ``Rz(phi)`` acting on it is ``(x - i y)
     e^{-i phi}`` and ``Rx(alpha)`` is ``(-y + i z) e^{-i alpha}``, the same factors as the
@@ -220,7 +224,7 @@ def _position(program: Program, q: Mat, turns: Complexes, work: _Work, out: Mat)
     v.view(ROW)[:, 0] = LAST_ROW  # (0, 0, 0, 1)
     xy = v[:, 0:2].view(np.complex128)[:, 0]
     yz = v[:, 1:3].view(np.complex128)[:, 0]
-    for op, arg in reversed(program.ops):
+    for op, arg in reversed(program.lead + program.ops):
         if op == TURN:
             xy *= turns[arg]
         elif op == SLIDE:
@@ -242,7 +246,9 @@ def _position(program: Program, q: Mat, turns: Complexes, work: _Work, out: Mat)
             v, other = other, v
             xy = v[:, 0:2].view(np.complex128)[:, 0]
             yz = v[:, 1:3].view(np.complex128)[:, 0]
-    np.matmul(v, (program.base[:3] * _FLIP).T, out=out)  # B S (x, -y, z, 1)
+    out[:, 0] = v[:, 0]
+    np.negative(v[:, 1], out=out[:, 1])
+    out[:, 2] = v[:, 2]
 
 
 _FLIP = np.array([1.0, -1.0, 1.0, 1.0])
@@ -361,8 +367,15 @@ def _pool(threads: int) -> ThreadPoolExecutor:
 def map_blocks(
     count: int, block: int, job: Callable[[int, int, Any], None], make_work: Callable[[int], Any]
 ) -> None:
-    """Call ``job(lo, hi, work)`` over ``range(count)`` in blocks of ``block``; with several
-    threads, each takes every k-th block and has its own ``work``."""
+    """Call ``job(lo, hi, work)`` over ``range(count)`` in blocks of at most ``block``; with
+    several threads, each takes every k-th block and has its own ``work``.
+
+    Beyond one block, their number is a multiple of 4 (``block`` shrinks to suit), so that two
+    or four threads get equal shares; it does not depend on the number of threads, so neither
+    do the results."""
+    if count > block:
+        blocks = -(-count // block)
+        block = -(-count // (blocks + -blocks % 4))
     spans = [(lo, min(lo + block, count)) for lo in range(0, count, block)]
     threads = min(workers(count), len(spans))
     size = min(count, block)

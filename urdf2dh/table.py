@@ -168,7 +168,13 @@ class Table:
             chainfk.rz(t["theta"]) + chainfk.translate(chainfk.TZ, t["d"]))
         if self.convention == "mdh":
             tool = chainfk.rx(t["alpha"]) + chainfk.translate(chainfk.TX, t["a"]) + tool
-        return chainfk.Program.build(self.base_matrix, joints, between, tool)
+        if self.convention == "cpc":
+            return chainfk.Program.build(self.base_matrix, joints, between, tool)
+        b = self.base  # B = Rz Tz (mdh), Rz Tz Rx Tx (dh): elementary operations too
+        base = chainfk.rz(b["theta"]) + chainfk.translate(chainfk.TZ, b["d"])
+        if self.convention == "dh":
+            base += chainfk.rx(b["alpha"]) + chainfk.translate(chainfk.TX, b["a"])
+        return chainfk.Program.build(base, joints, between, tool)
 
     def fk(self, q: NDArray[np.float64]) -> Mat:
         """Pose ``(4, 4)`` of the tool for a configuration ``q`` of shape ``(n,)``; for a stack
