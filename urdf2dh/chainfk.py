@@ -368,7 +368,8 @@ def map_blocks(
     count: int, block: int, job: Callable[[int, int, Any], None], make_work: Callable[[int], Any]
 ) -> None:
     """Call ``job(lo, hi, work)`` over ``range(count)`` in blocks of at most ``block``; with
-    several threads, each takes every k-th block and has its own ``work``.
+    several threads (this one and ``threads - 1`` helpers), each takes every k-th block and
+    has its own ``work``.
 
     Beyond one block, their number is a multiple of 4 (``block`` shrinks to suit), so that two
     or four threads get equal shares; it does not depend on the number of threads, so neither
@@ -389,5 +390,7 @@ def map_blocks(
         if spans:
             share(0)
         return
-    for done in [_pool(threads).submit(share, k) for k in range(threads)]:
+    helpers = [_pool(threads - 1).submit(share, k) for k in range(1, threads)]
+    share(0)  # this thread takes a share too: it is awake, its caches warm
+    for done in helpers:
         done.result()
