@@ -179,7 +179,8 @@ def _block(program: Program, q: Mat, out: Mat, work: _Work) -> None:
     m, n = q.shape
     angles = work.angles[: n * m].reshape(n, m)
     np.multiply(q.T, program.turn[:, :1], out=angles)
-    angles += program.turn[:, 1:]
+    if program.turn[:, 1].any():  # (adding 0 changes no bit)
+        angles += program.turn[:, 1:]
     turns = work.turns[: n * m].reshape(n, m)
     expi(angles, turns)
     cur, other = _Frames(work.frames[0], m), None
