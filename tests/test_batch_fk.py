@@ -4,6 +4,7 @@ against its links multiplied one by one."""
 
 from __future__ import annotations
 
+import itertools
 import math
 
 import numpy as np
@@ -170,3 +171,32 @@ def test_compare_links_is_pose_errors_of_the_poses(monkeypatch):
     with np.errstate(invalid="ignore"):
         pos, _ = chainfk.compare_links(broken, mot, q)
     assert math.isnan(pos)
+
+
+def test_blocks_share_evenly_and_threads_change_no_bit(monkeypatch):
+    """Beyond one block the blocks come in multiples of 4, at most BLOCK long, whatever the
+    number of threads; so the poses of every convention (cpc's dense products included) are
+    bit for bit the same on one, two or three threads."""
+    monkeypatch.setattr(chainfk, "BLOCK", 5)
+    monkeypatch.setattr(chainfk, "THREADS_FROM", 0)
+    for count, block in ((5, 5), (6, 5), (21, 5), (40, 5), (41, 5), (6, 1), (100_000, 16384)):
+        spans: list[tuple[int, int]] = []
+        chainfk.map_blocks(count, block, lambda lo, hi, _, found=spans: found.append((lo, hi)),
+                           lambda m: None)
+        spans.sort()
+        lengths = [hi - lo for lo, hi in spans]
+        assert spans[0][0] == 0 and sum(lengths) == count, (count, spans)
+        assert all(a[1] == b[0] for a, b in itertools.pairwise(spans)), spans
+        assert max(lengths) <= block and max(lengths) - min(lengths) <= 1, (count, lengths)
+        assert len(spans) in (1, count) or len(spans) % 4 == 0, (count, lengths)
+    model = mixed_model(6)
+    q = sample_configurations(model, 41, 5)
+    for conv in CONVENTIONS:
+        table = to_table(model, conv)
+        poses = []
+        for threads in (1, 2, 3):
+            monkeypatch.setenv("URDF2DH_THREADS", str(threads))
+            poses.append(table.fk_batch(q))
+        assert np.array_equal(poses[0], poses[1]) and np.array_equal(poses[0], poses[2]), conv
+        diff = np.abs(poses[0] - links_one_by_one(table, q)).max()
+        assert diff <= 1e-13 * model.size(), (conv, diff)

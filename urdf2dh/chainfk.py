@@ -372,13 +372,14 @@ def map_blocks(
     several threads (this one and ``threads - 1`` helpers), each takes every k-th block and
     has its own ``work``.
 
-    Beyond one block, their number is a multiple of 4 (``block`` shrinks to suit), so that two
-    or four threads get equal shares; it does not depend on the number of threads, so neither
-    do the results."""
-    if count > block:
-        blocks = -(-count // block)
-        block = -(-count // (blocks + -blocks % 4))
-    spans = [(lo, min(lo + block, count)) for lo in range(0, count, block)]
+    Beyond one block, their number is a multiple of 4 (at most one per configuration) and their
+    lengths differ by at most one, so that two or four threads get equal shares; the blocks do
+    not depend on the number of threads, so neither do the results."""
+    blocks = -(-count // block)
+    if blocks > 1:
+        blocks = min(blocks + -blocks % 4, count)
+    spans = [(k * count // blocks, (k + 1) * count // blocks) for k in range(blocks)]
+    block = -(-count // blocks) if blocks else 0
     threads = min(workers(count), len(spans))
     size = min(count, block)
 
