@@ -156,14 +156,19 @@ class _Work:
         self.tmp = np.empty(m)
 
 
+def _pairs(a: Mat) -> tuple[Complexes, Complexes]:
+    """Of an array whose last axis holds ``(x, y, z, ..)``: the views ``x + i y`` and
+    ``y + i z`` (complex)."""
+    return a[..., 0:2].view(np.complex128)[..., 0], a[..., 1:3].view(np.complex128)[..., 0]
+
+
 class _Frames:
     """A block's frames ``(3, m, 4)`` (the top three rows of each pose, row-major over the
     block) and views of them: ``x + i y`` and ``y + i z`` (complex)."""
 
     def __init__(self, flat: Mat, m: int) -> None:
-        self.f = f = flat[: 12 * m].reshape(3, m, 4)
-        self.xy = f[:, :, 0:2].view(np.complex128)[:, :, 0]
-        self.yz = f[:, :, 1:3].view(np.complex128)[:, :, 0]
+        self.f = flat[: 12 * m].reshape(3, m, 4)
+        self.xy, self.yz = _pairs(self.f)
 
 
 ROW = np.dtype((np.void, 32))  # a row of a pose as one item: copies of rows are one loop over m
@@ -223,8 +228,7 @@ def _position(program: Program, q: Mat, turns: Complexes, work: _Work, out: Mat)
     m = q.shape[0]
     v, other = work.vectors[0, :m], work.vectors[1, :m]
     v.view(ROW)[:, 0] = LAST_ROW  # (0, 0, 0, 1)
-    xy = v[:, 0:2].view(np.complex128)[:, 0]
-    yz = v[:, 1:3].view(np.complex128)[:, 0]
+    xy, yz = _pairs(v)
     for op, arg in reversed(program.lead + program.ops):
         if op == TURN:
             xy *= turns[arg]
@@ -245,8 +249,7 @@ def _position(program: Program, q: Mat, turns: Complexes, work: _Work, out: Mat)
         else:  # MATRIX G: v <- G v, in the held coordinates S G S with S = diag(1, -1, 1, 1)
             np.dot(v, (_FLIP * arg * _FLIP[:, None]).T, out=other)
             v, other = other, v
-            xy = v[:, 0:2].view(np.complex128)[:, 0]
-            yz = v[:, 1:3].view(np.complex128)[:, 0]
+            xy, yz = _pairs(v)
     out[:, 0] = v[:, 0]
     np.negative(v[:, 1], out=out[:, 1])
     out[:, 2] = v[:, 2]
@@ -295,11 +298,7 @@ def compare_links(links: Mat, motions: Motions, q: Mat) -> tuple[float, float]:
     def job(lo: int, hi: int, work: Mat) -> None:
         worst.append(_worst_squares(_links_block(links, motions, q[lo:hi], work)))
 
-    count = q.shape[0]
-    if 0 < count <= BLOCK:  # one block, evaluated at once
-        worst.append(_worst_squares(_links_block(links, motions, q, np.empty((2, 24 * count)))))
-    else:
-        map_blocks(count, BLOCK, job, lambda m: np.empty((2, 24 * m)))
+    map_blocks(q.shape[0], BLOCK, job, lambda m: np.empty((2, 24 * m)))
     if not worst:
         return 0.0, 0.0
     pos2, rot2 = (max(w) if not any(math.isnan(x) for x in w) else math.nan
@@ -320,7 +319,7 @@ def _links_block(links: Mat, motions: Motions, q: Mat, work: Mat) -> Mat:
     """The frames ``(k, 3, m, 4)`` (top three rows, row-major over the block) of ``q``."""
     (m, n), k = q.shape, len(links)
     frames = [w[: k * 12 * m].reshape(k, 3, m, 4) for w in work]
-    xys = [f[:, :, :, 0:2].view(np.complex128)[..., 0] for f in frames]
+    xys = [_pairs(f)[0] for f in frames]
     rows = [f.reshape(k, 3 * m, 4) for f in frames]
     # which joints turn or slide in some chain, and whether all chains turn alike (plain floats,
     # decided in Python)
@@ -375,22 +374,23 @@ def map_blocks(
     Beyond one block, their number is a multiple of 4 (at most one per configuration) and their
     lengths differ by at most one, so that two or four threads get equal shares; the blocks do
     not depend on the number of threads, so neither do the results."""
+    if count <= block:  # at most one block: this thread, at once
+        if count:
+            job(0, count, make_work(count))
+        return
     blocks = -(-count // block)
-    if blocks > 1:
-        blocks = min(blocks + -blocks % 4, count)
+    blocks = min(blocks + -blocks % 4, count)
     spans = [(k * count // blocks, (k + 1) * count // blocks) for k in range(blocks)]
-    block = -(-count // blocks) if blocks else 0
-    threads = min(workers(count), len(spans))
-    size = min(count, block)
+    threads = min(workers(count), blocks)
+    size = -(-count // blocks)
 
     def share(k: int) -> None:
         work = make_work(size)
         for lo, hi in spans[k::threads]:
             job(lo, hi, work)
 
-    if threads <= 1:
-        if spans:
-            share(0)
+    if threads == 1:
+        share(0)
         return
     helpers = [_pool(threads - 1).submit(share, k) for k in range(1, threads)]
     share(0)  # this thread takes a share too: it is awake, its caches warm
