@@ -7,7 +7,7 @@ change a parameter, they format it or refuse it with the reason.
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 
 import numpy as np
@@ -101,6 +101,11 @@ class Numbers:
     def lin(self, x: float) -> str:
         """A length's text, in the target's unit."""
         return num(self.length(x))
+
+    def position(self, kind: str) -> Callable[[float], str]:
+        """The text of a joint position of a ``kind`` of joint: an angle for a revolute
+        joint, a length for a prismatic one (limits, home positions)."""
+        return self.ang if kind == "revolute" else self.lin
 
     def matrix(self, m: np.ndarray) -> list[list[float]]:
         """A 4x4 transform's entries: rotation as angles, translation as lengths."""

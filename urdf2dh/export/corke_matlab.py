@@ -35,7 +35,7 @@ def _link(index: int, row: Row, convention: str, numbers: Numbers) -> str:
     args += [f"'a', {numbers.lin(p['a'])}", f"'alpha', {numbers.ang(p['alpha'])}",
              f"'offset', {offset}"]
     if row.lower is not None and row.upper is not None:
-        lim = numbers.ang if row.kind == "revolute" else numbers.lin
+        lim = numbers.position(row.kind)
         args.append(f"'qlim', [{lim(row.lower)} {lim(row.upper)}]")
     args.append(f"'{FLAVOURS[convention]}'")
     return f"L({index}) = Link({', '.join(args)});  % {row.name}"

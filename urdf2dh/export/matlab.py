@@ -73,7 +73,7 @@ def _joint_body(index: int, row: Row, convention: str, numbers: Numbers) -> list
         f'joint = rigidBodyJoint("{row.name}", "{row.kind}");',
     ]
     if row.lower is not None and row.upper is not None:
-        lim = numbers.ang if row.kind == "revolute" else numbers.lin
+        lim = numbers.position(row.kind)
         lines.append(f"joint.PositionLimits = [{lim(row.lower)} {lim(row.upper)}];")
         if not row.lower <= 0.0 <= row.upper:  # the home position must lie within the limits
             lines.append(f"joint.HomePosition = {lim((row.lower + row.upper) / 2)};")

@@ -58,7 +58,7 @@ def _link(table: Table, row: Row, numbers: Numbers) -> str:
         args = [f"theta={numbers.ang(p['theta'])}", f"offset={numbers.lin(p['d'])}"]
     args[1:1] = [f"a={numbers.lin(p['a'])}", f"alpha={numbers.ang(p['alpha'])}"]
     if row.lower is not None and row.upper is not None:
-        lim = (numbers.ang if row.kind == "revolute" else numbers.lin)
+        lim = numbers.position(row.kind)
         args.append(f"qlim=[{lim(row.lower)}, {lim(row.upper)}]")
     args.append(f"name={row.name!r}")
     return f"        {cls}({', '.join(args)}),"
