@@ -11,11 +11,11 @@ from chains import random_chain_urdf  # tests/chains.py: seeded random URDF chai
 from reference import chain_fk
 from timing import Figure, best_of, peak_alloc
 
+from urdf2dh.conventions import NAMES as CONVENTIONS
 from urdf2dh.convert import sample_configurations, to_table
 from urdf2dh.se3 import pose_errors
 from urdf2dh.sources import Source
-from urdf2dh.table import CONVENTIONS
-from urdf2dh.urdf import _tree_of, _yourdfpy_robot, tree_to_poe
+from urdf2dh.urdf import parse_tree, tree_to_poe
 from urdf2dh.verify import pinocchio_fk
 
 __all__ = ["PIN_FK_MAX", "chain_lengths"]
@@ -24,27 +24,28 @@ PIN_FK_MAX = 200  # Pinocchio's Data takes O(n^3) memory: 0.5 GB at 200 joints, 
 
 
 def chain_lengths(sizes: list[int], accuracy_samples: int) -> tuple[list[Figure], list[str]]:
-    """Random chains (tests/chains.py): our checks + dh + self-check vs buildModelFromXML, and the
-    worst FK error of every convention (and of Pinocchio) against an extended-precision FK."""
-    rows, times, errors, lines, loads = [], [], [], [], []
+    """Random chains (tests/chains.py): reading the URDF text (our parse and checks, yourdfpy's
+    objects) + chain walk + dh + self-check vs buildModelFromXML, and the worst FK error of every
+    convention (and of Pinocchio) against an extended-precision FK."""
+    rows, times, errors, lines, walks = [], [], [], [], []
     for n in sizes:
         text, _ = random_chain_urdf(n, n)
         data = text.encode()
-        t0 = time.perf_counter()
-        robot = _yourdfpy_robot(data, "chain.urdf")
-        loads.append(f"{n}: {time.perf_counter() - t0:.3g} s")
 
-        def ours(data: bytes = data, robot: object = robot) -> object:
-            tree = _tree_of(data, robot, "chain.urdf")  # as parse_tree after yourdfpy's load
-            return to_table(tree_to_poe(tree, "base", "tool"), "dh")
+        def ours(data: bytes = data) -> object:
+            return to_table(tree_to_poe(parse_tree(data, "chain.urdf"), "base", "tool"), "dh")
+
+        tree = parse_tree(data, "chain.urdf")
+        t0 = time.perf_counter()
+        to_table(tree_to_poe(tree, "base", "tool"), "dh")
+        walks.append(f"{n}: {time.perf_counter() - t0:.3g} s")
 
         repeat = 5 if n <= 200 else 2
         pin_t, t = best_of([lambda text=text: pin.buildModelFromXML(text), ours], repeat)
         times.append(t)
         ok = t <= 1.0 if n == 1000 else None
-        rows.append(Figure(f"{n} joints: convert to dh, self-check included", t, pin_t, "ms",
+        rows.append(Figure(f"{n} joints: URDF text to dh, self-check included", t, pin_t, "ms",
                            "ours <= 1 s" if n == 1000 else "", ok))
-        tree = _tree_of(data, robot, "chain.urdf")
         model = tree_to_poe(tree, "base", "tool")
         q = sample_configurations(model, accuracy_samples, 1)
         exact = chain_fk(text, "base", "tool", q).astype(float)  # rounding: < 1 ulp
@@ -62,7 +63,7 @@ def chain_lengths(sizes: list[int], accuracy_samples: int) -> tuple[list[Figure]
     notes = [
         f"Largest chain ({sizes[-1]} joints): peak allocation of the conversion "
         f"{peak_alloc(ours) / 2**20:.1f} MiB.",  # ours: the last chain's
-        f"yourdfpy's own load of these chains (not ours; excluded above): {', '.join(loads)}.",
+        f"Of which, from the parsed tree (walk, dh, self-check): {', '.join(walks)}.",
         "",
         f"Worst FK error at {accuracy_samples} configurations against an extended-precision FK "
         "of the URDF text (benchmarks/reference.py): position relative to the robot's size for "

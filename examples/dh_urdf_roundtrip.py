@@ -71,7 +71,7 @@ def main() -> int:
     print(f"Pinocchio on the URDF vs the D-H formula, 500 configurations: max |dT| = {err:.2g}")
 
     again = to_table(model, "dh", style="ur")
-    worst = max(abs(r.params[k] - p[i]) for r, p in zip(again.rows, UR5, strict=True)
+    worst = max(abs(getattr(r.params, k) - p[i]) for r, p in zip(again.rows, UR5, strict=True)
                 for i, k in enumerate(("theta", "d", "alpha", "a")))
     print(f"URDF -> dh (--style ur) vs the typed table: max parameter difference {worst:.2g}")
     limits = [(r.lower, r.upper) for r in again.rows]

@@ -169,4 +169,4 @@ def test_bad_usage_exits_2(argv, capsys):
 
 def test_style_ur_with_cpc_is_a_usage_error(capsys):
     assert main(["convert", "ur5", "--convention", "cpc", "--style", "ur"]) == 2
-    assert "--style ur applies to the D-H conventions" in capsys.readouterr().err
+    assert "--style ur applies to dh, mdh tables, not cpc" in capsys.readouterr().err

@@ -13,9 +13,9 @@ import pytest
 from oracle import assert_fk_matches, pin_reference
 
 from urdf2dh.cli import main
+from urdf2dh.conventions import NAMES as CONVENTIONS
 from urdf2dh.convert import to_table
 from urdf2dh.sources import Source, open_source
-from urdf2dh.table import CONVENTIONS
 from urdf2dh.tolerances import DEFAULT, EXACT
 from urdf2dh.urdf import parse_tree
 
@@ -97,7 +97,7 @@ def test_degenerate_case_is_exact(case):
     if case == "CPC singular direction":
         cpc = to_table(model, "cpc")
         assert any("no frame reversal can avoid it" in w for w in cpc.warnings)
-        assert cpc.rows[-1].params["b"] == [0.0, 0.0, -1.0]
+        assert cpc.rows[-1].params.b == (0.0, 0.0, -1.0)
 
 
 def test_base_equal_to_tip(capsys):
@@ -126,7 +126,7 @@ def test_a_tilt_about_the_common_perpendicular_stays_exact():
     model = source(rounded_arm(3.7e-6, along="x")).model("base", "tip")
     table = to_table(model, "dh")
     assert table.warnings == ()
-    assert table.rows[0].params["alpha"] == pytest.approx(3.7e-6, rel=1e-6)
+    assert table.rows[0].params.alpha == pytest.approx(3.7e-6, rel=1e-6)
     assert table.check.max_position_error < 1e-15 * 100
 
 
@@ -153,7 +153,7 @@ def test_rounded_angles_give_sane_tables_and_a_stated_deviation(off):
     for conv in ("dh", "mdh"):
         table = to_table(model, conv)
         extent = model.extent()
-        assert all(abs(r.params[k]) <= extent for r in table.rows for k in ("d", "a"))
+        assert all(abs(getattr(r.params, k)) <= extent for r in table.rows for k in ("d", "a"))
         snapped = [w for w in table.warnings if "treated as parallel" in w]
         assert len(snapped) == 1 and "'j1' and 'j2'" in snapped[0]
         assert f"{off:.3g} rad from parallel" in snapped[0]
@@ -177,9 +177,9 @@ def test_exact_mode_keeps_the_geometry_and_warns_about_far_offsets(off):
     far = [w for w in table.warnings if "far beyond the robot's extent" in w]
     assert far and "'j1'" in far[0] and "cpc" in far[0]
     assert not [w for w in table.warnings if "treated as" in w]
-    assert max(abs(r.params["d"]) for r in table.rows) > 100 * model.extent()
+    assert max(abs(r.params.d) for r in table.rows) > 100 * model.extent()
     # D-H's own conditioning limits the precision to about eps * |d|
-    big = max(abs(r.params["d"]) for r in table.rows)
+    big = max(abs(r.params.d) for r in table.rows)
     assert table.check.max_position_error < 1e-13 * big + 1e-15
 
 

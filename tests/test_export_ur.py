@@ -40,7 +40,7 @@ def test_hash_of_our_ur_style_table_matches_the_shipped_file(robot):
 
 def test_hash_text_is_theta_d_a_alpha_per_joint_in_g_format():
     table = to_table(urdf2dh.load("ur10"), "dh", style="ur")
-    raw = [r.params for r in table.rows]
+    raw = [r.params.values() for r in table.rows]
     assert raw[1]["theta"] != 0.0 and abs(raw[1]["theta"]) < 1e-10  # round-off of URDF's pi/2
     rows = hashed_rows(table)
     assert rows[1][0] == 0.0 and rows[4][1] == 0.1157 and rows[2][2] == -0.5723

@@ -219,12 +219,19 @@ def test_targets_refuse_other_conventions_and_styles():
         export(model, "vrml")
 
 
-def test_cli_names_every_target():
-    from urdf2dh.cli import EXPORT_TARGETS, STYLES
-    from urdf2dh.dh import STYLES as DH_STYLES
+def test_cli_names_every_target_and_convention(capsys):
+    """The command line's choices come from the registries themselves."""
+    from urdf2dh.cli import main
+    from urdf2dh.conventions import NAMES
 
-    assert sorted(EXPORT_TARGETS) == sorted(TARGETS)
-    assert STYLES == DH_STYLES
+    with pytest.raises(SystemExit):
+        main(["export", "ur5", "--to", "vrml"])
+    err = capsys.readouterr().err
+    assert all(repr(name) in err for name in TARGETS), err
+    with pytest.raises(SystemExit):
+        main(["convert", "ur5", "--convention", "xyz"])
+    err = capsys.readouterr().err
+    assert all(repr(name) in err for name in NAMES), err
 
 
 def test_cli_export_writes_the_file_and_refusals_leave_none(tmp_path, capsys):

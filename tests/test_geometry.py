@@ -9,9 +9,10 @@ import numpy as np
 import pytest
 
 from urdf2dh import se3
-from urdf2dh.cpc import r_of_b, v_matrix
-from urdf2dh.lines import common_normal, dh_matrix
+from urdf2dh.conventions.cpc import r_rows, v_frame
+from urdf2dh.lines import common_normal
 from urdf2dh.screws import Joint, PoeModel
+from urdf2dh.se3 import dh_matrix, matrix_of
 from urdf2dh.tolerances import DEFAULT
 
 RNG = np.random.default_rng(20261121)
@@ -102,7 +103,7 @@ def test_nearly_parallel_apart_is_judged_and_reported():
 def test_r_of_b_is_a_rotation_near_minus_z(eps):
     for phi in np.linspace(0, 2 * math.pi, 7):
         b = np.array([eps * math.cos(phi), eps * math.sin(phi), -math.sqrt(1 - eps * eps)])
-        r = r_of_b(b)
+        r = np.array(r_rows(b))
         assert np.allclose(r.T @ r, np.eye(3), atol=2e-15)
         assert np.allclose(r[:, 2], b, atol=1e-16)
         assert np.linalg.det(r) == pytest.approx(1.0, abs=1e-14)
@@ -119,6 +120,6 @@ def test_r_of_b_matches_sumenkov_eq4_away_from_the_singularity():
             [-bx * by / (1 + bz), 1 - by**2 / (1 + bz), by],
             [-bx, -by, bz],
         ])
-        assert np.allclose(r_of_b(b), eq4, atol=1e-15)
-        v = v_matrix(b, [0.1, -0.2, 0.3], 0.4)
+        assert np.allclose(np.array(r_rows(b)), eq4, atol=1e-15)
+        v = matrix_of(v_frame(b, [0.1, -0.2, 0.3], 0.4))
         assert np.allclose(v[:3, 2], b)

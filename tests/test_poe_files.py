@@ -92,4 +92,5 @@ def test_format_poe_round_trip(tmp_path, capsys):
     # and converting the POE file gives the same D-H table as the URDF did
     a, b = to_table(original, "dh"), to_table(again, "dh")
     for ra, rb in zip(a.rows, b.rows, strict=True):
-        assert all(abs(ra.params[k] - rb.params[k]) < 1e-12 for k in ra.params)
+        va, vb = ra.params.scalars(), rb.params.scalars()
+        assert all(abs(va[k] - vb[k]) < 1e-12 for k in va)

@@ -16,9 +16,9 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from urdf2dh import se3
+from urdf2dh.conventions import NAMES as CONVENTIONS
 from urdf2dh.convert import sample_configurations, to_table
 from urdf2dh.screws import Joint, PoeModel
-from urdf2dh.table import CONVENTIONS
 
 RELATIONS = ("parallel", "antiparallel", "intersecting", "coincident", "perpendicular", "skew")
 SETTINGS = settings(derandomize=True, max_examples=120, deadline=None,
@@ -101,16 +101,16 @@ def _conditioning(table) -> float:
     how well two exact conversions of the same geometry can agree on d, a and theta."""
     if table.convention == "cpc":
         return 1.0
-    alphas = [table.base.get("alpha"), table.tool.get("alpha")]
-    alphas += [r.params["alpha"] for r in table.rows]
+    alphas = [getattr(table.base, "alpha", None), getattr(table.tool, "alpha", None)]
+    alphas += [r.params.alpha for r in table.rows]
     sines = [abs(math.sin(x)) for x in alphas if x is not None and abs(math.sin(x)) > 1e-15]
     return 1.0 / min(sines, default=1.0)
 
 
 def _same_params(a, b, size, label):
     cond = max(1.0, 1e-6 * _conditioning(a))  # 1e-9 * cond stays >= 1e-15 / sin(alpha)
-    pairs = [(a.base, b.base), (a.tool, b.tool)]
-    pairs += [(x.params, y.params) for x, y in zip(a.rows, b.rows, strict=True)]
+    pairs = [(a.base.values(), b.base.values()), (a.tool.values(), b.tool.values())]
+    pairs += [(x.params.values(), y.params.values()) for x, y in zip(a.rows, b.rows, strict=True)]
     for pa, pb in pairs:
         for k in pa:
             va, vb = np.atleast_1d(pa[k]).astype(float), np.atleast_1d(pb[k]).astype(float)

@@ -17,14 +17,14 @@ def test_ur5_recovers_universal_robots_geometry():
     # d1 0.089159, a2 -0.425, a3 -0.39225, d4 0.10915, d5 0.09465, d6 0.0823,
     # alpha pi/2, 0, 0, pi/2, -pi/2, 0.
     table = to_table(open_source("ur5").model(), "dh")
-    rows = [r.params for r in table.rows]
+    rows = [r.params.values() for r in table.rows]
     d = [abs(r["d"]) for r in rows]
     a = [abs(r["a"]) for r in rows]
     alpha = [abs(math.degrees(r["alpha"])) for r in rows]
     assert d == pytest.approx([0.089159, 0, 0, 0.10915, 0.09465, 0.0823], abs=1e-12)
     assert a == pytest.approx([0, 0.425, 0.39225, 0, 0, 0], abs=1e-12)
     assert alpha == pytest.approx([90, 0, 0, 90, 90, 0], abs=1e-9)
-    assert table.tool["d"] == pytest.approx(0.0, abs=1e-12)
+    assert table.tool.d == pytest.approx(0.0, abs=1e-12)
     assert table.warnings == ()
 
 
@@ -32,7 +32,7 @@ def test_panda_recovers_franka_geometry():
     # Franka Emika, "Robot and interface specifications", Denavit-Hartenberg parameters (Craig):
     # d1 0.333, d3 0.316, a4 0.0825, a5 -0.0825, d5 0.384, a7 0.088, flange d 0.107.
     table = to_table(open_source("panda").model(), "mdh")
-    rows = [r.params for r in table.rows]
+    rows = [r.params.values() for r in table.rows]
     assert [abs(r["d"]) for r in rows] == pytest.approx([0.333, 0, 0.316, 0, 0.384, 0, 0.107],
                                                         abs=1e-12)
     assert [abs(r["a"]) for r in rows] == pytest.approx([0, 0, 0, 0.0825, 0.0825, 0, 0.088],
@@ -86,13 +86,13 @@ def test_style_ur_prints_universal_robots_own_table(robot):
     model = open_source(robot).model()
     table = to_table(model, "dh", style="ur")
     for row, (d, a, alpha) in zip(table.rows, UR_TABLES[robot], strict=True):
-        p = row.params
+        p = row.params.values()
         assert abs(p["theta"]) < 1e-11  # zero offsets (up to the URDF's rounded pi/2)
         assert (p["d"], p["a"], p["alpha"]) == pytest.approx((d, a, alpha), abs=1e-11)
     # base_link is UR's "base" frame turned by pi about z
-    assert table.base["theta"] == pytest.approx(math.pi)
+    assert table.base.theta == pytest.approx(math.pi)
     assert table.check.max_position_error < 1e-12 * model.size()
     wu = to_table(model, "dh")
     # the default keeps a >= 0 (intersecting axes keep their exact, round-off sized a)
-    assert all(r.params["a"] >= -1e-15 for r in wu.rows)
-    assert sum(r.params["a"] < -1e-15 for r in table.rows) == 2  # UR: a2, a3 < 0
+    assert all(r.params.a >= -1e-15 for r in wu.rows)
+    assert sum(r.params.a < -1e-15 for r in table.rows) == 2  # UR: a2, a3 < 0

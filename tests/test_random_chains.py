@@ -7,9 +7,9 @@ import pytest
 from chains import random_chain_urdf
 from oracle import EXACT, assert_fk_matches, pin_reference
 
+from urdf2dh.conventions import NAMES as CONVENTIONS
 from urdf2dh.convert import to_table
 from urdf2dh.sources import Source
-from urdf2dh.table import CONVENTIONS
 from urdf2dh.urdf import parse_tree, tree_to_poe
 
 
@@ -55,9 +55,9 @@ def test_parallel_rule_d_is_zero():
     model = tree_to_poe(source_of(text).tree, "base", "link6")
     table = to_table(model, "dh")
     for row in table.rows[:-1]:
-        assert row.params["d"] == 0.0
-        assert row.params["alpha"] in (0.0, 3.141592653589793)
-        assert row.params["a"] >= 0.0
+        assert row.params.d == 0.0
+        assert row.params.alpha in (0.0, 3.141592653589793)
+        assert row.params.a >= 0.0
 
 
 def test_exactness_scales_with_robot_size():

@@ -9,6 +9,7 @@ from dataclasses import replace
 import pytest
 
 from urdf2dh.cli import main
+from urdf2dh.conventions import NAMES as CONVENTIONS
 from urdf2dh.convert import (
     DEFAULT_SAMPLES,
     JUDGED_SAMPLES,
@@ -17,7 +18,6 @@ from urdf2dh.convert import (
     to_table,
 )
 from urdf2dh.sources import open_source
-from urdf2dh.table import CONVENTIONS
 from urdf2dh.tolerances import DEFAULT
 
 
@@ -60,7 +60,7 @@ def test_the_default_catches_a_slightly_wrong_table(robot, param, relative):
     size = model.size()
     step = relative * size if param == "d" else relative
     for k, row in enumerate(table.rows):
-        params = dict(row.params, **{param: row.params[param] + step})
+        params = replace(row.params, **{param: getattr(row.params, param) + step})
         rows = (*table.rows[:k], replace(row, params=params), *table.rows[k + 1:])
         check = self_check(model, replace(table, rows=rows))
         assert check.samples == DEFAULT_SAMPLES

@@ -17,11 +17,11 @@ def test_an_arm_written_without_offsets_gets_none():
     model = open_source(str(DATA / "genser6.urdf")).model()
     for convention in ("dh", "mdh"):
         table = to_table(model, convention, style="zero")
-        assert [r.params["theta"] for r in table.rows] == [0.0] * 6, convention
-        assert table.base["theta"] == 0.0 and table.tool["theta"] == 0.0
+        assert [r.params.theta for r in table.rows] == [0.0] * 6, convention
+        assert table.base.theta == 0.0 and table.tool.theta == 0.0
     # the other styles put half turns somewhere for the same arm
-    assert to_table(model, "mdh", style="ur").base["theta"] != 0.0
-    assert any(r.params["theta"] != 0.0 for r in to_table(model, "mdh", style="wu").rows)
+    assert to_table(model, "mdh", style="ur").base.theta != 0.0
+    assert any(r.params.theta != 0.0 for r in to_table(model, "mdh", style="wu").rows)
 
 
 @pytest.mark.parametrize("robot", ["ur5", "panda", "kinova", "stanford", "tiago-arm"])

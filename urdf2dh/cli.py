@@ -1,12 +1,10 @@
-"""The ``urdf2dh`` command (SPEC §1): ``convert``, ``verify``, ``info``, ``export``, ``plot``,
-``robots``.
+"""The ``urdf2dh`` command (SPEC §1): ``convert``, ``verify``, ``diff``, ``info``, ``export``,
+``plot``, ``robots``; the options of each, and the one place errors become exit codes.
 
 Exit codes: 0 success, 1 verification failed (or a table failed its own check), 2 bad usage or
 bad input. Errors are one line on stderr naming the file, link or joint; output files are
-written to a temporary file and renamed, so a failure never leaves one behind.
-
-Heavy imports (numpy, yourdfpy, Pinocchio) happen inside the commands that need them, so
-``urdf2dh --help`` starts instantly and ``convert`` never imports Pinocchio.
+written to a temporary file and renamed, so a failure never leaves one behind. The commands
+themselves are in :mod:`urdf2dh.commands`.
 """
 
 from __future__ import annotations
@@ -14,18 +12,15 @@ from __future__ import annotations
 import argparse
 import os
 import sys
-from typing import Any
 
 from . import __version__
+from .commands import COMMANDS
+from .conventions import NAMES, STYLES
 from .errors import Urdf2DhError
-from .files import write_output
+from .export import TARGETS
+from .formats import FORMATS
 
 __all__ = ["get_argument_parser", "main"]
-
-FORMATS = ("text", "json", "yaml", "csv", "markdown", "urdf", "poe")
-CONVENTIONS = ("dh", "mdh", "cpc")
-STYLES = ("wu", "ur", "zero")  # dh.STYLES
-EXPORT_TARGETS = ("ur", "linuxcnc", "rtb", "matlab", "kdl", "corke-matlab")  # export.TARGETS
 
 
 def _positive_int(text: str) -> int:
@@ -103,8 +98,8 @@ def get_argument_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("convert", help="print or write the parameter table of a chain")
     _add_chain(p)
-    p.add_argument("--convention", choices=CONVENTIONS, default="dh",
-                   help="dh (standard), mdh (modified, Craig) or cpc (default %(default)s)")
+    p.add_argument("--convention", choices=NAMES, default=NAMES[0],
+                   help="parameter convention (default %(default)s)")
     p.add_argument("--format", choices=FORMATS, default="text",
                    help="output format (default %(default)s)")
     p.add_argument("--style", choices=STYLES, default="wu",
@@ -125,7 +120,7 @@ def get_argument_parser() -> argparse.ArgumentParser:
     p.add_argument("nominal", metavar="NOMINAL", help="URDF, POE model, table file or robot")
     p.add_argument("actual", metavar="ACTUAL", help="URDF, POE model, table file or robot")
     _add_chain_options(p)
-    p.add_argument("--convention", choices=CONVENTIONS, default="dh",
+    p.add_argument("--convention", choices=NAMES, default=NAMES[0],
                    help="convention to compare in (default %(default)s)")
     p.add_argument("--style", choices=STYLES, default="wu", help="D-H choices (see convert)")
     p.add_argument("--angle-threshold", type=_nonnegative_float, default=60.0, metavar="DEG",
@@ -145,13 +140,13 @@ def get_argument_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("export", help="write a controller or toolbox configuration file")
     _add_chain(p)
-    p.add_argument("--to", required=True, choices=EXPORT_TARGETS, metavar="TARGET",
-                   help="ur (UR default_kinematics.yaml), linuxcnc (genserkins HAL), rtb "
-                        "(roboticstoolbox-python), matlab (Robotics System Toolbox), kdl (PyKDL), "
-                        "corke-matlab (Robotics Toolbox for MATLAB)")
-    p.add_argument("--convention", choices=("dh", "mdh"), default=None,
-                   help="D-H convention of rtb, matlab, kdl and corke-matlab files (default dh; "
-                        "ur is dh, linuxcnc mdh)")
+    p.add_argument("--to", required=True, choices=tuple(TARGETS), metavar="TARGET",
+                   help="; ".join(f"{t.name}: {t.summary}" for t in TARGETS.values()))
+    p.add_argument("--convention", choices=tuple(dict.fromkeys(
+                       c for t in TARGETS.values() for c in t.conventions)), default=None,
+                   help="convention of the file, where the target takes several (default: the "
+                        "target's first: " + ", ".join(
+                            f"{t.name} {'/'.join(t.conventions)}" for t in TARGETS.values()) + ")")
     p.add_argument("--style", choices=STYLES, default=None,
                    help="D-H choices (default ur for ur, zero for linuxcnc, wu otherwise)")
     p.add_argument("--units", choices=("mm", "inch"), default=None,
@@ -163,152 +158,14 @@ def get_argument_parser() -> argparse.ArgumentParser:
     _add_chain(p)
     p.add_argument("-o", "--output", required=True, metavar="FILE",
                    help="image file; its suffix picks the format (.png, .svg, .pdf)")
-    p.add_argument("--convention", choices=("dh", "mdh"), default="dh",
-                   help="which D-H frames to draw (default %(default)s)")
+    p.add_argument("--convention", choices=NAMES, default=NAMES[0],
+                   help="whose frames to draw (default %(default)s)")
     p.add_argument("--style", choices=STYLES, default="wu",
                    help="D-H choices (default %(default)s)")
     _add_tolerances(p)
 
     sub.add_parser("robots", help="list the bundled robots")
     return parser
-
-
-# --------------------------------------------------------------------------- helpers
-
-
-def _tolerances(args: argparse.Namespace) -> Any:
-    from dataclasses import replace
-
-    from .tolerances import DEFAULT
-
-    tol = replace(DEFAULT, parallel_angle=args.parallel_angle,
-                  intersect_distance=args.intersect_distance)
-    return tol.with_exact() if args.exact else tol
-
-
-def _open(args: argparse.Namespace, tol: Any = None) -> Any:
-    from .sources import open_source
-    from .tolerances import DEFAULT
-
-    return open_source(args.source, tol or DEFAULT, dict(args.package_path))
-
-
-# --------------------------------------------------------------------------- commands
-
-
-def _convert(args: argparse.Namespace) -> int:
-    from .convert import to_table
-    from .formats import render
-
-    tol = _tolerances(args)
-    source = _open(args, tol)
-    model = source.model(args.base, args.tip, args.ignore_mimic)
-    table = to_table(model, args.convention, tol, samples=args.check_samples, style=args.style)
-    write_output(render(table, args.format), args.output)
-    return 0
-
-
-def _verify(args: argparse.Namespace) -> int:
-    from .verify import verify
-
-    tol = _tolerances(args)
-    source = _open(args, tol)
-    model = source.model(args.base, args.tip, args.ignore_mimic)
-    results = verify(source, model, args.samples, args.seed, tol,
-                     check_samples=args.check_samples)
-    unit, size = model.length_unit, model.size()
-    chain = f"{model.base_link} -> {model.tip_link}, " if model.base_link else ""
-    print(f"{source.name}: {chain}{model.n} joints; against Pinocchio at {args.samples} "
-          f"configurations (seed {args.seed}); robot size {size:.4g} {unit}")
-    print(f"  {'model':<10} {'position error':>16} {'relative':>10} {'rotation error':>16}  result")
-    for r in results:
-        print(f"  {r.label:<10} {r.position:>13.2e} {unit:<2} {r.position / size:>10.2e} "
-              f"{r.rotation:>12.2e} rad  {'ok' if r.ok else 'FAILED'}")
-    for r in results:
-        for w in r.table.warnings if r.table is not None else ():
-            print(f"  warning: {w}")
-    failed = [r.label for r in results if not r.ok]
-    if failed:
-        print(f"verify: FAILED for {', '.join(failed)} (allowed {results[0].allowed_position:.2g}"
-              f" {unit} + declared deviations)", file=sys.stderr)
-        return 1
-    print("verify: all conventions agree with Pinocchio")
-    return 0
-
-
-def _diff(args: argparse.Namespace) -> int:
-    import math
-
-    from .diff import diff_sources, render_diff
-
-    info, changes, pairs = diff_sources(
-        args.nominal, args.actual, args.convention, _tolerances(args),
-        angle_threshold=math.radians(args.angle_threshold),
-        length_threshold=args.length_threshold,
-        parallel_within=math.radians(args.parallel_within),
-        base=args.base, tip=args.tip, ignore_mimic=args.ignore_mimic, style=args.style,
-        samples=args.check_samples, package_paths=dict(args.package_path),
-    )
-    write_output(render_diff(info, changes, pairs, args.format), args.output)
-    return 0
-
-
-def _info(args: argparse.Namespace) -> int:
-    from .info import describe
-
-    source = _open(args)
-    sys.stdout.write(describe(source, args.base, args.tip, args.ignore_mimic))
-    return 0
-
-
-def _export(args: argparse.Namespace) -> int:
-    from .convert import to_table
-    from .errors import UsageError
-    from .export import Options, export_table, table_choices
-
-    if args.units is not None and args.to != "linuxcnc":
-        raise UsageError(f"--units applies to --to linuxcnc, not --to {args.to}")
-    convention, style = table_choices(args.to, args.convention, args.style)
-    tol = _tolerances(args)
-    model = _open(args, tol).model(args.base, args.tip, args.ignore_mimic)
-    table = to_table(model, convention, tol, samples=args.check_samples, style=style)
-    write_output(export_table(table, args.to, Options(args.units, tol)), args.output)
-    return 0
-
-
-def _plot(args: argparse.Namespace) -> int:
-    from pathlib import Path
-
-    from .convert import to_table
-    from .plot import render
-
-    fmt = Path(args.output).suffix.lower().lstrip(".") or "png"
-    tol = _tolerances(args)
-    model = _open(args, tol).model(args.base, args.tip, args.ignore_mimic)
-    table = to_table(model, args.convention, tol, samples=args.check_samples, style=args.style)
-    write_output(render(table, fmt), args.output)
-    return 0
-
-
-def _robots(args: argparse.Namespace) -> int:
-    from .catalog import ROBOTS
-
-    width = max(len(n) for n in ROBOTS)
-    for r in ROBOTS.values():
-        chain = f"{r.base} -> {r.tip}" if r.base else "POE model"
-        print(f"{r.name:<{width}}  {r.description}  [{chain}]")
-    return 0
-
-
-COMMANDS = {
-    "convert": _convert,
-    "verify": _verify,
-    "diff": _diff,
-    "info": _info,
-    "export": _export,
-    "plot": _plot,
-    "robots": _robots,
-}
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -21,17 +21,17 @@ from typing import Any
 
 import numpy as np
 
+from . import units
+from .conventions import Params
 from .errors import InputError, UsageError
 from .formats import fixed
 from .screws import PoeModel
 from .table import Row, Table
 from .tolerances import Tolerances
-from .urdfwrite import METRES_PER_UNIT
 
 __all__ = ["Change", "IllPair", "compare", "diff_sources", "ill_conditioned", "render_diff"]
 
 SCHEMA = "urdf2dh-diff/1"
-ANGLES = ("theta", "alpha", "beta")
 
 
 @dataclass(frozen=True)
@@ -62,14 +62,6 @@ def _angle_mod_pi(delta: float) -> float:
     return abs(math.remainder(delta, math.pi))
 
 
-def _kind(param: str) -> str:
-    if param in ANGLES:
-        return "angle"
-    if param == "b":
-        return "direction"
-    return "length"
-
-
 def compare(nominal: Table, actual: Table, angle_threshold: float,
             length_threshold: float) -> list[Change]:
     """Row-by-row changes from ``nominal`` to ``actual`` (same convention, same unit)."""
@@ -79,7 +71,7 @@ def compare(nominal: Table, actual: Table, angle_threshold: float,
         raise InputError(
             f"NOMINAL has {nominal.n} joints and ACTUAL {actual.n}: the tables do not match"
         )
-    rows: list[tuple[str, Any, Any, Row | None, Row | None]] = [
+    rows: list[tuple[str, Params, Params, Row | None, Row | None]] = [
         ("base", nominal.base, actual.base, None, None)
     ]
     for a, b in zip(nominal.rows, actual.rows, strict=True):
@@ -88,22 +80,22 @@ def compare(nominal: Table, actual: Table, angle_threshold: float,
     rows.append(("tool", nominal.tool, actual.tool, None, None))
     out = []
     for label, pa, pb, ra, rb in rows:
-        for param in pa:
-            kind = _kind(param)
-            va, vb = pa[param], pb[param]
-            if kind == "angle":
-                change = float(vb) - float(va)
-                size = _angle_mod_pi(change)
-                marked = size > angle_threshold
+        values_a, values_b = pa.values(), pb.values()
+        for param, quantity in type(pa).quantities().items():
+            va, vb = values_a[param], values_b[param]
+            kind = "length" if quantity == "offset" else quantity
+            if quantity == "angle":
+                change = float(vb) - float(va)  # type: ignore[arg-type]
+                marked = _angle_mod_pi(change) > angle_threshold
                 change = math.remainder(change, 2 * math.pi)
-            elif kind == "direction":
+            elif quantity == "direction":
                 change = math.acos(max(-1.0, min(1.0, float(np.dot(va, vb)))))
                 marked = change > angle_threshold
-            elif isinstance(va, list):
+            elif quantity == "offset":
                 change = float(np.linalg.norm(np.subtract(vb, va)))
                 marked = change > length_threshold
             else:
-                change = float(vb) - float(va)
+                change = float(vb) - float(va)  # type: ignore[arg-type]
                 marked = abs(change) > length_threshold
             out.append(Change(label, param, va, vb, change, kind, marked))
         if ra is not None and rb is not None:
@@ -135,9 +127,7 @@ def ill_conditioned(nominal: PoeModel, actual: PoeModel, within: float) -> list[
 
 def default_length_threshold(unit: str) -> float:
     """30 mm (Wu 2019 Table II's threshold) in ``unit``."""
-    if unit not in METRES_PER_UNIT:
-        raise UsageError(f"unknown length unit '{unit}': give --length-threshold")
-    return 0.030 / METRES_PER_UNIT[unit]
+    return 0.030 / units.metres_per(unit)
 
 
 def diff_sources(
@@ -170,10 +160,8 @@ def diff_sources(
         names.append(source.name)
     nominal, actual = models
     if actual.length_unit != nominal.length_unit:
-        units = (nominal.length_unit, actual.length_unit)
-        if not all(u in METRES_PER_UNIT for u in units):
-            raise InputError(f"NOMINAL is in {units[0]} and ACTUAL in {units[1]}: cannot compare")
-        actual = actual.scaled(METRES_PER_UNIT[units[1]] / METRES_PER_UNIT[units[0]], units[0])
+        actual = actual.scaled(units.factor(actual.length_unit, nominal.length_unit),
+                               nominal.length_unit)
     tables = [to_table(m, convention, tol, samples=samples, style=style)
               for m in (nominal, actual)]
     length = (default_length_threshold(nominal.length_unit) if length_threshold is None
@@ -206,7 +194,7 @@ def render_diff(info: dict[str, Any], changes: list[Change], pairs: list[IllPair
     unit = info["units"]["length"]
 
     def show(value: Any, kind: str) -> str:
-        if isinstance(value, list):
+        if isinstance(value, list | tuple):
             return "[" + ", ".join(fixed(v, 4) for v in value) + "]"
         if kind == "angle":
             return fixed(math.degrees(value), 4)

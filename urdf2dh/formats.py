@@ -13,23 +13,18 @@ import csv
 import io
 import json
 import math
-from typing import Any
+from typing import TYPE_CHECKING
 
+from .conventions import Params, columns, get
 from .errors import UsageError, choices
-from .table import Table, convention_module
+from .units import DECIMALS
+
+if TYPE_CHECKING:
+    from .table import Table
 
 __all__ = ["FORMATS", "fixed", "render", "summary"]
 
 FORMATS = ("text", "json", "yaml", "csv", "markdown", "urdf", "poe")
-
-TITLES = {
-    "dh": "standard D-H (Wu 2019): B . prod[Q_i Rz(theta) Tz(d) Rx(alpha) Tx(a)] . Rz Tz",
-    "mdh": "modified D-H (Craig): Rz Tz . prod[Rx(alpha) Tx(a) Q_i Rz(theta) Tz(d)] . Rx Tx Rz Tz",
-    "cpc": "CPC (Zhuang-Roth-Hamano): V_0 . prod[Q_i V(b, l, beta)],"
-    " V = R(b) Rz(beta) Tx Ty Tz(l)",
-}
-ANGLES = {"theta", "alpha", "beta"}
-LENGTH_DECIMALS = {"m": 6, "cm": 5, "mm": 4, "in": 5, "um": 2}
 
 
 def render(table: Table, fmt: str) -> str:
@@ -62,22 +57,25 @@ def render(table: Table, fmt: str) -> str:
 
 # --------------------------------------------------------------------------- flat rows
 
+VECTORS = ("direction", "offset")
 
-def _columns(table: Table) -> list[str]:
-    """Parameter columns, CPC vectors split into components."""
-    out = []
-    for name in convention_module(table.convention).PARAMS:
-        out.extend([f"{name}_x", f"{name}_y", f"{name}_z"] if name in ("b", "l") else [name])
+
+def _columns(table: Table) -> list[tuple[str, str]]:
+    """Parameter columns ``(name, quantity)``, vectors split into ``_x``, ``_y``, ``_z``."""
+    out: list[tuple[str, str]] = []
+    for c in columns(get(table.convention)):
+        names = [f"{c.name}_{k}" for k in "xyz"] if c.quantity in VECTORS else [c.name]
+        out.extend((name, c.quantity) for name in names)
     return out
 
 
-def _flat(params: Any) -> dict[str, float]:
+def _flat(params: Params) -> dict[str, float]:
     out: dict[str, float] = {}
-    for k, v in params.items():
-        if isinstance(v, list | tuple):
-            out.update({f"{k}_{c}": float(x) for c, x in zip("xyz", v, strict=True)})
+    for k, v in params.values().items():
+        if isinstance(v, tuple):
+            out.update({f"{k}_{c}": x for c, x in zip("xyz", v, strict=True)})
         else:
-            out[k] = float(v)
+            out[k] = v
     return out
 
 
@@ -86,9 +84,7 @@ Record = tuple[str, str, str, float | None, float | None, dict[str, float]]
 
 def _records(table: Table) -> list[Record]:
     """(label, joint, type, pitch, scale, params) for base, each joint row and tool."""
-    recs: list[Record] = [
-        ("base", "", "", None, None, _flat(table.base))
-    ]
+    recs: list[Record] = [("base", "", "", None, None, _flat(table.base))]
     for i, r in enumerate(table.rows, 1):
         recs.append((str(i), r.name, r.kind, r.pitch, r.scale, _flat(r.params)))
     recs.append(("tool", "", "", None, None, _flat(table.tool)))
@@ -96,7 +92,7 @@ def _records(table: Table) -> list[Record]:
 
 
 def _csv(table: Table) -> str:
-    cols = _columns(table)
+    cols = [name for name, _ in _columns(table)]
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator="\n")
     w.writerow(["row", "joint", "type", "pitch", "scale", *cols])
@@ -120,19 +116,18 @@ def fixed(value: float, decimals: int, sign: str = "") -> str:
     return text
 
 
-def _cell(name: str, value: float, unit: str) -> str:
-    if name.split("_")[0] in ANGLES:
+def _cell(quantity: str, value: float, unit: str) -> str:
+    if quantity == "angle":
         return fixed(math.degrees(value), 4)
-    if name.startswith("b_"):
+    if quantity == "direction":
         return fixed(value, 6)
-    return fixed(value, LENGTH_DECIMALS.get(unit, 6))
+    return fixed(value, DECIMALS.get(unit, 6))
 
 
-def _header(name: str, unit: str) -> str:
-    base = name.split("_")[0]
-    if base in ANGLES:
+def _header(name: str, quantity: str, unit: str) -> str:
+    if quantity == "angle":
         return f"{name} [deg]"
-    if base == "b":
+    if quantity == "direction":
         return name
     return f"{name} [{unit}]"
 
@@ -142,7 +137,7 @@ def _grid(table: Table) -> tuple[list[str], list[list[str]]]:
     cols = _columns(table)
     show_pitch = any(r.kind == "helical" for r in table.rows)
     show_scale = any(r.scale != 1.0 for r in table.rows)
-    head = ["", "joint", "type", *(_header(c, unit) for c in cols)]
+    head = ["", "joint", "type", *(_header(name, quantity, unit) for name, quantity in cols)]
     if show_pitch:
         head.append(f"h [{unit}/deg]")
     if show_scale:
@@ -150,7 +145,7 @@ def _grid(table: Table) -> tuple[list[str], list[list[str]]]:
     body = []
     for label, joint, kind, pitch, scale, params in _records(table):
         line = [label, joint, kind]
-        line += [_cell(c, params[c], unit) if c in params else "" for c in cols]
+        line += [_cell(q, params[c], unit) if c in params else "" for c, q in cols]
         if show_pitch:
             line.append("" if pitch is None else f"{pitch * math.pi / 180.0:.6g}")
         if show_scale:
@@ -189,7 +184,7 @@ def _text(table: Table) -> str:
                                                                           strict=True)]
         return "  ".join(cells).rstrip()
 
-    out = [_title(table), TITLES[table.convention], "", fmt(head)]
+    out = [_title(table), get(table.convention).title, "", fmt(head)]
     out.append("  ".join("-" * w for w in widths))
     out.extend(fmt(r) for r in body)
     out.append("")
@@ -200,7 +195,7 @@ def _text(table: Table) -> str:
 def _markdown(table: Table) -> str:
     head, body = _grid(table)
     head[0] = "row"
-    out = [f"**{_title(table)}** — {TITLES[table.convention]}", ""]
+    out = [f"**{_title(table)}** — {get(table.convention).title}", ""]
     out.append("| " + " | ".join(head) + " |")
     out.append("|" + "|".join("---" if i < 3 else "---:" for i in range(len(head))) + "|")
     out.extend("| " + " | ".join(r) + " |" for r in body)

@@ -20,31 +20,19 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import NamedTuple
+from typing import Literal
 
-import numpy as np
-from numpy.typing import NDArray
-
-from .se3 import Frame, Vec3, matrix_of
+from .frames import Vec3, angle
 from .tolerances import Tolerances
 
-__all__ = [
-    "Judgement",
-    "Limits",
-    "LinkParams",
-    "angle",
-    "common_normal",
-    "dh_frame",
-    "dh_matrix",
-    "link_to_line",
-]
+__all__ = ["Judgement", "Limits", "LinkParams", "common_normal", "link_to_line"]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Judgement:
     """One tolerance decision: which pair of lines, what was assumed, and how far off it was."""
 
-    kind: str  # "parallel" or "coincident"
+    kind: Literal["parallel", "coincident"]
     first: str
     second: str
     angle: float  # radians the lines were from the assumed relation (0 if not angular)
@@ -52,11 +40,10 @@ class Judgement:
     source_angle: float | None = None  # the same angle between the lines in the source model
 
 
-class LinkParams(NamedTuple):
+@dataclass(frozen=True, slots=True)
+class LinkParams:
     """``Rz(theta) Tz(d) Rx(alpha) Tx(a)``; ``parallel`` if the lines were (treated as)
-    parallel, ``free`` if the new x axis was free (coincident lines) and ``theta = 0`` chosen.
-
-    A named tuple, not a dataclass: one is made per row of every conversion."""
+    parallel, ``free`` if the new x axis was free (coincident lines) and ``theta = 0`` chosen."""
 
     theta: float
     d: float
@@ -74,30 +61,8 @@ class LinkParams(NamedTuple):
                           -self.a + 0.0, self.parallel, self.free)
 
 
-def angle(y: float, x: float) -> float:
-    """``atan2`` in ``(-pi, pi]`` without signed zeros, so tables print ``180`` not ``-180``."""
-    out = math.atan2(y + 0.0, x + 0.0)
-    return math.pi if out == -math.pi else out + 0.0
-
-
-def dh_frame(theta: float, d: float, alpha: float, a: float) -> Frame:
-    """``Rz(theta) Tz(d) Rx(alpha) Tx(a)`` in closed form (Wu 2019 eq. 9), as a plain-float
-    :data:`~urdf2dh.se3.Frame`."""
-    ct, st = math.cos(theta), math.sin(theta)
-    ca, sa = math.cos(alpha), math.sin(alpha)
-    return (
-        (ct, -st * ca, st * sa, a * ct),
-        (st, ct * ca, -ct * sa, a * st),
-        (0.0, sa, ca, d),
-    )
-
-
-def dh_matrix(theta: float, d: float, alpha: float, a: float) -> NDArray[np.float64]:
-    """``Rz(theta) Tz(d) Rx(alpha) Tx(a)`` in closed form (Wu 2019 eq. 9), as a 4x4 array."""
-    return matrix_of(dh_frame(theta, d, alpha, a))
-
-
-class Limits(NamedTuple):
+@dataclass(frozen=True, slots=True)
+class Limits:
     """The thresholds of :func:`common_normal` for one robot, worked out once per conversion."""
 
     parallel: float  # treated as parallel within this angle (never below round-off)

@@ -14,6 +14,7 @@ from typing import Any
 import numpy as np
 
 from .catalog import our_robots_dir
+from .conventions import Params
 from .convert import to_table
 from .screws import joint_from_twist
 from .sources import open_source
@@ -53,8 +54,9 @@ def wu2019_table2(robot: str) -> list[Cell]:
     ref = _reference("wu2019-table2.yaml")[robot]
     table = to_table(open_source(robot).model(), "dh")
 
-    def dh(p: Any) -> list[float]:
-        return [math.degrees(p["theta"]), p["d"], math.degrees(p["alpha"]), p["a"]]
+    def dh(p: Params) -> list[float]:
+        v = p.scalars()
+        return [math.degrees(v["theta"]), v["d"], math.degrees(v["alpha"]), v["a"]]
 
     cells = [Cell("B->0", c, v, s) for c, v, s in zip(("theta", "d", "alpha", "a"),
                                                       dh(table.base), ref["base"], strict=True)]
@@ -63,7 +65,8 @@ def wu2019_table2(robot: str) -> list[Cell]:
         cols = ("theta", "d", "alpha", "a", "h", "q_bar")
         cells += [Cell(f"{i}->{i + 1}", c, v, s) for c, v, s in zip(cols, ours, printed,
                                                                      strict=True)]
-    tool = [math.degrees(table.tool["theta"]), table.tool["d"]]
+    t = table.tool.scalars()
+    tool = [math.degrees(t["theta"]), t["d"]]
     cells += [Cell("6->T", c, v, s) for c, v, s in zip(("theta", "d"), tool, ref["tool"],
                                                        strict=True)]
     return cells
@@ -85,7 +88,8 @@ def sumenkov_table3(joint6_as_behind_rows_6_7: bool = False) -> list[Cell]:
     cells = []
     for k, (params, printed) in enumerate(zip([table.base, *(r.params for r in table.rows)],
                                               ref["rows"], strict=True)):
-        ours = [*params["b"], *params["l"], params["beta"]]
+        v = params.vectors()
+        ours = [*v["b"], *v["l"], params.scalars()["beta"]]
         text = [*printed["b"], *printed["l"], printed["beta"]]
         cols = ("b_x", "b_y", "b_z", "l_x", "l_y", "l_z", "beta")
         cells += [Cell(f"V_{k}", c, v, s) for c, v, s in zip(cols, ours, text, strict=True)]

@@ -16,7 +16,7 @@ from numpy.typing import NDArray
 
 from . import se3
 from .errors import InputError, UsageError
-from .table import Table, convention_module
+from .table import Table
 
 __all__ = ["FORMATS", "dh_frames", "render"]
 
@@ -27,14 +27,12 @@ Mat = NDArray[np.float64]
 
 
 def dh_frames(table: Table) -> list[Mat]:
-    """D-H frames ``0 .. n`` at the home pose (frame 0 is the base transform ``B``), then the
-    tool frame."""
-    mod = convention_module(table.convention)
+    """The table's frames ``0 .. n`` at the home pose (frame 0 is the base transform ``B``, frame
+    ``i`` ends row ``i``), then the tool frame."""
     f = table.base_matrix
     out = [f]
     for row in table.rows:
-        pre, post = mod.row_frames(row.params)
-        f = f @ se3.matrix_of(post if pre is None else se3.compose(pre, post))
+        f = f @ se3.matrix_of(row.params.frame())
         out.append(f)
     out.append(f @ table.tool_matrix)
     return out
@@ -63,8 +61,6 @@ def render(table: Table, fmt: str = "png", title: str | None = None) -> bytes:
     """The drawing as ``png``, ``svg`` or ``pdf`` bytes."""
     if fmt not in FORMATS:
         raise UsageError(f"plot: unknown image format '{fmt}'; valid: {', '.join(FORMATS)}")
-    if table.convention == "cpc":
-        raise UsageError("plot draws D-H frames: use --convention dh or mdh")
     figure_cls, canvas_cls = _matplotlib("urdf2dh plot")
     frames = dh_frames(table)
     points = np.array([np.zeros(3)] + [f[:3, 3] for f in frames])
@@ -105,7 +101,7 @@ def render(table: Table, fmt: str = "png", title: str | None = None) -> bytes:
     ax.set_xlabel(f"x [{unit}]")
     ax.set_ylabel(f"y [{unit}]")
     ax.set_zlabel(f"z [{unit}]")
-    name = "standard D-H" if table.convention == "dh" else "modified D-H (Craig)"
+    name = table.spec.label
     ax.set_title(title or f"{table.robot or 'robot'}: {name} frames at home\n"
                  f"{table.base_link} -> {table.tip_link}" if table.base_link else
                  f"{table.robot or 'robot'}: {name} frames at home", fontsize=10)

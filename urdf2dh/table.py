@@ -1,72 +1,50 @@
-"""The Table data type shared by every convention: rows, base and tool, its forward kinematics,
+"""The Table value type shared by every convention: rows, base and tool, its forward kinematics,
 its POE model, and its JSON / YAML tree (SPEC §2).
 
 Whatever the convention, a table's forward kinematics has the shape::
 
     T(q) = B . prod_i [A_i . Q_i(s_i) . C_i] . T,  Q_i(s) = Rz(j_i s) Tz(k_i s),  s_i = scale_i q_i
 
-with ``(A_i, C_i)`` the constant matrices of row ``i`` (``dh``: ``A = I``, ``C = Rz Tz Rx Tx``;
-``mdh``: ``A = Rx Tx``, ``C = Rz Tz``; ``cpc``: ``A = I``, ``C = V``). The table folds them into
-``n + 1`` constant links ``G_0 Q_1 G_1 ... Q_n G_n`` once, and evaluates that.
+with ``(A_i, C_i)`` the constant transforms around row ``i``'s joint motion
+(:meth:`~urdf2dh.conventions.base.Params.around_joint`; ``dh``: ``A = I``, ``C = Rz Tz Rx Tx``).
+The table folds them into ``n + 1`` constant links ``G_0 Q_1 G_1 ... Q_n G_n`` and evaluates
+that with the reference FK (:mod:`urdf2dh.fk`).
 """
 
 from __future__ import annotations
 
-import importlib
-import math
-from collections.abc import Mapping
-from dataclasses import dataclass, field
-from functools import cached_property
-from types import ModuleType
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
-from . import chainfk, se3
+from . import frames, se3
+from .conventions import Convention, Params, get
+from .fk import chain_fk
 from .screws import Joint, JointKind, JointMotion, PoeModel
 
-__all__ = ["CONVENTIONS", "SCHEMA", "Check", "Row", "Table", "convention_module"]
+__all__ = ["SCHEMA", "Check", "Row", "Table"]
 
 SCHEMA = "urdf2dh/1"
-CONVENTIONS = ("dh", "mdh", "cpc")
 
 Mat = NDArray[np.float64]
 
 
-def convention_module(name: str) -> ModuleType:
-    """The module that owns a convention's parameters (``urdf2dh.dh``, ``.mdh``, ``.cpc``)."""
-    return importlib.import_module(f"urdf2dh.{name}")
-
-
-@dataclass(frozen=True, init=False)
+@dataclass(frozen=True, slots=True)
 class Row(JointMotion):
-    """One movable joint's row: its motion (kind, pitch, scale) and its constant parameters."""
+    """One movable joint's row: its motion (kind, pitch, scale), limits and parameters."""
 
     name: str
     kind: JointKind
-    params: Mapping[str, Any]
+    params: Params
     pitch: float = 0.0
     scale: float = 1.0
     lower: float | None = None
     upper: float | None = None
 
-    def __init__(
-        self,
-        name: str,
-        kind: JointKind,
-        params: Mapping[str, Any],
-        pitch: float = 0.0,
-        scale: float = 1.0,
-        lower: float | None = None,
-        upper: float | None = None,
-    ) -> None:
-        # one update of the instance's dict, as screws.Joint does (a row per joint per table)
-        vars(self).update(name=name, kind=kind, params=params, pitch=pitch, scale=scale,
-                          lower=lower, upper=upper)
 
-
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Check:
     """The conversion's own self-check: table FK against the source's POE FK."""
 
@@ -75,158 +53,120 @@ class Check:
     max_rotation_error: float
 
 
-@dataclass(frozen=True, init=False)
+@dataclass(frozen=True, slots=True)
 class Table:
-    """A kinematic parameter table in one convention (``dh``, ``mdh`` or ``cpc``)."""
+    """A kinematic parameter table in one convention.
+
+    Attributes
+    ----------
+    convention
+        Its name in :data:`urdf2dh.conventions.REGISTRY` (``dh``, ``mdh``, ``cpc``, ...).
+    base, rows, tool
+        The base record, one :class:`Row` per movable joint from base to tip, the tool record.
+    size
+        The robot's size in ``length_unit`` (:meth:`urdf2dh.screws.PoeModel.size`): what
+        position errors and round-off are measured against.
+    robot, source, base_link, tip_link, length_unit
+        Provenance.
+    check
+        The self-check that produced it (``None`` for a table not yet checked).
+    warnings
+        Every judgement a user should know of, one message each.
+    """
 
     convention: str
-    base: Mapping[str, Any]
+    base: Params
     rows: tuple[Row, ...]
-    tool: Mapping[str, Any]
+    tool: Params
+    size: float = 1.0
     robot: str = ""
     source: str = ""
     base_link: str = ""
     tip_link: str = ""
     length_unit: str = "m"
     check: Check | None = None
-    warnings: tuple[str, ...] = field(default=())
+    warnings: tuple[str, ...] = ()
 
-    def __init__(
-        self,
-        convention: str,
-        base: Mapping[str, Any],
-        rows: tuple[Row, ...],
-        tool: Mapping[str, Any],
-        robot: str = "",
-        source: str = "",
-        base_link: str = "",
-        tip_link: str = "",
-        length_unit: str = "m",
-        check: Check | None = None,
-        warnings: tuple[str, ...] = (),
-    ) -> None:
-        vars(self).update(  # in one update, as Row's fields are
-            convention=convention, base=base, rows=tuple(rows), tool=tool, robot=robot,
-            source=source, base_link=base_link, tip_link=tip_link, length_unit=length_unit,
-            check=check, warnings=tuple(warnings),
-        )
+    def __post_init__(self) -> None:
+        get(self.convention)  # a known convention, or a UsageError naming the valid ones
+        object.__setattr__(self, "rows", tuple(self.rows))
+        object.__setattr__(self, "warnings", tuple(self.warnings))
+        if not self.size > 0.0:
+            raise ValueError(f"a table's size must be positive, not {self.size!r}")
+
+    @property
+    def spec(self) -> Convention:
+        """The convention object (formulas, parameter records)."""
+        return get(self.convention)
 
     @property
     def n(self) -> int:
         """Number of movable joints."""
         return len(self.rows)
 
-    @cached_property
+    @property
     def base_matrix(self) -> Mat:
-        """``(4, 4)`` base transform ``B`` built from ``base`` params."""
-        return se3.matrix_of(convention_module(self.convention).base_frame(self.base))
+        """``(4, 4)`` base transform ``B``."""
+        return se3.matrix_of(self.base.frame())
 
-    @cached_property
+    @property
     def tool_matrix(self) -> Mat:
-        """``(4, 4)`` tool transform ``T`` built from ``tool`` params."""
-        return se3.matrix_of(convention_module(self.convention).tool_frame(self.tool))
+        """``(4, 4)`` tool transform ``T``."""
+        return se3.matrix_of(self.tool.frame())
 
-    @cached_property
-    def links(self) -> Mat:
-        """``(n + 1, 4, 4)``: the constant transforms ``G_0 .. G_n`` between the joint motions."""
-        return se3.stack(self.link_form()[0])
-
-    def link_form(self) -> tuple[list[se3.Frame], list[tuple[float, float]]]:
-        """The FK as ``n + 1`` constant links ``G_0 .. G_n`` (plain-float frames) and, per
-        joint, the rotation and translation of ``Q_i`` per unit of ``q``:
-        ``T(q) = G_0 Q_1 G_1 ... Q_n G_n``."""
-        mod = convention_module(self.convention)
-        out: list[se3.Frame] = []
-        g = mod.base_frame(self.base)
+    def link_form(self) -> tuple[Mat, Mat]:
+        """The FK as links ``G_0 .. G_n`` ``(n + 1, 4, 4)`` and, per joint, the rotation and
+        translation of ``Q_i`` per unit of ``q`` ``(n, 2)``: ``T(q) = G_0 Q_1 G_1 ... Q_n G_n``."""
+        links: list[frames.Frame] = []
+        g = self.base.frame()
         for row in self.rows:
-            pre, post = mod.row_frames(row.params)
-            out.append(g if pre is None else se3.compose(g, pre))
-            g = post
-        out.append(se3.compose(g, mod.tool_frame(self.tool)))
+            before, after = row.params.around_joint()
+            links.append(g if before is None else frames.compose(g, before))
+            g = after
+        links.append(frames.compose(g, self.tool.frame()))
         motions = [(r.rotation * r.scale, r.translation * r.scale) for r in self.rows]
-        return out, motions
+        return se3.stack(links), np.array(motions, dtype=float).reshape(-1, 2)
 
-    @cached_property
-    def _program(self) -> chainfk.Program:
-        """The FK as elementary motions (see :mod:`urdf2dh.chainfk`): each joint's offsets
-        joined to its motion, the rest as ``Rx``, ``Tx``, ``Rz``, ``Tz`` or a dense ``V``."""
-        joints: list[tuple[float, float, float, float, float]] = []
-        between: list[tuple[list[tuple[int, Any]], list[tuple[int, Any]]]] = []
-        for r in self.rows:
-            rot, lin = r.rotation, r.translation
-            p = r.params
-            if self.convention == "cpc":
-                joints.append((rot, lin, r.scale, 0.0, 0.0))
-                v = se3.matrix_of(convention_module("cpc").v_frame(p["b"], p["l"], p["beta"]))
-                between.append(([], [(chainfk.MATRIX, v)]))
-                continue
-            joints.append((rot, lin, r.scale, p["theta"], p["d"]))
-            link = chainfk.rx(p["alpha"]) + chainfk.translate(chainfk.TX, p["a"])
-            between.append(([], link) if self.convention == "dh" else (link, []))
-        t = self.tool
-        tool = [] if self.convention == "cpc" else (
-            chainfk.rz(t["theta"]) + chainfk.translate(chainfk.TZ, t["d"]))
-        if self.convention == "mdh":
-            tool = chainfk.rx(t["alpha"]) + chainfk.translate(chainfk.TX, t["a"]) + tool
-        if self.convention == "cpc":
-            return chainfk.Program.build(self.base_matrix, joints, between, tool)
-        b = self.base  # B = Rz Tz (mdh), Rz Tz Rx Tx (dh): elementary operations too
-        base = chainfk.rz(b["theta"]) + chainfk.translate(chainfk.TZ, b["d"])
-        if self.convention == "dh":
-            base += chainfk.rx(b["alpha"]) + chainfk.translate(chainfk.TX, b["a"])
-        return chainfk.Program.build(base, joints, between, tool)
+    def fk_batch(self, q: NDArray[np.float64]) -> Mat:
+        """Poses ``(N, 4, 4)`` of the tool for configurations ``q`` of shape ``(N, n)``."""
+        return chain_fk(*self.link_form(), se3.as_configurations(q, self.n))
 
     def fk(self, q: NDArray[np.float64]) -> Mat:
         """Pose ``(4, 4)`` of the tool for a configuration ``q`` of shape ``(n,)``; for a stack
-        of shape ``(..., n)``, poses ``(..., 4, 4)`` (computed by :meth:`fk_batch`)."""
+        of shape ``(..., n)``, poses ``(..., 4, 4)``."""
         return se3.fk_of_stack(self.fk_batch, q, self.n)
 
-    def fk_batch(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
-        """Poses ``(N, 4, 4)`` of the tool for configurations ``q`` of shape ``(N, n)``,
-        vectorised over N (:func:`urdf2dh.chainfk.run`; threads for large N)."""
-        return chainfk.run(self._program, se3.as_configurations(q, self.n))
-
     def frames(self) -> list[Mat]:
-        """Home-pose frames: ``[B.A_1, ..]`` where each joint's z axis is, then the tool."""
+        """Home-pose frames ``(4, 4)``: for each joint, the frame whose z axis is its axis
+        (``B A_1``, ...), then the tool."""
+        links = self.link_form()[0]
         out, f = [], np.eye(4)
-        for g in self.links[:-1]:
+        for g in links[:-1]:
             f = f @ g
             out.append(f)
-        out.append(f @ self.links[-1])
+        out.append(f @ links[-1])
         return out
 
     def to_poe(self) -> PoeModel:
         """The equivalent POE model: joint ``i`` moves about the z axis of the frame just before
         ``Q_i``, and ``M`` is the home pose (Sumenkov §III-B; Wu 2019 §II)."""
-        frames = self.frames()
-        joints = []
-        for row, f in zip(self.rows, frames[:-1], strict=True):
-            joints.append(
-                Joint(
-                    row.name, row.kind, f[:3, 2].copy(), f[:3, 3].copy(),
-                    row.pitch, row.scale, row.lower, row.upper,
-                )
-            )
-        return PoeModel(
-            tuple(joints), frames[-1], self.robot, self.source, self.base_link,
-            self.tip_link, self.length_unit,
-        )
-
-    # ------------------------------------------------------------------ serialisation
+        poses = self.frames()
+        joints = tuple(
+            Joint(r.name, r.kind, f[:3, 2].copy(), f[:3, 3].copy(), r.pitch, r.scale, r.lower,
+                  r.upper)
+            for r, f in zip(self.rows, poses[:-1], strict=True)
+        )  # fmt: skip
+        return PoeModel(joints, poses[-1], self.robot, self.source, self.base_link,
+                        self.tip_link, self.length_unit)  # fmt: skip
 
     def to_dict(self) -> dict[str, Any]:
         """The SPEC §2 tree (what ``--format json`` and ``--format yaml`` write)."""
-
-        def clean(p: Mapping[str, Any]) -> dict[str, Any]:
-            return {k: (list(map(float, v)) if isinstance(v, list | tuple | np.ndarray)
-                        else float(v)) for k, v in p.items()}
-
         joints = []
         for r in self.rows:
             entry: dict[str, Any] = {
                 "name": r.name, "type": r.kind, "pitch": float(r.pitch),
-                "scale": float(r.scale), "params": clean(r.params),
-            }
+                "scale": float(r.scale), "params": r.params.to_dict(),
+            }  # fmt: skip
             if r.lower is not None and r.upper is not None:
                 entry["limits"] = [float(r.lower), float(r.upper)]
             joints.append(entry)
@@ -238,19 +178,13 @@ class Table:
             "base_link": self.base_link,
             "tip_link": self.tip_link,
             "units": {"length": self.length_unit, "angle": "rad"},
-            "base": {"params": clean(self.base), "matrix": self.base_matrix.tolist()},
+            "base": {"params": self.base.to_dict(), "matrix": self.base_matrix.tolist()},
             "joints": joints,
-            "tool": {"params": clean(self.tool), "matrix": self.tool_matrix.tolist()},
+            "tool": {"params": self.tool.to_dict(), "matrix": self.tool_matrix.tolist()},
             "check": None if self.check is None else {
                 "samples": self.check.samples,
                 "max_position_error": self.check.max_position_error,
                 "max_rotation_error": self.check.max_rotation_error,
             },
             "warnings": list(self.warnings),
-        }
-
-
-def wrap(a: float) -> float:
-    """An angle in ``(-pi, pi]``."""
-    out = math.remainder(a, 2.0 * math.pi)
-    return math.pi if out == -math.pi else out + 0.0
+        }  # fmt: skip

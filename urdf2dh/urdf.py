@@ -20,7 +20,7 @@ from typing import Any, NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
-from . import se3
+from . import frames, se3
 from .errors import ChainError, InputError, choices
 from .files import read_file
 from .screws import Joint, JointKind, PoeModel
@@ -404,14 +404,14 @@ def _tree_from_robot(robot: Any, display: str, name: str) -> UrdfTree:
 class _Movable(NamedTuple):
     name: str
     kind: JointKind
-    axis: se3.Vec3
-    point: se3.Vec3
+    axis: frames.Vec3
+    point: frames.Vec3
     pitch: float
     lower: float | None
     upper: float | None
 
 
-def _helical_lead(uj: UrdfJoint, axis: se3.Vec3, movable: list[_Movable]) -> float | None:
+def _helical_lead(uj: UrdfJoint, axis: frames.Vec3, movable: list[_Movable]) -> float | None:
     """The pitch, if ``uj`` is the lead of a helical joint as urdf2dh writes one: a prismatic
     joint mimicking the revolute joint just before it on the chain (offset 0), along its axis."""
     if uj.type != "prismatic" or uj.mimic is None or uj.offset != 0.0 or not movable:
@@ -445,11 +445,11 @@ def tree_to_poe(
         )
     tip = tip or tree.default_tip(base)
     path = tree.chain(base, tip)
-    t = se3.IDENTITY  # the joint frame at the home pose, in the base frame
+    t = frames.IDENTITY  # the joint frame at the home pose, in the base frame
     movable: list[_Movable] = []
     warnings: list[str] = []
     for uj in path:
-        t = se3.compose(t, se3.frame_of(uj.origin))
+        t = frames.compose(t, frames.frame_of(uj.origin))
         if uj.type in ("floating", "planar"):
             raise ChainError(
                 f"{tree.path}: joint '{uj.name}' on the chain '{base}' -> '{tip}' is "
@@ -457,7 +457,7 @@ def tree_to_poe(
             )
         if uj.type == "fixed":
             continue
-        axis = se3.unit(se3.rotate(t, se3.unit(uj.axis.tolist())))
+        axis = frames.unit(frames.rotate(t, frames.unit(uj.axis.tolist())))
         if uj.mimic is not None:
             lead = _helical_lead(uj, axis, movable)
             if lead is not None:  # revolute + coaxial prismatic mimicking it = one helical joint

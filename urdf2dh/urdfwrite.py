@@ -21,26 +21,10 @@ from xml.sax.saxutils import escape, quoteattr
 import numpy as np
 from numpy.typing import NDArray
 
-from . import __version__, se3
-from .errors import UsageError, choices
+from . import __version__, se3, units
 from .table import Table
 
-__all__ = ["METRES_PER_UNIT", "rpy_from_matrix", "table_to_urdf"]
-
-METRES_PER_UNIT = {"m": 1.0, "cm": 0.01, "mm": 0.001, "um": 1e-6, "in": 0.0254, "ft": 0.3048}
-
-
-def rpy_from_matrix(r: NDArray[np.float64]) -> tuple[float, float, float]:
-    """URDF ``rpy`` of a rotation matrix: ``R = Rz(yaw) Ry(pitch) Rx(roll)``.
-
-    Pitch comes from ``atan2`` (accurate near +-pi/2); yaw from the first column (0 at gimbal
-    lock); roll from what remains, ``Rx(roll) = Ry(-pitch) Rz(-yaw) R``.
-    """
-    pitch = math.atan2(-r[2, 0], math.hypot(r[0, 0], r[1, 0]))
-    yaw = math.atan2(r[1, 0], r[0, 0]) if math.hypot(r[0, 0], r[1, 0]) > 1e-12 else 0.0
-    rest = se3.rot_y(-pitch)[:3, :3] @ se3.rot_z(-yaw)[:3, :3] @ r
-    roll = math.atan2(rest[2, 1], rest[1, 1])
-    return roll + 0.0, pitch + 0.0, yaw + 0.0
+__all__ = ["table_to_urdf"]
 
 
 def _num(x: float) -> str:
@@ -49,7 +33,7 @@ def _num(x: float) -> str:
 
 def _origin(t: NDArray[np.float64]) -> str:
     xyz = " ".join(_num(v) for v in t[:3, 3])
-    rpy = " ".join(_num(v) for v in rpy_from_matrix(t[:3, :3]))
+    rpy = " ".join(_num(v) for v in se3.rpy(t))
     return f'<origin xyz="{xyz}" rpy="{rpy}"/>'
 
 
@@ -65,12 +49,7 @@ def _unique(name: str, taken: set[str]) -> str:
 def table_to_urdf(table: Table) -> tuple[str, list[str]]:
     """URDF text for ``table`` (in metres, as URDF requires) and the notes about what URDF
     could not say directly."""
-    if table.length_unit not in METRES_PER_UNIT:
-        raise UsageError(
-            f"cannot write URDF (metres) from lengths in '{table.length_unit}'; known units: "
-            f"{choices(METRES_PER_UNIT)}"
-        )
-    metres = METRES_PER_UNIT[table.length_unit]
+    metres = units.metres_per(table.length_unit)
     frames = [f.copy() for f in table.frames()]
     for f in frames:
         f[:3, 3] *= metres

@@ -23,16 +23,29 @@ from __future__ import annotations
 
 import importlib
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
 
 from ..errors import UsageError, choices
-from ..screws import PoeModel
-from ..table import Table
-from .common import Options
 
-__all__ = ["TARGETS", "Options", "Target", "export", "export_table"]
+if TYPE_CHECKING:
+    from ..screws import PoeModel
+    from ..table import Table
+    from .common import Options
+
+__all__ = ["TARGETS", "Options", "Target", "export", "export_table", "table_choices"]
 
 
-@dataclass(frozen=True)
+def __getattr__(name: str) -> Any:
+    # Options lives with the targets' shared helpers (numpy); the command line's --help reads
+    # TARGETS only
+    if name == "Options":
+        from .common import Options
+
+        return Options
+    raise AttributeError(f"module 'urdf2dh.export' has no attribute {name!r}")
+
+
+@dataclass(frozen=True, slots=True)
 class Target:
     """An export target: its module, what it writes, and the tables it reads."""
 
@@ -92,6 +105,8 @@ def table_choices(target: str, convention: str | None, style: str | None) -> tup
 
 def export_table(table: Table, target: str, opts: Options | None = None) -> str:
     """Render an already checked table for ``target``."""
+    from .common import Options
+
     return _target(target).render(table, opts or Options())
 
 
@@ -105,6 +120,7 @@ def export(
 ) -> str:
     """Convert ``model`` for ``target`` (a name in :data:`TARGETS`) and render the file text."""
     from ..convert import to_table
+    from .common import Options
 
     opts = opts or Options()
     convention, style = table_choices(target, convention, style)

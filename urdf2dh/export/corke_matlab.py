@@ -14,6 +14,7 @@ from ..table import Row, Table
 from .common import (
     Numbers,
     Options,
+    floats,
     header,
     matlab_matrix,
     require,
@@ -25,7 +26,7 @@ FLAVOURS = {"dh": "standard", "mdh": "modified"}
 
 
 def _link(index: int, row: Row, convention: str, numbers: Numbers) -> str:
-    p = row.params
+    p = floats(row.params)
     if row.kind == "revolute":
         args = ["'revolute'", f"'d', {numbers.lin(p['d'])}"]
         offset = numbers.ang(p["theta"])

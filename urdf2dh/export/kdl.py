@@ -22,6 +22,7 @@ from ..table import Table
 from .common import (
     Numbers,
     Options,
+    floats,
     header,
     require,
 )
@@ -53,15 +54,15 @@ def render(table: Table, opts: Options) -> str:
     tip_name = table.tip_link or "tool"
     lines = []
     if table.convention == "dh":
-        lines.append(_segment(base_name, "Fixed", _frame("DH", dict(table.base), numbers)))
+        lines.append(_segment(base_name, "Fixed", _frame("DH", floats(table.base), numbers)))
         for row in table.rows:
             lines.append(_segment(row.name, JOINT_TYPES[row.kind],
-                                  _frame("DH", dict(row.params), numbers)))
-        lines.append(_segment(tip_name, "Fixed", _frame("DH", dict(table.tool), numbers)))
+                                  _frame("DH", floats(row.params), numbers)))
+        lines.append(_segment(tip_name, "Fixed", _frame("DH", floats(table.tool), numbers)))
     else:
-        frames = [_frame("DH_Craig1989", dict(r.params), numbers) for r in table.rows]
-        frames.append(_frame("DH_Craig1989", dict(table.tool), numbers))
-        base = _frame("DH_Craig1989", dict(table.base), numbers)
+        frames = [_frame("DH_Craig1989", floats(r.params), numbers) for r in table.rows]
+        frames.append(_frame("DH_Craig1989", floats(table.tool), numbers))
+        base = _frame("DH_Craig1989", floats(table.base), numbers)
         if base != "kdl.Frame.DH_Craig1989(0.0, 0.0, 0.0, 0.0)":  # B = I is left out
             frames[0] = f"{base} * {frames[0]}"
         lines.append(_segment(base_name, "Fixed", frames[0]))

@@ -26,15 +26,16 @@ import math
 
 import numpy as np
 
+from .. import units
 from ..errors import ExportError
-from ..lines import dh_matrix
+from ..se3 import dh_matrix
 from ..table import Table
 from .common import (
     Numbers,
     Options,
     close_to,
+    floats,
     header,
-    length_factor,
     require,
     require_convention,
 )
@@ -52,7 +53,7 @@ def _refuse(table: Table, why: str) -> ExportError:
 def _links(table: Table, opts: Options) -> list[tuple[float, float, float]]:
     """``(a, alpha, d)`` per genserkins link in the table's unit, base and tool folded in."""
     tol = opts.tol
-    rows = [dict(r.params) for r in table.rows]
+    rows = [floats(r.params) for r in table.rows]
     offsets = [f"'{r.name}' ({math.degrees(p['theta']):.6g} deg)"
                for r, p in zip(table.rows, rows, strict=True)
                if abs(p["theta"]) > tol.check_rotation]
@@ -60,8 +61,9 @@ def _links(table: Table, opts: Options) -> list[tuple[float, float, float]]:
         raise _refuse(table, "has no theta offsets, and joints " + ", ".join(offsets)
                       + " need them at their zero position (try --style ur)")
     links = [(p["a"], p["alpha"], p["d"]) for p in rows]
-    base_d = float(table.base["d"])
-    base_moves = abs(table.base["theta"]) > tol.check_rotation
+    base, tool = floats(table.base), floats(table.tool)
+    base_d = base["d"]
+    base_moves = abs(base["theta"]) > tol.check_rotation
     a1, alpha1, d1 = links[0]
     if close_to(table, table.base_matrix, np.eye(4), tol):
         pass
@@ -69,18 +71,17 @@ def _links(table: Table, opts: Options) -> list[tuple[float, float, float]]:
         links[0] = (0.0, 0.0, d1 + base_d)  # Tz(d_B) slides along joint 1's axis into D-0
     else:
         raise _refuse(table, f"has no base transform, and the base frame '{table.base_link}' "
-                      f"is turned {math.degrees(table.base['theta']):.6g} deg about joint 1's "
+                      f"is turned {math.degrees(base['theta']):.6g} deg about joint 1's "
                       "axis from its zero position (or offset off it); choose a base link whose "
                       "x axis lies along joint 1's zero direction")
-    tool = table.tool
-    if not close_to(table, table.tool_matrix, dh_matrix(0.0, float(tool["d"]), 0.0, 0.0), tol):
+    if not close_to(table, table.tool_matrix, dh_matrix(0.0, tool["d"], 0.0, 0.0), tol):
         raise _refuse(table, f"has no tool transform beyond a length along the last axis, and "
                       f"'{table.tip_link}' is turned or offset from it (tool alpha = "
                       f"{math.degrees(tool['alpha']):.6g} deg, a = {tool['a']:.6g} "
                       f"{table.length_unit}, theta = {math.degrees(tool['theta']):.6g} deg); "
                       "choose a tip link on the last joint's axis with the same x")
     a, alpha, d = links[-1]
-    links[-1] = (a, alpha, d + float(tool["d"]))
+    links[-1] = (a, alpha, d + tool["d"])
     return links
 
 
@@ -94,7 +95,7 @@ def render(table: Table, opts: Options) -> str:
     if unit is None:
         raise ExportError(f"linuxcnc: --units must be mm or inch, not '{opts.units}'")
     links = _links(table, opts)
-    numbers = Numbers.of(table, opts.tol, length_factor(table.length_unit, unit))
+    numbers = Numbers.of(table, opts.tol, units.factor(table.length_unit, unit))
     out = [f"# {line}" for line in header(table, "LinuxCNC genserkins parameters")]
     out.append(f"# genserkins link i = Rx(ALPHA-i) Tx(A-i) Rz(joint i) Tz(D-i) (Craig); A and D "
                f"in {unit}, ALPHA in radians,")

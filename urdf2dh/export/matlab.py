@@ -19,14 +19,13 @@ after the tip link, so ``getTransform(robot, q, "<tip>")`` is the table's forwar
 
 from __future__ import annotations
 
-from typing import Any
-
 import numpy as np
 
 from ..table import Row, Table
 from .common import (
     Numbers,
     Options,
+    floats,
     header,
     matlab_matrix,
     require,
@@ -48,7 +47,7 @@ def _fixed_body(name: str, tform: str) -> list[str]:
 
 def _offset(row: Row, numbers: Numbers) -> np.ndarray | None:
     """The fixed transform carrying what ``setFixedTransform`` ignores for this joint."""
-    p = row.params
+    p = floats(row.params)
     out = np.eye(4)
     if row.kind == "revolute":
         theta = numbers.angle(p["theta"])
@@ -65,7 +64,7 @@ def _offset(row: Row, numbers: Numbers) -> np.ndarray | None:
 
 
 def _joint_body(index: int, row: Row, convention: str, numbers: Numbers) -> list[str]:
-    p: dict[str, Any] = dict(row.params)
+    p = floats(row.params)
     theta = "0" if row.kind == "revolute" else numbers.ang(p["theta"])
     d = "0" if row.kind == "prismatic" else numbers.lin(p["d"])
     lines = [

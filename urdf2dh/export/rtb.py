@@ -12,13 +12,12 @@ the table's ``theta`` (revolute) or ``d`` (prismatic). ``qlim`` comes from the U
 
 from __future__ import annotations
 
-from collections.abc import Mapping
-from typing import Any
-
+from ..conventions import Params
 from ..table import Row, Table
 from .common import (
     Numbers,
     Options,
+    floats,
     header,
     require,
 )
@@ -43,14 +42,17 @@ def _se3(parts: list[tuple[str, float]], numbers: Numbers) -> str:
     return " * ".join(terms) or "SE3()"
 
 
-def _base_tool(table: Table, which: Mapping[str, Any], order: tuple[str, ...]) -> list[
-        tuple[str, float]]:
-    ops = {"theta": "Rz", "d": "Tz", "alpha": "Rx", "a": "Tx"}
-    return [(ops[k], float(which[k])) for k in order]
+OPS = {"theta": "Rz", "d": "Tz", "alpha": "Rx", "a": "Tx"}  # each D-H parameter's motion
+
+
+def _motions(record: Params) -> list[tuple[str, float]]:
+    """A D-H base or tool record as its elementary motions, in the record's own order (the
+    order of its transform: ``Rz Tz Rx Tx``, ``Rz Tz``, or Craig's ``Rx Tx Rz Tz``)."""
+    return [(OPS[k], v) for k, v in floats(record).items()]
 
 
 def _link(table: Table, row: Row, numbers: Numbers) -> str:
-    p = row.params
+    p = floats(row.params)
     cls = CLASSES[(table.convention, row.kind)]
     if row.kind == "revolute":
         args = [f"d={numbers.lin(p['d'])}", f"offset={numbers.ang(p['theta'])}"]
@@ -68,12 +70,7 @@ def render(table: Table, opts: Options) -> str:
     """A Python script defining ``robot``, a roboticstoolbox ``DHRobot`` of the table."""
     require(table, "rtb", ("dh", "mdh"))
     numbers = Numbers.of(table, opts.tol)
-    if table.convention == "dh":
-        base = _base_tool(table, table.base, ("theta", "d", "alpha", "a"))
-        tool = _base_tool(table, table.tool, ("theta", "d"))
-    else:
-        base = _base_tool(table, table.base, ("theta", "d"))
-        tool = _base_tool(table, table.tool, ("alpha", "a", "theta", "d"))
+    base, tool = _motions(table.base), _motions(table.tool)
     classes = sorted({CLASSES[(table.convention, r.kind)] for r in table.rows})
     out = ['"""' + "\n".join(header(table, "roboticstoolbox-python DHRobot")) + '\n"""', ""]
     out.append(f"from roboticstoolbox import DHRobot, {', '.join(classes)}")

@@ -42,23 +42,22 @@ from __future__ import annotations
 
 import itertools
 import math
-from collections.abc import Mapping
-from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
+from .. import units
+from ..conventions import Params
 from ..errors import ExportError
-from ..lines import dh_matrix
-from ..se3 import rot_z, rpy
+from ..se3 import dh_matrix, rot_z, rpy
 from ..table import Table
 from ..tolerances import HASH_DECIMALS
 from .common import (
     Numbers,
     Options,
     close_to,
+    floats,
     header,
-    length_factor,
     num,
     require,
     require_convention,
@@ -107,14 +106,14 @@ def hash_bytes(data: bytes, seed: int = SEED) -> int:
 def hashed_rows(table: Table) -> list[tuple[float, float, float, float]]:
     """``(theta, d, a, alpha)`` per joint in metres and radians, rounded to :data:`HASH_DECIMALS`
     decimals (-0 turned into 0)."""
-    k = length_factor(table.length_unit, "m")
+    k = units.factor(table.length_unit, "m")
 
     def snap(x: float) -> float:
         return round(x, HASH_DECIMALS) + 0.0
 
     return [
         (snap(p["theta"]), snap(k * p["d"]), snap(k * p["a"]), snap(p["alpha"]))
-        for p in (r.params for r in table.rows)
+        for p in (floats(r.params) for r in table.rows)
     ]
 
 
@@ -140,7 +139,7 @@ def _check(table: Table, opts: Options) -> None:
             f"chain's D-H frame 0 is elsewhere from '{table.base_link}' (base params "
             f"{_params(table.base)}); export from the UR description's base_link"
         )
-    last = table.rows[-1].params
+    last = floats(table.rows[-1].params)
     flange = dh_matrix(0.0, 0.0, last["alpha"], last["a"]) @ table.tool_matrix
     if not close_to(table, flange, np.eye(4), opts.tol):
         raise ExportError(
@@ -151,16 +150,17 @@ def _check(table: Table, opts: Options) -> None:
         )
 
 
-def _params(p: Mapping[str, Any]) -> str:
-    return ", ".join(f"{k} = {math.degrees(v):.6g} deg" if k in ("theta", "alpha")
-                     else f"{k} = {float(v):.6g}" for k, v in p.items())
+def _params(p: Params) -> str:
+    kinds = type(p).quantities()
+    return ", ".join(f"{k} = {math.degrees(v):.6g} deg" if kinds[k] == "angle"
+                     else f"{k} = {v:.6g}" for k, v in floats(p).items())
 
 
 def joint_origins(table: Table) -> list[Mat]:
     """The six joint origins (4x4, metres) of ``ur_macro.xacro``'s chain, split as
     ``ur_calibration`` splits the D-H rows."""
-    k = length_factor(table.length_unit, "m")
-    rows = [r.params for r in table.rows]
+    k = units.factor(table.length_unit, "m")
+    rows = [floats(r.params) for r in table.rows]
     out = [dh_matrix(rows[0]["theta"], k * rows[0]["d"], 0.0, 0.0)]
     for prev, cur in itertools.pairwise(rows):
         passive = dh_matrix(0.0, 0.0, prev["alpha"], k * prev["a"])
@@ -189,8 +189,8 @@ def render(table: Table, opts: Options) -> str:
     for r, values in zip(table.rows, rows, strict=True):
         lines.append(f"#   {r.name:<{width}}  " + "  ".join(f"{v:>10g}" for v in values))
     lines.append("kinematics:")
-    metres = length_factor(table.length_unit, "m")
-    numbers = Numbers(table.to_poe().size() * metres, opts.tol.noise)  # origins are in metres
+    metres = units.factor(table.length_unit, "m")
+    numbers = Numbers(table.size * metres, opts.tol.noise)  # origins are in metres
     for link, origin in zip(LINKS, joint_origins(table), strict=True):
         lines.append(f"  {link}:")
         xyz = (numbers.length(v) for v in origin[:3, 3])

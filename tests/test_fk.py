@@ -1,0 +1,141 @@
+"""The reference forward kinematics (urdf2dh.fk) against plain per-configuration products,
+across block boundaries: a POE model against se3.twist_exp multiplied out, and a table against
+its links and joint motions multiplied one by one."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from chains import random_chain_urdf
+
+from urdf2dh import fk, se3
+from urdf2dh.conventions import NAMES
+from urdf2dh.convert import sample_configurations, to_table
+from urdf2dh.screws import Joint, PoeModel
+from urdf2dh.urdf import parse_tree, tree_to_poe
+
+RNG = np.random.default_rng(20261121)
+
+
+def unit(v):
+    return v / np.linalg.norm(v)
+
+
+def mixed_model(n: int) -> PoeModel:
+    """Revolute, prismatic (with and without a located axis) and helical joints, odd scales."""
+    joints = []
+    for i in range(n):
+        kind = ("revolute", "prismatic", "helical", "revolute")[i % 4]
+        point = None if kind == "prismatic" and i % 8 == 1 else RNG.normal(size=3)
+        pitch = RNG.normal() if kind == "helical" else 0.0
+        joints.append(Joint(f"j{i}", kind, unit(RNG.normal(size=3)), point, pitch,
+                            RNG.uniform(0.5, 2.0) * RNG.choice([-1.0, 1.0])))
+    return PoeModel(tuple(joints), se3.twist_exp(RNG.normal(size=6)))
+
+
+def product_of_exponentials(model: PoeModel, q):
+    out = []
+    for row in q:
+        t = np.eye(4)
+        for j, value in zip(model.joints, row, strict=True):
+            point = np.zeros(3) if j.point is None else j.point  # prismatic: any point on it
+            if j.kind == "prismatic":
+                xi = np.concatenate([np.zeros(3), j.axis])
+            else:
+                xi = np.concatenate([j.axis, np.cross(point, j.axis) + j.pitch * j.axis])
+            t = t @ se3.twist_exp(j.scale * xi, value)
+        out.append(t @ model.home)
+    return np.array(out).reshape(-1, 4, 4)
+
+
+def links_one_by_one(table, q):
+    out = []
+    for row in q:
+        links = table.link_form()[0]
+        t = links[0]
+        for r, value, link in zip(table.rows, row, links[1:], strict=True):
+            s = r.scale * value
+            turn = 0.0 if r.kind == "prismatic" else s
+            shift = s if r.kind == "prismatic" else r.pitch * s
+            t = t @ se3.rot_z(turn) @ se3.trans(z=shift) @ link
+        out.append(t)
+    return np.array(out).reshape(-1, 4, 4)
+
+
+@pytest.mark.parametrize("block", [1, 3, 16384])
+def test_poe_fk_is_the_product_of_exponentials(monkeypatch, block):
+    """A POE model's link form (its exponentials written as C Q C^-1), across block
+    boundaries, against exp(xi_1 q_1) ... exp(xi_n q_n) M multiplied out with se3.twist_exp."""
+    monkeypatch.setattr(fk, "BLOCK", block)
+    for n in (1, 5, 12):
+        model = mixed_model(n)
+        q = RNG.uniform(-math.pi, math.pi, size=(10, n))
+        diff = np.abs(model.fk_batch(q) - product_of_exponentials(model, q)).max()
+        assert diff <= 1e-13 * model.size(), (n, diff)
+        assert np.allclose(model.fk(q[3]), model.fk_batch(q)[3], rtol=0, atol=1e-15)
+
+
+@pytest.mark.parametrize("block", [1, 3, 16384])
+def test_table_fk_is_its_links_one_by_one(monkeypatch, block):
+    """Every convention's table, across block boundaries, against its links and joint
+    motions multiplied one by one as 4x4 matrices."""
+    monkeypatch.setattr(fk, "BLOCK", block)
+    text, _ = random_chain_urdf(5, 9)
+    urdf_model = tree_to_poe(parse_tree(text.encode(), "r.urdf"), "base", "tool")
+    for model in (urdf_model, mixed_model(7)):
+        q = sample_configurations(model, 10, 1)
+        for conv in NAMES:
+            table = to_table(model, conv)
+            diff = np.abs(table.fk_batch(q) - links_one_by_one(table, q)).max()
+            assert diff <= 1e-13 * model.size(), (conv, diff)
+
+
+def test_table_links_are_its_records_transforms():
+    """The links of a table are its base, rows and tool records' own transforms, grouped
+    around each joint motion (what each convention's FK formula says)."""
+    model = mixed_model(5)
+    for conv in NAMES:
+        table = to_table(model, conv)
+        links, motions = table.link_form()
+        expected = [se3.matrix_of(table.base.frame())]
+        for row in table.rows:
+            before, after = row.params.around_joint()
+            if before is not None:
+                expected[-1] = expected[-1] @ se3.matrix_of(before)
+            expected.append(se3.matrix_of(after))
+        expected[-1] = expected[-1] @ table.tool_matrix
+        assert np.allclose(links, np.array(expected), rtol=0, atol=1e-15), conv
+        assert np.array_equal(motions[:, 0], [r.scale * r.rotation for r in table.rows])
+
+
+def test_empty_batches():
+    model = mixed_model(3)
+    assert model.fk_batch(np.zeros((0, 3))).shape == (0, 4, 4)
+    for conv in NAMES:
+        assert to_table(model, conv).fk_batch(np.zeros((0, 3))).shape == (0, 4, 4)
+
+
+def test_fk_takes_one_configuration_or_a_stack():
+    model = mixed_model(4)
+    table = to_table(model, "mdh")
+    q = RNG.uniform(-1.0, 1.0, size=(2, 3, 4))
+    for fk_one, batch in ((model.fk, model.fk_batch), (table.fk, table.fk_batch)):
+        assert fk_one(q[0, 0]).shape == (4, 4)
+        assert np.array_equal(fk_one(q[0, 0]), batch(q[0, :1])[0])
+        assert np.array_equal(fk_one(q), batch(q.reshape(-1, 4)).reshape(2, 3, 4, 4))
+        with pytest.raises(ValueError, match=r"expected \(\.\.\., 4\)"):
+            fk_one(q[0, 0, :3])
+
+
+def test_pose_errors_measures_position_and_rotation():
+    """A micrometre along x and a 1e-9 rad turn are measured as such; NaN propagates."""
+    a = np.repeat(np.eye(4)[None], 3, axis=0)
+    b = a.copy()
+    b[1, 0, 3] += 1e-6
+    b[2, :3, :3] = se3.rot_z(1e-9)[:3, :3]
+    pos, rot = se3.pose_errors(a, b)
+    assert pos == pytest.approx(1e-6, rel=1e-12) and rot == pytest.approx(1e-9, rel=1e-6)
+    b[0, 2, 3] = np.nan
+    assert math.isnan(se3.pose_errors(a, b)[0])

@@ -1,0 +1,48 @@
+"""The parameter conventions, one module each, and the registry everything else reads.
+
+==========  =====================================================  =========================
+name        forward kinematics                                     module
+==========  =====================================================  =========================
+``dh``      ``B . prod [Q_i Rz Tz Rx Tx] . Rz Tz``                  :mod:`.dh` (Wu 2019)
+``mdh``     ``Rz Tz . prod [Rx Tx Q_i Rz Tz] . Rx Tx Rz Tz``        :mod:`.mdh` (Craig)
+``cpc``     ``V_0 . prod [Q_i V(b, l, beta)]``                     :mod:`.cpc` (Sumenkov)
+==========  =====================================================  =========================
+
+A convention is an object satisfying :class:`~.base.Convention`; adding one is its module
+and a line in :data:`REGISTRY`. The command line lists :data:`NAMES` without importing numpy.
+"""
+
+from __future__ import annotations
+
+from ..errors import UsageError, choices
+from .base import Column, Convention, Conversion, Params, columns, read_params
+from .cpc import CPC
+from .dh import DH
+from .mdh import MDH
+
+__all__ = [
+    "NAMES",
+    "REGISTRY",
+    "STYLES",
+    "Column",
+    "Convention",
+    "Conversion",
+    "Params",
+    "columns",
+    "get",
+    "read_params",
+]
+
+REGISTRY: dict[str, Convention] = {c.name: c for c in (DH, MDH, CPC)}
+
+NAMES: tuple[str, ...] = tuple(REGISTRY)
+STYLES: tuple[str, ...] = tuple(dict.fromkeys(s for c in REGISTRY.values() for s in c.styles))
+
+
+def get(name: str) -> Convention:
+    """The convention called ``name``; a :class:`~urdf2dh.errors.UsageError` listing the valid
+    names otherwise."""
+    try:
+        return REGISTRY[name]
+    except KeyError:
+        raise UsageError(f"unknown convention '{name}'; valid: {choices(NAMES)}") from None

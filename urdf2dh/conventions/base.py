@@ -1,0 +1,207 @@
+"""What a convention is: the :class:`Convention` protocol, its parameter records and its result.
+
+A convention module defines
+
+* frozen parameter dataclasses (subclasses of :class:`Params`) for its base, rows and tool, each
+  field declared with its quantity (:func:`angle`, :func:`length`, :func:`direction`,
+  :func:`offset`) and each record knowing its own transform (:meth:`Params.frame`, or for a row
+  :meth:`Params.around_joint`: the constant transforms before and after the joint motion);
+* one object satisfying :class:`Convention`: its name, the FK formula texts, the parameter
+  classes a table file may hold in each place, the styles it takes, and ``from_poe``.
+
+Everything else (table files, text formats, diff, exports, plots, the reference FK) reads the
+records through this interface, so a new convention is its module and one registry line
+(:mod:`urdf2dh.conventions`). Nothing here imports numpy.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass, field, fields
+from typing import TYPE_CHECKING, Any, ClassVar, Literal, Protocol
+
+from ..checks import check_number, check_vector
+from ..errors import TableFileError
+from ..frames import Frame
+from ..lines import Judgement
+
+if TYPE_CHECKING:
+    from ..screws import PoeModel
+    from ..tolerances import Tolerances
+
+__all__ = [
+    "Column",
+    "Convention",
+    "Conversion",
+    "Params",
+    "Part",
+    "Quantity",
+    "angle",
+    "columns",
+    "direction",
+    "length",
+    "offset",
+    "read_params",
+]
+
+Quantity = Literal["angle", "length", "direction", "offset"]
+"""``angle`` (rad), ``length`` (source unit), ``direction`` (unit 3-vector), ``offset``
+(3-vector of lengths)."""
+
+Part = Literal["base", "row", "tool"]
+
+
+def angle() -> Any:
+    """A field holding an angle in radians."""
+    return field(metadata={"quantity": "angle"})
+
+
+def length() -> Any:
+    """A field holding a length in the source's unit."""
+    return field(metadata={"quantity": "length"})
+
+
+def direction() -> Any:
+    """A field holding a unit 3-vector."""
+    return field(metadata={"quantity": "direction"})
+
+
+def offset() -> Any:
+    """A field holding a 3-vector of lengths."""
+    return field(metadata={"quantity": "offset"})
+
+
+Value = float | tuple[float, float, float]
+
+
+@dataclass(frozen=True, slots=True)
+class Params:
+    """Base of every parameter record: a frozen dataclass whose fields are its parameters."""
+
+    VECTOR: ClassVar[tuple[str, ...]] = ("direction", "offset")
+
+    def __post_init__(self) -> None:
+        for f in fields(self):
+            value = getattr(self, f.name)
+            if f.metadata["quantity"] in self.VECTOR:
+                x, y, z = value
+                object.__setattr__(self, f.name, (float(x), float(y), float(z)))
+            else:
+                object.__setattr__(self, f.name, float(value))
+
+    @classmethod
+    def quantities(cls) -> dict[str, Quantity]:
+        """Parameter name -> quantity, in declaration order."""
+        return {f.name: f.metadata["quantity"] for f in fields(cls)}
+
+    def values(self) -> dict[str, Value]:
+        """Parameter name -> value, in declaration order."""
+        return {f.name: getattr(self, f.name) for f in fields(self)}
+
+    def scalars(self) -> dict[str, float]:
+        """The parameters that are single numbers (angles and lengths), by name."""
+        return {k: v for k, v in self.values().items() if not isinstance(v, tuple)}
+
+    def vectors(self) -> dict[str, tuple[float, float, float]]:
+        """The parameters that are 3-vectors (directions and offsets), by name."""
+        return {k: v for k, v in self.values().items() if isinstance(v, tuple)}
+
+    def to_dict(self) -> dict[str, float | list[float]]:
+        """The table file's ``params`` mapping (vectors as lists)."""
+        return {k: list(v) if isinstance(v, tuple) else v for k, v in self.values().items()}
+
+    def frame(self) -> Frame:
+        """The record's transform (base and tool records; rows: see :meth:`around_joint`)."""
+        raise NotImplementedError
+
+    def around_joint(self) -> tuple[Frame | None, Frame]:
+        """A row's constant transforms ``(before Q_i, after Q_i)``; ``None``: nothing before."""
+        return None, self.frame()
+
+
+@dataclass(frozen=True, slots=True)
+class Conversion:
+    """What ``from_poe`` makes of a model: records for the base, each joint and the tool, each
+    joint's sign (``-1`` where the convention moves it against its frame's z), the tolerance
+    judgements made (reported with the deviation they cause) and notes for the warnings."""
+
+    base: Params
+    rows: tuple[Params, ...]
+    tool: Params
+    signs: tuple[float, ...]
+    judgements: tuple[Judgement, ...] = ()
+    notes: tuple[str, ...] = ()
+
+
+class Convention(Protocol):
+    """A kinematic parameter convention (SPEC §2)."""
+
+    name: str
+    """Its name in the table file, on the command line and in the registry (``dh``)."""
+    label: str
+    """A short name for people (``standard D-H``)."""
+    title: str
+    """The FK formula as the text and Markdown tables print it."""
+    formula: str
+    """The FK formula as exported files state it."""
+    base_types: tuple[type[Params], ...]
+    row_types: tuple[type[Params], ...]
+    tool_types: tuple[type[Params], ...]
+    """The parameter records each place may hold (a table file's ``params`` keys pick one)."""
+    styles: tuple[str, ...]
+    """The styles it takes, the default first (see :mod:`urdf2dh.conventions.dh`)."""
+
+    def from_poe(self, model: PoeModel, tol: Tolerances, style: str) -> Conversion:
+        """The table of ``model`` in this convention, unchecked (:func:`urdf2dh.convert.to_table`
+        checks it)."""
+        ...
+
+
+@dataclass(frozen=True, slots=True)
+class Column:
+    """A parameter column of the flat formats: its name and quantity."""
+
+    name: str
+    quantity: Quantity
+
+
+def columns(conv: Convention) -> list[Column]:
+    """Every parameter a table of ``conv`` may hold, rows' first, in declaration order."""
+    out: dict[str, Quantity] = {}
+    for cls in (*conv.row_types, *conv.base_types, *conv.tool_types):
+        for name, quantity in cls.quantities().items():
+            out.setdefault(name, quantity)
+    return [Column(k, v) for k, v in out.items()]
+
+
+def read_params(
+    conv: Convention, part: Part, raw: Any, where: str, tol: Tolerances
+) -> Params:
+    """A table file's ``params`` mapping as a record of ``conv`` for ``part``: its keys must be
+    exactly one record's parameters; numbers finite; a direction a unit vector within
+    ``tol.rotation_input`` (then normalised)."""
+    types = {"base": conv.base_types, "row": conv.row_types, "tool": conv.tool_types}[part]
+    wanted = " or ".join(str(list(cls.quantities())) for cls in types)
+    if not isinstance(raw, Mapping):
+        raise TableFileError(f"{where}: params must be a mapping of {wanted}")
+    keys = set(raw)
+    cls = next((c for c in types if set(c.quantities()) == keys), None)
+    if cls is None:
+        raise TableFileError(
+            f"{where}: params must be exactly {wanted} (got {sorted(map(str, keys))})"
+        )
+    values: dict[str, Value] = {}
+    for name, quantity in cls.quantities().items():
+        label = f"{where}: {name}"
+        if quantity == "direction":
+            v = check_vector(raw[name], label, TableFileError)
+            norm = math.hypot(*v)
+            if abs(norm - 1.0) > tol.rotation_input:
+                raise TableFileError(f"{label} must be a unit vector (|{name}| = {norm:.9g})")
+            values[name] = (v[0] / norm, v[1] / norm, v[2] / norm)
+        elif quantity == "offset":
+            values[name] = check_vector(raw[name], label, TableFileError)
+        else:
+            values[name] = check_number(raw[name], label, TableFileError)
+    return cls(**values)

@@ -1,0 +1,101 @@
+"""Forward kinematics of chains in link form: the one reference evaluation.
+
+Every table, whatever its convention, and every POE model is evaluated the same way
+(:meth:`urdf2dh.table.Table.link_form`, :meth:`urdf2dh.screws.PoeModel.link_form`)::
+
+    T(q) = G_0 . Q_1(q_1) . G_1 . Q_2(q_2) ... Q_n(q_n) . G_n,    Q_i(q) = Rz(r_i q) Tz(t_i q)
+
+with constant links ``G_i`` (4x4) and, per joint, its rotation ``r_i`` and translation ``t_i``
+per unit of its position (a revolute joint has ``t = 0``, a prismatic one ``r = 0``, a helical
+one both; the joint's scale is folded in).
+
+The poses of ``m`` configurations are computed together, as the top three rows of each:
+``F[r, k, :]`` is row ``r`` of configuration ``k``'s pose. Then
+
+* ``F G`` is one matrix product of the ``(3 m, 4)`` rows with ``G``;
+* ``F Rz(a)`` turns the x and y entries of every row: read as the complex number ``x + i y``,
+  it becomes ``(x + i y) e^{-i a}`` (``x' = x cos a + y sin a``, ``y' = y cos a - x sin a``);
+* ``F Tz(t)`` moves the origin along z: ``p' = p + t z``.
+
+Several chains at the same configurations (the self-check's table and model, ``verify``'s four)
+are evaluated together so that a joint turning at the same rate in several of them has its
+sines and cosines computed once.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+from numpy.typing import NDArray
+
+__all__ = ["BLOCK", "chain_fk", "chains_fk"]
+
+BLOCK = 16384  # configurations evaluated together (their rows: 1.5 MiB)
+
+Mat = NDArray[np.float64]
+Chain = tuple[Mat, Mat]  # links (n + 1, 4, 4), motions (n, 2)
+
+
+def chain_fk(links: Mat, motions: Mat, q: Mat) -> Mat:
+    """Poses ``(N, 4, 4)`` of a chain in link form.
+
+    Parameters
+    ----------
+    links
+        ``(n + 1, 4, 4)``: the constant transforms ``G_0 .. G_n``.
+    motions
+        ``(n, 2)``: per joint, rotation (rad) and translation (length) per unit of ``q_i``.
+    q
+        ``(N, n)``: joint positions, one configuration per row.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(N, 4, 4)`` homogeneous transforms ``T(q)``.
+    """
+    return chains_fk([(links, motions)], q)[0]
+
+
+def chains_fk(chains: Sequence[Chain], q: Mat) -> list[Mat]:
+    """Poses ``(N, 4, 4)`` of each of several chains (each as in :func:`chain_fk`, all with
+    ``n`` joints) at the same configurations ``q`` ``(N, n)``."""
+    q = np.asarray(q, dtype=float)
+    chains = [(np.asarray(g, dtype=float), np.asarray(m, dtype=float).reshape(-1, 2))
+              for g, m in chains]  # fmt: skip
+    out = [np.empty((q.shape[0], 4, 4)) for _ in chains]
+    for poses in out:
+        poses[:, 3] = (0.0, 0.0, 0.0, 1.0)
+    for lo in range(0, q.shape[0], BLOCK):
+        per_joint = np.ascontiguousarray(q[lo : lo + BLOCK].T)  # (n, m)
+        turns: dict[tuple[int, float], NDArray[np.complex128]] = {}
+        for (links, motions), poses in zip(chains, out, strict=True):
+            rows = _block(links, motions, per_joint, turns)
+            poses[lo : lo + BLOCK, :3] = rows.transpose(1, 0, 2)
+    return out
+
+
+def _turn(i: int, rate: float, per_joint: Mat, turns: dict) -> NDArray[np.complex128]:
+    """``e^{-i rate q_i}`` ``(m,)`` for the block, computed once per joint and rate."""
+    key = (i, rate)
+    if key not in turns:
+        angle = rate * per_joint[i]
+        turn = np.empty(angle.shape, dtype=np.complex128)
+        turn.real, turn.imag = np.cos(angle), -np.sin(angle)
+        turns[key] = turn
+    return turns[key]
+
+
+def _block(links: Mat, motions: Mat, per_joint: Mat, turns: dict) -> Mat:
+    """The top three rows ``(3, m, 4)`` of the poses of ``m`` configurations (``per_joint``:
+    ``(n, m)``, each joint's positions side by side)."""
+    m = per_joint.shape[1]
+    f = np.empty((3, m, 4))
+    f[...] = links[0, :3, None, :]
+    for i, (rotation, translation) in enumerate(motions.tolist()):
+        if rotation:  # each row's x + i y, times e^{-i a}
+            f.view(np.complex128)[:, :, 0] *= _turn(i, rotation, per_joint, turns)
+        if translation:
+            f[:, :, 3] += translation * per_joint[i] * f[:, :, 2]
+        f = (f.reshape(-1, 4) @ links[i + 1]).reshape(3, m, 4)
+    return f
