@@ -1,8 +1,22 @@
 """urdf2dh: a robot's URDF (or POE model) -> exact standard D-H, modified D-H and CPC tables.
 
-Pipeline: :func:`load` (URDF, POE file, table file or bundled robot -> :class:`PoeModel`),
-:func:`to_table` (POE -> :class:`Table` in ``dh``, ``mdh`` or ``cpc``, self-checked), and
-:meth:`Table.to_poe` back. Pinocchio cross-checks live in :mod:`urdf2dh.verify`.
+The pipeline, in the public names of this package:
+
+>>> import urdf2dh
+>>> model = urdf2dh.load("ur5")                  # PoeModel: screws at home + tip pose
+>>> table = urdf2dh.to_table(model, "dh")        # Table, checked against the model
+>>> pose = table.fk([0.1, -0.5, 1.0, 0.2, 0.3, 0.4])          # (4, 4)
+>>> text = urdf2dh.render(table, "json")         # SPEC §2 table file
+
+:func:`load` reads any SOURCE (URDF, xacro, POE file, table file, bundled robot) into a
+:class:`PoeModel`; :func:`to_table` converts it to a :class:`Table` in one of
+:data:`CONVENTIONS` and checks its forward kinematics against the model's; :func:`render`
+writes it. :meth:`Table.to_poe` goes back. Pinocchio cross-checks live in
+:mod:`urdf2dh.verify`, controller files in :mod:`urdf2dh.export`, the conventions themselves in
+:mod:`urdf2dh.conventions`.
+
+Twists are ``[w, v]`` (angular first); angles are radians; lengths are in the source's unit
+(metres for URDF).
 """
 
 from __future__ import annotations
@@ -12,34 +26,44 @@ from typing import TYPE_CHECKING
 __version__ = "0.1.0"
 
 __all__ = [
+    "CONVENTIONS",
     "DEFAULT",
     "EXACT",
+    "Check",
     "Joint",
     "PoeModel",
+    "Row",
     "Table",
     "Tolerances",
     "Urdf2DhError",
     "__version__",
     "load",
+    "render",
     "to_table",
 ]
 
 if TYPE_CHECKING:
+    from .conventions import NAMES as CONVENTIONS
     from .convert import to_table
     from .errors import Urdf2DhError
+    from .formats import render
     from .screws import Joint, PoeModel
-    from .table import Table
+    from .table import Check, Row, Table
     from .tolerances import DEFAULT, EXACT, Tolerances
 
 _LAZY = {
-    "to_table": "convert",
-    "Urdf2DhError": "errors",
-    "Joint": "screws",
-    "PoeModel": "screws",
-    "Table": "table",
-    "Tolerances": "tolerances",
-    "DEFAULT": "tolerances",
-    "EXACT": "tolerances",
+    "CONVENTIONS": ("conventions", "NAMES"),
+    "to_table": ("convert", "to_table"),
+    "render": ("formats", "render"),
+    "Urdf2DhError": ("errors", "Urdf2DhError"),
+    "Joint": ("screws", "Joint"),
+    "PoeModel": ("screws", "PoeModel"),
+    "Check": ("table", "Check"),
+    "Row": ("table", "Row"),
+    "Table": ("table", "Table"),
+    "Tolerances": ("tolerances", "Tolerances"),
+    "DEFAULT": ("tolerances", "DEFAULT"),
+    "EXACT": ("tolerances", "EXACT"),
 }
 
 
@@ -48,13 +72,40 @@ def __getattr__(name: str) -> object:
     if name in _LAZY:
         import importlib
 
-        return getattr(importlib.import_module(f".{_LAZY[name]}", __name__), name)
+        module, attribute = _LAZY[name]
+        return getattr(importlib.import_module(f".{module}", __name__), attribute)
     raise AttributeError(f"module 'urdf2dh' has no attribute {name!r}")
 
 
-def load(source: str, base: str | None = None, tip: str | None = None,
-         ignore_mimic: bool = False) -> PoeModel:
-    """The POE model of a SOURCE: URDF file, POE file, table file or bundled robot name."""
+def load(
+    source: str,
+    base: str | None = None,
+    tip: str | None = None,
+    ignore_mimic: bool = False,
+) -> PoeModel:
+    """The POE model of the serial chain in a SOURCE.
+
+    Parameters
+    ----------
+    source
+        A URDF or ``.xacro`` file, a POE model file (SPEC §4), a table file (SPEC §2), or the
+        name of a bundled robot (``urdf2dh robots``).
+    base, tip
+        Links that bound the chain (URDF sources; defaults: the root link, or the bundled
+        robot's own, and the single deepest leaf below the base).
+    ignore_mimic
+        Treat mimic joints on the chain as independent joints (with a warning).
+
+    Returns
+    -------
+    PoeModel
+        The movable joints' screws at the home pose, ``(4, 4)`` home pose of the tip.
+
+    Raises
+    ------
+    Urdf2DhError
+        A one-line message naming the file, link or joint at fault.
+    """
     from .sources import open_source
 
     return open_source(source).model(base, tip, ignore_mimic)

@@ -20,7 +20,7 @@ ERD = "erd:"  # file under example-robot-data's robots/
 OURS = "ours:"  # file under this project's robots/
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Bundled:
     """A bundled robot: short name, file, default base and tip links, one-line description."""
 

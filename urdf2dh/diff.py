@@ -34,7 +34,7 @@ __all__ = ["Change", "IllPair", "compare", "diff_sources", "ill_conditioned", "r
 SCHEMA = "urdf2dh-diff/1"
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Change:
     """One parameter in both tables. Angles in radians, lengths in the nominal's unit; for the
     CPC vectors ``b`` the change is the angle between them, for ``l`` the distance."""
@@ -48,7 +48,7 @@ class Change:
     marked: bool
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class IllPair:
     """Consecutive lines nearly parallel in at least one model (angles from parallel, rad)."""
 

@@ -23,7 +23,7 @@ from .tolerances import DEFAULT
 __all__ = ["Cell", "agrees", "sumenkov_table3", "wu2019_table2"]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Cell:
     """One published cell: where it is, our value (in the paper's units) and the printed text."""
 

@@ -22,7 +22,7 @@ from .urdf import UrdfTree, parse_tree, tree_to_poe
 __all__ = ["Source", "open_source", "read_mapping"]
 
 
-@dataclass
+@dataclass(frozen=True, slots=True)
 class Source:
     """A resolved SOURCE. URDF sources keep their text (for Pinocchio) and tree."""
 

@@ -20,7 +20,7 @@ EPS = sys.float_info.epsilon  # float64's; not numpy's, so that `urdf2dh --help`
 HASH_DECIMALS = 10
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Tolerances:
     """Tolerances of one conversion.
 

@@ -34,7 +34,7 @@ __all__ = [
 ]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Options:
     """What a user may choose beyond the table: the length unit of targets that fix one
     (``None``: the target's default), and the tolerances that decide what counts as zero."""
@@ -68,7 +68,7 @@ def num(x: float) -> str:
     return repr(x)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Numbers:
     """How a target writes a table's numbers: 15 significant digits (1e-15 relative, far below
     the exactness promised), and round-off as zero: a length within ``noise x size`` of 0, an
