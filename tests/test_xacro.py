@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import sys
 from pathlib import Path
 
@@ -80,3 +81,68 @@ def test_without_the_xacro_package_an_install_hint(monkeypatch, capsys):
     monkeypatch.setitem(sys.modules, "xacro", None)  # as if not installed
     assert main(["convert", XACRO]) == 2
     assert "pip install xacro" in capsys.readouterr().err
+
+
+ARM_PACKAGE = DATA / "arm_description"
+ARM = str(ARM_PACKAGE / "urdf" / "arm.urdf.xacro")
+ARM_OPTIONS = ["--package-path", f"arm_description={ARM_PACKAGE}"]
+
+
+@pytest.mark.parametrize("arm_type", ["small", "large"])
+def test_xacro_arguments_choose_the_robot_as_urs_description_does(arm_type, capsys):
+    """UR's ROS 2 description needs name:= and ur_type:=; this fixture has its structure: the
+    name used before its default, the dimensions a YAML file chosen by argument."""
+    import yaml
+
+    args = ["--xacro-arg", "name:=my_arm", "--xacro-arg", f"arm_type:={arm_type}"]
+    assert main(["convert", ARM, *ARM_OPTIONS, *args, "--format", "json"]) == 0
+    table = json.loads(capsys.readouterr().out)
+    assert table["robot"] == "my_arm"
+    dims = yaml.safe_load((ARM_PACKAGE / "config" / arm_type / "dims.yaml").read_text())
+    lengths = sorted(abs(j["params"][k]) for j in table["joints"] for k in ("d", "a"))
+    expected = sorted([abs(v) for v in dims.values()] + [0.0] * 6)
+    assert lengths == pytest.approx(expected, abs=1e-12)
+    assert main(["verify", ARM, *ARM_OPTIONS, *args, "--samples", "50"]) == 0
+
+
+def test_an_argument_may_name_the_yaml_file_itself(capsys):
+    dims = ARM_PACKAGE / "config" / "small" / "dims.yaml"
+    assert main(["convert", ARM, *ARM_OPTIONS, "--xacro-arg", "name:=a",
+                 "--xacro-arg", f"dims_file:={dims}", "--format", "csv"]) == 0
+    assert "0.24365" in capsys.readouterr().out
+
+
+def test_a_missing_argument_is_named_with_the_option(capsys):
+    assert main(["convert", ARM, *ARM_OPTIONS]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "--xacro-arg name:=VALUE" in err
+    assert main(["convert", ARM, *ARM_OPTIONS, "--xacro-arg", "name:=a"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "config/unset/dims.yaml" in err
+    with pytest.raises(SystemExit):
+        main(["convert", ARM, "--xacro-arg", "name=a"])
+    assert "expected NAME:=VALUE" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize(("expression", "options", "message"), [
+    ("${9**9**9}", ["--xacro-timeout", "2"], "took longer than 2 s (--xacro-timeout"),
+    ("${len('x'*10**10)}", [], "needs more than 1024 MiB of memory (--xacro-memory"),
+    ("${len('x'*10**8)}", ["--xacro-memory", "64"], "needs more than 64 MiB"),
+])
+def test_expansion_is_bounded_in_time_and_memory(tmp_path, capsys, expression, options,
+                                                 message):
+    bomb = tmp_path / "bomb.urdf.xacro"
+    bomb.write_text('<robot name="b" xmlns:xacro="http://www.ros.org/wiki/xacro">'
+                    f'<link name="l{expression}"/></robot>')
+    out = tmp_path / "out.json"
+    assert main(["convert", str(bomb), *options, "-o", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and message in err, err
+    assert list(tmp_path.iterdir()) == [bomb]
+
+
+def test_a_bound_that_is_not_hit_changes_nothing(capsys):
+    package = f"demo_description={PACKAGES['demo_description']}"
+    assert main(["convert", XACRO, "--package-path", package, "--xacro-timeout", "60",
+                 "--xacro-memory", "2048", "--format", "csv"]) == 0
+    assert "wrist_joint" in capsys.readouterr().out

@@ -11,7 +11,9 @@ from __future__ import annotations
 
 import argparse
 import os
+import signal
 import sys
+import warnings
 
 from . import __version__
 from .commands import COMMANDS
@@ -50,6 +52,20 @@ def _package_path(text: str) -> tuple[str, str]:
     return name, directory
 
 
+def _xacro_arg(text: str) -> tuple[str, str]:
+    name, sep, value = text.partition(":=")
+    if not sep or not name:
+        raise argparse.ArgumentTypeError(f"expected NAME:=VALUE, not '{text}'")
+    return name, value
+
+
+def _positive_float(text: str) -> float:
+    value = _nonnegative_float(text)
+    if value == 0.0:
+        raise argparse.ArgumentTypeError("must be greater than 0")
+    return value
+
+
 def _add_chain(p: argparse.ArgumentParser) -> None:
     p.add_argument("source", metavar="SOURCE",
                    help="URDF file, POE model file, table file, or bundled robot name")
@@ -66,6 +82,12 @@ def _add_chain_options(p: argparse.ArgumentParser) -> None:
                    metavar="NAME=DIR",
                    help="for .xacro sources: the directory of ROS package NAME, for $(find NAME) "
                         "and package://NAME (repeatable)")
+    p.add_argument("--xacro-arg", type=_xacro_arg, action="append", default=[],
+                   metavar="NAME:=VALUE", help="for .xacro sources: an argument (repeatable)")
+    p.add_argument("--xacro-timeout", type=_positive_float, default=20.0, metavar="SECONDS",
+                   help="for .xacro sources: time the expansion may take (default %(default)g)")
+    p.add_argument("--xacro-memory", type=_positive_int, default=1024, metavar="MIB",
+                   help="for .xacro sources: memory the expansion may use (default %(default)s)")
 
 
 def _add_tolerances(p: argparse.ArgumentParser) -> None:
@@ -168,6 +190,16 @@ def get_argument_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _one_line(text: str) -> str:
+    """``text`` with line breaks and other control characters written as escapes, so that an
+    error message naming a hostile name stays one line."""
+    return "".join(c if c.isprintable() or c == " " else repr(c)[1:-1] for c in text)
+
+
+def _terminate(signum: int, frame: object) -> None:
+    raise SystemExit(128 + signum)  # unwinds like Ctrl-C: temporary files are removed
+
+
 def main(argv: list[str] | None = None) -> int:
     """Run the command line; returns the exit code."""
     parser = get_argument_parser()
@@ -176,20 +208,36 @@ def main(argv: list[str] | None = None) -> int:
         parser.print_help()
         return 2
     try:
-        return COMMANDS[args.command](args)
+        previous = signal.signal(signal.SIGTERM, _terminate)
+    except ValueError:  # not the main thread: the caller handles its signals
+        previous = None
+    try:
+        with warnings.catch_warnings():
+            # numerical trouble is reported by the checks (a one-line error), never as a
+            # library's warning text
+            warnings.simplefilter("ignore")
+            return COMMANDS[args.command](args)
     except Urdf2DhError as e:
-        print(f"urdf2dh: error: {e}", file=sys.stderr)
+        print(f"urdf2dh: error: {_one_line(str(e))}", file=sys.stderr)
         return e.exit_code
     except KeyboardInterrupt:
         return 130
     except BrokenPipeError:
+        # the reader went away (`| head`); keep Python from complaining at exit
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 0
+    except RecursionError:
+        print("urdf2dh: error: input nested too deeply", file=sys.stderr)
+        return 2
     except Exception as e:  # a bug, or bad input we failed to foresee: still no traceback
         if os.environ.get("URDF2DH_DEBUG"):
             raise
-        print(f"urdf2dh: internal error: {type(e).__name__}: {e} (set URDF2DH_DEBUG=1 for the "
-              "traceback, and please report it)", file=sys.stderr)
+        print(f"urdf2dh: internal error: {type(e).__name__}: {_one_line(str(e))} (set "
+              "URDF2DH_DEBUG=1 for the traceback, and please report it)", file=sys.stderr)
         return 2
+    finally:
+        if previous is not None:
+            signal.signal(signal.SIGTERM, previous)
 
 
 if __name__ == "__main__":  # pragma: no cover

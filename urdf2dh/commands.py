@@ -25,11 +25,18 @@ def _tolerances(args: argparse.Namespace) -> Any:
     return tol.with_exact() if args.exact else tol
 
 
+def _xacro(args: argparse.Namespace) -> Any:
+    from .xacro import XacroOptions
+
+    return XacroOptions(dict(args.package_path), dict(args.xacro_arg), args.xacro_timeout,
+                        args.xacro_memory)
+
+
 def _open(args: argparse.Namespace, tol: Any = None) -> Any:
     from .sources import open_source
     from .tolerances import DEFAULT
 
-    return open_source(args.source, tol or DEFAULT, dict(args.package_path))
+    return open_source(args.source, tol or DEFAULT, xacro=_xacro(args))
 
 
 # --------------------------------------------------------------------------- commands
@@ -43,7 +50,7 @@ def _convert(args: argparse.Namespace) -> int:
     source = _open(args, tol)
     model = source.model(args.base, args.tip, args.ignore_mimic)
     table = to_table(model, args.convention, tol, samples=args.check_samples, style=args.style)
-    write_output(render(table, args.format), args.output)
+    write_output(render(table, args.format), args.output, [args.source])
     return 0
 
 
@@ -86,9 +93,10 @@ def _diff(args: argparse.Namespace) -> int:
         length_threshold=args.length_threshold,
         parallel_within=math.radians(args.parallel_within),
         base=args.base, tip=args.tip, ignore_mimic=args.ignore_mimic, style=args.style,
-        samples=args.check_samples, package_paths=dict(args.package_path),
+        samples=args.check_samples, xacro=_xacro(args),
     )
-    write_output(render_diff(info, changes, pairs, args.format), args.output)
+    write_output(render_diff(info, changes, pairs, args.format), args.output,
+                 [args.nominal, args.actual])
     return 0
 
 
@@ -111,7 +119,8 @@ def _export(args: argparse.Namespace) -> int:
     tol = _tolerances(args)
     model = _open(args, tol).model(args.base, args.tip, args.ignore_mimic)
     table = to_table(model, convention, tol, samples=args.check_samples, style=style)
-    write_output(export_table(table, args.to, Options(args.units, tol)), args.output)
+    write_output(export_table(table, args.to, Options(args.units, tol)), args.output,
+                 [args.source])
     return 0
 
 
@@ -125,7 +134,7 @@ def _plot(args: argparse.Namespace) -> int:
     tol = _tolerances(args)
     model = _open(args, tol).model(args.base, args.tip, args.ignore_mimic)
     table = to_table(model, args.convention, tol, samples=args.check_samples, style=args.style)
-    write_output(render(table, fmt), args.output)
+    write_output(render(table, fmt), args.output, [args.source])
     return 0
 
 

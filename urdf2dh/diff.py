@@ -28,6 +28,7 @@ from .formats import fixed
 from .screws import PoeModel
 from .table import Row, Table
 from .tolerances import Tolerances
+from .xacro import XacroOptions
 
 __all__ = ["Change", "IllPair", "compare", "diff_sources", "ill_conditioned", "render_diff"]
 
@@ -143,7 +144,7 @@ def diff_sources(
     ignore_mimic: bool = False,
     style: str = "wu",
     samples: int = 1000,
-    package_paths: dict[str, str] | None = None,
+    xacro: XacroOptions | None = None,
 ) -> tuple[dict[str, Any], list[Change], list[IllPair]]:
     """Both SOURCEs as tables of ``convention`` (ACTUAL in NOMINAL's length unit), compared.
 
@@ -155,7 +156,7 @@ def diff_sources(
 
     models, names = [], []
     for text in (nominal_source, actual_source):
-        source = open_source(text, tol, package_paths)
+        source = open_source(text, tol, xacro=xacro)
         models.append(source.model(base, tip, ignore_mimic))
         names.append(source.name)
     nominal, actual = models

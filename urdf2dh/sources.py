@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import json
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
@@ -18,6 +18,7 @@ from .files import read_file
 from .screws import PoeModel
 from .tolerances import DEFAULT, Tolerances
 from .urdf import UrdfTree, parse_tree, tree_to_poe
+from .xacro import XacroOptions
 
 __all__ = ["Source", "open_source", "read_mapping"]
 
@@ -56,14 +57,39 @@ class Source:
         return tree_to_poe(self.tree, base, tip, ignore_mimic, self.name)
 
 
+# A parsed file holds at most this many values, aliases counted each time they are used: a
+# YAML file of a few hundred bytes can otherwise alias its way to billions ("billion laughs").
+MAPPING_BUDGET = 1_000_000
+
+
 def read_mapping(path: Path, display: str, data: bytes) -> Any:
-    """Parse YAML or JSON text (JSON for ``.json``, YAML otherwise) with a one-line error."""
-    text = data.decode("utf-8", errors="strict") if data else ""
-    if path.suffix.lower() == ".json":
-        try:
-            return json.loads(text)
-        except json.JSONDecodeError as e:
-            raise InputError(f"{display}: malformed JSON (line {e.lineno}: {e.msg})") from e
+    """Parse YAML or JSON text (JSON for ``.json``, YAML otherwise) with a one-line error;
+    UTF-8 only, and at most :data:`MAPPING_BUDGET` values however it is nested or aliased."""
+    try:
+        text = data.decode("utf-8-sig")
+    except UnicodeDecodeError as e:
+        raise InputError(f"{display}: not UTF-8 text (byte {e.start}); save it as UTF-8") from e
+    try:
+        if path.suffix.lower() == ".json":
+            tree = _json(text, display)
+        else:
+            tree = _yaml(text, display)
+    except RecursionError as e:
+        raise InputError(f"{display}: nested too deeply") from e
+    _within_budget(tree, display)
+    return tree
+
+
+def _json(text: str, display: str) -> Any:
+    try:
+        return json.loads(text)
+    except json.JSONDecodeError as e:
+        raise InputError(f"{display}: malformed JSON (line {e.lineno}: {e.msg})") from e
+    except ValueError as e:  # e.g. an integer of more digits than Python converts
+        raise InputError(f"{display}: malformed JSON ({e})") from e
+
+
+def _yaml(text: str, display: str) -> Any:
     import yaml
 
     try:
@@ -73,10 +99,28 @@ def read_mapping(path: Path, display: str, data: bytes) -> Any:
         where = f"line {mark.line + 1}: " if mark is not None else ""
         problem = getattr(e, "problem", None) or str(e).splitlines()[0]
         raise InputError(f"{display}: malformed YAML ({where}{problem})") from e
+    except ValueError as e:
+        raise InputError(f"{display}: malformed YAML ({e})") from e
+
+
+def _within_budget(tree: Any, display: str) -> None:
+    """Count the values of a parsed tree (a shared, aliased one as often as it is reached)."""
+    count, stack = 0, [tree]
+    while stack:
+        value = stack.pop()
+        count += 1
+        if count > MAPPING_BUDGET:
+            raise InputError(
+                f"{display}: more than {MAPPING_BUDGET:,} values (aliases counted as expanded)"
+            )
+        if isinstance(value, dict):
+            stack.extend(value.values())
+        elif isinstance(value, list):
+            stack.extend(value)
 
 
 def _from_file(path: Path, display: str, tol: Tolerances, bundled: Bundled | None,
-               package_paths: Mapping[str, str] | None = None) -> Source:
+               xacro: XacroOptions | None = None) -> Source:
     data = read_file(path, display)
     if not data.strip():
         raise InputError(f"{display}: empty file")
@@ -86,7 +130,7 @@ def _from_file(path: Path, display: str, tol: Tolerances, bundled: Bundled | Non
     if suffix == ".xacro":
         from .xacro import expand
 
-        data = expand(path, display, package_paths)
+        data = expand(path, display, xacro)
     if suffix in (".xacro", ".urdf", ".xml") or data.lstrip()[:1] == b"<":
         tree = parse_tree(data, display)
         return Source("urdf", display, bundled.name if bundled else tree.name, tree, data,
@@ -110,14 +154,19 @@ def _from_file(path: Path, display: str, tol: Tolerances, bundled: Bundled | Non
 
 
 def open_source(source: str, tol: Tolerances = DEFAULT,
-                package_paths: Mapping[str, str] | None = None) -> Source:
+                package_paths: Mapping[str, str] | None = None,
+                xacro: XacroOptions | None = None) -> Source:
     """Resolve SOURCE: an existing file, else a bundled robot name (``urdf2dh robots``).
 
-    ``package_paths`` maps ROS package names to directories, for ``.xacro`` sources.
+    ``package_paths`` maps ROS package names to directories, and ``xacro`` says how to expand
+    ``.xacro`` sources (its packages joined with ``package_paths``).
     """
+    if package_paths:
+        xacro = replace(xacro or XacroOptions(), packages={
+            **(xacro.packages if xacro else {}), **package_paths})  # fmt: skip
     path = Path(source)
     if path.exists():
-        return _from_file(path, source, tol, None, package_paths)
+        return _from_file(path, source, tol, None, xacro)
     if source in ROBOTS:
         bundled = ROBOTS[source]
         file = robot_path(bundled)
