@@ -25,7 +25,7 @@ __all__ = ["get_argument_parser", "main"]
 FORMATS = ("text", "json", "yaml", "csv", "markdown", "urdf", "poe")
 CONVENTIONS = ("dh", "mdh", "cpc")
 STYLES = ("wu", "ur", "zero")  # dh.STYLES
-EXPORT_TARGETS = ("ur", "linuxcnc", "rtb", "matlab", "kdl", "corke-matlab")  # export.TARGETS
+EXPORT_TARGETS = ("ur", "linuxcnc", "rtb", "matlab", "kdl", "corke-matlab", "opw")  # export.TARGETS
 
 
 def _positive_int(text: str) -> int:
@@ -148,10 +148,11 @@ def get_argument_parser() -> argparse.ArgumentParser:
     p.add_argument("--to", required=True, choices=EXPORT_TARGETS, metavar="TARGET",
                    help="ur (UR default_kinematics.yaml), linuxcnc (genserkins HAL), rtb "
                         "(roboticstoolbox-python), matlab (Robotics System Toolbox), kdl (PyKDL), "
-                        "corke-matlab (Robotics Toolbox for MATLAB)")
+                        "corke-matlab (Robotics Toolbox for MATLAB), opw (OPW kinematics "
+                        "parameters for opw_kinematics / rs-opw-kinematics)")
     p.add_argument("--convention", choices=("dh", "mdh"), default=None,
                    help="D-H convention of rtb, matlab, kdl and corke-matlab files (default dh; "
-                        "ur is dh, linuxcnc mdh)")
+                        "ur is dh, linuxcnc mdh; opw reads the POE model)")
     p.add_argument("--style", choices=STYLES, default=None,
                    help="D-H choices (default ur for ur, zero for linuxcnc, wu otherwise)")
     p.add_argument("--units", choices=("mm", "inch"), default=None,
@@ -262,17 +263,17 @@ def _info(args: argparse.Namespace) -> int:
 
 
 def _export(args: argparse.Namespace) -> int:
-    from .convert import to_table
     from .errors import UsageError
-    from .export import Options, export_table, table_choices
+    from .export import Options, export, table_choices
 
     if args.units is not None and args.to != "linuxcnc":
         raise UsageError(f"--units applies to --to linuxcnc, not --to {args.to}")
-    convention, style = table_choices(args.to, args.convention, args.style)
+    table_choices(args.to, args.convention, args.style)  # bad choices fail before any reading
     tol = _tolerances(args)
     model = _open(args, tol).model(args.base, args.tip, args.ignore_mimic)
-    table = to_table(model, convention, tol, samples=args.check_samples, style=style)
-    write_output(export_table(table, args.to, Options(args.units, tol)), args.output)
+    text = export(model, args.to, args.convention, args.style, Options(args.units, tol),
+                  samples=args.check_samples)
+    write_output(text, args.output)
     return 0
 
 
