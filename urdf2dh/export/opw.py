@@ -64,7 +64,7 @@ def _header(model: PoeModel, p: OpwParameters, metres: float) -> list[str]:
         "with B = urdf2dh_base_transform and T = urdf2dh_tool_transform below (OPW holds neither).",
         "Lengths in metres, angles in radians.",
         "Joints: " + ", ".join(f"{i} {j.name!r}" for i, j in enumerate(model.joints, 1)) + ".",
-        f"check: OPW FK against the source at {samples} configurations: max position error "
+        f"check: FK against the source at {samples} configurations: max position error "
         f"{pos * metres:.2g} m, max rotation error {rot:.2g} rad",
     ]
     lines.extend(f"warning: {w}" for w in p.warnings)
