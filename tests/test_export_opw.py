@@ -406,3 +406,19 @@ def test_cli_writes_the_file_and_refuses_non_opw_arms(tmp_path, capsys):
     assert "--to opw is written from the POE model" in capsys.readouterr().err
     with pytest.raises(UsageError, match="takes no --convention or --style"):
         export(_kuka(), "opw", style="ur")
+
+
+def test_a_table_exports_the_same_parameters_as_its_source():
+    """``export_table(table, "opw")`` reads the table's POE model: the same arm."""
+    from urdf2dh.convert import to_table
+    from urdf2dh.export import export_table
+
+    model = open_source("fanuc-m20ia").model()
+    want = yaml.safe_load(export(model, "opw"))
+    for convention in ("dh", "cpc"):
+        got = yaml.safe_load(export_table(to_table(model, convention), "opw"))
+        assert got["opw_kinematics_joint_sign_corrections"] == [1, 1, -1, -1, -1, -1]
+        for key in ("opw_kinematics_geometric_parameters", "opw_kinematics_joint_offsets"):
+            a, b = got[key], want[key]
+            values = (list(a.values()), list(b.values())) if isinstance(a, dict) else (a, b)
+            np.testing.assert_allclose(*values, rtol=0, atol=1e-14)
