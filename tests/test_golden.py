@@ -14,7 +14,7 @@ from pathlib import Path
 import pytest
 
 from urdf2dh.convert import to_table
-from urdf2dh.export import Options, export_table, table_choices
+from urdf2dh.export import TARGETS, Options, export, export_table, table_choices
 from urdf2dh.sources import open_source
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -37,6 +37,7 @@ CASES = [
     ("kdl-panda-mdh.py", "panda", "kdl", "mdh", Options()),
     ("corke-matlab-scara.m", "scara", "corke-matlab", None, Options()),
     ("corke-matlab-puma560-mdh.m", "puma560-nominal", "corke-matlab", "mdh", Options()),
+    ("opw-fanuc-m20ia.yaml", "fanuc-m20ia", "opw", None, Options()),
 ]
 
 
@@ -65,9 +66,12 @@ def _same(got: str, want: str) -> str | None:
                          ids=[c[0] for c in CASES])
 def test_golden(name, source, target, convention, opts, request, monkeypatch):
     monkeypatch.chdir(ROOT)  # sources named relative to the repository, as in the files
-    convention, style = table_choices(target, convention, None)
-    table = to_table(open_source(source).model(), convention, style=style)
-    text = export_table(table, target, opts)
+    model = open_source(source).model()
+    if TARGETS[target].reads_model:  # written from the POE model, not from a table
+        text = export(model, target, opts=opts, samples=None)
+    else:
+        convention, style = table_choices(target, convention, None)
+        text = export_table(to_table(model, convention, style=style), target, opts)
     path = GOLDEN / name
     if request.config.getoption("--update-golden"):
         path.parent.mkdir(exist_ok=True)

@@ -21,7 +21,7 @@ COMMANDS = [
 
 def test_every_target_has_an_example():
     targets = {re.search(r"--to (\S+)", c)[1] for c in COMMANDS if "--to" in c}
-    assert targets == {"ur", "linuxcnc", "rtb", "matlab", "kdl", "corke-matlab"}
+    assert targets == {"ur", "linuxcnc", "rtb", "matlab", "kdl", "corke-matlab", "opw"}
 
 
 @pytest.mark.parametrize("command", COMMANDS)

@@ -109,18 +109,17 @@ def _info(args: argparse.Namespace) -> int:
 
 
 def _export(args: argparse.Namespace) -> int:
-    from .convert import to_table
     from .errors import UsageError
-    from .export import Options, export_table, table_choices
+    from .export import Options, export, table_choices
 
     if args.units is not None and args.to != "linuxcnc":
         raise UsageError(f"--units applies to --to linuxcnc, not --to {args.to}")
-    convention, style = table_choices(args.to, args.convention, args.style)
+    table_choices(args.to, args.convention, args.style)  # bad choices fail before any reading
     tol = _tolerances(args)
     model = _open(args, tol).model(args.base, args.tip, args.ignore_mimic)
-    table = to_table(model, convention, tol, samples=args.check_samples, style=style)
-    write_output(export_table(table, args.to, Options(args.units, tol)), args.output,
-                 [args.source])
+    text = export(model, args.to, args.convention, args.style, Options(args.units, tol),
+                  samples=args.check_samples)
+    write_output(text, args.output, [args.source])
     return 0
 
 

@@ -35,7 +35,10 @@ class Tolerances:
         away. (Pairs tilted about their common perpendicular keep a near normal and stay
         exact.) Each such judgement is listed in the table's ``warnings`` with the forward
         kinematics deviation it caused. 0 means exact (``--exact``): then only float round-off
-        (``noise``) is treated as parallel.
+        (``noise``) is treated as parallel. The OPW export (:mod:`urdf2dh.opw`) takes the right
+        angles and the parallel its model assumes (axes 1-2, 3-4, 4-5, 5-6 perpendicular, 2-3
+        parallel) as holding within this angle, with a warning and the deviation measured;
+        beyond it the arm is refused, naming the pair.
     meet_angle
         Radians. Below this angle from parallel the common-normal formula is ill-conditioned;
         a line that passes within ``intersect_distance`` of the pivot (the previous frame's
@@ -46,7 +49,10 @@ class Tolerances:
         Source length unit, or ``None`` for ``intersect_relative`` x the robot's size. Lines
         closer than this count as intersecting: non-parallel pairs get ``alpha > 0`` (their
         tiny ``a`` is kept, exactly), parallel pairs are treated as coincident (``a = 0``,
-        ``theta = 0``).
+        ``theta = 0``). The OPW export takes wrist axes 4, 5, 6 that pass within this distance of
+        one point as meeting there (farther: "offset wrist", refused), and axes 2 and 3 closer
+        than it as coincident (refused); its sign choices (``a1``, ``c3``, ``c4`` of either sign)
+        treat lengths within it as zero.
     intersect_relative
         The default distance above, as a fraction of the robot's size.
     check_position, check_rotation

@@ -14,9 +14,11 @@ target             file                                                  convent
 ``matlab``         Robotics System Toolbox ``rigidBodyTree`` script      dh, mdh      any
 ``kdl``            PyKDL ``Chain`` script                                dh, mdh      any
 ``corke-matlab``   Peter Corke's MATLAB toolbox ``SerialLink`` script    dh, mdh      any
+``opw``            OPW kinematics parameters (``opw_kinematics`` YAML)   (POE model)  -
 =================  ====================================================  ===========  ========
 
-The first convention and style listed are the defaults.
+The first convention and style listed are the defaults. ``opw`` reads the POE model itself (its
+parameters come from the axis lines, :mod:`urdf2dh.opw`), so it takes no convention or style.
 """
 
 from __future__ import annotations
@@ -56,9 +58,18 @@ class Target:
     styles: tuple[str, ...]
     suffix: str
 
+    @property
+    def reads_model(self) -> bool:
+        """Whether the target is written from the POE model rather than from a table."""
+        return not self.conventions
+
     def render(self, table: Table, opts: Options) -> str:
         mod = importlib.import_module(f"urdf2dh.export.{self.module}")
         return str(mod.render(table, opts))
+
+    def render_model(self, model: PoeModel, opts: Options, samples: int | None = None) -> str:
+        mod = importlib.import_module(f"urdf2dh.export.{self.module}")
+        return str(mod.render_model(model, opts, samples))
 
 
 TARGETS: dict[str, Target] = {
@@ -76,6 +87,8 @@ TARGETS: dict[str, Target] = {
                ("dh", "mdh"), ("wu", "ur", "zero"), ".py"),
         Target("corke-matlab", "corke_matlab", "Peter Corke's MATLAB Robotics Toolbox SerialLink"
                " script", ("dh", "mdh"), ("wu", "ur", "zero"), ".m"),
+        Target("opw", "opw", "OPW kinematics parameters (opw_kinematics, rs-opw-kinematics YAML)",
+               (), (), ".yaml"),
     ]
 }
 
@@ -87,8 +100,14 @@ def _target(name: str) -> Target:
 
 
 def table_choices(target: str, convention: str | None, style: str | None) -> tuple[str, str]:
-    """The convention and style a target's table is built with (its defaults where ``None``)."""
+    """The convention and style a target's table is built with (its defaults where ``None``;
+    empty for a target that reads the POE model, which takes neither)."""
     t = _target(target)
+    if t.reads_model:
+        if convention or style:
+            raise UsageError(f"--to {target} is written from the POE model; it takes no "
+                             "--convention or --style")
+        return "", ""
     convention = convention or t.conventions[0]
     style = style or t.styles[0]
     if convention not in t.conventions:
@@ -116,13 +135,16 @@ def export(
     convention: str | None = None,
     style: str | None = None,
     opts: Options | None = None,
-    samples: int = 1000,
+    samples: int | None = 1000,
 ) -> str:
-    """Convert ``model`` for ``target`` (a name in :data:`TARGETS`) and render the file text."""
+    """Convert ``model`` for ``target`` (a name in :data:`TARGETS`) and render the file text;
+    ``samples``: configurations of the table's (or OPW's) check, ``None`` for its default."""
     from ..convert import to_table
     from .common import Options
 
     opts = opts or Options()
     convention, style = table_choices(target, convention, style)
+    if _target(target).reads_model:
+        return _target(target).render_model(model, opts, samples)
     table = to_table(model, convention, opts.tol, samples=samples, style=style)
     return export_table(table, target, opts)

@@ -31,6 +31,7 @@ __all__ = [
     "require_convention",
     "require_joint_kinds",
     "require_unit_scale",
+    "yaml_float",
 ]
 
 
@@ -66,6 +67,16 @@ def num(x: float) -> str:
     if not math.isfinite(x):
         raise ExportError(f"non-finite parameter {x!r}")
     return repr(x)
+
+
+def yaml_float(x: float) -> str:
+    """A float's :func:`num` text as YAML 1.1 (PyYAML, xacro's and ROS 1's loaders) reads a
+    float: ``1e-12`` would be a string there, ``1.0e-12`` is a float in YAML 1.1 and 1.2."""
+    text = num(x)
+    mantissa, _, exponent = text.partition("e")
+    if exponent and "." not in mantissa:
+        text = f"{mantissa}.0e{exponent}"
+    return text
 
 
 @dataclass(frozen=True, slots=True)

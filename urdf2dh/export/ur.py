@@ -58,9 +58,9 @@ from .common import (
     close_to,
     floats,
     header,
-    num,
     require,
     require_convention,
+    yaml_float,
 )
 
 __all__ = [
@@ -168,15 +168,6 @@ def joint_origins(table: Table) -> list[Mat]:
     return out
 
 
-def _yaml_float(x: float) -> str:
-    """A float YAML 1.1 (PyYAML, xacro's loader) reads as a float: ``1e-12`` would be a string."""
-    text = num(x)
-    mantissa, _, exponent = text.partition("e")
-    if exponent and "." not in mantissa:
-        text = f"{mantissa}.0e{exponent}"
-    return text
-
-
 def render(table: Table, opts: Options) -> str:
     """``default_kinematics.yaml`` for ``ur_macro.xacro`` (see the module docstring)."""
     _check(table, opts)
@@ -195,8 +186,8 @@ def render(table: Table, opts: Options) -> str:
         lines.append(f"  {link}:")
         xyz = (numbers.length(v) for v in origin[:3, 3])
         for key, value in zip(("x", "y", "z"), xyz, strict=True):
-            lines.append(f"    {key}: {_yaml_float(value)}")
+            lines.append(f"    {key}: {yaml_float(value)}")
         for key, value in zip(("roll", "pitch", "yaw"), rpy(origin), strict=True):
-            lines.append(f"    {key}: {_yaml_float(numbers.angle(value))}")
+            lines.append(f"    {key}: {yaml_float(numbers.angle(value))}")
     lines.append(f"  hash: {calibration_hash(table)}")
     return "\n".join(lines) + "\n"

@@ -1,0 +1,255 @@
+"""OPW parameters of a 6R arm with an ortho-parallel base and a spherical wrist, from its screws.
+
+:func:`opw_from_poe` reads the OPW arrangement (:mod:`urdf2dh.opwmodel`) off the axis lines at
+the home pose (the POE model's screws), not from the URDF's text: axis 1 perpendicular to axis
+2, axes 2 and 3 parallel (and apart), axis 3 perpendicular to axis 4, and axes 4, 5, 6 meeting
+in one point at right angles, each within the tolerances (``parallel_angle`` for the angles,
+``intersect_distance`` for the meeting point); the first that fails is named.
+
+It then chooses the frames so that the parameters need the least of the two transforms OPW does
+not hold, ``pose(q) = B . F(theta) . T``. OPW's base z is axis 1, pointing to the side of the
+chain's base z, with its origin nearest the base origin and its x nearest the base x (so ``B``
+is the identity when the base z lies on axis 1). Of the two mirror images, ``a1 >= 0`` (or, with
+``a1 = 0``, the one with the least joint-1 offset); ``c2, c3 >= 0`` (each link points from one
+axis to the next); ``c4 >= 0`` (the flange lies beyond the wrist centre); joint 4's zero is the
+one with the least offset, and joint 6's offset absorbs the tip's turn about axis 6, so ``T`` is
+the identity when the tip sits on axis 6 facing along it. Signs are +1 where the joint's own axis
+points as OPW's; offsets map the source's zero to OPW's (``theta = sign q - offset``), in
+``(-pi, pi]``. The result is checked against the source's forward kinematics.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+import numpy as np
+from numpy.typing import NDArray
+
+from .convert import sample_configurations
+from .errors import ConversionError, ExportError
+from .opwmodel import OpwParameters, opw_fk, rot_z
+from .screws import PoeModel
+from .se3 import pose_errors
+from .tolerances import DEFAULT, Tolerances
+
+__all__ = ["opw_from_poe"]
+
+Mat = NDArray[np.float64]
+CHECK_SAMPLES, JUDGED_SAMPLES = 100, 1000  # as the tables' self-check (convert.py)
+
+
+def _unit(v: Mat) -> Mat:
+    return v / np.linalg.norm(v)
+
+
+def _across(v: Mat, n: Mat) -> Mat:
+    """The unit direction of ``v`` with its component along unit ``n`` removed."""
+    return _unit(v - (v @ n) * n)
+
+
+def _turn(a: Mat, b: Mat, axis: Mat) -> float:
+    """The angle about ``axis`` from ``a`` to ``b`` (both perpendicular to it)."""
+    return math.atan2(float(np.cross(a, b) @ axis), float(a @ b))
+
+
+def _pick(value: float, fallback: float, limit: float) -> int:
+    """+1 or -1: the sign of ``value`` beyond ``limit``, else of ``fallback`` (ties: +1)."""
+    if abs(value) > limit:
+        return 1 if value > 0 else -1
+    return -1 if fallback < -limit else 1
+
+
+def _wrap(a: float) -> float:
+    out = math.remainder(a, 2.0 * math.pi)
+    return math.pi if out == -math.pi else out + 0.0
+
+
+class _Judge:
+    """Decides OPW's right angles, parallels and meeting points within the tolerances; records
+    each relation that held only within them (not exactly) for the report."""
+
+    def __init__(self, model: PoeModel, tol: Tolerances) -> None:
+        self.names = [j.name for j in model.joints]
+        self.unit, self.tol = model.length_unit, tol
+        self.angle = max(tol.parallel_angle, tol.noise)
+        self.noise_length = tol.noise * model.size()
+        self.distance = tol.distance(model.size())
+        self.made: list[tuple[str, float, float]] = []  # (what, angle, gap) held within tol
+
+    def axes(self, *i: int) -> str:
+        return ", ".join(f"{k + 1} ({self.names[k]!r})" for k in i)
+
+    def relation(self, d: list[Mat], i: int, k: int, parallel: bool, what: str) -> None:
+        """Axes ``i`` and ``k`` (0-based) parallel, or else perpendicular, within the angle."""
+        dot = abs(float(d[i] @ d[k]))
+        if parallel:
+            off, ideal = math.atan2(float(np.linalg.norm(np.cross(d[i], d[k]))), dot), "parallel"
+        else:
+            off, ideal = math.asin(min(1.0, dot)), "perpendicular"
+        if off > self.angle:
+            raise ExportError(
+                f"opw: {what}: axes {self.axes(i, k)} are not {ideal} ({math.degrees(off):.4g} "
+                f"deg off; --parallel-angle {self.tol.parallel_angle:g} rad)"
+            )
+        if off > self.tol.noise:
+            treated = f"opw: axes {self.axes(i, k)} are {off:.3g} rad off {ideal}; treated as such"
+            self.made.append((treated, off, 0.0))
+
+    def meet(self, gap: float, fault: str, treated: str) -> None:
+        """Lines ``gap`` apart from meeting: ``fault`` (``{gap}`` filled in) beyond the distance."""
+        if gap > self.distance:
+            gap_text = f"{gap:.4g} {self.unit}"
+            raise ExportError(
+                f"opw: {fault.format(gap=gap_text)}; --intersect-distance {self.distance:.3g}"
+            )
+        if gap > self.noise_length:
+            self.made.append((f"opw: {treated} ({gap:.3g} {self.unit} off)", 0.0, gap))
+
+
+def _meeting_point(points: list[Mat], dirs: list[Mat]) -> tuple[Mat, float]:
+    """The point nearest to the lines (least squares) and its largest distance from them."""
+    projectors = [np.eye(3) - np.outer(d, d) for d in dirs]
+    pairs = list(zip(projectors, points, strict=True))
+    centre = np.asarray(np.linalg.solve(sum(projectors), sum(m @ p for m, p in pairs)), float)
+    return centre, max(float(np.linalg.norm(m @ (centre - p))) for m, p in pairs)
+
+
+def _require_six_revolute(model: PoeModel) -> None:
+    if model.n != 6:
+        raise ExportError(f"opw: an OPW arm has 6 joints; this chain has {model.n}")
+    bad = [f"{j.name!r} ({j.kind})" for j in model.joints if j.kind != "revolute"]
+    if bad:
+        raise ExportError(
+            f"opw: joints {', '.join(bad)} cannot be written; opw has revolute joints only"
+        )
+    bad = [f"{j.name!r} (scale {j.scale:g})" for j in model.joints if abs(j.scale) != 1.0]
+    if bad:
+        raise ExportError(
+            f"opw: joints {', '.join(bad)} move by a multiple of their position; "
+            "opw has no joint scale"
+        )
+
+
+def opw_from_poe(
+    model: PoeModel, tol: Tolerances = DEFAULT, samples: int | None = None, seed: int = 0
+) -> OpwParameters:
+    """The OPW parameters of ``model`` (module doc), checked against its forward kinematics at
+    ``samples`` seeded configurations (100, or 1000 after a judgement).
+
+    Raises
+    ------
+    ExportError
+        If the chain is not an OPW arm; the message names the condition that failed.
+    ConversionError
+        If the parameters' FK deviates from the model's beyond the exactness promised without
+        a judgement to account for it.
+    """
+    _require_six_revolute(model)
+    judge = _Judge(model, tol)
+    d = [j.scale * j.axis for j in model.joints]
+    p = [np.zeros(3) if j.point is None else j.point for j in model.joints]
+    judge.relation(d, 3, 4, False, "not an ortho wrist")
+    judge.relation(d, 4, 5, False, "not an ortho wrist")
+    centre, gap = _meeting_point(p[3:], d[3:])
+    judge.meet(
+        gap,
+        f"wrist axes do not intersect: offset wrist (axes {judge.axes(3, 4, 5)} pass {{gap}} "
+        "from one common point)",
+        "wrist axes treated as meeting in one point",
+    )
+    judge.relation(d, 0, 1, False, "not an ortho-parallel base")
+    judge.relation(d, 1, 2, True, "not an ortho-parallel base")
+    judge.relation(d, 2, 3, False, "not an ortho-parallel base")
+
+    # OPW's base frame: z on axis 1 (towards the base z), origin nearest the base origin
+    z = _pick(d[0][2], 1.0, tol.noise) * d[0]
+    origin = p[0] - (p[0] @ z) * z
+    x0 = _across(np.eye(3)[0] if abs(z[0]) < 0.9 else np.eye(3)[1], z)
+    frame = np.column_stack([x0, np.cross(z, x0), z])
+    turn = math.atan2(frame[0, 1] - frame[1, 0], frame[0, 0] + frame[1, 1])  # max trace
+    frame = frame @ rot_z(np.array(turn))
+    # the arm's plane at home: y along axis 2, a1 >= 0 (or the least joint-1 turn)
+    y = _across(d[1], z)
+    y *= _pick(
+        float(np.cross(y, z) @ (p[1] - origin)), float(np.cross(y, z) @ frame[:, 0]), judge.distance
+    )
+    x = np.cross(y, z)
+    between = p[2] - p[1] - ((p[2] - p[1]) @ y) * y
+    c2 = float(np.linalg.norm(between))
+    if c2 <= judge.distance:
+        raise ExportError(
+            f"opw: not an ortho-parallel base: axes {judge.axes(1, 2)} coincide ({c2:.4g} "
+            f"{model.length_unit} apart; --intersect-distance {judge.distance:.3g})"
+        )
+    up = between / c2  # the upper arm at home: OPW's z at joint 2's zero
+    w4 = _across(d[3], y)  # forearm: from the elbow towards the wrist centre (c3 >= 0)
+    w4 *= _pick(float((centre - p[2]) @ w4), float(w4 @ up), judge.distance)
+    e5 = _across(d[4], w4)  # joint 5's axis at OPW's zero of joint 4: the least turn
+    e5 *= _pick(float(e5 @ y), 1.0, tol.noise)
+    w6 = _across(d[5], e5)  # joint 6: outward, towards the tip (c4 >= 0)
+    tip = model.home[:3, 3]
+    w6 *= _pick(float((tip - centre) @ w6), float(w6 @ model.home[:3, 2]), judge.distance)
+    theta2 = math.atan2(float(up @ x), float(up @ z))
+    theta = [  # OPW's joint angles at the source's zero
+        _turn(frame[:, 0], x, z),
+        theta2,
+        math.atan2(float(w4 @ x), float(w4 @ z)) - theta2,
+        _turn(y, e5, w4),
+        math.atan2(float(w6 @ np.cross(e5, w4)), float(w6 @ w4)),
+        0.0,
+    ]
+    geometry = (  # a1, a2, b, c1, c2, c3, c4
+        float(x @ (p[1] - origin)), float(np.cross(y, w4) @ (centre - p[2])),
+        float(y @ (centre - origin)), float(z @ (p[1] - origin)), c2,
+        float(w4 @ (centre - p[2])), float(w6 @ (tip - centre)),
+    )  # fmt: skip
+    signs = tuple(
+        _pick(float(di @ e), 1.0, 0.0) for di, e in zip(d, [z, y, y, w4, e5, w6], strict=True)
+    )
+    base = np.eye(4)
+    base[:3, :3], base[:3, 3] = frame, origin
+    draft = OpwParameters(*geometry, (0.0,) * 6, (1,) * 6, base, np.eye(4))
+    flange = base @ opw_fk(draft, np.array(theta))[0]
+    m = flange[:3, :3].T @ model.home[:3, :3]
+    theta[5] = math.atan2(m[1, 0] - m[0, 1], m[0, 0] + m[1, 1])  # the least tool rotation
+    flange = base @ opw_fk(draft, np.array(theta))[0]
+    tool = np.linalg.solve(flange, model.home)
+    tool[3] = (0.0, 0.0, 0.0, 1.0)
+    offsets = tuple(_wrap(-t) for t in theta)
+    result = OpwParameters(*geometry, offsets, signs, base, tool)
+    return _checked(model, result, judge, tol, samples, seed)
+
+
+def _checked(
+    model: PoeModel,
+    p: OpwParameters,
+    judge: _Judge,
+    tol: Tolerances,
+    samples: int | None,
+    seed: int,
+) -> OpwParameters:
+    """``p`` with its check against the model; refused if it deviates unaccountably."""
+    size, reach = model.size(), max(model.reach(), model.size())
+    samples = samples or (JUDGED_SAMPLES if judge.made else CHECK_SAMPLES)
+    q = sample_configurations(model, samples, seed)
+    pos, rot = pose_errors(p.fk_batch(q), model.fk_batch(q))
+    # as the tables' check (convert.to_table): each judgement may cost twice its angle over
+    # the robot's reach plus its gap, and is reported once its effect exceeds tol.report
+    allowed_pos = tol.check_position * size + 2.0 * sum(a * reach + g for _, a, g in judge.made)
+    allowed_rot = tol.check_rotation + 2.0 * sum(a for _, a, _ in judge.made)
+    if not (pos <= allowed_pos and rot <= allowed_rot):
+        raise ConversionError(
+            f"{model.source or model.name}: the OPW parameters' forward kinematics deviates from "
+            f"the source by {pos:.3g} {model.length_unit} and {rot:.3g} rad (allowed "
+            f"{allowed_pos:.3g} {model.length_unit}, {allowed_rot:.3g} rad); not written"
+        )
+    warnings = list(model.warnings)
+    if judge.made and (pos > tol.report * size or rot > tol.report):
+        warnings += [what for what, _, _ in judge.made]
+        warnings.append(
+            f"opw: FK deviation from the source caused by these judgements: "
+            f"{pos:.3g} {model.length_unit}, {rot:.3g} rad (worst of {samples} "
+            "configurations); OPW cannot hold the exact geometry"
+        )
+    return replace(p, check=(samples, pos, rot), warnings=tuple(warnings))
