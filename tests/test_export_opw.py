@@ -22,7 +22,6 @@ from urdf2dh.catalog import ROBOTS, our_robots_dir
 from urdf2dh.convert import sample_configurations
 from urdf2dh.errors import ExportError, UsageError
 from urdf2dh.export import Options, export
-from urdf2dh.units import factor as length_factor
 from urdf2dh.export.opw import yaml_comment
 from urdf2dh.opw import opw_from_poe
 from urdf2dh.opwmodel import OpwParameters, opw_fk
@@ -30,6 +29,7 @@ from urdf2dh.screws import Joint, PoeModel
 from urdf2dh.se3 import from_rpy, inv, rot_x, rot_y, rot_z, trans
 from urdf2dh.sources import open_source
 from urdf2dh.tolerances import EXACT as EXACT_TOL
+from urdf2dh.units import factor as length_factor
 
 if sys.version_info < (3, 11):  # py-opw-kinematics needs Python 3.11 (pyproject's test extra)
     pytest.importorskip("py_opw_kinematics")

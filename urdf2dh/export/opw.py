@@ -24,12 +24,12 @@ from __future__ import annotations
 
 import numpy as np
 
+from .. import units
 from ..opw import opw_from_poe
 from ..opwmodel import GEOMETRY, OpwParameters
 from ..screws import PoeModel
 from ..se3 import rpy
 from ..table import Table
-from .. import units
 from .common import Numbers, Options, yaml_float
 
 __all__ = ["render", "render_model", "yaml_comment"]
