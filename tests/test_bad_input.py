@@ -128,10 +128,22 @@ def test_info_reports_chain_problems_without_failing(case, tmp_path, capsys):
     ("format: poe\njoints: 3\ntool: {twist: [0,0,0,0,0,0]}\n", ".yaml", "'joints' must be a list"),
     ("format: poe\njoints: []\n", ".yaml", "'tool' must give either"),
     ("schema: urdf2dh/1\nconvention: xyz\n", ".yaml", "convention must be one of"),
+    # issue 12: none of these may be an internal error, a hang or a memory blow-up
+    ('{"format": "poe", "n": ' + "9" * 5000 + "}", ".json", "malformed JSON (Exceeds"),
+    ("[" * 100_000 + "]" * 100_000, ".json", "nested too deeply"),
+    ("[" * 100_000 + "]" * 100_000, ".yaml", "nested too deeply"),
+    ("format: poe\nname: caf\xe9\n".encode("latin-1"), ".yaml", "not UTF-8 text (byte 21)"),
+    ("format: poe\na: &a [x, x, x, x, x, x, x, x, x, x]\n"
+     + "".join(f"{chr(98 + k)}: &{chr(98 + k)} [*{chr(97 + k)}, *{chr(97 + k)}, *{chr(97 + k)},"
+               f" *{chr(97 + k)}, *{chr(97 + k)}, *{chr(97 + k)}, *{chr(97 + k)}, *{chr(97 + k)},"
+               f" *{chr(97 + k)}, *{chr(97 + k)}]\n" for k in range(8)),
+     ".yaml", "more than 1,000,000 values (aliases counted as expanded)"),
+    ("format: poe\nname: [1]\njoints: []\ntool: {twist: [0, 0, 0, 0, 0, 0]}\n", ".yaml",
+     "name must be a non-empty string"),
 ])
 def test_bad_model_and_table_files(content, suffix, fragment, tmp_path, capsys):
     path = tmp_path / f"bad{suffix}"
-    path.write_text(content)
+    path.write_bytes(content if isinstance(content, bytes) else content.encode())
     out = tmp_path / "out.txt"
     assert main(["convert", str(path), "-o", str(out)]) == 2
     err = capsys.readouterr().err
@@ -156,6 +168,11 @@ def test_missing_files_directories_and_outputs(tmp_path, capsys):
     ["verify", "ur5", "--samples", "0"],
     ["convert", "ur5", "--parallel-angle", "-1"],
     ["convert", "ur5", "--parallel-angle", "nan"],
+    ["convert", "ur5", "--parallel-angle", "1e300"],  # beyond 0.1 rad is not "nearly parallel"
+    ["verify", "ur5", "--samples", "1000000000"],  # would take 44 GiB
+    ["convert", "ur5", "--check-samples", "1000001"],
+    ["verify", "ur5", "--seed", "-1"],
+    ["convert", "x.xacro", "--xacro-timeout", "0"],
     ["convert"],
     ["frobnicate"],
 ])

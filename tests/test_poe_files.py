@@ -4,6 +4,7 @@ type checks, and the --format poe round trip."""
 from __future__ import annotations
 
 import math
+import re
 
 import numpy as np
 import pytest
@@ -53,7 +54,13 @@ def test_puma_actual_is_helical_where_wu_says():
     ({"name": "a", "twist": [0, 0, 1, 0, 1, 0], "type": "ball"}, "unknown type 'ball'"),
     ({"name": "a", "twist": [0, 0, 0, 0, 0, 0]}, "zero twist"),
     ({"name": "a", "twist": [0, 0, 1, 0, 1]}, "list of 6 numbers"),
-    ({"name": "a", "twist": [0, 0, "x", 0, 1, 0]}, "list of 6 numbers"),
+    ({"name": "a", "twist": [0, 0, "x", 0, 1, 0]}, "twist must be a number, not 'x'"),
+    ({"name": "a", "twist": [0, 0, 1e300, 0, 1, 0]}, r"twist is 1e\+300: beyond 1e\+12"),
+    ({"name": "a", "twist": [0, 0, 1e-300, 0, 0, 0]}, r"scale 0 .* within \[1e-09, 1e\+09\]"),
+    ({"name": "a", "twist": [0, 0, 1e-300, 0, 1e-300, 0]}, "scale 1e-300"),
+    ({"name": "a", "twist": [0, 0, 1e-11, 0, 0, 0]}, "scale 1e-11"),
+    ({"name": "a", "twist": [0, 0, 1, 0, 0, 0], "limits": [-1e308, 1e308]}, "limits is -1e"),
+    ({"name": "a", "twist": [0, 0, 1, 0, 0, 0], "limits": [0, 10**5000]}, "too large for a float"),
     ({"name": "a", "twist": [0, 0, float("nan"), 0, 1, 0]}, "finite"),
     ({"name": "a", "twist": [0, 0, 1, 0, 0, 0], "limits": [1, -1]}, "lower < upper"),
 ])
@@ -61,6 +68,16 @@ def test_bad_joints_are_named(entry, message):
     with pytest.raises(InputError, match=message) as e:
         read_poe(poe([entry]), "robot.yaml")
     assert "robot.yaml: joint 'a'" in str(e.value)
+
+
+@pytest.mark.parametrize(("name", "message"), [
+    (7, "joint 1 name must be a non-empty string, not 7"),
+    (["x"], "joint 1 name must be a non-empty string, not ['x']"),
+    ("", "joint 1 name must be a non-empty string"),
+])
+def test_names_must_be_strings(name, message):
+    with pytest.raises(InputError, match=re.escape(message)):
+        read_poe(poe([{"name": name, "twist": [0, 0, 1, 0, 0, 0]}]), "robot.yaml")
 
 
 def test_tool_matrix_and_bad_tools():

@@ -9,21 +9,40 @@ from typing import Any
 
 from .errors import InputError
 
-__all__ = ["check_number", "check_vector"]
+__all__ = ["LARGEST", "check_name", "check_number", "check_vector"]
+
+# No number a kinematic file holds is larger: 1e12 of any length unit urdf2dh knows is over a
+# million kilometres, and angles, scales and limits are far smaller. Beyond it, products and
+# sums of squares in the geometry would overflow, so such a number is an input error.
+LARGEST = 1e12
 
 
 def check_number(value: Any, where: str, error: type[InputError] = InputError) -> float:
-    """``value`` as a finite float; ``error`` naming ``where`` for anything else (booleans,
-    strings, non-finite or out-of-range numbers)."""
+    """``value`` as a finite float of magnitude at most :data:`LARGEST`; ``error`` naming
+    ``where`` for anything else (booleans, strings, non-finite or huge numbers)."""
     if isinstance(value, bool) or not isinstance(value, int | float):
-        raise error(f"{where} must be a number, not {value!r:.40}")
+        raise error(f"{where} must be a number, not {_short(value)}")
     try:
         out = float(value)
     except OverflowError as e:
         raise error(f"{where} is too large for a float") from e
     if not math.isfinite(out):
         raise error(f"{where} must be finite")
+    if abs(out) > LARGEST:
+        raise error(f"{where} is {out:.3g}: beyond {LARGEST:g}, no kinematic number is that large")
     return out
+
+
+def check_name(value: Any, where: str, error: type[InputError] = InputError) -> str:
+    """``value`` as a name: a non-empty string."""
+    if not isinstance(value, str) or not value:
+        raise error(f"{where} must be a non-empty string, not {_short(value)}")
+    return value
+
+
+def _short(value: Any) -> str:
+    text = repr(value)
+    return text if len(text) <= 40 else text[:37] + "..."
 
 
 def check_vector(

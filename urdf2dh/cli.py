@@ -25,13 +25,37 @@ from .formats import FORMATS
 __all__ = ["get_argument_parser", "main"]
 
 
-def _positive_int(text: str) -> int:
+MAX_SAMPLES = 1_000_000  # configurations of a check or a verify run (about 1 GB at most)
+MAX_PARALLEL_ANGLE = 0.1  # rad: beyond, "nearly parallel" would take in perpendicular axes
+MAX_SEED = 2**63 - 1
+
+
+def _integer(text: str, low: int, high: int) -> int:
     try:
         value = int(text)
     except ValueError as e:
         raise argparse.ArgumentTypeError(f"'{text}' is not an integer") from e
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"must be at least 1, not {value}")
+    if not low <= value <= high:
+        raise argparse.ArgumentTypeError(f"must be from {low} to {high}, not {value}")
+    return value
+
+
+def _positive_int(text: str) -> int:
+    return _integer(text, 1, 2**31 - 1)
+
+
+def _samples(text: str) -> int:
+    return _integer(text, 1, MAX_SAMPLES)
+
+
+def _seed(text: str) -> int:
+    return _integer(text, 0, MAX_SEED)
+
+
+def _parallel_angle(text: str) -> float:
+    value = _nonnegative_float(text)
+    if value > MAX_PARALLEL_ANGLE:
+        raise argparse.ArgumentTypeError(f"must be at most {MAX_PARALLEL_ANGLE} rad, not {text}")
     return value
 
 
@@ -96,14 +120,14 @@ def _add_tolerances(p: argparse.ArgumentParser) -> None:
     g = p.add_argument_group("tolerance judgements (D-H conventions)")
     g.add_argument("--exact", action="store_true",
                    help="no snapping: keep nearly parallel or nearly intersecting axes as they are")
-    g.add_argument("--parallel-angle", type=_nonnegative_float, metavar="RAD",
+    g.add_argument("--parallel-angle", type=_parallel_angle, metavar="RAD",
                    default=DEFAULT.parallel_angle,
                    help="treat axes this close to parallel as parallel (default %(default)g rad)")
     g.add_argument("--intersect-distance", type=_nonnegative_float, metavar="LENGTH",
                    default=None,
                    help="treat lines this close as intersecting or coincident, in the source's "
                         f"length unit (default {DEFAULT.intersect_relative:g} x the robot's size)")
-    g.add_argument("--check-samples", type=_positive_int, default=None, metavar="N",
+    g.add_argument("--check-samples", type=_samples, default=None, metavar="N",
                    help="configurations of the self-check (default 100; 1000 where axes were "
                         "treated as parallel, to measure the deviation)")
 
@@ -132,9 +156,9 @@ def get_argument_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("verify", help="compare every convention's FK with Pinocchio's")
     _add_chain(p)
-    p.add_argument("--samples", type=_positive_int, default=1000, metavar="N",
+    p.add_argument("--samples", type=_samples, default=1000, metavar="N",
                    help="random configurations within joint limits (default %(default)s)")
-    p.add_argument("--seed", type=int, default=0, metavar="S",
+    p.add_argument("--seed", type=_seed, default=0, metavar="S",
                    help="random seed (default %(default)s)")
     _add_tolerances(p)
 

@@ -19,12 +19,14 @@ with the twist. ``limits`` (optional, an extension) bounds ``q``.
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
 from . import se3
+from .checks import check_name, check_number
 from .errors import InputError, choices
 from .screws import KINDS, PoeModel, joint_from_twist
 from .tolerances import DEFAULT, Tolerances
@@ -32,16 +34,14 @@ from .tolerances import DEFAULT, Tolerances
 __all__ = ["check_matrix", "poe_to_dict", "read_poe"]
 
 
+# A joint's scale (|w|, or |v| of a prismatic joint) is a gear ratio or a unit: within these.
+SCALES = (1e-9, 1e9)
+
+
 def _numbers(value: Any, count: int, where: str) -> NDArray[np.float64]:
     if not isinstance(value, list | tuple) or len(value) != count:
         raise InputError(f"{where} must be a list of {count} numbers")
-    try:
-        out = np.array([float(v) for v in value])
-    except (TypeError, ValueError) as e:
-        raise InputError(f"{where} must be a list of {count} numbers") from e
-    if isinstance(value[0], bool) or not np.all(np.isfinite(out)):
-        raise InputError(f"{where} must be finite numbers")
-    return out
+    return np.array([check_number(v, where) for v in value])
 
 
 def check_matrix(
@@ -83,14 +83,21 @@ def read_poe(data: Any, display: str, tol: Tolerances = DEFAULT) -> PoeModel:
     for i, entry in enumerate(raw, 1):
         if not isinstance(entry, dict):
             raise InputError(f"{display}: joint {i} must be a mapping with name and twist")
-        name = str(entry.get("name", f"joint{i}"))
-        where = f"{display}: joint '{name}'"
+        name = check_name(entry.get("name", f"joint{i}"), f"{display}: joint {i} name")
+        where = f"{display}: joint {name!r}"
         if name in names:
             raise InputError(f"{where} appears twice")
         names.add(name)
         xi = _numbers(entry.get("twist"), 6, f"{where} twist")
         if not np.any(xi):
             raise InputError(f"{where} has a zero twist")
+        w, v = math.hypot(*xi[:3]), math.hypot(*xi[3:])  # no underflow of tiny entries
+        scale = w if w > tol.noise else v
+        if not SCALES[0] <= scale <= SCALES[1]:
+            raise InputError(
+                f"{where} twist has scale {scale:.3g} (|w|, or |v| where w = 0); a joint's scale "
+                f"lies within [{SCALES[0]:g}, {SCALES[1]:g}]"
+            )
         lower = upper = None
         if entry.get("limits") is not None:
             lower, upper = (float(x) for x in _numbers(entry["limits"], 2, f"{where} limits"))
@@ -119,7 +126,7 @@ def read_poe(data: Any, display: str, tol: Tolerances = DEFAULT) -> PoeModel:
         home, note = check_matrix(tool["matrix"], f"{display}: tool matrix", tol)
         if note:
             warnings.append(note)
-    name = data.get("name") or display
+    name = display if data.get("name") is None else check_name(data["name"], f"{display}: name")
     return PoeModel(tuple(joints), home, str(name), display, "base", "tool", unit, tuple(warnings))
 
 

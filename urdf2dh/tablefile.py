@@ -40,18 +40,25 @@ def _matrix_agrees(given: Any, built: np.ndarray, where: str, scale: float) -> N
         )
 
 
+def _text(data: dict[str, Any], key: str, default: str, where: str) -> str:
+    """A string field (``default`` where absent); anything but a string is an error."""
+    value = data.get(key, default)
+    if not isinstance(value, str):
+        raise TableFileError(f"{where}: {key} must be a string, not {type(value).__name__}")
+    return value
+
+
 def read_table(data: Any, display: str, tol: Tolerances = DEFAULT) -> Table:
     """Check a parsed table file and build the :class:`Table` it describes."""
     if not isinstance(data, dict) or data.get("schema") != SCHEMA:
         raise TableFileError(f"{display}: not a table file (needs schema: {SCHEMA})")
-    name = data.get("convention")
-    if name not in NAMES:
+    if data.get("convention") not in NAMES:
         raise TableFileError(f"{display}: convention must be one of {choices(NAMES)}")
-    conv = get(name)
+    conv = get(data["convention"])
     units = data.get("units") or {}
     if units.get("angle", "rad") != "rad":
         raise TableFileError(f"{display}: angles must be in rad (units.angle)")
-    length_unit = str(units.get("length", "m"))
+    length_unit = _text(units, "length", "m", f"{display}: units")
     joints = data.get("joints")
     if not isinstance(joints, list):
         raise TableFileError(f"{display}: 'joints' must be a list")
@@ -59,8 +66,8 @@ def read_table(data: Any, display: str, tol: Tolerances = DEFAULT) -> Table:
     for i, j in enumerate(joints, 1):
         if not isinstance(j, dict):
             raise TableFileError(f"{display}: joint {i} must be a mapping")
-        name = str(j.get("name", f"joint{i}"))
-        where = f"{display}: joint '{name}'"
+        name = _text(j, "name", f"joint{i}", f"{display}: joint {i}")
+        where = f"{display}: joint {name!r}"
         kind = j.get("type", "revolute")
         if kind not in KINDS:
             raise TableFileError(f"{where} has unknown type '{kind}'; valid: {choices(KINDS)}")
@@ -88,13 +95,19 @@ def read_table(data: Any, display: str, tol: Tolerances = DEFAULT) -> Table:
     check = None
     if isinstance(data.get("check"), dict):
         c = data["check"]
-        check = Check(int(c.get("samples", 0)), float(c.get("max_position_error", 0.0)),
-                      float(c.get("max_rotation_error", 0.0)))
+        check = Check(
+            int(check_number(c.get("samples", 0), f"{display}: check samples", TableFileError)),
+            *(check_number(c.get(k, 0.0), f"{display}: check {k}", TableFileError)
+              for k in ("max_position_error", "max_rotation_error")),
+        )  # fmt: skip
+    warnings = data.get("warnings") or []
+    if not isinstance(warnings, list) or not all(isinstance(w, str) for w in warnings):
+        raise TableFileError(f"{display}: warnings must be a list of strings")
     table = Table(
         conv.name, sections["base"][0], tuple(rows), sections["tool"][0], 1.0,
-        str(data.get("robot", "")), str(data.get("source", display)),
-        str(data.get("base_link", "")), str(data.get("tip_link", "")), length_unit, check,
-        tuple(str(w) for w in data.get("warnings") or ()),
+        _text(data, "robot", "", display), _text(data, "source", display, display),
+        _text(data, "base_link", "", display), _text(data, "tip_link", "", display),
+        length_unit, check, tuple(warnings),
     )
     table = replace(table, size=table.to_poe().size())
     scale = max(1.0, float(np.abs(table.base_matrix[:3, 3]).max()))

@@ -94,6 +94,19 @@ class Tolerances:
     noise: float = 256 * EPS
     report: float = 1e-12
 
+    def __post_init__(self) -> None:
+        for name in ("parallel_angle", "meet_angle", "intersect_relative", "check_position",
+                     "check_rotation", "far_factor", "rotation_input", "noise", "report"):
+            value = getattr(self, name)
+            if not (0.0 <= value < float("inf")):
+                raise ValueError(f"tolerance {name} must be a finite number >= 0, not {value!r}")
+        if self.intersect_distance is not None and not 0.0 <= self.intersect_distance < float(
+            "inf"
+        ):
+            raise ValueError(f"intersect_distance must be >= 0, not {self.intersect_distance!r}")
+        if self.parallel_angle >= 0.5 * 3.141592653589793:
+            raise ValueError("parallel_angle must be below pi/2")
+
     @property
     def exact(self) -> bool:
         """True when no geometric snapping is done (``--exact``)."""
