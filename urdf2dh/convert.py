@@ -29,6 +29,7 @@ __all__ = [
     "sample_configurations",
     "self_check",
     "to_table",
+    "written",
 ]
 
 # The self-check's configurations, unless asked for a number. An exact table agrees with its
@@ -77,6 +78,16 @@ def build_table(
         model.base_link, model.tip_link, model.length_unit,
     )  # fmt: skip
     return table, result
+
+
+def written(table: Table, angle: float, length: float) -> Table:
+    """The table as its files write it (:meth:`~urdf2dh.conventions.base.Params.written`)."""
+    return replace(
+        table,
+        base=table.base.written(angle, length),
+        rows=tuple(replace(r, params=r.params.written(angle, length)) for r in table.rows),
+        tool=table.tool.written(angle, length),
+    )
 
 
 def self_check(
@@ -132,6 +143,7 @@ def to_table(
     """
     table, result = build_table(model, convention, tol, style)
     size, reach, unit = model.size(), max(model.reach(), model.size()), model.length_unit
+    table = written(table, tol.written, tol.written * size)
     warnings = list(model.warnings)
     allowed_pos, allowed_rot = tol.check_position * size, tol.check_rotation
     snapped = False

@@ -23,6 +23,7 @@ from . import frames, se3
 from .conventions import Convention, Params, get
 from .fk import chain_fk
 from .screws import Joint, JointKind, JointMotion, PoeModel
+from .tolerances import DEFAULT
 
 __all__ = ["SCHEMA", "Check", "Row", "Table"]
 
@@ -159,6 +160,16 @@ class Table:
         return PoeModel(joints, poses[-1], self.robot, self.source, self.base_link,
                         self.tip_link, self.length_unit)  # fmt: skip
 
+    def _written(self, m: Mat) -> list[list[float]]:
+        """A transform's entries as written: round-off (``DEFAULT.written``; times ``size`` for
+        the translation) next to 0 or +-1 written as that, no ``-0.0``."""
+        within = DEFAULT.written
+        out = np.where(np.abs(m) <= within, 0.0, m)
+        out[:3, 3] = np.where(np.abs(m[:3, 3]) <= within * self.size, 0.0, m[:3, 3])
+        unit = np.abs(np.abs(out[:3, :3]) - 1.0) <= within
+        out[:3, :3] = np.where(unit, np.sign(out[:3, :3]), out[:3, :3])
+        return (out + 0.0).tolist()
+
     def to_dict(self) -> dict[str, Any]:
         """The SPEC §2 tree (what ``--format json`` and ``--format yaml`` write)."""
         joints = []
@@ -178,9 +189,9 @@ class Table:
             "base_link": self.base_link,
             "tip_link": self.tip_link,
             "units": {"length": self.length_unit, "angle": "rad"},
-            "base": {"params": self.base.to_dict(), "matrix": self.base_matrix.tolist()},
+            "base": {"params": self.base.to_dict(), "matrix": self._written(self.base_matrix)},
             "joints": joints,
-            "tool": {"params": self.tool.to_dict(), "matrix": self.tool_matrix.tolist()},
+            "tool": {"params": self.tool.to_dict(), "matrix": self._written(self.tool_matrix)},
             "check": None if self.check is None else {
                 "samples": self.check.samples,
                 "max_position_error": self.check.max_position_error,

@@ -79,6 +79,13 @@ class Tolerances:
         A judgement whose effect is below ``report`` (rad, or x robot size) is under the
         exactness urdf2dh promises and is not listed in ``warnings``; it still counts in the
         self-check.
+    written
+        A table's parameter within ``written`` (rad, or x robot size) of 0, an angle within it of
+        a multiple of pi/2, is written as that (no ``-0.0``, ``a: 2.4e-33`` or
+        ``alpha: 1.5707963267948968`` in the files); the self-check runs on the numbers as
+        written. It is float round-off (as ``noise``), far below the exactness promised, so that
+        the snapped values of a whole table still add up to less than 1e-12 x size, and a
+        genuine small value (a URDF's rounded pi/2 leaving 4.9e-12 rad) is kept.
     """
 
     parallel_angle: float = 1e-4
@@ -93,10 +100,11 @@ class Tolerances:
     rotation_input: float = 1e-3
     noise: float = 256 * EPS
     report: float = 1e-12
+    written: float = 256 * EPS
 
     def __post_init__(self) -> None:
         for name in ("parallel_angle", "meet_angle", "intersect_relative", "check_position",
-                     "check_rotation", "far_factor", "rotation_input", "noise", "report"):
+                     "check_rotation", "far_factor", "rotation_input", "noise", "report", "written"):
             value = getattr(self, name)
             if not (0.0 <= value < float("inf")):
                 raise ValueError(f"tolerance {name} must be a finite number >= 0, not {value!r}")

@@ -111,6 +111,24 @@ class Params:
         """The table file's ``params`` mapping (vectors as lists)."""
         return {k: list(v) if isinstance(v, tuple) else v for k, v in self.values().items()}
 
+    def written(self, angle: float, length: float) -> Params:
+        """The record as a table file writes it: a value within ``length`` of 0 (an angle
+        within ``angle`` of a multiple of pi/2, a direction's component within ``angle`` of 0 or
+        +-1) replaced by that, and no ``-0.0``."""
+        values: dict[str, Value] = {}
+        for name, quantity in self.quantities().items():
+            value = getattr(self, name)
+            if quantity == "angle":
+                values[name] = _snap_angle(value, angle)
+            elif quantity == "length":
+                values[name] = _snap(value, (0.0,), length)
+            else:
+                targets, within = ((-1.0, 0.0, 1.0), angle) if quantity == "direction" else (
+                    (0.0,), length)  # fmt: skip
+                x, y, z = (_snap(c, targets, within) for c in value)
+                values[name] = (x, y, z)
+        return type(self)(**values)
+
     def frame(self) -> Frame:
         """The record's transform (base and tool records; rows: see :meth:`around_joint`)."""
         raise NotImplementedError
@@ -118,6 +136,21 @@ class Params:
     def around_joint(self) -> tuple[Frame | None, Frame]:
         """A row's constant transforms ``(before Q_i, after Q_i)``; ``None``: nothing before."""
         return None, self.frame()
+
+
+def _snap(value: float, targets: tuple[float, ...], within: float) -> float:
+    for target in targets:
+        if abs(value - target) <= within:
+            return target
+    return value + 0.0  # -0.0 -> 0.0
+
+
+def _snap_angle(value: float, within: float) -> float:
+    quarter = round(value / (0.5 * math.pi))
+    if abs(value - quarter * 0.5 * math.pi) > within:
+        return value + 0.0
+    snapped = math.remainder(quarter * 0.5 * math.pi, 2.0 * math.pi)  # in [-pi, pi]
+    return math.pi if snapped == -math.pi else snapped + 0.0
 
 
 @dataclass(frozen=True, slots=True)
