@@ -6,8 +6,9 @@ The defaults are documented in README.md and overridable per call (keyword) and 
 
 from __future__ import annotations
 
+import math
 import sys
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, fields, replace
 
 __all__ = ["DEFAULT", "EXACT", "HASH_DECIMALS", "Tolerances"]
 
@@ -103,16 +104,17 @@ class Tolerances:
     written: float = 256 * EPS
 
     def __post_init__(self) -> None:
-        for name in ("parallel_angle", "meet_angle", "intersect_relative", "check_position",
-                     "check_rotation", "far_factor", "rotation_input", "noise", "report", "written"):
-            value = getattr(self, name)
+        for f in fields(self):
+            value = getattr(self, f.name)
+            if f.name == "intersect_distance" and value is None:
+                continue
+            if f.name == "cpc_reverse_below":  # a cosine
+                if not -1.0 <= value <= 0.0:
+                    raise ValueError(f"cpc_reverse_below must lie in [-1, 0], not {value!r}")
+                continue
             if not (0.0 <= value < float("inf")):
-                raise ValueError(f"tolerance {name} must be a finite number >= 0, not {value!r}")
-        if self.intersect_distance is not None and not 0.0 <= self.intersect_distance < float(
-            "inf"
-        ):
-            raise ValueError(f"intersect_distance must be >= 0, not {self.intersect_distance!r}")
-        if self.parallel_angle >= 0.5 * 3.141592653589793:
+                raise ValueError(f"tolerance {f.name} must be a finite number >= 0, not {value!r}")
+        if self.parallel_angle >= 0.5 * math.pi:
             raise ValueError("parallel_angle must be below pi/2")
 
     @property
