@@ -14,9 +14,11 @@ from urdf2dh.convert import (
     DEFAULT_SAMPLES,
     JUDGED_SAMPLES,
     build_table,
+    sample_configurations,
     self_check,
     to_table,
 )
+from urdf2dh.se3 import pose_errors
 from urdf2dh.sources import open_source
 from urdf2dh.tolerances import DEFAULT
 
@@ -34,8 +36,11 @@ def test_a_reported_judgement_is_measured_at_more_configurations():
     model = open_source("so100").model()
     table = to_table(model, "dh")
     assert table.check is not None and table.check.samples == JUDGED_SAMPLES == 1000
-    assert any(f"worst of {JUDGED_SAMPLES} configurations" in w for w in table.warnings)
+    assert any(f"worst of {JUDGED_SAMPLES} checked" in w for w in table.warnings)
     assert table.check.max_position_error > 1e-9 * model.size()  # a deviation, measured
+    # ... under the bound declared for every configuration
+    assert table.check.max_position_error < table.check.declared_position
+    assert table.check.max_rotation_error < table.check.declared_rotation
     exact = to_table(model, "dh", DEFAULT.with_exact())
     assert exact.check is not None and exact.check.samples == DEFAULT_SAMPLES
 
@@ -66,3 +71,20 @@ def test_the_default_catches_a_slightly_wrong_table(robot, param, relative):
         assert check.samples == DEFAULT_SAMPLES
         assert (check.max_position_error > DEFAULT.check_position * size
                 or check.max_rotation_error > DEFAULT.check_rotation), (row.name, check)
+
+
+@pytest.mark.parametrize("robot", ["so100", "so101"])
+def test_verify_never_exceeds_the_declared_bound(robot):
+    """The bound is one for every configuration, not a sample maximum: Pinocchio, at 20,000
+    configurations other than the check's, stays within it (with no allowance beyond it)."""
+    from urdf2dh.verify import pinocchio_fk
+
+    source = open_source(robot)
+    model = source.model()
+    q = sample_configurations(model, 20_000, (5, 5))
+    reference = pinocchio_fk(source, model, q)
+    for conv in ("dh", "mdh"):
+        table = to_table(model, conv)
+        pos, rot = pose_errors(table.fk_batch(q), reference)
+        assert pos <= table.check.declared_position + 1e-12 * model.size(), (conv, pos)
+        assert rot <= table.check.declared_rotation + 1e-12, (conv, rot)

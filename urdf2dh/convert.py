@@ -17,6 +17,7 @@ from numpy.typing import NDArray
 from .conventions import REGISTRY, STYLES, Conversion, get
 from .errors import ConversionError, UsageError, choices
 from .fk import chains_fk
+from .lines import Judgement
 from .screws import PoeModel
 from .se3 import pose_errors
 from .table import Check, Row, Table
@@ -26,6 +27,7 @@ __all__ = [
     "DEFAULT_SAMPLES",
     "JUDGED_SAMPLES",
     "build_table",
+    "deviation_bound",
     "sample_configurations",
     "self_check",
     "to_table",
@@ -100,6 +102,22 @@ def self_check(
     return Check(samples, *pose_errors(ours, source))
 
 
+def deviation_bound(judgements: tuple[Judgement, ...], reach: float) -> tuple[float, float]:
+    """What tolerance judgements can cost, at most, at any configuration: ``(position,
+    rotation)``.
+
+    A pair of lines treated as parallel (``angle`` apart) leaves the table's joint axis turned by
+    ``angle`` about a point ``a`` on it; every frame after it is fitted to the source, so the home
+    pose is exact and a turn ``q`` of that joint differs from the source's by ``S R S^T - R``
+    (``S`` the turn by ``angle``), of norm at most ``2 angle``: a point ``p`` moves at most
+    ``2 angle |p - a| <= 4 angle reach`` (both within ``reach`` of the base origin), the
+    orientation at most ``2 angle``. Lines ``gap`` apart treated as meeting shift the axis by
+    ``gap``: a point moves at most ``2 gap``, the orientation not at all. The judgements add.
+    """
+    position = math.fsum(4.0 * j.angle * reach + 2.0 * j.gap for j in judgements)
+    return position, math.fsum(2.0 * j.angle for j in judgements)
+
+
 def _length(x: float, unit: str) -> str:
     return f"{x:.3g} {unit}"
 
@@ -145,11 +163,9 @@ def to_table(
     size, reach, unit = model.size(), max(model.reach(), model.size()), model.length_unit
     table = written(table, tol.written, tol.written * size)
     warnings = list(model.warnings)
-    allowed_pos, allowed_rot = tol.check_position * size, tol.check_rotation
+    declared_pos, declared_rot = deviation_bound(result.judgements, reach)
     snapped = False
     for j in result.judgements:
-        allowed_pos += 2.0 * (j.angle * reach + j.gap)
-        allowed_rot += 2.0 * j.angle
         # a judgement is new only if the lines are apart both in the frames built so far and in
         # the source; otherwise it carries on (or undoes) an earlier judgement's deviation
         shown = j.angle if j.source_angle is None else min(j.angle, j.source_angle)
@@ -169,11 +185,15 @@ def to_table(
     if samples is None:
         samples = JUDGED_SAMPLES if snapped else DEFAULT_SAMPLES
     check = self_check(model, table, samples, seed)
+    allowed_pos = tol.check_position * size + declared_pos
+    allowed_rot = tol.check_rotation + declared_rot
     if snapped:
+        check = replace(check, declared_position=declared_pos, declared_rotation=declared_rot)
         warnings.append(
-            f"{convention}: FK deviation from the source caused by these judgements: "
-            f"{_length(check.max_position_error, unit)}, {check.max_rotation_error:.3g} rad "
-            f"(worst of {samples} configurations); --exact keeps the exact geometry"
+            f"{convention}: FK deviation from the source caused by these judgements: at most "
+            f"{_length(declared_pos, unit)}, {declared_rot:.3g} rad at any configuration (the "
+            f"worst of {samples} checked: {_length(check.max_position_error, unit)}, "
+            f"{check.max_rotation_error:.3g} rad); --exact keeps the exact geometry"
         )
     warnings.extend(result.notes)
     if not (check.max_position_error <= allowed_pos and check.max_rotation_error <= allowed_rot):

@@ -163,6 +163,9 @@ def summary(table: Table) -> list[str]:
             f"check: FK against the source at {c.samples} configurations: max position error "
             f"{c.max_position_error:.2g} {table.length_unit}, max rotation error "
             f"{c.max_rotation_error:.2g} rad"
+            + (f"; declared bound {c.declared_position:.2g} {table.length_unit}, "
+               f"{c.declared_rotation:.2g} rad" if c.declared_position or c.declared_rotation
+               else "")
         )
     lines.extend(f"warning: {w}" for w in table.warnings)
     return lines

@@ -47,11 +47,24 @@ class Row(JointMotion):
 
 @dataclass(frozen=True, slots=True)
 class Check:
-    """The conversion's own self-check: table FK against the source's POE FK."""
+    """The conversion's own self-check: table FK against the source's POE FK.
+
+    Attributes
+    ----------
+    samples
+        Configurations compared.
+    max_position_error, max_rotation_error
+        The worst differences found there (length unit, rad).
+    declared_position, declared_rotation
+        The deviation the table declares, a bound that holds at every configuration (0 for an
+        exact table; see :func:`urdf2dh.convert.to_table`).
+    """
 
     samples: int
     max_position_error: float
     max_rotation_error: float
+    declared_position: float = 0.0
+    declared_rotation: float = 0.0
 
 
 @dataclass(frozen=True, slots=True)
@@ -196,6 +209,9 @@ class Table:
                 "samples": self.check.samples,
                 "max_position_error": self.check.max_position_error,
                 "max_rotation_error": self.check.max_rotation_error,
+                **({"declared_position": self.check.declared_position,
+                    "declared_rotation": self.check.declared_rotation}
+                   if self.check.declared_position or self.check.declared_rotation else {}),
             },
             "warnings": list(self.warnings),
         }  # fmt: skip

@@ -98,7 +98,8 @@ def read_table(data: Any, display: str, tol: Tolerances = DEFAULT) -> Table:
         check = Check(
             int(check_number(c.get("samples", 0), f"{display}: check samples", TableFileError)),
             *(check_number(c.get(k, 0.0), f"{display}: check {k}", TableFileError)
-              for k in ("max_position_error", "max_rotation_error")),
+              for k in ("max_position_error", "max_rotation_error", "declared_position",
+                        "declared_rotation")),
         )  # fmt: skip
     warnings = data.get("warnings") or []
     if not isinstance(warnings, list) or not all(isinstance(w, str) for w in warnings):
