@@ -20,8 +20,11 @@ def run_json(capsys, *argv):
     return json.loads(capsys.readouterr().out)
 
 
+WU_THRESHOLDS = ["--angle-threshold", "60", "--length-threshold", "30"]
+
+
 def test_puma_diff_marks_what_wu_2019_marks(capsys):
-    tree = run_json(capsys, "puma560-nominal", "puma560-actual")
+    tree = run_json(capsys, "puma560-nominal", "puma560-actual", *WU_THRESHOLDS)
     assert tree["schema"] == "urdf2dh-diff/1"
     marked = {(p["row"], p["param"]) for p in tree["parameters"] if p["marked"]}
     assert marked == WU_MARKED
@@ -33,13 +36,46 @@ def test_puma_diff_marks_what_wu_2019_marks(capsys):
 
 
 def test_diff_text_and_thresholds(capsys):
-    assert main(["diff", "puma560-nominal", "puma560-actual"]) == 0
+    assert main(["diff", "puma560-nominal", "puma560-actual", *WU_THRESHOLDS]) == 0
     out = capsys.readouterr().out
     assert "11 parameters changed beyond the thresholds" in out
     assert "(j2, j3) 0.000 / 10.254 deg" in out and "-0.0000" not in out
     assert main(["diff", "puma560-nominal", "puma560-actual", "--angle-threshold", "1",
                  "--length-threshold", "1"]) == 0
     assert "11 parameters" not in capsys.readouterr().out
+
+
+def _ur5_with(tmp_path, capsys, **changes):
+    """ur5's table file with some of the second row's parameters moved (metres, rad)."""
+    assert main(["convert", "ur5", "--format", "json"]) == 0
+    tree = json.loads(capsys.readouterr().out)
+    for key, step in changes.items():
+        tree["joints"][1]["params"][key] += step
+    path = tmp_path / "ur5-calibrated.json"
+    path.write_text(json.dumps(tree))
+    return str(path)
+
+
+def test_calibration_sized_changes_are_shown_and_marked(tmp_path, capsys):
+    """Defaults suited to calibration: 0.1 mm and 0.01 deg; lengths shown to the micrometre."""
+    actual = _ur5_with(tmp_path, capsys, d=40e-6, a=0.2e-3, alpha=1e-4)
+    assert main(["diff", "ur5", actual]) == 0
+    out = capsys.readouterr().out
+    assert "0.01 deg (modulo 180) or 0.0001 m" in out
+    rows = {tuple(line.split()[:2]): line for line in out.splitlines()[2:]}
+    assert "+0.000040 m" in rows[("shoulder_lift_joint", "d")]  # 40 um: shown, not marked
+    assert not rows[("shoulder_lift_joint", "d")].endswith("*")
+    assert rows[("shoulder_lift_joint", "a")].endswith("+0.000200 m  *")  # 0.2 mm: marked
+    assert rows[("shoulder_lift_joint", "alpha")].endswith("+0.0057 deg")  # 1e-4 rad: not
+    assert "1 parameter changed beyond the thresholds" in out
+    assert "e-14" not in out and "e-17" not in out  # round-off of the conversions: not shown
+
+
+def test_changes_below_the_printed_precision_are_not_zeros(tmp_path, capsys):
+    actual = _ur5_with(tmp_path, capsys, d=2e-9, theta=3e-9)
+    assert main(["diff", "ur5", actual]) == 0
+    out = capsys.readouterr().out
+    assert "+2e-09 m" in out and "+1.72e-07 deg" in out
 
 
 def test_diff_across_units_and_conventions(tmp_path, capsys):
@@ -50,7 +86,7 @@ def test_diff_across_units_and_conventions(tmp_path, capsys):
         assert tree["units"]["length"] == "mm"
         assert not any(p["marked"] for p in tree["parameters"])
         assert max(abs(p["change"]) for p in tree["parameters"]) < 1e-9
-    tree = run_json(capsys, "ur5", "ur10")
+    tree = run_json(capsys, "ur5", "ur10", "--angle-threshold", "60", "--length-threshold", "0.03")
     assert {(p["row"], p["param"]) for p in tree["parameters"] if p["marked"]} == {
         ("shoulder_lift_joint", "a"), ("elbow_joint", "a"), ("shoulder_pan_joint", "d"),
         ("wrist_1_joint", "d")}

@@ -169,11 +169,12 @@ def get_argument_parser() -> argparse.ArgumentParser:
     p.add_argument("--convention", choices=NAMES, default=NAMES[0],
                    help="convention to compare in (default %(default)s)")
     p.add_argument("--style", choices=STYLES, default="wu", help="D-H choices (see convert)")
-    p.add_argument("--angle-threshold", type=_nonnegative_float, default=60.0, metavar="DEG",
-                   help="mark angle changes over this, modulo 180 (default %(default)g, as "
-                        "Wu 2019 Table II)")
+    p.add_argument("--angle-threshold", type=_nonnegative_float, default=0.01, metavar="DEG",
+                   help="mark angle changes over this, modulo 180 (default %(default)g; Wu 2019 "
+                        "Table II's marks: 60)")
     p.add_argument("--length-threshold", type=_nonnegative_float, metavar="LENGTH",
-                   help="mark length changes over this (default 30 mm in the tables' unit)")
+                   help="mark length changes over this, in the tables' unit (default 0.1 mm; Wu "
+                        "2019 Table II's marks: 30 mm)")
     p.add_argument("--parallel-within", type=_nonnegative_float, default=5.0, metavar="DEG",
                    help="name axis pairs this close to parallel in either model as "
                         "ill-conditioned for D-H (default %(default)g)")

@@ -27,7 +27,7 @@ from .errors import InputError, UsageError
 from .formats import fixed
 from .screws import PoeModel
 from .table import Row, Table
-from .tolerances import Tolerances
+from .tolerances import DEFAULT, Tolerances
 from .xacro import XacroOptions
 
 __all__ = ["Change", "IllPair", "compare", "diff_sources", "ill_conditioned", "render_diff"]
@@ -126,9 +126,15 @@ def ill_conditioned(nominal: PoeModel, actual: PoeModel, within: float) -> list[
     return out
 
 
+# Default marks: changes a calibration makes beyond its measuring noise (0.1 mm, 0.01 deg at
+# typical accuracies of 10-50 um); Wu 2019 Table II marks jumps instead (60 deg, 30 mm).
+ANGLE_THRESHOLD_DEG = 0.01
+LENGTH_THRESHOLD_M = 1e-4
+
+
 def default_length_threshold(unit: str) -> float:
-    """30 mm (Wu 2019 Table II's threshold) in ``unit``."""
-    return 0.030 / units.metres_per(unit)
+    """:data:`LENGTH_THRESHOLD_M` in ``unit``."""
+    return LENGTH_THRESHOLD_M / units.metres_per(unit)
 
 
 def diff_sources(
@@ -149,7 +155,7 @@ def diff_sources(
     """Both SOURCEs as tables of ``convention`` (ACTUAL in NOMINAL's length unit), compared.
 
     Returns the report's header fields, the parameter changes and the ill-conditioned pairs.
-    ``length_threshold`` ``None`` means 30 mm in the nominal's unit.
+    ``length_threshold`` ``None`` means :data:`LENGTH_THRESHOLD_M` in the nominal's unit.
     """
     from .convert import to_table
     from .sources import open_source
@@ -168,7 +174,7 @@ def diff_sources(
     length = (default_length_threshold(nominal.length_unit) if length_threshold is None
               else length_threshold)
     info = {"convention": convention, "nominal": names[0], "actual": names[1],
-            "units": {"length": nominal.length_unit, "angle": "rad"},
+            "units": {"length": nominal.length_unit, "angle": "rad"}, "size": nominal.size(),
             "thresholds": {"angle": angle_threshold, "length": length},
             "warnings": [w for t in tables for w in t.warnings]}
     changes = compare(tables[0], tables[1], angle_threshold, length)
@@ -193,22 +199,34 @@ def render_diff(info: dict[str, Any], changes: list[Change], pairs: list[IllPair
                 "recommendation": RECOMMENDATION if pairs else None}
         return json.dumps(tree, indent=2) + "\n"
     unit = info["units"]["length"]
+    # lengths to a micrometre or finer, angles to 1e-4 deg; a change too small for that is
+    # shown in full (3 digits) rather than as +0.0000
+    decimals = max(units.DECIMALS.get(unit, 6), round(-math.log10(1e-6 / units.metres_per(unit))))
 
     def show(value: Any, kind: str) -> str:
         if isinstance(value, list | tuple):
-            return "[" + ", ".join(fixed(v, 4) for v in value) + "]"
+            places = 6 if kind == "direction" else decimals
+            return "[" + ", ".join(fixed(v, places) for v in value) + "]"
         if kind == "angle":
             return fixed(math.degrees(value), 4)
         if kind == "pitch":
             return f"{value * math.pi / 180:.6g}"
-        return f"{value:.6g}" if kind == "scale" else fixed(value, 4)
+        return f"{value:.6g}" if kind == "scale" else fixed(value, decimals)
 
+    def signed(x: float, places: int, exact: float) -> str:
+        """``x`` to ``places``; a change under that but beyond round-off (``exact``) in full."""
+        text = fixed(x, places, "+")
+        return f"{x:+.3g}" if float(text) == 0.0 and abs(x) > exact else text
+
+    exact = DEFAULT.report  # rad, or x size: the exactness promised; below is round-off
     def delta(c: Change) -> str:
         if c.kind in ("angle", "direction"):
-            return f"{fixed(math.degrees(c.change), 4, '+')} deg"
+            return f"{signed(math.degrees(c.change), 4, math.degrees(exact))} deg"
         if c.kind == "pitch":
             return f"{c.change * math.pi / 180:+.3g} {unit}/deg"
-        return f"{c.change:+.6g}" if c.kind == "scale" else f"{fixed(c.change, 4, '+')} {unit}"
+        if c.kind == "scale":
+            return f"{c.change:+.6g}"
+        return f"{signed(c.change, decimals, exact * info['size'])} {unit}"
 
     width = max(len(c.row) for c in changes)
     thresholds = info["thresholds"]
@@ -223,7 +241,8 @@ def render_diff(info: dict[str, Any], changes: list[Change], pairs: list[IllPair
             continue
         out.append(f"{c.row:<{width}}  {c.param:<6} {show(c.nominal, c.kind):>28} "
                    f"{show(c.actual, c.kind):>28}  {delta(c)}{'  *' if c.marked else ''}")
-    out.append(f"{sum(c.marked for c in changes)} parameters changed beyond the thresholds")
+    marked = sum(c.marked for c in changes)
+    out.append(f"{marked} parameter{'' if marked == 1 else 's'} changed beyond the thresholds")
     if pairs:
         names = ", ".join(
             f"({p.first}, {p.second}) {math.degrees(p.nominal_angle):.3f} / "

@@ -47,8 +47,12 @@ def write_output(data: str | bytes, output: str | None, sources: Iterable[str] =
     if output is None:
         try:
             sys.stdout.flush()
-            sys.stdout.buffer.write(raw)
-            sys.stdout.buffer.flush()
+            buffer = getattr(sys.stdout, "buffer", None)
+            if buffer is None:  # a text-only stream (io.StringIO in place of stdout)
+                sys.stdout.write(raw.decode("utf-8", "replace"))
+            else:
+                buffer.write(raw)
+                buffer.flush()
         except BrokenPipeError:
             raise  # the reader went away (`| head`): not an error of ours
         except OSError as e:
