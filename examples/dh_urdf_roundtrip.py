@@ -42,6 +42,11 @@ def textbook_fk(q: np.ndarray) -> np.ndarray:
 
 
 def main() -> int:
+    with tempfile.TemporaryDirectory() as work:  # removed afterwards, whatever happens
+        return round_trip(Path(work))
+
+
+def round_trip(work: Path) -> int:
     tree = {
         "schema": "urdf2dh/1", "convention": "dh", "robot": "ur5-textbook",
         "base_link": "base", "tip_link": "flange", "units": {"length": "m", "angle": "rad"},
@@ -52,7 +57,6 @@ def main() -> int:
                    for i, (t, d, al, a) in enumerate(UR5)],
         "tool": {"params": {"theta": 0.0, "d": 0.0}},
     }
-    work = Path(tempfile.mkdtemp())
     table_file = work / "ur5-textbook.json"
     table_file.write_text(json.dumps(tree))
     source = open_source(str(table_file))

@@ -36,7 +36,7 @@ def test_every_convention_matches_pinocchio(name):
                               rel=max(pos / size, EXACT), rot=rot)
             # with --exact the geometry is kept, and only D-H's conditioning limits precision
             exact = to_table(model, conv, EXACT_TOL)
-            assert any("far beyond the robot's extent" in w for w in exact.warnings)
+            assert any("far beyond the robot's size" in w for w in exact.warnings)
             assert_fk_matches(f"{name} {conv} --exact", exact.fk_batch(q), reference, size, q,
                               rel=1e-10)
         else:

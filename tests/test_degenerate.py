@@ -175,7 +175,7 @@ def test_exact_mode_keeps_the_geometry_and_warns_about_far_offsets(off):
     model = source(rounded_arm(off)).model("base", "tip")
     # 3.7e-6 rad is snapped by default, so --exact; 2e-4 rad is beyond the default angle
     table = to_table(model, "dh", EXACT if off < DEFAULT.parallel_angle else DEFAULT)
-    far = [w for w in table.warnings if "far beyond the robot's extent" in w]
+    far = [w for w in table.warnings if "far beyond the robot's size" in w]
     assert far and "'j1'" in far[0] and "cpc" in far[0]
     assert not [w for w in table.warnings if "treated as" in w]
     assert max(abs(r.params.d) for r in table.rows) > 100 * model.extent()
@@ -191,9 +191,9 @@ def test_cli_tolerance_options(tmp_path, capsys):
     assert "treated as parallel (--parallel-angle 0.0001)" in capsys.readouterr().out
     assert main(["convert", str(path), "--tip", "tip", "--parallel-angle", "1e-6"]) == 0
     out = capsys.readouterr().out
-    assert "treated as parallel" not in out and "far beyond the robot's extent" in out
+    assert "treated as parallel" not in out and "far beyond the robot's size" in out
     assert main(["convert", str(path), "--tip", "tip", "--exact"]) == 0
-    assert "far beyond the robot's extent" in capsys.readouterr().out
+    assert "far beyond the robot's size" in capsys.readouterr().out
 
 
 # ----------------------------------------------------------------- mimic joints

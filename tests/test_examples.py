@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 import subprocess
 import sys
 from pathlib import Path
@@ -11,9 +12,10 @@ import pytest
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 
 
-def run(script: str, *args: str) -> str:
+def run(script: str, *args: str, tmp: Path | None = None) -> str:
+    env = None if tmp is None else {**os.environ, "TMPDIR": str(tmp)}
     proc = subprocess.run([sys.executable, str(EXAMPLES / script), *args],
-                          capture_output=True, text=True, timeout=300)
+                          capture_output=True, text=True, timeout=300, env=env)
     assert proc.returncode == 0, proc.stdout + proc.stderr
     return proc.stdout
 
@@ -34,8 +36,11 @@ def test_puma_poe_to_cpc():
 
 @pytest.mark.parametrize("keep", [False, True])
 def test_dh_urdf_roundtrip(tmp_path, keep):
+    scratch = tmp_path / "tmp"  # the script's temporary directory goes here, and must go
+    scratch.mkdir()
     args = [str(tmp_path / "ur5.urdf")] if keep else []
-    out = run("dh_urdf_roundtrip.py", *args)
+    out = run("dh_urdf_roundtrip.py", *args, tmp=scratch)
     assert "round trip exact" in out
     if keep:
         assert (tmp_path / "ur5.urdf").read_text().startswith("<?xml")
+    assert list(scratch.iterdir()) == []

@@ -69,7 +69,7 @@ class Tolerances:
         reversed; the frame pair that then turns round must stay this far (in ``b_z``) from
         -1, or it would trade one singularity for another.
     far_factor
-        A D-H ``|d|`` or ``|a|`` larger than ``far_factor`` x the robot's extent is warned about.
+        A D-H ``|d|`` or ``|a|`` larger than ``far_factor`` x the robot's size is warned about.
     rotation_input
         A rotation typed into a file (POE tool matrix, table matrix) may be off orthonormal by
         this much (it is then orthonormalised, with a warning); more is an input error.

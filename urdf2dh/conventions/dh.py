@@ -79,8 +79,8 @@ def far_rows(
         if big:
             shown = ", ".join(f"|{k}| = {abs(values[k]):.3g} {unit}" for k in big)
             out.append(
-                f"{name}: row '{joint.name}' has {shown}, far beyond the robot's extent "
-                f"({model.extent():.3g} {unit}): nearly parallel axes put the common "
+                f"{name}: row '{joint.name}' has {shown}, far beyond the robot's size "
+                f"({model.size():.3g} {unit}): nearly parallel axes put the common "
                 "normal far away and D-H loses precision there; cpc (or the POE model) "
                 "describes this geometry without it, while mdh shares the common normals"
             )
