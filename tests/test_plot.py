@@ -70,3 +70,19 @@ def test_prismatic_and_mm_sources_plot(tmp_path, robot):
     out = tmp_path / f"{robot}.pdf"
     assert main(["plot", robot, "-o", str(out)]) == 0
     assert out.read_bytes()[:4] == b"%PDF"
+
+
+@pytest.mark.parametrize("robot", ["ur5", "panda", "scara", "puma560-actual"])
+def test_labels_do_not_overlap(robot):
+    """Frames sharing an origin (UR5's last frame and its tool, its wrist) get their labels
+    moved along their arrows until they are apart on the picture."""
+    from urdf2dh.plot import apart, box, layout
+
+    table = to_table(open_source(robot).model(), "dh", style="ur" if robot == "ur5" else "wu")
+    _, placed = layout(table)
+    texts = [label.text for label, _, _ in placed]
+    assert "x6" in texts or "x4" in texts
+    boxes = [(label.text, box(label, xy)) for label, _, xy in placed]
+    for i, (a, box_a) in enumerate(boxes):
+        for b, box_b in boxes[:i]:
+            assert apart(box_a, box_b), (robot, a, b, box_a, box_b)
