@@ -38,8 +38,8 @@ def _chain_lines(model: PoeModel) -> list[str]:
     letters = "".join(LETTER[j.kind] for j in model.joints) or "(none)"
     out = [f"chain: {model.base_link} -> {model.tip_link}: {model.n} movable joints {letters}"]
     out.extend(f"  {i}. {j.name} ({j.kind})" for i, j in enumerate(model.joints, 1))
-    out.append(f"size: {model.size():.6g} {model.length_unit} (the robot size errors and tolerances "
-               "are measured against: README, \"Robot size\")")
+    out.append(f"size: {model.size():.6g} {model.length_unit} (the robot size that errors and "
+               "tolerances are measured against)")
     out.append(
         f"identifiable parameters (Wu 2019 eq. 23): 5h + 4r + 2t + n + 6 = "
         f"5*{ident['helical']} + 4*{ident['revolute']} + 2*{ident['prismatic']} + "

@@ -19,7 +19,9 @@ from . import se3
 from .errors import InputError, UsageError
 from .table import Table
 
-__all__ = ["FORMATS", "LABEL_GAP", "Label", "apart", "box", "dh_frames", "layout", "place", "render"]
+__all__ = [
+    "FORMATS", "LABEL_GAP", "Label", "apart", "box", "dh_frames", "layout", "place", "render",
+]
 
 FORMATS = ("png", "svg", "pdf")
 COLOURS = {"x": "#d62728", "y": "#2ca02c", "z": "#1f77b4", "joint": "#ff7f0e", "link": "#555555"}
