@@ -79,16 +79,22 @@ def _flat(params: Params) -> dict[str, float]:
     return out
 
 
-Record = tuple[str, str, str, float | None, float | None, dict[str, float]]
+Record = tuple[str, str, str, float | None, float | None, dict[str, float], str]
 
 
 def _records(table: Table) -> list[Record]:
-    """(label, joint, type, pitch, scale, params) for base, each joint row and tool."""
-    recs: list[Record] = [("base", "", "", None, None, _flat(table.base))]
+    """(label, joint, type, pitch, scale, params, form) for base, each joint row and tool."""
+    recs: list[Record] = [("base", "", "", None, None, _flat(table.base), table.base.form)]
     for i, r in enumerate(table.rows, 1):
-        recs.append((str(i), r.name, r.kind, r.pitch, r.scale, _flat(r.params)))
-    recs.append(("tool", "", "", None, None, _flat(table.tool)))
+        recs.append((str(i), r.name, r.kind, r.pitch, r.scale, _flat(r.params), r.params.form))
+    recs.append(("tool", "", "", None, None, _flat(table.tool), table.tool.form))
     return recs
+
+
+def _forms(table: Table) -> bool:
+    """Whether the convention's rows take several forms (then the text says each row's)."""
+    conv = get(table.convention)
+    return len({cls.form for cls in (*conv.base_types, *conv.row_types)}) > 1
 
 
 def _csv(table: Table) -> str:
@@ -96,7 +102,7 @@ def _csv(table: Table) -> str:
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator="\n")
     w.writerow(["row", "joint", "type", "pitch", "scale", *cols])
-    for label, joint, kind, pitch, scale, params in _records(table):
+    for label, joint, kind, pitch, scale, params, _ in _records(table):
         w.writerow(
             [label, joint, kind, "" if pitch is None else repr(pitch),
              "" if scale is None else repr(scale)]
@@ -137,14 +143,18 @@ def _grid(table: Table) -> tuple[list[str], list[list[str]]]:
     cols = _columns(table)
     show_pitch = any(r.kind == "helical" for r in table.rows)
     show_scale = any(r.scale != 1.0 for r in table.rows)
-    head = ["", "joint", "type", *(_header(name, quantity, unit) for name, quantity in cols)]
+    show_form = _forms(table)
+    head = ["", "joint", "type", *(["form"] if show_form else []),
+            *(_header(name, quantity, unit) for name, quantity in cols)]  # fmt: skip
     if show_pitch:
         head.append(f"h [{unit}/deg]")
     if show_scale:
         head.append("scale")
     body = []
-    for label, joint, kind, pitch, scale, params in _records(table):
-        line = [label, joint, kind]
+    for label, joint, kind, pitch, scale, params, form in _records(table):
+        if not params:
+            continue  # a record without parameters (CPC's tool: its shape is the last row's)
+        line = [label, joint, kind, *([form] if show_form else [])]
         line += [_cell(q, params[c], unit) if c in params else "" for c, q in cols]
         if show_pitch:
             line.append("" if pitch is None else f"{pitch * math.pi / 180.0:.6g}")
@@ -180,7 +190,8 @@ def _title(table: Table) -> str:
 def _text(table: Table) -> str:
     head, body = _grid(table)
     widths = [max(len(r[i]) for r in [head, *body]) for i in range(len(head))]
-    numeric = [i >= 3 for i in range(len(head))]
+    texts = 4 if _forms(table) else 3  # label, joint, type (and form) are text
+    numeric = [i >= texts for i in range(len(head))]
 
     def fmt(row: list[str]) -> str:
         cells = [c.rjust(w) if num else c.ljust(w) for c, w, num in zip(row, widths, numeric,
@@ -200,7 +211,8 @@ def _markdown(table: Table) -> str:
     head[0] = "row"
     out = [f"**{_title(table)}** — {get(table.convention).title}", ""]
     out.append("| " + " | ".join(head) + " |")
-    out.append("|" + "|".join("---" if i < 3 else "---:" for i in range(len(head))) + "|")
+    texts = 4 if _forms(table) else 3
+    out.append("|" + "|".join("---" if i < texts else "---:" for i in range(len(head))) + "|")
     out.extend("| " + " | ".join(r) + " |" for r in body)
     lines = summary(table)
     if lines:

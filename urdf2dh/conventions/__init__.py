@@ -6,6 +6,7 @@ name        forward kinematics                                     module
 ``dh``      ``B . prod [Q_i Rz Tz Rx Tx] . Rz Tz``                  :mod:`.dh` (Wu 2019)
 ``mdh``     ``Rz Tz . prod [Rx Tx Q_i Rz Tz] . Rx Tx Rz Tz``        :mod:`.mdh` (Craig)
 ``cpc``     ``V_0 . prod [Q_i V(b, l, beta)]``                     :mod:`.cpc` (Sumenkov)
+``hayati``  ``B . prod [Q_i H_i] . Rz Tz``, ``H`` D-H or Hayati's  :mod:`.hayati`
 ==========  =====================================================  =========================
 
 A convention is an object satisfying :class:`~.base.Convention`; adding one is its module
@@ -18,6 +19,7 @@ from ..errors import UsageError, choices
 from .base import Column, Convention, Conversion, Params, columns, read_params
 from .cpc import CPC
 from .dh import DH
+from .hayati import HAYATI
 from .mdh import MDH
 
 __all__ = [
@@ -33,7 +35,7 @@ __all__ = [
     "read_params",
 ]
 
-REGISTRY: dict[str, Convention] = {c.name: c for c in (DH, MDH, CPC)}
+REGISTRY: dict[str, Convention] = {c.name: c for c in (DH, MDH, CPC, HAYATI)}
 
 NAMES: tuple[str, ...] = tuple(REGISTRY)
 STYLES: tuple[str, ...] = tuple(dict.fromkeys(s for c in REGISTRY.values() for s in c.styles))

@@ -80,6 +80,8 @@ class Params:
     """Base of every parameter record: a frozen dataclass whose fields are its parameters."""
 
     VECTOR: ClassVar[tuple[str, ...]] = ("direction", "offset")
+    form: ClassVar[str] = ""
+    """Its name where a convention's rows take several forms (``D-H``, ``Hayati``)."""
 
     def __post_init__(self) -> None:
         for f in fields(self):

@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, ClassVar
 
 from .. import frames
 from ..frames import Frame, Vec3
@@ -33,7 +33,9 @@ if TYPE_CHECKING:
     from ..screws import PoeModel
     from ..tolerances import Tolerances
 
-__all__ = ["DH", "STYLES", "DhLink", "RzTz", "StandardDH", "far_rows", "links_from_poe"]
+__all__ = [
+    "DH", "STYLES", "DhLink", "RzTz", "StandardDH", "chain_lines", "far_rows", "links_from_poe",
+]
 
 STYLES = ("wu", "ur", "zero")
 
@@ -41,6 +43,8 @@ STYLES = ("wu", "ur", "zero")
 @dataclass(frozen=True, slots=True)
 class DhLink(Params):
     """A standard D-H link: ``Rz(theta) Tz(d) Rx(alpha) Tx(a)`` (rows and the base)."""
+
+    form: ClassVar[str] = "D-H"
 
     theta: float = angle()
     d: float = length()
@@ -134,11 +138,7 @@ def links_from_poe(
     """
     home = frames.frame_of(model.home)
     limits = Limits.of(tol, model.size())
-    lines: list[tuple[str, Vec3, Vec3 | None, bool]] = [
-        (j.name, _vec(j.axis.tolist()), None if j.point is None else _vec(j.point.tolist()), False)
-        for j in model.joints
-    ]
-    lines.append(("tool z", _column(home, 2), _column(home, 3), True))
+    lines = chain_lines(model)
     built = [frames.IDENTITY]
     links: list[LinkParams] = []
     judgements: list[Judgement] = []
@@ -180,6 +180,21 @@ def links_from_poe(
         )
     g = frames.between(built[-1], home)  # the tool transform Rz(theta) Tz(d) (Lemma 4)
     return links, (frames.angle(g[1][0], g[0][0]), g[2][3]), judgements
+
+
+Line = tuple[str, Vec3, Vec3 | None, bool]  # name, direction, a point (or None), is the tool z
+
+
+def chain_lines(model: PoeModel) -> list[Line]:
+    """The lines a D-H-like table puts its frames' z axes on, after the base z: each joint's
+    axis, then the tool's z (a prismatic joint's free line has no point)."""
+    home = frames.frame_of(model.home)
+    lines: list[Line] = [
+        (j.name, _vec(j.axis.tolist()), None if j.point is None else _vec(j.point.tolist()), False)
+        for j in model.joints
+    ]
+    lines.append(("tool z", _column(home, 2), _column(home, 3), True))
+    return lines
 
 
 def _vec(v: list[float]) -> Vec3:
