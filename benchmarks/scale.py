@@ -15,12 +15,22 @@ from urdf2dh.convert import sample_configurations, to_table
 from urdf2dh.se3 import pose_errors
 from urdf2dh.sources import Source
 from urdf2dh.table import CONVENTIONS
-from urdf2dh.urdf import _tree_of, _yourdfpy_robot, tree_to_poe
+from urdf2dh.urdf import tree_to_poe
+from urdf2dh.urdf.parse import document, parse_xml, yourdfpy_robot
+from urdf2dh.urdf.tree import UrdfTree, build_tree
+from urdf2dh.urdf.validate import check_robot
 from urdf2dh.verify import pinocchio_fk
 
 __all__ = ["PIN_FK_MAX", "chain_lengths"]
 
 PIN_FK_MAX = 200  # Pinocchio's Data takes O(n^3) memory: 0.5 GB at 200 joints, 1.7 GB at 300
+
+
+def _tree(data: bytes, robot: object) -> UrdfTree:
+    """parse_tree's own part: one XML parse, our strict check, the tree from yourdfpy's Robot."""
+    xml = document(data, "chain.urdf")
+    check_robot(parse_xml(xml, "chain.urdf"), "chain.urdf")
+    return build_tree(robot, "chain.urdf", xml)
 
 
 def chain_lengths(sizes: list[int], accuracy_samples: int) -> tuple[list[Figure], list[str]]:
@@ -31,11 +41,11 @@ def chain_lengths(sizes: list[int], accuracy_samples: int) -> tuple[list[Figure]
         text, _ = random_chain_urdf(n, n)
         data = text.encode()
         t0 = time.perf_counter()
-        robot = _yourdfpy_robot(data, "chain.urdf")
+        robot = yourdfpy_robot(parse_xml(data, "chain.urdf"), "chain.urdf")
         loads.append(f"{n}: {time.perf_counter() - t0:.3g} s")
 
         def ours(data: bytes = data, robot: object = robot) -> object:
-            tree = _tree_of(data, robot, "chain.urdf")  # as parse_tree after yourdfpy's load
+            tree = _tree(data, robot)  # as parse_tree, yourdfpy's part made once above
             return to_table(tree_to_poe(tree, "base", "tool"), "dh")
 
         repeat = 5 if n <= 200 else 2
@@ -44,7 +54,7 @@ def chain_lengths(sizes: list[int], accuracy_samples: int) -> tuple[list[Figure]
         ok = t <= 1.0 if n == 1000 else None
         rows.append(Figure(f"{n} joints: convert to dh, self-check included", t, pin_t, "ms",
                            "ours <= 1 s" if n == 1000 else "", ok))
-        tree = _tree_of(data, robot, "chain.urdf")
+        tree = _tree(data, robot)
         model = tree_to_poe(tree, "base", "tool")
         q = sample_configurations(model, accuracy_samples, 1)
         exact = chain_fk(text, "base", "tool", q).astype(float)  # rounding: < 1 ulp
