@@ -39,15 +39,24 @@ MOVING_TYPES = ("revolute", "continuous", "prismatic")  # the types whose axis g
 #: joint's travel, pitch x limit) and its square stay finite in float64.
 LARGEST = 1e50
 
-_DECIMAL = re.compile(r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
+_NUMBER = r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?"
+_LEADING = " \t\n\v\f\r"  # white space strToDouble skips before a number (none after it)
+_DECIMAL = re.compile(f"[{_LEADING}]*{_NUMBER}")
 _NON_FINITE = re.compile(r"[+-]?(?:nan|inf|infinity)", re.IGNORECASE)
+# Text of digits, signs, points, e and spaces only: there Python's float() reads exactly the
+# decimal numbers above (no "_", "nan", "inf" or other white space can occur), a quick path
+_PLAIN = re.compile(r"[0-9+\-.eE ]*")
 _SMALLEST_NORMAL = sys.float_info.min
+_FLOAT_MAX = sys.float_info.max
 
 
 def numbers(
     text: str, count: int, what: str, where: str, bound: float | None = LARGEST
 ) -> list[float]:
     """Read ``count`` numbers from an attribute value, by urdfdom's grammar (module docstring).
+
+    A scalar is one ``strToDouble`` of the whole value (white space before the number, none
+    after it); a vector is the value split at spaces, each piece one ``strToDouble``.
 
     Parameters
     ----------
@@ -72,20 +81,38 @@ def numbers(
     InputError
         Naming ``where``, ``what``, the value and the piece at fault.
     """
-    pieces = [piece for piece in text.split(" ") if piece]
-    shown = f"{where}: {what} {text!r}"
+    largest = _FLOAT_MAX if bound is None else bound
+    if _PLAIN.fullmatch(text) and not (count == 1 and text.endswith(" ")):
+        pieces = text.split()
+        if len(pieces) == count:
+            try:
+                values = list(map(float, pieces))
+            except ValueError:
+                pass  # "1e", "+-1", "1.2.3": said by _read
+            else:
+                if max(map(abs, values)) <= largest:
+                    return values
+    return _read(text, count, f"{where}: {what} {text!r}", largest)
+
+
+def _read(text: str, count: int, shown: str, largest: float) -> list[float]:
+    """:func:`numbers`, piece by piece, raising the error that names the piece at fault."""
     expected = "a number" if count == 1 else f"{count} numbers"
+    if count == 1:
+        pieces = [text] if text.strip() else []
+    else:
+        pieces = [piece for piece in text.split(" ") if piece]
     values = []
     for piece in pieces:
-        if _NON_FINITE.fullmatch(piece):
+        if _NON_FINITE.fullmatch(piece.strip()):
             raise InputError(f"{shown} is not finite ({piece!r} is not a decimal number)")
         if not _DECIMAL.fullmatch(piece):
             raise InputError(f"{shown} is not {expected} ({piece!r} is not a decimal number)")
         value = float(piece)
         if math.isinf(value):
-            raise InputError(f"{shown} is not finite ({piece} overflows float64)")
-        if bound is not None and abs(value) > bound:
-            raise InputError(f"{shown} is out of range ({piece} is beyond ±{bound:g})")
+            raise InputError(f"{shown} is not finite ({piece.strip()} overflows float64)")
+        if abs(value) > largest:
+            raise InputError(f"{shown} is out of range ({piece.strip()} is beyond ±{largest:g})")
         values.append(value)
     if len(values) != count:
         raise InputError(f"{shown} is not {expected} (it holds {len(values)})")
