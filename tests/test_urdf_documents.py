@@ -65,23 +65,36 @@ def test_the_common_file_is_parsed_as_it_stands():
     assert document(BODY.encode(), "f") == BODY.encode()
 
 
-@pytest.mark.parametrize("data, fragment", [
-    (BODY.encode("latin-1"), "not utf-8 text (byte 14: invalid continuation byte); an XML "
-                             "declaration names any other encoding"),
-    (DECLARED.format("klingon").encode(), "unknown text encoding 'klingon'"),
-    (DECLARED.format("base64").encode(), "unknown text encoding 'base64'"),
-    (b"\xff\xfe<\x00r\x00\x00\xd8", "not utf-16-le text (byte 4"),
-    ("\ufeff \n ".encode("utf-16-le"), "empty file"),
-    (b"\xef\xbb\xbf  ", "empty file"),
-    (b"<robot name='r'>\x00<link name='a'/></robot>", "binary file, not"),
-    (b'<?xml version="1.0"?><!DOCTYPE r [<!ENTITY x SYSTEM "file:///etc/passwd">]>'
-     b'<robot name="&x;"><link name="a"/></robot>', "malformed XML (Attribute references "
-                                                    "external entity 'x', line 1, column"),
-    (b'<?xml version="1.0"?><!DOCTYPE r [<!ENTITY a "aaaaaaaaaa">'
-     + b"".join(b'<!ENTITY a%d "' % i + (b"&a%d;" % (i - 1) if i > 1 else b"&a;") * 10 + b'">'
-                for i in range(1, 10))
-     + b']><robot name="&a9;"><link name="a"/></robot>', "malformed XML (Maximum entity"),
-])
+@pytest.mark.parametrize(
+    "data, fragment",
+    [
+        (
+            BODY.encode("latin-1"),
+            "not utf-8 text (byte 14: invalid continuation byte); an XML "
+            "declaration names any other encoding",
+        ),
+        (DECLARED.format("klingon").encode(), "unknown text encoding 'klingon'"),
+        (DECLARED.format("base64").encode(), "unknown text encoding 'base64'"),
+        (b"\xff\xfe<\x00r\x00\x00\xd8", "not utf-16-le text (byte 4"),
+        ("\ufeff \n ".encode("utf-16-le"), "empty file"),
+        (b"\xef\xbb\xbf  ", "empty file"),
+        (b"<robot name='r'>\x00<link name='a'/></robot>", "binary file, not"),
+        (
+            b'<?xml version="1.0"?><!DOCTYPE r [<!ENTITY x SYSTEM "file:///etc/passwd">]>'
+            b'<robot name="&x;"><link name="a"/></robot>',
+            "malformed XML (Attribute references external entity 'x', line 1, column",
+        ),
+        (
+            b'<?xml version="1.0"?><!DOCTYPE r [<!ENTITY a "aaaaaaaaaa">'
+            + b"".join(
+                b'<!ENTITY a%d "' % i + (b"&a%d;" % (i - 1) if i > 1 else b"&a;") * 10 + b'">'
+                for i in range(1, 10)
+            )
+            + b']><robot name="&a9;"><link name="a"/></robot>',
+            "malformed XML (Maximum entity",
+        ),
+    ],
+)
 def test_undecodable_empty_binary_and_entity_documents(data, fragment, tmp_path, capsys):
     path = tmp_path / "bad.urdf"
     path.write_bytes(data)
@@ -92,9 +105,11 @@ def test_undecodable_empty_binary_and_entity_documents(data, fragment, tmp_path,
 
 
 def test_internal_entities_are_read_as_libxml2_reads_them():
-    data = (b'<?xml version="1.0"?><!DOCTYPE robot [<!ENTITY x "0.5">]><robot name="r">'
-            b'<link name="a"/><link name="b"/><joint name="j" type="fixed"><parent link="a"/>'
-            b'<child link="b"/><origin xyz="&x; 0 0"/></joint></robot>')
+    data = (
+        b'<?xml version="1.0"?><!DOCTYPE robot [<!ENTITY x "0.5">]><robot name="r">'
+        b'<link name="a"/><link name="b"/><joint name="j" type="fixed"><parent link="a"/>'
+        b'<child link="b"/><origin xyz="&x; 0 0"/></joint></robot>'
+    )
     assert parse_tree(data, "f").joints["j"].origin[0, 3] == 0.5
 
 
@@ -110,15 +125,18 @@ def test_text_checks_know_byte_order_marks():
 
 
 def test_a_link_yourdfpy_cannot_read_is_named(tmp_path, capsys):
-    data = (b'<robot name="r"><link name="a"><visual><geometry><box/></geometry></visual>'
-            b'</link></robot>')  # a box without size: urdfdom refuses it too
+    data = (
+        b'<robot name="r"><link name="a"><visual><geometry><box/></geometry></visual>'
+        b"</link></robot>"
+    )  # a box without size: urdfdom refuses it too
     with pytest.raises(InputError, match=r"^f: link 'a': yourdfpy cannot read it \(KeyError"):
         parse_tree(data, "f")
 
 
 def test_names_with_line_breaks_and_quotes_stay_on_one_line(tmp_path, capsys):
     body = BODY.replace('name="k"', 'name="k&#10;&quot;\'"').replace(
-        '<axis xyz="1 0 0"/>', '<axis xyz="1 0 0 0"/>')
+        '<axis xyz="1 0 0"/>', '<axis xyz="1 0 0 0"/>'
+    )
     path = tmp_path / "n.urdf"
     path.write_text(body)
     assert main(["convert", str(path)]) == 2
@@ -126,8 +144,11 @@ def test_names_with_line_breaks_and_quotes_stay_on_one_line(tmp_path, capsys):
     assert err.count("\n") == 1 and "joint 'k\\n\"\\''" in err, err
     assert main(["convert", str(path).replace("n.urdf", "m.urdf")]) == 2  # no such file
     capsys.readouterr()
-    path.write_text(BODY.replace('<link name="tool"/>', '<link name="t&#10;o"/>').replace(
-        '<child link="tool"/>', '<child link="t&#10;o"/>'))
+    path.write_text(
+        BODY.replace('<link name="tool"/>', '<link name="t&#10;o"/>').replace(
+            '<child link="tool"/>', '<child link="t&#10;o"/>'
+        )
+    )
     assert main(["convert", str(path), "--tip", "nowhere"]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "'t\\no'" in err, err

@@ -19,16 +19,26 @@ from urdf2dh.urdf.validate import LARGEST, numbers
 LIMIT = 'lower="-1" upper="1" effort="1" velocity="1"'
 
 
-def arm(origin: str = 'xyz="0.1 0 0.2" rpy="0 0.3 0"', axis: str = 'xyz="0 0 1"',
-        limit: str = LIMIT, jtype: str = "revolute", mimic: str | None = None,
-        name: str = "r") -> str:
+def arm(
+    origin: str = 'xyz="0.1 0 0.2" rpy="0 0.3 0"',
+    axis: str = 'xyz="0 0 1"',
+    limit: str = LIMIT,
+    jtype: str = "revolute",
+    mimic: str | None = None,
+    name: str = "r",
+) -> str:
     """A 3-joint arm base -> l1 -> l2 -> l3 -> tool whose second joint 'j' carries the given
     attributes; with ``mimic``, a fourth joint 'm' (prismatic, after 'j') mimics 'j'."""
     axis_el = "" if axis is None else f"<axis {axis}/>"
     links = "".join(f'<link name="{n}"/>' for n in ("base", "l1", "l2", "l3", "tool"))
-    mimic_joint = "" if mimic is None else (
-        '<link name="l4"/><joint name="m" type="prismatic"><parent link="l3"/><child link="l4"/>'
-        f'<axis xyz="0 1 0"/><limit {LIMIT}/><mimic joint="j" {mimic}/></joint>'
+    mimic_joint = (
+        ""
+        if mimic is None
+        else (
+            '<link name="l4"/><joint name="m" type="prismatic"><parent link="l3"/>'
+            f'<child link="l4"/><axis xyz="0 1 0"/><limit {LIMIT}/>'
+            f'<mimic joint="j" {mimic}/></joint>'
+        )
     )
     return (
         f'<robot name="{name}">{links}'
@@ -88,16 +98,29 @@ SLOTS = [
     ("mimic offset", "mimic", 'offset="{}"'),
 ]
 # values urdfdom's strToDouble refuses, and what our message says of them
-BAD = [("1_0", "is not"), ("0x10", "is not"), ("0x1p3", "is not"), ("nan", "not finite"),
-       ("inf", "not finite"), ("-Infinity", "not finite"), ("1e999", "not finite"),
-       ("1e", "is not"), ("1d0", "is not"), ("1,5", "is not"), ("one", "is not"),
-       ("\u0661", "is not"), ("1 2", "is not"), ("", "is not")]
+BAD = [
+    ("1_0", "is not"),
+    ("0x10", "is not"),
+    ("0x1p3", "is not"),
+    ("nan", "not finite"),
+    ("inf", "not finite"),
+    ("-Infinity", "not finite"),
+    ("1e999", "not finite"),
+    ("1e", "is not"),
+    ("1d0", "is not"),
+    ("1,5", "is not"),
+    ("one", "is not"),
+    ("\u0661", "is not"),
+    ("1 2", "is not"),
+    ("", "is not"),
+]
 
 
 @pytest.mark.parametrize("what, slot, template", SLOTS, ids=[s[0] for s in SLOTS])
 @pytest.mark.parametrize("value, says", BAD, ids=[repr(b[0]) for b in BAD])
-def test_number_grammar_refuses_what_urdfdom_refuses(what, slot, template, value, says,
-                                                     capsys, tmp_path):
+def test_number_grammar_refuses_what_urdfdom_refuses(
+    what, slot, template, value, says, capsys, tmp_path
+):
     assert not pinocchio_refuses(arm(**{slot: template.format("0.5")}))  # the same, sound
     text = arm(**{slot: template.format(value)})
     assert pinocchio_refuses(text), text
@@ -113,17 +136,20 @@ def test_number_grammar_reads_what_urdfdom_reads(value, capsys, tmp_path):
     assert run(capsys, tmp_path, text, "verify")[0] == 0
 
 
-@pytest.mark.parametrize("slot, value", [
-    ("limit", 'lower=" -1" upper="1" effort="1" velocity="1"'),
-    ("limit", 'lower="-1 " upper="1" effort="1" velocity="1"'),
-    ("limit", 'lower="&#9;-1" upper="1" effort="1" velocity="1"'),
-    ("origin", 'xyz="&#9;0.1 0 0.2"'),
-    ("origin", 'xyz="0.1 0 0.2&#9;"'),
-    ("origin", 'xyz="0.1 &#10;0 0.2"'),
-    ("origin", 'xyz="  0.1   0 0.2  "'),
-    ("mimic", 'multiplier="2 "'),
-    ("mimic", 'offset="  0"'),
-])
+@pytest.mark.parametrize(
+    "slot, value",
+    [
+        ("limit", 'lower=" -1" upper="1" effort="1" velocity="1"'),
+        ("limit", 'lower="-1 " upper="1" effort="1" velocity="1"'),
+        ("limit", 'lower="&#9;-1" upper="1" effort="1" velocity="1"'),
+        ("origin", 'xyz="&#9;0.1 0 0.2"'),
+        ("origin", 'xyz="0.1 0 0.2&#9;"'),
+        ("origin", 'xyz="0.1 &#10;0 0.2"'),
+        ("origin", 'xyz="  0.1   0 0.2  "'),
+        ("mimic", 'multiplier="2 "'),
+        ("mimic", 'offset="  0"'),
+    ],
+)
 def test_white_space_is_read_as_urdfdom_reads_it(slot, value, capsys, tmp_path):
     """strToDouble skips white space before a number and refuses any after it; a vector is
     split at spaces first."""
@@ -144,9 +170,15 @@ def test_numbers_directly():
 
 # axes whose squared length is not a normal float64: urdfdom and Pinocchio do not normalise
 # them (they stay tiny, or become zero); the table would disagree with Pinocchio
-DEGENERATE_AXES = [("1e-300 0 0", "too short"), ("5e-324 0 0", "too short"),
-                   ("1e-160 1e-160 0", "too short"), ("1e308 1e308 0", "too long"),
-                   ("1e200 0 0", "too long"), ("0 0 0", "zero axis"), ("-0 0 0", "zero axis")]
+DEGENERATE_AXES = [
+    ("1e-300 0 0", "too short"),
+    ("5e-324 0 0", "too short"),
+    ("1e-160 1e-160 0", "too short"),
+    ("1e308 1e308 0", "too long"),
+    ("1e200 0 0", "too long"),
+    ("0 0 0", "zero axis"),
+    ("-0 0 0", "zero axis"),
+]
 
 
 @pytest.mark.parametrize("xyz, says", DEGENERATE_AXES)
@@ -167,8 +199,18 @@ def test_axis_without_xyz_is_refused(capsys, tmp_path):
     assert_refused(code, err, tmp_path, "joint 'j'", "<axis> has no xyz")
 
 
-@pytest.mark.parametrize("xyz", ["0 2 0", "3 4 0", "1e-150 0 0", "1e150 1e150 0",
-                                 "1e-300 1 0", "5e-324 0 -7", "-1e-100 -1e-100 -1e-100"])
+@pytest.mark.parametrize(
+    "xyz",
+    [
+        "0 2 0",
+        "3 4 0",
+        "1e-150 0 0",
+        "1e150 1e150 0",
+        "1e-300 1 0",
+        "5e-324 0 -7",
+        "-1e-100 -1e-100 -1e-100",
+    ],
+)
 def test_unusual_axes_that_normalise_agree_with_pinocchio(xyz, capsys, tmp_path):
     for jtype in ("revolute", "prismatic"):
         text = arm(axis=f'xyz="{xyz}"', jtype=jtype)
@@ -181,14 +223,17 @@ def test_missing_axis_is_x_for_both(capsys, tmp_path):
     assert run(capsys, tmp_path, arm(axis=None), "verify")[0] == 0
 
 
-@pytest.mark.parametrize("slot, value, what", [
-    ("origin", 'xyz="1e308 0 0"', "origin xyz"),
-    ("origin", 'xyz="0 0 -1e60"', "origin xyz"),
-    ("limit", 'lower="-1e308" upper="1e308" effort="1" velocity="1"', "limit lower"),
-    ("limit", 'lower="-1" upper="1e51" effort="1" velocity="1"', "limit upper"),
-    ("mimic", 'multiplier="1e308"', "mimic multiplier"),
-    ("mimic", 'offset="-1e300"', "mimic offset"),
-])
+@pytest.mark.parametrize(
+    "slot, value, what",
+    [
+        ("origin", 'xyz="1e308 0 0"', "origin xyz"),
+        ("origin", 'xyz="0 0 -1e60"', "origin xyz"),
+        ("limit", 'lower="-1e308" upper="1e308" effort="1" velocity="1"', "limit lower"),
+        ("limit", 'lower="-1" upper="1e51" effort="1" velocity="1"', "limit upper"),
+        ("mimic", 'multiplier="1e308"', "mimic multiplier"),
+        ("mimic", 'offset="-1e300"', "mimic offset"),
+    ],
+)
 def test_magnitudes_that_would_overflow_are_input_errors(slot, value, what, capsys, tmp_path):
     """Pinocchio reads these; we refuse them with one line, not an overflow or numpy warning."""
     text = arm(**{slot: value})
@@ -199,12 +244,41 @@ def test_magnitudes_that_would_overflow_are_input_errors(slot, value, what, caps
         assert_refused(code, err, tmp_path, joint, what, "out of range", f"{LARGEST:g}")
 
 
-@pytest.mark.parametrize("slot, value", [
-    ("limit", 'lower="-1e16" upper="1e16" effort="1e308" velocity="1e308"'),  # Gazebo's "none"
-    ("origin", 'xyz="0 1e40 0" rpy="1e300 -1e300 0"'),
-])
+@pytest.mark.parametrize(
+    "lower, upper, what", [("-1e16", "1e16", "limit lower"), ("-1", "1e5", "limit upper")]
+)
+def test_revolute_limits_beyond_float64s_angle_precision_are_input_errors(
+    lower, upper, what, capsys, tmp_path
+):
+    """Beyond 1e4 rad, q + theta loses theta to rounding: dh tables would disagree with
+    Pinocchio (at 1e16 rad by radians)."""
+    text = arm(limit=f'lower="{lower}" upper="{upper}" effort="1" velocity="1"')
+    assert not pinocchio_refuses(text)
+    code, err = run(capsys, tmp_path, text)
+    assert_refused(
+        code,
+        err,
+        tmp_path,
+        "joint 'j'",
+        what,
+        "out of range for a revolute joint",
+        'type="continuous"',
+    )
+    continuous = text.replace('name="j" type="revolute"', 'name="j" type="continuous"')
+    assert run(capsys, tmp_path, continuous, "verify")[0] == 0  # limits ignored, as urdfdom
+
+
+@pytest.mark.parametrize(
+    "slot, value",
+    [
+        ("limit", 'lower="-1e4" upper="1e4" effort="1" velocity="1"'),  # revolute: the bound
+        ("limit", 'lower="-1e16" upper="1e16" effort="1e308" velocity="1e308"'),  # Gazebo's "none"
+        ("origin", 'xyz="0 1e40 0" rpy="1e300 -1e300 0"'),
+    ],
+)
 def test_large_values_within_the_bound_agree_with_pinocchio(slot, value, capsys, tmp_path):
-    text = arm(**{slot: value}, jtype="prismatic" if slot == "limit" else "revolute")
+    jtype = "prismatic" if "1e16" in value else "revolute"
+    text = arm(**{slot: value}, jtype=jtype)
     code, err = run(capsys, tmp_path, text, "verify")
     assert code == 0, err
 
@@ -235,8 +309,9 @@ def test_helical_lead_pitch_agrees_with_pinocchio(multiplier, capsys, tmp_path):
     assert code == 0, err
 
 
-@pytest.mark.parametrize("multiplier, says", [("1e308", "out of range"), ("nan", "not finite"),
-                                              ("1e999", "not finite")])
+@pytest.mark.parametrize(
+    "multiplier, says", [("1e308", "out of range"), ("nan", "not finite"), ("1e999", "not finite")]
+)
 def test_helical_lead_pitch_out_of_range(multiplier, says, capsys, tmp_path):
     code, err = run(capsys, tmp_path, helical(multiplier))
     assert_refused(code, err, tmp_path, "joint 'm'", "mimic multiplier", says)
