@@ -100,9 +100,11 @@ def _original(name: str, path: Path, base: str | None, tip: str | None) -> Origi
 
 
 def _command(argv: list[str]) -> Run:
-    """``urdf2dh ARGV`` in this process, its output captured and every warning recorded."""
+    """``urdf2dh ARGV`` in this process: its output captured (what C++ code writes to file
+    descriptor 2 as well, after Python's), and every warning recorded."""
     out, err = io.StringIO(), io.StringIO()
     with (
+        _fd2() as native,
         contextlib.redirect_stdout(out),
         contextlib.redirect_stderr(err),
         warnings.catch_warnings(record=True) as caught,
@@ -115,9 +117,26 @@ def _command(argv: list[str]) -> Run:
     return Run(
         code,
         out.getvalue(),
-        err.getvalue(),
+        err.getvalue() + "".join(native),
         tuple(f"{w.category.__name__}: {w.message}" for w in caught),
     )
+
+
+@contextlib.contextmanager
+def _fd2() -> Iterator[list[str]]:
+    """What is written to file descriptor 2 meanwhile (by C++ code: urdfdom logs there)."""
+    written: list[str] = []
+    sys.stderr.flush()
+    saved = os.dup(2)
+    with tempfile.TemporaryFile() as tmp:
+        os.dup2(tmp.fileno(), 2)
+        try:
+            yield written
+        finally:
+            os.dup2(saved, 2)
+            os.close(saved)
+            tmp.seek(0)
+            written.append(tmp.read().decode("utf-8", errors="replace"))
 
 
 def _problems(path: Path, convert: Run, verify: Run) -> list[str]:
@@ -171,24 +190,10 @@ def run_corpus(count: int, seed: int) -> list[Outcome]:
     rng = np.random.default_rng(seed)
     sources = originals()
     outcomes = []
-    with tempfile.TemporaryDirectory(prefix="urdf2dh-fuzz-") as tmp, _quiet_stderr():
+    with tempfile.TemporaryDirectory(prefix="urdf2dh-fuzz-") as tmp:
         for index in range(count):
             outcomes.append(run_case(index, sources[index % len(sources)], rng, Path(tmp)))
     return outcomes
-
-
-@contextlib.contextmanager
-def _quiet_stderr() -> Iterator[None]:
-    """urdfdom writes its complaints to file descriptor 2 itself; keep them off the report."""
-    sys.stderr.flush()
-    saved = os.dup(2)
-    with open(os.devnull, "w") as devnull:
-        os.dup2(devnull.fileno(), 2)
-        try:
-            yield None
-        finally:
-            os.dup2(saved, 2)
-            os.close(saved)
 
 
 def report(outcomes: list[Outcome]) -> str:

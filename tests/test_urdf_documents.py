@@ -164,3 +164,19 @@ def test_urdf_joint_is_a_frozen_slotted_value():
         UrdfJoint("j", "ball", "a", "b", origin, axis, None, None, None)
     with pytest.raises(ValueError, match=r"origin must be \(4, 4\)"):
         UrdfJoint("j", "fixed", "a", "b", np.eye(3), axis, None, None, None)
+
+
+def test_what_pinocchio_refuses_is_one_line_with_urdfdoms_reason(tmp_path, capfd):
+    """urdfdom prints several lines to file descriptor 2 for a fault; verify says one."""
+    path = tmp_path / "e.urdf"
+    path.write_text(
+        BODY.replace('effort="1" velocity="1"/></joint></robot>', 'velocity="1"/></joint></robot>')
+    )
+    assert main(["convert", str(path), "-o", str(tmp_path / "t.json")]) == 0  # we need no effort
+    capfd.readouterr()
+    assert main(["verify", str(path)]) == 2
+    captured = capfd.readouterr()
+    assert captured.err == (
+        f"urdf2dh: error: {path}: Pinocchio cannot load it (urdfdom: joint [k]: limit has no "
+        "effort)\n"
+    )

@@ -11,6 +11,11 @@ the chain stay at their neutral position.
 
 from __future__ import annotations
 
+import contextlib
+import os
+import sys
+import tempfile
+from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import Any
 
@@ -74,16 +79,39 @@ def _model_from_poe(pin: Any, poe: PoeModel) -> tuple[Any, list[tuple[int, int, 
     return model, mapping, 0, tip
 
 
+@contextlib.contextmanager
+def _c_stderr() -> Iterator[list[str]]:
+    """Collect what C++ code writes to file descriptor 2 meanwhile, instead of showing it."""
+    lines: list[str] = []
+    sys.stderr.flush()
+    saved = os.dup(2)
+    with tempfile.TemporaryFile() as tmp:
+        os.dup2(tmp.fileno(), 2)
+        try:
+            yield lines
+        finally:
+            os.dup2(saved, 2)
+            os.close(saved)
+            tmp.seek(0)
+            lines.extend(tmp.read().decode("utf-8", errors="replace").splitlines())
+
+
 def _model_from_urdf(
     pin: Any, source: Source, poe: PoeModel
 ) -> tuple[Any, list[tuple[int, int, float]], int, int]:
     assert source.urdf_text is not None
     # helical joints arrive as a revolute joint and a prismatic one mimicking it (urdfwrite.py)
     mimic = any(j.kind == "helical" for j in poe.joints)
-    try:
-        model = pin.buildModelFromXML(source.urdf_text.decode(), mimic=mimic)
-    except Exception as e:  # Pinocchio raises RuntimeError/ValueError with C++ text
-        raise InputError(f"{source.display}: Pinocchio cannot load it ({e})") from e
+    error: Exception | None = None
+    with _c_stderr() as log:  # urdfdom writes its reasons there, several lines a fault
+        try:
+            model = pin.buildModelFromXML(source.urdf_text.decode(), mimic=mimic)
+        except Exception as e:  # Pinocchio raises RuntimeError/ValueError with C++ text
+            error = e
+    if error is not None:
+        reasons = [line.split(":", 1)[1] for line in log if line.startswith("Error:")]
+        why = f"urdfdom: {' '.join(reasons[0].split())}" if reasons else str(error)
+        raise InputError(f"{source.display}: Pinocchio cannot load it ({why})") from error
     mapping = []
     for j in poe.joints:
         jid = model.getJointId(j.name)
