@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import dataclasses
 import io
+import warnings
 
 import numpy as np
 import pinocchio as pin
@@ -180,3 +181,17 @@ def test_what_pinocchio_refuses_is_one_line_with_urdfdoms_reason(tmp_path, capfd
         f"urdf2dh: error: {path}: Pinocchio cannot load it (urdfdom: joint [k]: limit has no "
         "effort)\n"
     )
+
+
+@pytest.mark.parametrize("origin", ['rpy="1e999 0 0"', 'xyz="inf 0 0"'])
+def test_a_link_origin_yourdfpy_cannot_compute_is_named_not_warned(origin, tmp_path, capsys):
+    """The strict check reads joints; a link's visual or inertial origin that yourdfpy's matrix
+    code cannot compute (urdfdom refuses it too) names the link, with no numpy warning."""
+    data = BODY.replace(
+        '<link name="base"/>',
+        f'<link name="base"><inertial><origin {origin}/><mass value="1"/></inertial></link>',
+    ).encode()
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(InputError, match=r"^f: link 'base': yourdfpy cannot read it \("):
+            parse_tree(data, "f")

@@ -126,7 +126,11 @@ def parse_xml(xml: bytes, display: str) -> Any:
 
 def yourdfpy_robot(root: Any, display: str) -> Any:
     """yourdfpy's ``Robot`` of a checked root element, made by its element parsers (the ones
-    ``URDF.load`` uses), link by link and joint by joint so that a failure names the element."""
+    ``URDF.load`` uses), link by link and joint by joint so that a failure names the element.
+
+    A floating-point fault in its matrix code (a link's visual origin ``inf``, which the strict
+    check does not read and urdfdom refuses) is such a failure too, not a numpy warning."""
+    import numpy as np
     import yourdfpy
 
     robot = yourdfpy.Robot(name=root.get("name"))
@@ -136,7 +140,8 @@ def yourdfpy_robot(root: Any, display: str) -> Any:
     ):
         for el in root.iterchildren(kind):
             try:
-                items.append(parse(el))
+                with np.errstate(all="raise"):
+                    items.append(parse(el))
             except Exception as e:  # yourdfpy raises many kinds (ValueError, KeyError, ...)
                 reason = " ".join(f"{type(e).__name__}: {e}".split())
                 raise InputError(
