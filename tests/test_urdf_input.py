@@ -315,3 +315,27 @@ def test_helical_lead_pitch_agrees_with_pinocchio(multiplier, capsys, tmp_path):
 def test_helical_lead_pitch_out_of_range(multiplier, says, capsys, tmp_path):
     code, err = run(capsys, tmp_path, helical(multiplier))
     assert_refused(code, err, tmp_path, "joint 'm'", "mimic multiplier", says)
+
+
+@pytest.mark.parametrize("offset", ["1e16", "1e50"])
+def test_a_base_far_from_the_root_is_verified_to_pinocchios_resolution(offset, capsys, tmp_path):
+    """Pinocchio works in the root's frame: a world joint 1e16 m away rounds its base-to-tip
+    poses by metres, which verify allows for (our table is exact; found by the corpus)."""
+    text = arm().replace('<link name="base"/>', '<link name="world"/><link name="base"/>')
+    text = text.replace(
+        "</robot>",
+        '<joint name="world_joint" type="fixed"><parent link="world"/><child link="base"/>'
+        f'<origin xyz="0 {offset} 0"/></joint></robot>',
+    )
+    path = tmp_path / "w.urdf"
+    path.write_text(text)
+    assert main(["verify", str(path), "--base", "base", "--tip", "tool", "--samples", "200"]) == 0
+    assert "all conventions agree" in capsys.readouterr().out
+    near = text.replace(f'xyz="0 {offset} 0"', 'xyz="0 2 0"')
+    tree = parse_tree(near.encode(), "w.urdf")
+    model = tree_to_poe(tree, "base", "tool")
+    from urdf2dh.sources import Source
+    from urdf2dh.verify import _oracle_rounding
+
+    rounding = _oracle_rounding(Source("urdf", "w.urdf", "r", tree, tree.xml), model)
+    assert 0 < rounding < 1e-13  # an ordinary world offset: nothing allowed beyond the check
