@@ -76,6 +76,8 @@ class Outcome:
             verify = "Pinocchio agrees"
         elif PINOCCHIO_REFUSES in self.verify.err:
             verify = "Pinocchio cannot load it"
+        elif self.verify.code == 1 and self.verify.err.startswith("verify: FAILED"):
+            verify = "DISAGREES with Pinocchio"
         else:
             verify = names.get(self.verify.code, f"exit {self.verify.code}")
         return f"convert: {convert}; verify: {verify}"
