@@ -195,3 +195,5 @@ def test_a_link_origin_yourdfpy_cannot_compute_is_named_not_warned(origin, tmp_p
         warnings.simplefilter("error")
         with pytest.raises(InputError, match=r"^f: link 'base': yourdfpy cannot read it \("):
             parse_tree(data, "f")
+        tiny = data.replace(origin.encode(), b'rpy="1e-300 1e-300 1e-160" xyz="5e-324 0 0"')
+        assert parse_tree(tiny, "f").root == "base"  # underflow is no fault

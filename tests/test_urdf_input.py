@@ -274,6 +274,7 @@ def test_revolute_limits_beyond_float64s_angle_precision_are_input_errors(
         ("limit", 'lower="-1e4" upper="1e4" effort="1" velocity="1"'),  # revolute: the bound
         ("limit", 'lower="-1e16" upper="1e16" effort="1e308" velocity="1e308"'),  # Gazebo's "none"
         ("origin", 'xyz="0 1e40 0" rpy="1e300 -1e300 0"'),
+        ("origin", 'xyz="5e-324 0 1e-300" rpy="1e-300 1e-300 1e-160"'),  # underflow is no fault
     ],
 )
 def test_large_values_within_the_bound_agree_with_pinocchio(slot, value, capsys, tmp_path):

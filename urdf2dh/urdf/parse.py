@@ -129,7 +129,8 @@ def yourdfpy_robot(root: Any, display: str) -> Any:
     ``URDF.load`` uses), link by link and joint by joint so that a failure names the element.
 
     A floating-point fault in its matrix code (a link's visual origin ``inf``, which the strict
-    check does not read and urdfdom refuses) is such a failure too, not a numpy warning."""
+    check does not read and urdfdom refuses) is such a failure too, not a numpy warning;
+    underflow (``rpy="1e-300 1e-300 0"``) is no fault."""
     import numpy as np
     import yourdfpy
 
@@ -140,7 +141,7 @@ def yourdfpy_robot(root: Any, display: str) -> Any:
     ):
         for el in root.iterchildren(kind):
             try:
-                with np.errstate(all="raise"):
+                with np.errstate(over="raise", invalid="raise", divide="raise"):
                     items.append(parse(el))
             except Exception as e:  # yourdfpy raises many kinds (ValueError, KeyError, ...)
                 reason = " ".join(f"{type(e).__name__}: {e}".split())
