@@ -23,6 +23,7 @@ import argparse
 import contextlib
 import io
 import os
+import re
 import sys
 import tempfile
 import warnings
@@ -66,6 +67,7 @@ class Outcome:
     convert: Run
     verify: Run
     problems: tuple[str, ...]
+    pinocchio_loads: bool | None  # for a refused file: does Pinocchio load it (None: not asked)
 
     @property
     def label(self) -> str:
@@ -182,9 +184,21 @@ def run_case(index: int, original: Original, rng: np.random.Generator, directory
     convert = _command(["convert", str(path), *chain, "-o", str(output)])
     output.unlink(missing_ok=True)
     verify = _command(["verify", str(path), *chain, "--samples", VERIFY_SAMPLES])
-    return Outcome(
-        index, kinds, description, convert, verify, tuple(_problems(path, convert, verify))
-    )
+    loads = _pinocchio_loads(path) if convert.code == 2 else None
+    problems = tuple(_problems(path, convert, verify))
+    return Outcome(index, kinds, description, convert, verify, problems, loads)
+
+
+def _pinocchio_loads(path: Path) -> bool:
+    """Whether Pinocchio builds a model from the file as it stands (its complaints silenced)."""
+    import pinocchio
+
+    with _fd2():
+        try:
+            pinocchio.buildModelFromUrdf(str(path))
+        except Exception:  # RuntimeError, ValueError with urdfdom's text
+            return False
+    return True
 
 
 def run_corpus(count: int, seed: int) -> list[Outcome]:
@@ -208,11 +222,21 @@ def report(outcomes: list[Outcome]) -> str:
     for kind in MUTATIONS:
         refused = sum(1 for o in outcomes if kind in o.kinds and o.convert.code == 2)
         lines.append(f"  {kinds[kind]:5d}  {kind:<22} ({refused} refused as input errors)")
+    stricter = Counter(_kind_of(o.convert.err) for o in outcomes if o.pinocchio_loads)
+    lines += ["", f"Refused although Pinocchio loads the file: {sum(stricter.values())}, for"]
+    lines += [f"  {n:5d}  {kind}" for kind, n in stricter.most_common()]
     broken = [o for o in outcomes if o.problems]
     lines += ["", f"Cases that broke an invariant: {len(broken)}"]
     for o in broken:
         lines.append(f"  case {o.index} ({o.description}): " + "; ".join(o.problems))
     return "\n".join(lines)
+
+
+def _kind_of(error: str) -> str:
+    """An error message without the file, names and values: the kind of fault it reports."""
+    text = error.strip().removeprefix("urdf2dh: error: ").split(".urdf: ", 1)[-1]
+    text = re.sub(r"'(?:[^'\\]|\\.)*'|\"(?:[^\"\\]|\\.)*\"", "'.'", text)
+    return re.sub(r"\[.*\]|[-+]?[0-9][0-9.e+-]*", "#", text)[:110]
 
 
 def main(argv: list[str] | None = None) -> int:
