@@ -34,85 +34,34 @@ class Original:
     chain: tuple[str, ...]
 
 
+# odd values for a number: the grammar's edges, float64's, and things that are not numbers
 ODD_NUMBERS = (
-    "nan",
-    "-inf",
-    "inf",
-    "1e308",
-    "-1e308",
-    "1e999",
-    "1e-300",
-    "5e-324",
-    "0",
-    "-0",
-    "1_0",
-    "0x10",
-    "1e",
-    ".5",
-    "5.",
-    "+1",
-    "1e50",
-    "-1e51",
-    "1e16",
-    "",
-    " ",
-    "1 2",
-    "\u0661",
-    "1,5",
-    "1e-320",
-    "3.4e38",
-    "-2.5",
-    "1e154",
-    "\t1",
-    "1\t",
+    *"nan -inf inf 1e308 -1e308 1e999 1e-300 5e-324 0 -0 1_0 0x10 1e .5 5. +1 1e50".split(),
+    *"-1e51 1e16 1,5 1e-320 3.4e38 -2.5 1e154".split(),
+    *("", " ", "1 2", "\u0661", "\t1", "1\t"),
 )
 ODD_NAMES = ("", " ", "a\nb", 'x"y', "x'y", "\u2028", "\u00fc", "j" * 300, "<&>", "a b", "#;%")
 ODD_AXES = (
-    "0 0 0",
-    "1e-300 0 0",
-    "5e-324 0 0",
-    "1e308 1e308 0",
-    "1e200 0 0",
-    "1e-160 1e-160 0",
-    "0 5 0",
-    "-1 0 0",
-    "1 1 1",
-    "1e-150 0 0",
-    "1e150 1e150 0",
-    "0 0 -1e-5",
-    None,
+    *"0 0 0,1e-300 0 0,5e-324 0 0,1e308 1e308 0,1e200 0 0,1e-160 1e-160 0,0 5 0".split(","),
+    *"-1 0 0,1 1 1,1e-150 0 0,1e150 1e150 0,0 0 -1e-5".split(","),
+    None,  # <axis/>
 )
 EDGE_VALUES = (
-    "1e4",
-    "-1e5",
-    "1e6",
-    "1e16",
-    "-1e16",
-    "1e40",
-    "1e50",
-    "-1e50",
-    "1e51",
-    "1e154",
-    "1e308",
-    "-1e308",
-    "1e-300",
-    "0",
+    *"1e4 -1e5 1e6 1e16 -1e16 1e40 1e50 -1e50 1e51 1e154 1e308 -1e308 1e-300 0".split(),
     "3.141592653589793",
 )
+# element -> its numeric attributes (joints' and links')
 NUMERIC = {
-    "origin": ("xyz", "rpy"),
-    "axis": ("xyz",),
-    "limit": ("lower", "upper", "effort", "velocity"),
-    "mimic": ("multiplier", "offset"),
-    "mass": ("value",),
-    "inertia": ("ixx", "iyy", "izz", "ixy"),
-    "box": ("size",),
-    "cylinder": ("radius", "length"),
-    "sphere": ("radius",),
-    "mesh": ("scale",),
-    "color": ("rgba",),
-    "dynamics": ("damping", "friction"),
-    "safety_controller": ("soft_lower_limit", "k_velocity"),
+    tag: tuple(attrs.split())
+    for tag, attrs in (
+        item.split(":")
+        for item in (
+            "origin:xyz rpy|axis:xyz|limit:lower upper effort velocity|mimic:multiplier offset|"
+            "mass:value|inertia:ixx iyy izz ixy|box:size|cylinder:radius length|sphere:radius|"
+            "mesh:scale|color:rgba|dynamics:damping friction|"
+            "safety_controller:soft_lower_limit k_velocity"
+        ).split("|")
+    )
 }
 JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed", "floating", "planar", "ball", "")
 
@@ -204,7 +153,7 @@ def wide_limits(root: Any, original: Original, rng: Rng) -> str:
     return f"limits +-{value} on the chain"
 
 
-def remove(root: Any, original: Original, rng: Rng) -> str:
+def remove_element(root: Any, original: Original, rng: Rng) -> str:
     """An element removed: a joint's origin, axis, limit, parent, child, or a joint or link."""
     joint = _joint(root, original, rng)
     candidates = [*joint, joint, *list(root.iterchildren("link"))[:3]]
@@ -215,7 +164,7 @@ def remove(root: Any, original: Original, rng: Rng) -> str:
     return f"removed <{el.tag} {el.get('name') or ''}>"
 
 
-def duplicate(root: Any, original: Original, rng: Rng) -> str:
+def duplicate_element(root: Any, original: Original, rng: Rng) -> str:
     """An element duplicated (a joint, a link, or a joint's child), the copy's numbers changed."""
     joint = _joint(root, original, rng)
     el = _pick(rng, [*joint, joint, *list(root.iterchildren("link"))[:2]])
@@ -226,7 +175,7 @@ def duplicate(root: Any, original: Original, rng: Rng) -> str:
     return f"duplicated <{el.tag} {el.get('name') or ''}>"
 
 
-def drop(root: Any, original: Original, rng: Rng) -> str:
+def drop_attribute(root: Any, original: Original, rng: Rng) -> str:
     """An attribute dropped (a name, a type, a link reference, a number)."""
     scope = _pick(rng, (_joint(root, original, rng), root))
     slots = [(el, a) for el in scope.iter() if isinstance(el.tag, str) for a in el.attrib]
@@ -262,7 +211,7 @@ def swap_type(root: Any, original: Original, rng: Rng) -> str:
     return f"joint {joint.get('name')!r} type {joint.get('type')!r}"
 
 
-def mimic(root: Any, original: Original, rng: Rng) -> str:
+def add_mimic(root: Any, original: Original, rng: Rng) -> str:
     """A mimic relation added to a joint, of a neighbour or of no joint, with an odd factor."""
     joint = _joint(root, original, rng)
     names = [j.get("name") for j in root.iterchildren("joint")]
@@ -285,6 +234,9 @@ def reparent(root: Any, original: Original, rng: Rng) -> str:
     return f"joint {joint.get('name')!r} {role} {el.get('link')!r}"
 
 
+LATIN1 = b'<?xml version="1.0" encoding="ISO-8859-1"?>\n'
+
+
 def encode(text: str, rng: Rng) -> tuple[str, bytes]:
     """The text in another encoding, or with an XML declaration lxml refuses."""
     body = text.replace('<robot name="', '<robot name="\u00e9', 1)  # a character beyond ASCII
@@ -295,13 +247,7 @@ def encode(text: str, rng: Rng) -> tuple[str, bytes]:
         ("UTF-32 with BOM", lambda: codecs.BOM_UTF32_LE + body.encode("utf-32-le")),
         ("version 0.0", lambda: b'<?xml version="0.0"?>\n' + body.encode()),
         ("version 2.0", lambda: b'<?xml version="2.0" encoding="utf-8"?>' + body.encode()),
-        (
-            "Latin-1, declared",
-            lambda: (
-                b'<?xml version="1.0" encoding="ISO-8859-1"?>\n'
-                + body.encode("latin-1", errors="replace")
-            ),
-        ),
+        ("Latin-1, declared", lambda: LATIN1 + body.encode("latin-1", errors="replace")),
         ("Latin-1, undeclared", lambda: body.encode("latin-1", errors="replace")),
         ("CRLF line ends", lambda: body.replace("\n", "\r\n").encode()),
     ]
@@ -323,18 +269,10 @@ def damage(text: str, rng: Rng) -> tuple[str, bytes]:
     return f"byte {at} removed", data[:at] + data[at + 1 :]
 
 
+_EDITS = (number, axis, edges, wide_limits, remove_element, duplicate_element, drop_attribute)
+_EDITS += (rename, swap_type, add_mimic, reparent)
 TREE: dict[str, Callable[[Any, Original, Rng], str]] = {
-    "number": number,
-    "axis": axis,
-    "edges": edges,
-    "wide limits": wide_limits,
-    "remove element": remove,
-    "duplicate element": duplicate,
-    "drop attribute": drop,
-    "rename": rename,
-    "swap type": swap_type,
-    "add mimic": mimic,
-    "reparent": reparent,
+    f.__name__.replace("_", " "): f for f in _EDITS
 }
 BYTES: dict[str, Callable[[str, Rng], tuple[str, bytes]]] = {"encoding": encode, "damage": damage}
 MUTATIONS = (*TREE, *BYTES)
