@@ -16,6 +16,7 @@ from .catalog import ROBOTS, Bundled, robot_path
 from .errors import InputError, SourceError, UsageError, choices
 from .files import read_file
 from .screws import PoeModel
+from .text import check_text, first_character
 from .tolerances import DEFAULT, Tolerances
 from .urdf import UrdfTree, parse_tree, tree_to_poe
 from .xacro import XacroOptions
@@ -122,18 +123,15 @@ def _within_budget(tree: Any, display: str) -> None:
 def _from_file(path: Path, display: str, tol: Tolerances, bundled: Bundled | None,
                xacro: XacroOptions | None = None) -> Source:
     data = read_file(path, display)
-    if not data.strip():
-        raise InputError(f"{display}: empty file")
-    if b"\x00" in data[:4096]:
-        raise InputError(f"{display}: binary file, not a URDF, POE or table file")
+    check_text(data, display, "a URDF, POE or table file")
     suffix = path.suffix.lower()
     if suffix == ".xacro":
         from .xacro import expand
 
         data = expand(path, display, xacro)
-    if suffix in (".xacro", ".urdf", ".xml") or data.lstrip()[:1] == b"<":
+    if suffix in (".xacro", ".urdf", ".xml") or first_character(data) == "<":
         tree = parse_tree(data, display)
-        return Source("urdf", display, bundled.name if bundled else tree.name, tree, data,
+        return Source("urdf", display, bundled.name if bundled else tree.name, tree, tree.xml,
                       bundled=bundled)
     tree_data = read_mapping(path, display, data)
     if isinstance(tree_data, dict) and tree_data.get("format") == "poe":

@@ -1,0 +1,150 @@
+"""The chain walk: from a base link down to a tip link, fixed joints folded, to a POE model.
+
+Each moving joint's axis and origin at the home pose, expressed in the base frame, give its
+screw: direction ``R axis`` through the joint frame's origin. Fixed joints only carry the frame
+along. A revolute joint followed by a coaxial prismatic joint that mimics it with offset 0 is one
+helical joint whose pitch is the multiplier: that is how :mod:`urdf2dh.urdfwrite` writes a
+helical joint, since URDF has none.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..errors import ChainError
+from ..screws import Joint, JointKind, PoeModel
+from .tree import UrdfJoint, UrdfTree, names
+
+__all__ = ["KINDS", "tree_to_poe"]
+
+#: URDF joint type -> the kind of the POE model's joint.
+KINDS: dict[str, JointKind] = {
+    "revolute": "revolute",
+    "continuous": "revolute",
+    "prismatic": "prismatic",
+}
+
+#: How far from exactly (anti-)parallel, in cos, a mimicking prismatic joint may be and still be
+#: read as the lead of the revolute joint before it: float round-off of a rotated unit vector.
+COAXIAL_COS = 1e-12
+
+Vec = NDArray[np.float64]
+
+
+@dataclass(frozen=True, slots=True)
+class _Moving:
+    """A moving joint met on the walk, in the base frame at the home pose."""
+
+    name: str
+    kind: JointKind
+    axis: Vec  # (3,) unit
+    point: Vec  # (3,)
+    pitch: float
+    lower: float | None
+    upper: float | None
+
+
+def _unit(v: Vec) -> Vec:
+    """``v / |v|`` with the length taken without overflow or underflow (``math.hypot``)."""
+    x, y, z = v.tolist()
+    return v / math.hypot(x, y, z)
+
+
+def _helical_lead(uj: UrdfJoint, axis: Vec, moving: list[_Moving]) -> float | None:
+    """The pitch, if ``uj`` is the lead of a helical joint as urdf2dh writes one: a prismatic
+    joint mimicking the revolute joint just before it on the chain (offset 0), along its axis."""
+    if uj.type != "prismatic" or uj.mimic is None or uj.offset != 0.0 or not moving:
+        return None
+    prev = moving[-1]
+    if prev.name != uj.mimic or prev.kind != "revolute":
+        return None
+    cos = float(axis @ prev.axis)
+    if abs(abs(cos) - 1.0) > COAXIAL_COS:
+        return None
+    return uj.multiplier * (1.0 if cos > 0 else -1.0)
+
+
+def _walk(
+    tree: UrdfTree, path: list[UrdfJoint], ignore_mimic: bool, base: str, tip: str
+) -> tuple[list[_Moving], Vec, list[str]]:
+    """The moving joints of ``path``, the tip's home pose ``(4, 4)`` and the warnings made."""
+    t = np.eye(4)  # the joint frame at the home pose, in the base frame
+    moving: list[_Moving] = []
+    warnings: list[str] = []
+    for uj in path:
+        t = t @ uj.origin
+        if uj.type in ("floating", "planar"):
+            raise ChainError(
+                f"{tree.path}: joint {uj.name!r} on the chain {base!r} -> {tip!r} is "
+                f"{uj.type}; only revolute, continuous, prismatic and fixed joints have D-H rows"
+            )
+        if uj.type == "fixed":
+            continue
+        axis = _unit(t[:3, :3] @ uj.axis)
+        if uj.mimic is not None:
+            lead = _helical_lead(uj, axis, moving)
+            if lead is not None:  # revolute + coaxial prismatic mimicking it = one helical joint
+                moving[-1] = replace(moving[-1], kind="helical", pitch=lead)
+                continue
+            if not ignore_mimic:
+                raise ChainError(
+                    f"{tree.path}: joint {uj.name!r} on the chain mimics joint {uj.mimic!r}; "
+                    "pass --ignore-mimic to treat it as an independent joint"
+                )
+            warnings.append(
+                f"joint {uj.name!r} mimics {uj.mimic!r} in the URDF; treated as an independent "
+                "joint (--ignore-mimic)"
+            )
+        moving.append(
+            _Moving(uj.name, KINDS[uj.type], axis, t[:3, 3].copy(), 0.0, uj.lower, uj.upper)
+        )
+    return moving, t, warnings
+
+
+def tree_to_poe(
+    tree: UrdfTree,
+    base: str | None = None,
+    tip: str | None = None,
+    ignore_mimic: bool = False,
+    name: str | None = None,
+) -> PoeModel:
+    """Walk from ``base`` to ``tip``, fold fixed joints, and build the POE model.
+
+    Parameters
+    ----------
+    tree
+        The URDF's kinematic tree.
+    base, tip
+        Link names; ``base`` defaults to the root link and ``tip`` to the single deepest leaf
+        below it (SPEC §1).
+    ignore_mimic
+        Treat a mimic joint on the chain as an independent joint (with a warning) instead of
+        refusing the chain; the lead of a helical joint is read as such either way.
+    name
+        The model's name (default: the robot's).
+
+    Returns
+    -------
+    PoeModel
+        One joint per moving joint on the chain (a helical pair counts once) and the tip's home
+        pose in the base link's frame.
+
+    Raises
+    ------
+    ChainError
+        An unknown base or tip link, a tip not below the base, a floating or planar joint on the
+        chain, or a mimic joint on it without ``ignore_mimic``.
+    """
+    base = base or tree.root
+    if base not in tree.links:
+        raise ChainError(f"{tree.path}: unknown base link {base!r}; links are {names(tree.links)}")
+    tip = tip or tree.default_tip(base)
+    moving, home, warnings = _walk(tree, tree.chain(base, tip), ignore_mimic, base, tip)
+    joints = tuple(
+        Joint(m.name, m.kind, m.axis, m.point, m.pitch, 1.0, m.lower, m.upper) for m in moving
+    )
+    return PoeModel(joints, home, name or tree.name, tree.path, base, tip, "m", tuple(warnings))
