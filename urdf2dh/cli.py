@@ -1,5 +1,5 @@
 """The ``urdf2dh`` command (SPEC §1): ``convert``, ``verify``, ``info``, ``export``, ``plot``,
-``robots``.
+``robots``; ``measure`` and ``calibrate`` live in :mod:`urdf2dh.calibrate.cli`.
 
 Exit codes: 0 success, 1 verification failed (or a table failed its own check), 2 bad usage or
 bad input. Errors are one line on stderr naming the file, link or joint; output files are
@@ -17,6 +17,7 @@ import sys
 from typing import Any
 
 from . import __version__
+from .calibrate.cli import COMMANDS as calibration_commands
 from .errors import Urdf2DhError
 from .files import write_output
 
@@ -170,6 +171,9 @@ def get_argument_parser() -> argparse.ArgumentParser:
     _add_tolerances(p)
 
     sub.add_parser("robots", help="list the bundled robots")
+    from .calibrate.cli import add_parsers as add_calibration_parsers
+
+    add_calibration_parsers(sub)
     return parser
 
 
@@ -309,6 +313,7 @@ COMMANDS = {
     "plot": _plot,
     "robots": _robots,
 }
+COMMANDS.update(calibration_commands)
 
 
 def main(argv: list[str] | None = None) -> int:
