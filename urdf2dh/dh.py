@@ -72,7 +72,8 @@ def links_from_poe(
 
     ``style="wu"`` follows Wu 2019 §III (SPEC §3: ``a >= 0``). ``style="ur"`` prefers zero
     ``theta`` offsets, and where an x axis is free (coincident axes) turns it so that the next
-    link's ``alpha`` is positive: Universal Robots' own sign choices. ``style="zero"`` prefers
+    link's ``alpha`` is positive: Universal Robots' own sign choices; a free last x (the tool z
+    on the last axis) is the tool's x, as UR's flange is D-H frame 6. ``style="zero"`` prefers
     zero ``theta`` offsets and leaves free x axes at ``theta = 0`` (the base's included), as
     controllers without offsets (LinuxCNC genserkins) need.
 
@@ -122,6 +123,15 @@ def links_from_poe(
         judgements.extend(found)
         frames.append(se3.compose(frames[-1], dh_frame(link.theta, link.d, link.alpha, link.a)))
     g = se3.between(frames[-1], home)  # the tool transform Rz(theta) Tz(d) (Lemma 4)
+    if style == "ur" and links[-1].free and g[1][0] != 0.0:
+        # UR: the flange is D-H frame n, so a free last x (tool z on the last axis) is the
+        # tool's own x and the tool transform is the identity
+        last = links[-1]
+        theta = angle(math.sin(last.theta + angle(g[1][0], g[0][0])),
+                      math.cos(last.theta + angle(g[1][0], g[0][0])))
+        links[-1] = last._replace(theta=theta)
+        frames[-1] = se3.compose(frames[-2], dh_frame(theta, last.d, last.alpha, last.a))
+        g = se3.between(frames[-1], home)
     return links, (angle(g[1][0], g[0][0]), g[2][3]), judgements
 
 
