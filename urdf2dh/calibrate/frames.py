@@ -6,6 +6,10 @@
   taken: the reference itself, or the smallest turn of it that aligns the line.
 * :func:`pose_points` -- a pose as four points (origin and the tips of its axes at a given
   length), so that orientations take part in a point fit.
+* :func:`tool_on_last_axis` -- the identified tool placed on the last joint's line exactly as
+  the nominal's was, turned about and slid along it as identified: it removes the round-off the
+  iterations left in a relation that ``keep_tool_axis`` holds (so that a tool z on the last
+  axis stays on it to float precision, as D-H's Lemma 4 and UR's flange need).
 * :func:`anchor_base` -- the device -> nominal base transform that puts the identified first
   joint's line exactly on the nominal's (what defines a robot's base frame: controllers such as
   UR's put frame 0 on joint 1's axis) and fits the two motions that leave a line in place,
@@ -24,7 +28,7 @@ from ..screws import Joint
 from ..se3 import axis_frame, inv, matrix_of
 from ..tolerances import RANK_RELATIVE
 
-__all__ = ["anchor_base", "fit_rigid", "pose_points"]
+__all__ = ["anchor_base", "fit_rigid", "pose_points", "tool_on_last_axis"]
 
 Mat = NDArray[np.float64]
 
@@ -112,3 +116,31 @@ def anchor_base(first: Joint, nominal_first: Joint, points: Mat, nominal_points:
         move[:3, :3] = [[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]]
         move[2, 3] = float(np.mean(b[:, 2] - a[:, 2]))
     return c_nom @ move @ inv(c_id)
+
+
+def tool_on_last_axis(
+    start_last: Joint, start_home: Mat, last: Joint, home: Mat, angle: float, distance: float
+) -> tuple[Mat, float]:
+    """The tool pose on ``last``'s line with the relation ``start_home`` had to ``start_last``
+    (module docstring): ``C Rz(phi) Tz(t) K``, ``C`` a frame on the line, ``K`` the start's
+    relation, ``phi, t`` read from ``home``.
+
+    A start tool whose z lies within ``angle`` (rad) of the line and whose origin lies within
+    ``distance`` of it (URDFs' rounded angles leave 1e-12 rad) is put on it exactly: what
+    D-H's Lemma 4 and a flange on the last D-H frame (UR) read as "on the axis". Returns the
+    pose and the angle that moved the tool z (0 if not).
+    """
+    rel = inv(_line_frame(start_last)) @ start_home
+    z, origin = rel[:3, 2], rel[:3, 3]
+    off = math.atan2(math.hypot(z[0], z[1]), abs(z[2]))
+    moved = 0.0
+    if 0.0 < off <= angle and math.hypot(origin[0], origin[1]) <= distance:
+        rel[:3, :3] = _align(z, np.array([0.0, 0.0, math.copysign(1.0, z[2])])) @ rel[:3, :3]
+        rel[:2, 3] = 0.0
+        moved = off
+    frame = _line_frame(last)
+    x = inv(frame) @ home @ inv(rel)
+    phi, t = math.atan2(x[1, 0], x[0, 0]), x[2, 3]
+    c, s = math.cos(phi), math.sin(phi)
+    screw = np.array([[c, -s, 0.0, 0.0], [s, c, 0.0, 0.0], [0.0, 0.0, 1.0, t], [0, 0, 0, 1.0]])
+    return frame @ screw @ rel, moved

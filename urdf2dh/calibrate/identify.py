@@ -34,7 +34,7 @@ from ..screws import PoeModel
 from ..se3 import inv
 from ..tolerances import NOISE_FLOOR, Tolerances
 from .chart import Estimate, count, names
-from .frames import anchor_base, fit_rigid, pose_points
+from .frames import anchor_base, fit_rigid, pose_points, tool_on_last_axis
 from .measurements import Measurements
 from .residuals import Data, model_poses, prefix_products
 from .solver import Solution, Statistics, solve, statistics
@@ -64,6 +64,7 @@ class Identified:
     noise_given: bool
     base_in_device: Mat  # pose of the nominal's base frame in the device frame
     markers_on_tool: dict[int, Mat] = field(default_factory=dict)
+    notes: tuple[str, ...] = ()  # judgements made (reported as warnings)
 
 
 def _components(
@@ -153,8 +154,24 @@ def identify(
         if settled:
             break
     est = sol.estimate
+    notes: list[str] = []
     if est.home is not None:
         home = est.home
+        if est.keep_tool_axis:
+            assert start.home is not None
+            home, snapped = tool_on_last_axis(
+                start.joints[-1],
+                start.home,
+                est.joints[-1],
+                home,
+                opts.tol.parallel_angle,
+                opts.tol.distance(size),
+            )
+            if snapped > opts.tol.report:
+                notes.append(
+                    f"the nominal's tool z is {snapped:.3g} rad from the last joint's "
+                    "axis: --keep-tool-axis puts it on the axis"
+                )
         markers_on_tool: dict[int, Mat] = {}
     else:
         assert est.markers is not None
@@ -202,6 +219,7 @@ def identify(
         given,
         inv(base),
         markers_on_tool,
+        tuple(notes),
     )
 
 

@@ -21,11 +21,13 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..convert import sample_configurations
-from ..screws import PoeModel
+from ..screws import Joint, PoeModel
+from ..se3 import twist_exp
+from .chart import line_motion
 from .lie import exp_so3, quaternion_of
 from .measurements import Measurements
 
-__all__ = ["MARKER_DISTANCE", "marker_layout", "synthesize"]
+__all__ = ["MARKER_DISTANCE", "marker_layout", "perturb", "synthesize"]
 
 Mat = NDArray[np.float64]
 
@@ -74,3 +76,53 @@ def synthesize(
     qs = np.repeat(q, len(ids), axis=0)
     rows = np.tile(np.array(ids, dtype=np.int64), configs) if layout is not None else None
     return Measurements(names, qs, points, None, rows, model.name)
+
+
+def perturb(
+    model: PoeModel,
+    seed: int,
+    angle: float,
+    length: float,
+    scale: float = 0.0,
+    tool_on_axis: bool = False,
+) -> PoeModel:
+    """A robot "as built" near ``model``, to try and test calibration with.
+
+    Every joint's line moves rigidly: tilted by ``angle`` rad about, and shifted by ``length``
+    along, each of two directions normal to it (Gaussian deviations, seeded); its scale changes
+    by ``scale`` (relative). The tool turns by ``angle`` and moves by ``length`` per axis, or,
+    with ``tool_on_axis``, moves with the last joint's line and then only turns about and
+    slides along it (as a flange defined by the last axis does). Kinds, pitches and limits are
+    kept.
+    """
+    rng = np.random.default_rng((seed, 4))
+    joints = []
+    motion = np.eye(4)
+    for j in model.joints:
+        a, b, c, d = rng.normal(size=4)
+        if j.kind == "prismatic":
+            c = d = 0.0
+        motion = twist_exp(line_motion(j, angle * a, angle * b, length * c, length * d))
+        axis = motion[:3, :3] @ j.axis
+        point = None if j.point is None else motion[:3, :3] @ j.point + motion[:3, 3]
+        s = j.scale * (1.0 + scale * rng.normal())
+        joints.append(Joint(j.name, j.kind, axis, point, j.pitch, s, j.lower, j.upper))
+    if tool_on_axis and joints and joints[-1].point is not None:
+        last = joints[-1]
+        assert last.point is not None
+        turn, slide = rng.normal(size=2)
+        screw = np.concatenate([last.axis, np.cross(last.point, last.axis)]) * angle * turn
+        screw[3:] += last.axis * length * slide
+        home = twist_exp(screw) @ motion @ model.home
+    else:
+        zeta = np.concatenate([angle * rng.normal(size=3), length * rng.normal(size=3)])
+        home = model.home @ twist_exp(zeta)
+    return PoeModel(
+        tuple(joints),
+        home,
+        f"{model.name}-as-built",
+        model.source,
+        model.base_link,
+        model.tip_link,
+        model.length_unit,
+    )

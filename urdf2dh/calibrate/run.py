@@ -197,7 +197,7 @@ def run(req: Request) -> Outcome:
     text, table = _render(result.model, req, tol)
     from ..poefile import poe_to_dict
 
-    warnings = list(table.warnings) if table is not None else []
+    warnings = [*result.notes, *(table.warnings if table is not None else ())]
     if result.stats.rank < len(result.names):
         lost = [
             n for n, s in zip(result.names, result.stats.std, strict=True) if not math.isfinite(s)

@@ -72,9 +72,11 @@ class Statistics:
 
 
 def _scaled(jac: Mat) -> tuple[Mat, Mat]:
-    """Column norms ``D`` (zero columns as 1) and ``J D^-1``."""
+    """Column norms ``D`` and ``J D^-1``. A column that is zero up to round-off (a parameter the
+    data cannot see) keeps its size: scaled to unit norm it would turn round-off into steps."""
     norms = np.linalg.norm(jac, axis=0)
-    norms[norms == 0.0] = 1.0
+    top = float(norms.max(initial=0.0)) or 1.0
+    norms[norms <= RANK_RELATIVE * top] = top
     return norms, jac / norms
 
 
