@@ -42,13 +42,14 @@ def fk_error(model: PoeModel, truth: PoeModel, seed: int = 11) -> tuple[float, f
 
 def dh_cells(table) -> list[float]:
     """Table II's cells of a dh table, in the paper's units (deg, mm, mm/deg)."""
+
     def four(p):
         return [math.degrees(p["theta"]), p["d"], math.degrees(p["alpha"]), p["a"]]
 
     cells = four(table.base)
     for row in table.rows:
         cells += [*four(row.params), row.pitch * math.pi / 180.0, row.scale]
-    return cells + [math.degrees(table.tool["theta"]), table.tool["d"]]
+    return [*cells, math.degrees(table.tool["theta"]), table.tool["d"]]
 
 
 def test_puma_from_60_noise_free_poses_is_the_actual_model_and_table_ii(puma):
@@ -71,8 +72,18 @@ def test_puma_from_60_noise_free_poses_is_the_actual_model_and_table_ii(puma):
 def test_noisy_poses_leave_the_noise_floor_on_held_out_poses(puma):
     nominal, actual = puma
     m = synthesize(actual, 250, NOISE_POS, NOISE_ROT, seed=2)
-    out = run(Request(nominal, m, pose=True, helical=("all",), holdout=0.2, seed=3,
-                      convention="poe", fmt="json"))
+    out = run(
+        Request(
+            nominal,
+            m,
+            pose=True,
+            helical=("all",),
+            holdout=0.2,
+            seed=3,
+            convention="poe",
+            fmt="json",
+        )
+    )
     tree = out.tree
     assert tree["counts"]["fit"] == 200 and tree["counts"]["held_out"] == 50
     held = tree["residuals"]["after"]["held_out"]
@@ -92,13 +103,19 @@ def test_standard_deviations_cover_the_errors_over_50_seeds(puma):
     chart the covariance is expressed in, up to second order), against twice the reported
     deviation: a Gaussian puts 95.4% within; we require 90%."""
     nominal, actual = puma
-    truth = Estimate(tuple(Joint(j.name, "helical", j.axis, line_point(j.axis, j.point),
-                                 j.pitch, j.scale) for j in actual.joints), home=actual.home)
+    truth = Estimate(
+        tuple(
+            Joint(j.name, "helical", j.axis, line_point(j.axis, j.point), j.pitch, j.scale)
+            for j in actual.joints
+        ),
+        home=actual.home,
+    )
     inside, factors = [], []
     for seed in range(50):
         m = synthesize(actual, 200, NOISE_POS, NOISE_ROT, seed=100 + seed)
-        result = identify(nominal, m, Options(helical=("all",), noise_pos=NOISE_POS,
-                                              noise_rot=NOISE_ROT))
+        result = identify(
+            nominal, m, Options(helical=("all",), noise_pos=NOISE_POS, noise_rot=NOISE_ROT)
+        )
         error = local_coordinates(truth, result.estimate)
         inside.append(np.abs(error) <= 2.0 * result.stats.std)
         factors.append(result.stats.variance_factor)
@@ -181,13 +198,11 @@ def test_ur5_identified_in_its_base_frame_exports_to_ur():
     device = twist_exp(np.array([0.1, -0.2, 0.7, 1.5, -0.8, 0.3]))
     seen = PoeModel(moved(actual.joints, device), device @ actual.home, "as-built")
     m = synthesize(seen, 200, 1e-5, 1e-5, seed=12)
-    result = identify(nominal, m, Options(keep_scale=True, keep_tool_axis=True,
-                                          frame="nominal"))
+    result = identify(nominal, m, Options(keep_scale=True, keep_tool_axis=True, frame="nominal"))
     assert len(result.names) == 4 * 6 + 2 and result.stats.rank == 26
     first, nominal_first = result.model.joints[0], nominal.joints[0]
     assert np.allclose(first.axis, nominal_first.axis, atol=1e-14)
-    assert np.allclose(first.point, line_point(nominal_first.axis, nominal_first.point),
-                       atol=1e-14)
+    assert np.allclose(first.point, line_point(nominal_first.axis, nominal_first.point), atol=1e-14)
     # identified vs the truth, both in the device frame: within a few noise levels
     position, rotation = fk_error(result.device_model, seen)
     assert position < 1e-4 and rotation < 1e-4

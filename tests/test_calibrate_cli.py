@@ -28,15 +28,33 @@ def run(capsys, *argv):
 def poses(tmp_path_factory):
     """200 noisy poses of the actual PUMA 560, as ``measure`` writes them."""
     path = tmp_path_factory.mktemp("meas") / "puma.csv"
-    assert main(["measure", "puma560-actual", "--configs", "200", "--noise-pos", "0.01",
-                 "--noise-rot", "1e-5", "--seed", "4", "-o", str(path)]) == 0
+    assert (
+        main(
+            [
+                "measure",
+                "puma560-actual",
+                "--configs",
+                "200",
+                "--noise-pos",
+                "0.01",
+                "--noise-rot",
+                "1e-5",
+                "--seed",
+                "4",
+                "-o",
+                str(path),
+            ]
+        )
+        == 0
+    )
     return path
 
 
 def test_measure_writes_exact_seeded_poses(tmp_path, capsys):
     out = tmp_path / "m.csv"
-    code, _, err = run(capsys, "measure", "puma560-actual", "--configs", "7", "--seed", "3",
-                       "-o", out)
+    code, _, err = run(
+        capsys, "measure", "puma560-actual", "--configs", "7", "--seed", "3", "-o", out
+    )
     assert code == 0, err
     header = out.read_text().splitlines()[0]
     assert header == "j1,j2,j3,j4,j5,j6,x,y,z,qx,qy,qz,qw"
@@ -52,8 +70,19 @@ def test_measure_writes_exact_seeded_poses(tmp_path, capsys):
 
 def test_measure_markers_writes_positions_and_the_layout(tmp_path, capsys):
     out, lay = tmp_path / "m.csv", tmp_path / "layout.csv"
-    code, _, err = run(capsys, "measure", "scara", "--configs", "5", "--markers", "3",
-                       "--marker-layout", lay, "-o", out)
+    code, _, err = run(
+        capsys,
+        "measure",
+        "scara",
+        "--configs",
+        "5",
+        "--markers",
+        "3",
+        "--marker-layout",
+        lay,
+        "-o",
+        out,
+    )
     assert code == 0, err
     lines = out.read_text().splitlines()
     assert lines[0].endswith(",x,y,z,marker") and "qw" not in lines[0]
@@ -64,9 +93,24 @@ def test_measure_markers_writes_positions_and_the_layout(tmp_path, capsys):
 def test_calibrate_writes_every_convention_and_the_report(poses, tmp_path, capsys):
     report = tmp_path / "r.json"
     out = tmp_path / "id.json"
-    code, text, err = run(capsys, "calibrate", "puma560-nominal", poses, "--helical", "all",
-                          "--holdout", "0.25", "--seed", "1", "--format", "json", "-o", out,
-                          "--report", report)
+    code, text, err = run(
+        capsys,
+        "calibrate",
+        "puma560-nominal",
+        poses,
+        "--helical",
+        "all",
+        "--holdout",
+        "0.25",
+        "--seed",
+        "1",
+        "--format",
+        "json",
+        "-o",
+        out,
+        "--report",
+        report,
+    )
     assert code == 0, err
     table = json.loads(out.read_text())
     assert table["schema"] == "urdf2dh/1" and table["convention"] == "dh"
@@ -81,8 +125,13 @@ def test_calibrate_writes_every_convention_and_the_report(poses, tmp_path, capsy
     for when in ("before", "after"):
         for which in ("fit", "held_out"):
             r = tree["residuals"][when][which]
-            assert set(r) == {"count", "rms_position", "max_position", "rms_rotation",
-                              "max_rotation"}
+            assert set(r) == {
+                "count",
+                "rms_position",
+                "max_position",
+                "rms_rotation",
+                "max_rotation",
+            }
     assert len(tree["parameters"]) == 42 and all(p["std"] > 0 for p in tree["parameters"])
     assert tree["diff"]["convention"] == "dh" and tree["diff"]["parameters"]
     assert tree["model"]["format"] == "poe"
@@ -90,21 +139,45 @@ def test_calibrate_writes_every_convention_and_the_report(poses, tmp_path, capsy
     assert "identified 42 parameters" in text and "numerical rank 42" in text
     assert "held out" in text and "noise floor" in text and err == ""
     for conv, fmt in [("mdh", "yaml"), ("cpc", "csv"), ("dh", "urdf"), ("dh", "markdown")]:
-        code, text, err = run(capsys, "calibrate", "puma560-nominal", poses, "--helical", "all",
-                              "--convention", conv, "--format", fmt)
+        code, text, err = run(
+            capsys,
+            "calibrate",
+            "puma560-nominal",
+            poses,
+            "--helical",
+            "all",
+            "--convention",
+            conv,
+            "--format",
+            fmt,
+        )
         assert code == 0, err
         assert "identified 42 parameters" in err  # the summary goes to stderr here
-    code, text, err = run(capsys, "calibrate", "puma560-nominal", poses, "--format", "yaml",
-                          "--convention", "poe")
+    code, text, err = run(
+        capsys, "calibrate", "puma560-nominal", poses, "--format", "yaml", "--convention", "poe"
+    )
     assert code == 0 and yaml.safe_load(text)["format"] == "poe"
 
 
 def test_the_identified_file_is_a_source_for_export_and_convert(tmp_path, capsys):
     meas, out = tmp_path / "m.csv", tmp_path / "cal.json"
     run(capsys, "measure", "ur5", "--configs", "40", "-o", meas)
-    code, _, err = run(capsys, "calibrate", "ur5", meas, "--keep-scale", "--keep-tool-axis",
-                       "--frame", "nominal", "--convention", "poe", "--format", "json",
-                       "-o", out)
+    code, _, err = run(
+        capsys,
+        "calibrate",
+        "ur5",
+        meas,
+        "--keep-scale",
+        "--keep-tool-axis",
+        "--frame",
+        "nominal",
+        "--convention",
+        "poe",
+        "--format",
+        "json",
+        "-o",
+        out,
+    )
     assert code == 0, err
     model = urdf2dh.load(str(out))
     ur5 = urdf2dh.load("ur5")
@@ -128,23 +201,34 @@ GOOD = "0,0,0,0,0,0,1,2,3,0,0,0,1"
 HEADER = "j1,j2,j3,j4,j5,j6,x,y,z,qx,qy,qz,qw"
 
 
-@pytest.mark.parametrize("text, fragment", [
-    (f"{HEADER}\n{GOOD}\n0,0,nan,0,0,0,1,2,3,0,0,0,1\n",
-     "row 2 (line 3), column 'j3': 'nan' is not a finite number"),
-    (f"{HEADER}\n{GOOD}\n0,0,0,0,0,0,1,2,3,0,0,1\n", "row 2 (line 3): 12 fields, but the header "
-     "has 13"),
-    (f"j1,j2,j3,j4,j5,j7,x,y,z\n{GOOD[:17]}\n", "column 'j7' is neither a joint of the chain"),
-    ("j1,j2,j3,j4,j5,x,y,z\n0,0,0,0,0,1,2,3\n", "the header has no column for joint 'j6'"),
-    (f"{HEADER}\n{GOOD}\n0,0,0,0,0,0,1,2,3,0,0,0,1.00001\n",
-     "row 2 (line 3), column 'qw': the quaternion (qx, qy, qz, qw) has norm 1.00001"),
-    ("j1,j2,j3,j4,j5,j6,x,y,z,marker\n0,0,0,0,0,0,1,2,3,1.5\n",
-     "row 1 (line 2), column 'marker': '1.5' is not an integer"),
-    (f"{HEADER}\n0,0,0,0,0,0,1,two,3,0,0,0,1\n", "column 'y': 'two' is not a number"),
-    (f"j1,j2,j3,j4,j5,j6,x,y,z,qx,qy\n{GOOD[:21]}\n", "but no 'qz'"),
-    ("j1,j1,j3,j4,j5,j6,x,y,z\n", "column 'j1' appears twice"),
-    (f"{HEADER}\n", "no measurements after the header"),
-    ("", "empty file"),
-])
+@pytest.mark.parametrize(
+    "text, fragment",
+    [
+        (
+            f"{HEADER}\n{GOOD}\n0,0,nan,0,0,0,1,2,3,0,0,0,1\n",
+            "row 2 (line 3), column 'j3': 'nan' is not a finite number",
+        ),
+        (
+            f"{HEADER}\n{GOOD}\n0,0,0,0,0,0,1,2,3,0,0,1\n",
+            "row 2 (line 3): 12 fields, but the header has 13",
+        ),
+        (f"j1,j2,j3,j4,j5,j7,x,y,z\n{GOOD[:17]}\n", "column 'j7' is neither a joint of the chain"),
+        ("j1,j2,j3,j4,j5,x,y,z\n0,0,0,0,0,1,2,3\n", "the header has no column for joint 'j6'"),
+        (
+            f"{HEADER}\n{GOOD}\n0,0,0,0,0,0,1,2,3,0,0,0,1.00001\n",
+            "row 2 (line 3), column 'qw': the quaternion (qx, qy, qz, qw) has norm 1.00001",
+        ),
+        (
+            "j1,j2,j3,j4,j5,j6,x,y,z,marker\n0,0,0,0,0,0,1,2,3,1.5\n",
+            "row 1 (line 2), column 'marker': '1.5' is not an integer",
+        ),
+        (f"{HEADER}\n0,0,0,0,0,0,1,two,3,0,0,0,1\n", "column 'y': 'two' is not a number"),
+        (f"j1,j2,j3,j4,j5,j6,x,y,z,qx,qy\n{GOOD[:21]}\n", "but no 'qz'"),
+        ("j1,j1,j3,j4,j5,j6,x,y,z\n", "column 'j1' appears twice"),
+        (f"{HEADER}\n", "no measurements after the header"),
+        ("", "empty file"),
+    ],
+)
 def test_bad_rows_exit_2_naming_file_row_and_column(tmp_path, capsys, text, fragment):
     path = _write(tmp_path, text)
     out = tmp_path / "never.json"
@@ -160,16 +244,25 @@ def test_too_few_measurements_exit_2_with_both_counts(tmp_path, capsys):
     code, _, err = run(capsys, "calibrate", "puma560-nominal", meas, "--helical", "all")
     assert code == 2
     assert "6 poses give 36 equations (6 each), fewer than the 42 parameters" in err
-    run(capsys, "measure", "puma560-actual", "--configs", "10", "--measure", "position",
-        "-o", meas)
+    run(capsys, "measure", "puma560-actual", "--configs", "10", "--measure", "position", "-o", meas)
     code, _, err = run(capsys, "calibrate", "puma560-nominal", meas)
     assert code == 2 and "10 positions give 30 equations (3 each), fewer than the 33" in err
 
 
 def test_no_convergence_exits_1_with_the_residual_and_writes_nothing(poses, tmp_path, capsys):
     out, report = tmp_path / "never.json", tmp_path / "never-report.json"
-    code, _, err = run(capsys, "calibrate", "puma560-nominal", poses, "--max-iterations", "1",
-                       "-o", out, "--report", report)
+    code, _, err = run(
+        capsys,
+        "calibrate",
+        "puma560-nominal",
+        poses,
+        "--max-iterations",
+        "1",
+        "-o",
+        out,
+        "--report",
+        report,
+    )
     assert code == 1
     assert "did not converge in 1 iterations (RMS position residual" in err
     assert "nothing written" in err and not out.exists() and not report.exists()
@@ -177,14 +270,37 @@ def test_no_convergence_exits_1_with_the_residual_and_writes_nothing(poses, tmp_
 
 def test_markers_need_their_layout_and_position_measurements(tmp_path, capsys):
     meas, lay = tmp_path / "m.csv", tmp_path / "lay.csv"
-    run(capsys, "measure", "puma560-actual", "--configs", "30", "--markers", "3",
-        "--marker-layout", lay, "-o", meas)
+    run(
+        capsys,
+        "measure",
+        "puma560-actual",
+        "--configs",
+        "30",
+        "--markers",
+        "3",
+        "--marker-layout",
+        lay,
+        "-o",
+        meas,
+    )
     code, _, err = run(capsys, "calibrate", "puma560-nominal", meas)
     assert code == 2 and "3 markers; give their positions on the tool" in err
     code, _, err = run(capsys, "calibrate", "puma560-nominal", meas, "--measure", "pose")
     assert code == 2 and "--measure pose needs the columns qx, qy, qz, qw" in err
-    code, out, err = run(capsys, "calibrate", "puma560-nominal", meas, "--marker-layout", lay,
-                         "--helical", "all", "--convention", "poe", "--format", "json")
+    code, out, err = run(
+        capsys,
+        "calibrate",
+        "puma560-nominal",
+        meas,
+        "--marker-layout",
+        lay,
+        "--helical",
+        "all",
+        "--convention",
+        "poe",
+        "--format",
+        "json",
+    )
     assert code == 0, err
     assert "5h + 4r + 2t + n + 3K = 5*6 + 4*0 + 2*0 + 6 + 3*3 = 45" in err
     actual = urdf2dh.load("puma560-actual")
@@ -192,11 +308,14 @@ def test_markers_need_their_layout_and_position_measurements(tmp_path, capsys):
     assert np.allclose(home, actual.home, atol=1e-9 * actual.size())
 
 
-@pytest.mark.parametrize("argv, fragment", [
-    (["--helical", "j9"], "--helical: 'j9' is not a joint of the chain"),
-    (["--convention", "poe", "--format", "csv"], "--convention poe writes a POE model file"),
-    (["--noise-pos", "0.01"], "give both noise levels"),
-])
+@pytest.mark.parametrize(
+    "argv, fragment",
+    [
+        (["--helical", "j9"], "--helical: 'j9' is not a joint of the chain"),
+        (["--convention", "poe", "--format", "csv"], "--convention poe writes a POE model file"),
+        (["--noise-pos", "0.01"], "give both noise levels"),
+    ],
+)
 def test_bad_options_exit_2(poses, capsys, argv, fragment):
     code, _, err = run(capsys, "calibrate", "puma560-nominal", poses, *argv)
     assert code == 2 and fragment in err, err

@@ -18,7 +18,6 @@ from urdf2dh.calibrate.lie import (
     quaternion_of,
     rotation_of,
 )
-from urdf2dh.calibrate.measure import perturb
 from urdf2dh.calibrate.residuals import Data, evaluate, model_poses
 from urdf2dh.convert import sample_configurations, to_table
 from urdf2dh.info import identifiability
@@ -29,10 +28,16 @@ from urdf2dh.se3 import twist_exp
 def estimate(model: PoeModel, helical: bool = False, **kw) -> Estimate:
     """A pose estimate of ``model`` (points as feet of perpendiculars)."""
     joints = tuple(
-        Joint(j.name, "helical" if helical and j.kind == "revolute" else j.kind, j.axis,
-              None if j.point is None else (j.point if j.kind == "prismatic"
-                                            else line_point(j.axis, j.point)),
-              j.pitch, j.scale)
+        Joint(
+            j.name,
+            "helical" if helical and j.kind == "revolute" else j.kind,
+            j.axis,
+            None
+            if j.point is None
+            else (j.point if j.kind == "prismatic" else line_point(j.axis, j.point)),
+            j.pitch,
+            j.scale,
+        )
         for j in model.joints
     )
     return Estimate(joints, home=model.home.copy(), **kw)
@@ -62,8 +67,13 @@ def test_left_jacobians_are_inverse_and_match_differences():
         assert np.allclose(left_jacobian(w) @ left_jacobian_inverse(w), np.eye(3), atol=1e-14)
         # exp([d]) exp([w]) = exp([w + J^-1 d]) to first order
         h = 1e-7
-        numeric = np.array([(log_so3(exp_so3(h * e) @ exp_so3(w)) - log_so3(
-            exp_so3(-h * e) @ exp_so3(w))) / (2 * h) for e in np.eye(3)]).T
+        numeric = np.array(
+            [
+                (log_so3(exp_so3(h * e) @ exp_so3(w)) - log_so3(exp_so3(-h * e) @ exp_so3(w)))
+                / (2 * h)
+                for e in np.eye(3)
+            ]
+        ).T
         assert np.allclose(numeric, left_jacobian_inverse(w), atol=1e-7)
     xi = np.array([0.3, -0.2, 0.5, 0.1, 0.4, -0.7])
     assert np.allclose(log_se3(twist_exp(xi)), xi, atol=1e-15)
@@ -99,8 +109,12 @@ def test_analytic_jacobian_equals_finite_differences(case):
         est = Estimate(base.joints, markers=np.array([[200.0, 60.0, -10.0], [260.0, 30, 5]]))
         data = Data(q, rng.normal(size=(15, 3)) * 100, marker_rows=rng.integers(0, 2, 15))
     else:
-        est = estimate(model, helical=case != "prismatic", keep_tool_axis=case == "tool-axis",
-                       scales=case != "no-scale")
+        est = estimate(
+            model,
+            helical=case != "prismatic",
+            keep_tool_axis=case == "tool-axis",
+            scales=case != "no-scale",
+        )
         poses = model_poses(est, q)
         turn = exp_so3(rng.normal(size=(15, 3)) * 0.2)  # residuals far from 0: J_l^-1 matters
         data = Data(q, poses[:, :3, 3] + rng.normal(size=(15, 3)), poses[:, :3, :3] @ turn)
@@ -133,8 +147,13 @@ def test_pose_count_is_wu_eq_23_and_the_jacobian_has_that_rank(robot):
 
     def pose_rows(offsets: np.ndarray, base: np.ndarray) -> np.ndarray:
         t = twist_exp(base) @ model_poses(est, q + offsets)
-        return np.concatenate([t[:, :3, 3], log_so3(t[:, :3, :3] @ np.swapaxes(
-            poses[:, :3, :3], 1, 2)) * model.size()], axis=1).ravel()
+        return np.concatenate(
+            [
+                t[:, :3, 3],
+                log_so3(t[:, :3, :3] @ np.swapaxes(poses[:, :3, :3], 1, 2)) * model.size(),
+            ],
+            axis=1,
+        ).ravel()
 
     extra, h = [], 1e-6
     for k in range(model.n + 6):
@@ -147,11 +166,19 @@ def test_pose_count_is_wu_eq_23_and_the_jacobian_has_that_rank(robot):
     assert _rank(both) == count(est)
 
 
-@pytest.mark.parametrize("markers, layout_known, expected_tool", [
-    (1, False, 0), (3, False, 0), (1, True, 3), (2, True, 5), (3, True, 6),
-])
-def test_position_measurements_identify_the_chain_and_what_markers_fix(markers, layout_known,
-                                                                        expected_tool):
+@pytest.mark.parametrize(
+    "markers, layout_known, expected_tool",
+    [
+        (1, False, 0),
+        (3, False, 0),
+        (1, True, 3),
+        (2, True, 5),
+        (3, True, 6),
+    ],
+)
+def test_position_measurements_identify_the_chain_and_what_markers_fix(
+    markers, layout_known, expected_tool
+):
     """Positions of K markers: the chain (5h + 4r + 2t + n) and each marker's point, 3K, are
     identifiable; the tool frame M is not (only M m_k is seen). With the markers' positions on
     the tool known, M's identifiable part is 3 with one marker (its position: the tool turns

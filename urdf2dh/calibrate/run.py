@@ -100,10 +100,6 @@ def _render(model: PoeModel, req: Request, tol: Tolerances) -> tuple[str, Any]:
     if req.convention == "poe":
         from ..poefile import poe_to_dict
 
-        if req.fmt not in POE_FORMATS:
-            raise UsageError(
-                f"--convention poe writes a POE model file: --format yaml or json, not {req.fmt}"
-            )
         tree = poe_to_dict(model)
         if req.fmt == "json":
             return json.dumps(tree, indent=2) + "\n", None
@@ -157,6 +153,10 @@ def run(req: Request) -> Outcome:
     from ..tolerances import DEFAULT
 
     tol = req.tol or DEFAULT
+    if req.convention == "poe" and req.fmt not in POE_FORMATS:
+        raise UsageError(
+            f"--convention poe writes a POE model file: --format yaml or json, not {req.fmt}"
+        )
     _check_markers(req)
     m = req.measurements
     ids = m.marker_ids()
