@@ -135,7 +135,7 @@ def identify(
     sp = max(opts.noise_pos or 0.0, NOISE_FLOOR * size) if given else 1.0
     sr = max(opts.noise_rot or 0.0, NOISE_FLOOR) if given else 1.0 / size
     sol = solve(start, data, sp, sr, size, opts.max_iterations)
-    stats = statistics(sol.estimate, data, sp, sr)
+    stats = statistics(sol.estimate, data, sp, sr, exact=given)
     rounds = 0
     while not given and sol.converged and rounds < _WEIGHT_ROUNDS:
         rounds += 1
@@ -150,9 +150,11 @@ def identify(
         sol = replace(
             solve(sol.estimate, data, sp, sr, size, opts.max_iterations), iterations=sol.iterations
         )
-        stats = statistics(sol.estimate, data, sp, sr)
+        stats = statistics(sol.estimate, data, sp, sr, exact=False)
         if settled:
             break
+    if not given:
+        stats = statistics(sol.estimate, data, sp, sr)
     est = sol.estimate
     notes: list[str] = []
     if est.home is not None:

@@ -6,25 +6,23 @@ Each iteration linearises the weighted residuals ``r`` at the current estimate (
 
     ``(J_s^T J_s + lambda I) d_s = -J_s^T r``,  ``d = D^-1 d_s``
 
-through the eigen-decomposition of ``J_s^T J_s`` (``p x p``; every ``lambda`` then costs a few
-vector operations; a step's precision only sets how fast the iteration converges, not where
-to). The product is taken by ``einsum``, not BLAS: a threaded BLAS product leaves OpenBLAS's
-threads spinning after it, and on a busy two-core machine they made the whole solve ten times
-slower; a tall SVD or QR per iteration cost 10 to 50 times more than the small eigenproblem.
-A step that lowers ``|r|^2`` is kept and the chart re-centred on the new estimate
-(:func:`.retract`), and ``lambda`` adapts by the gain ratio (Nielsen 1999; Madsen, Nielsen &
-Tingleff 2004, "Methods for non-linear least squares problems", §3.2). It stops when the next
-step would move no modelled tool point by more than ``CALIBRATION_STEP`` x size and no
-orientation by more than ``CALIBRATION_STEP`` rad, or when the gradient vanishes
-(:mod:`urdf2dh.tolerances`).
+from the small ``p x p`` system (a step's precision only sets how fast the iteration
+converges, not where to). Products with the tall ``J_s`` are taken by ``einsum``, not BLAS, and
+no tall factorisation is made: OpenBLAS wakes its threads for those, and on a busy two-core
+machine their spinning made the whole solve four to ten times slower. A step that lowers
+``|r|^2`` is kept and the chart re-centred on the new estimate (:func:`.retract`), and
+``lambda`` adapts by the gain ratio (Nielsen 1999; Madsen, Nielsen & Tingleff 2004, "Methods for
+non-linear least squares problems", §3.2). It stops when the next step would move no modelled
+tool point by more than ``CALIBRATION_STEP`` x size and no orientation by more than
+``CALIBRATION_STEP`` rad, or when the gradient vanishes (:mod:`urdf2dh.tolerances`).
 
 Statistics (Gauss-Markov, linearised at the solution): with ``m`` residuals and ``p``
 coordinates, the variance factor ``s^2 = |r|^2 / (m - p)`` (about 1 when the noise levels used
-as weights are right), the covariance ``s^2 (J^T J)^-1`` (through a thin SVD of ``J_s``, once;
-directions with singular values below ``RANK_RELATIVE`` x the largest are rank-deficient and
-their parameters get an infinite deviation), the numerical rank and the condition number of
-``J_s``, and each residual's leverage (the diagonal of the hat matrix, for variance-component
-estimation).
+as weights are right), the covariance ``s^2 (J^T J)^-1`` (through the SVD of ``J_s``'s
+triangular factor, once; directions with singular values below ``RANK_RELATIVE`` x the largest
+are rank-deficient and their parameters get an infinite deviation), the numerical rank and the
+condition number of ``J_s``, and each residual's leverage (the diagonal of the hat matrix, for
+variance-component estimation).
 """
 
 from __future__ import annotations
@@ -43,8 +41,8 @@ __all__ = ["Solution", "Statistics", "solve", "statistics"]
 
 Mat = NDArray[np.float64]
 
-_DAMPING_START = 1e-3  # initial lambda, relative to the largest squared singular value
-_DAMPING_LIMIT = 1e16  # lambda (relative) beyond which no step can lower the cost
+_DAMPING_START = 1e-3  # initial lambda (the scaled columns have unit norm)
+_DAMPING_LIMIT = 1e16  # lambda beyond which no step can lower the cost
 
 
 @dataclass(frozen=True, slots=True)
@@ -80,6 +78,22 @@ def _scaled(jac: Mat) -> tuple[Mat, Mat]:
     return norms, jac / norms
 
 
+def _triangular(a: Mat) -> Mat:
+    """``R`` of ``a = Q R`` (``p x p``) by Householder reflections written with ``einsum``: the
+    tall factorisation without BLAS (LAPACK's wakes OpenBLAS's threads, see above)."""
+    a = a.copy()
+    m, p = a.shape
+    for k in range(min(m, p)):
+        v = a[k:, k].copy()
+        norm = math.sqrt(float(np.einsum("i,i->", v, v)))
+        if norm == 0.0:
+            continue
+        v[0] += math.copysign(norm, v[0])
+        w = np.einsum("i,ij->j", v, a[k:, k:]) * (2.0 / float(np.einsum("i,i->", v, v)))
+        a[k:, k:] -= np.multiply.outer(v, w)
+    return np.triu(a[:p])
+
+
 def _step_size(change: Mat, data: Data, sigma_pos: float, sigma_rot: float) -> tuple[float, float]:
     """Largest tool-point and orientation change (physical units) of a weighted change."""
     rows = change.reshape(len(data), data.rows)
@@ -103,18 +117,15 @@ def solve(
     for it in range(1, max_iterations + 1):
         assert jac is not None
         norms, js = _scaled(jac)
-        eig, v = np.linalg.eigh(np.einsum("ij,ik->jk", js, js))  # no BLAS: see above
-        eig = np.maximum(eig, 0.0)
-        grad = js.T @ r
-        top = float(eig[-1]) if len(eig) else 1.0
+        gram = np.einsum("ij,ik->jk", js, js)  # no BLAS: see above
+        grad = np.einsum("ij,i->j", js, r)
         if lam is None:
-            lam = _DAMPING_START * top
+            lam = _DAMPING_START  # the columns have unit norm: diag(J_s^T J_s) = 1
         if np.abs(grad).max(initial=0.0) <= CALIBRATION_GRADIENT * math.sqrt(cost):
             return Solution(est, it - 1, True, math.sqrt(cost))
-        g = v.T @ grad
         while True:
-            ds = -v @ (g / (eig + lam))
-            change = js @ ds
+            ds = np.linalg.solve(gram + lam * np.eye(len(gram)), -grad)
+            change = np.einsum("ij,j->i", js, ds)
             predicted = -2.0 * float(ds @ grad) - float(change @ change)
             pos, rot = _step_size(change, data, sigma_pos, sigma_rot)
             new = retract(est, ds / norms)
@@ -134,18 +145,31 @@ def solve(
                 break
             lam *= nu
             nu *= 2.0
-            if lam > _DAMPING_LIMIT * top:
+            if lam > _DAMPING_LIMIT:
                 return Solution(est, it, False, math.sqrt(cost))
     return Solution(est, max_iterations, False, math.sqrt(cost))
 
 
-def statistics(est: Estimate, data: Data, sigma_pos: float, sigma_rot: float) -> Statistics:
-    """The linearised statistics of ``est`` as a solution (module docstring)."""
+def statistics(
+    est: Estimate, data: Data, sigma_pos: float, sigma_rot: float, exact: bool = True
+) -> Statistics:
+    """The linearised statistics of ``est`` as a solution (module docstring).
+
+    ``exact`` takes the SVD of the Jacobian's triangular factor, which resolves singular values
+    down to round-off (the rank); otherwise the eigenproblem of ``J_s^T J_s`` gives them to
+    about ``1e-8`` of the largest, enough for the leverages that weigh the noise levels.
+    """
     r, jac = evaluate(est, data, sigma_pos, sigma_rot)
     assert jac is not None
     m, p = jac.shape
     norms, js = _scaled(jac)
-    uq, s, vt = np.linalg.svd(js, full_matrices=False)
+    if exact:  # the SVD of J_s's triangular factor: the same singular values, to round-off
+        _, s, vt = np.linalg.svd(_triangular(js))
+    else:  # from the small eigenproblem (see above)
+        eig, v = np.linalg.eigh(np.einsum("ij,ik->jk", js, js))
+        s = np.sqrt(np.maximum(eig[::-1], 0.0))
+        vt = v[:, ::-1].T
+    uq = np.einsum("ij,kj->ik", js, vt) / np.where(s > 0.0, s, 1.0)
     keep = s > RANK_RELATIVE * (s[0] if len(s) else 0.0)
     rank = int(np.sum(keep))
     condition = float(s[0] / s[-1]) if len(s) and s[-1] > 0.0 else math.inf
