@@ -45,7 +45,7 @@ __all__ = ["Identified", "identify"]
 Mat = NDArray[np.float64]
 
 _WEIGHT_ROUNDS = 4  # variance-component rounds at most
-_WEIGHT_SETTLED = 0.05  # ... stopping when no level changes by more than this fraction
+_WEIGHT_SETTLED = 0.05  # ... stopping when their ratio changes by no more than this fraction
 
 
 @dataclass(frozen=True)
@@ -135,25 +135,21 @@ def identify(
     sp = max(opts.noise_pos or 0.0, NOISE_FLOOR * size) if given else 1.0
     sr = max(opts.noise_rot or 0.0, NOISE_FLOOR) if given else 1.0 / size
     sol = solve(start, data, sp, sr, size, opts.max_iterations)
-    stats = statistics(sol.estimate, data, sp, sr, exact=given)
     rounds = 0
-    while not given and sol.converged and rounds < _WEIGHT_ROUNDS:
+    while not given and opts.pose and sol.converged and rounds < _WEIGHT_ROUNDS:
+        # variance components: only the ratio of the levels changes the solution
         rounds += 1
-        if opts.pose:
-            new_sp, new_sr = _components(sol.estimate, data, stats, sp, sr, size)
-        else:  # one kind of residual: the level is the variance factor's root
-            new_sp, new_sr = max(sp * math.sqrt(stats.variance_factor), NOISE_FLOOR * size), sr
-        settled = (
-            abs(new_sp / sp - 1.0) <= _WEIGHT_SETTLED and abs(new_sr / sr - 1.0) <= _WEIGHT_SETTLED
-        )
-        sp, sr = new_sp, new_sr
-        sol = replace(
-            solve(sol.estimate, data, sp, sr, size, opts.max_iterations), iterations=sol.iterations
-        )
         stats = statistics(sol.estimate, data, sp, sr, exact=False)
+        new_sp, new_sr = _components(sol.estimate, data, stats, sp, sr, size)
+        settled = abs((new_sr / new_sp) / (sr / sp) - 1.0) <= _WEIGHT_SETTLED
+        sp, sr = new_sp, new_sr
         if settled:
             break
-    if not given:
+        again = solve(sol.estimate, data, sp, sr, size, opts.max_iterations)
+        sol = replace(again, iterations=sol.iterations + again.iterations)
+    stats = statistics(sol.estimate, data, sp, sr)
+    if not given and not opts.pose:  # one kind of residual: its level is the fit's
+        sp = max(sp * math.sqrt(stats.variance_factor), NOISE_FLOOR * size)
         stats = statistics(sol.estimate, data, sp, sr)
     est = sol.estimate
     notes: list[str] = []

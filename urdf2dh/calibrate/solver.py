@@ -41,7 +41,7 @@ __all__ = ["Solution", "Statistics", "solve", "statistics"]
 
 Mat = NDArray[np.float64]
 
-_DAMPING_START = 1e-3  # initial lambda (the scaled columns have unit norm)
+_DAMPING_START = 1e-6  # initial lambda (the scaled columns have unit norm)
 _DAMPING_LIMIT = 1e16  # lambda beyond which no step can lower the cost
 
 
