@@ -15,7 +15,9 @@ from consumers import ur_description_urdf
 import urdf2dh
 from urdf2dh.calibrate.chart import Estimate, line_point, local_coordinates
 from urdf2dh.calibrate.identify import identify, moved
+from urdf2dh.calibrate.lie import quaternion_of
 from urdf2dh.calibrate.measure import marker_layout, perturb, synthesize
+from urdf2dh.calibrate.measurements import Measurements
 from urdf2dh.calibrate.run import Request, run
 from urdf2dh.calibrate.start import Options, placement
 from urdf2dh.catalog import our_robots_dir
@@ -218,3 +220,43 @@ def test_ur5_identified_in_its_base_frame_exports_to_ur():
         pin.framesForwardKinematics(robot, data, qk)
         ours = result.model.fk(qk)
         assert np.allclose(data.oMf[frame].homogeneous, ours, atol=1e-9)
+
+
+def test_nominal_frame_anchors_a_prismatic_first_joint_by_its_direction():
+    """tiago-arm starts with its prismatic torso lift: --frame nominal puts the identified lift
+    direction on the nominal's and fits the rest; the reported base pose maps the model back
+    into the device frame exactly."""
+    nominal = urdf2dh.load("tiago-arm")
+    actual = perturb(nominal, 2, 0.003, 0.002)
+    device = twist_exp(np.array([0.3, 0.1, -0.5, 1.0, 2.0, -0.4]))
+    seen = PoeModel(moved(actual.joints, device), device @ actual.home, "seen")
+    result = identify(nominal, synthesize(seen, 100, seed=3), Options(frame="nominal"))
+    assert result.model.joints[0].kind == "prismatic"
+    assert np.allclose(result.model.joints[0].axis, nominal.joints[0].axis, atol=1e-14)
+    q = sample_configurations(nominal, 500, 1)
+    position, rotation = pose_errors(
+        result.base_in_device @ result.model.fk_batch(q), seen.fk_batch(q)
+    )
+    assert position <= 1e-12 and rotation <= 1e-12
+
+
+def test_a_joint_that_never_moves_is_reported_not_identified():
+    nominal = urdf2dh.load("ur5")
+    actual = perturb(nominal, 4, 0.002, 0.001)
+    m = synthesize(actual, 60, seed=5)
+    q = m.q.copy()
+    q[:, 3] = 0.0  # wrist_1 held at zero throughout
+    poses = actual.fk_batch(q)
+    frozen = Measurements(
+        m.joints, q, poses[:, :3, 3], quaternion_of(poses[:, :3, :3]), None, "frozen.csv"
+    )
+    out = run(Request(nominal, frozen, pose=True))
+    assert out.tree["counts"]["rank"] == 36 - 5
+    lost = [p["name"] for p in out.tree["parameters"] if p["std"] is None]
+    assert lost == [f"wrist_1_joint.{k}" for k in ("turn1", "turn2", "shift1", "shift2", "scale")]
+    assert any("determine 31 of the 36 parameters" in w for w in out.tree["warnings"])
+    # the rest is still found: the model matches the robot wherever wrist_1 is at zero
+    fresh = sample_configurations(actual, 200, 6)
+    fresh[:, 3] = 0.0
+    position, _ = pose_errors(out.result.model.fk_batch(fresh), actual.fk_batch(fresh))
+    assert position <= 1e-9 * actual.size()

@@ -335,3 +335,63 @@ def test_conventions_come_from_the_one_list():
     calibrate = sub.choices["calibrate"]
     conv = next(a for a in calibrate._actions if a.dest == "convention")
     assert tuple(conv.choices) == (*CONVENTIONS, "poe")
+
+
+@pytest.mark.parametrize(
+    "text, fragment",
+    [
+        ("marker,x,y\n0,1,2\n", "a marker layout has the header 'marker,x,y,z'"),
+        (
+            "marker,x,y,z\n0,1,2,3\n0,1,2,3\n",
+            "row 2 (line 3), column 'marker': marker 0 appears twice",
+        ),
+        ("marker,x,y,z\na,1,2,3\n", "column 'marker': 'a' is not an integer"),
+        ("marker,x,y,z\n0,1,nan,3\n", "x, y, z must be finite"),
+        ("marker,x,y,z\n", "no markers after the header"),
+    ],
+)
+def test_bad_marker_layouts_exit_2(tmp_path, capsys, text, fragment):
+    meas, lay = tmp_path / "m.csv", tmp_path / "lay.csv"
+    run(capsys, "measure", "puma560-actual", "--configs", "20", "--markers", "1", "-o", meas)
+    lay.write_text(text)
+    code, _, err = run(capsys, "calibrate", "puma560-nominal", meas, "--marker-layout", lay)
+    assert code == 2 and str(lay) in err and fragment in err, err
+
+
+def test_measure_option_conflicts_exit_2(tmp_path, capsys):
+    code, _, err = run(
+        capsys, "measure", "ur5", "--configs", "3", "--markers", "2", "--measure", "pose"
+    )
+    assert code == 2 and "--markers measures positions" in err
+    code, _, err = run(
+        capsys, "measure", "ur5", "--configs", "3", "--marker-layout", tmp_path / "l.csv"
+    )
+    assert code == 2 and "--marker-layout writes the layout of --markers K" in err
+    assert not (tmp_path / "l.csv").exists()
+
+
+def test_a_layout_missing_a_measured_marker_exits_2(tmp_path, capsys):
+    meas, lay = tmp_path / "m.csv", tmp_path / "lay.csv"
+    run(
+        capsys,
+        "measure",
+        "puma560-actual",
+        "--configs",
+        "20",
+        "--markers",
+        "2",
+        "--marker-layout",
+        lay,
+        "-o",
+        meas,
+    )
+    lay.write_text("marker,x,y,z\n0,1,2,3\n")
+    code, _, err = run(capsys, "calibrate", "puma560-nominal", meas, "--marker-layout", lay)
+    assert code == 2 and "marker 1 is not in the marker layout (markers there: [0])" in err
+
+
+def test_pose_files_with_a_marker_column_are_refused(tmp_path, capsys):
+    path = tmp_path / "m.csv"
+    path.write_text(f"{HEADER},marker\n{GOOD},0\n")
+    code, _, err = run(capsys, "calibrate", "puma560-nominal", path)
+    assert code == 2 and "a 'marker' column goes with position measurements" in err
