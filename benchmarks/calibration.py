@@ -1,7 +1,7 @@
 """Kinematic calibration side by side (issue 15): urdf2dh, robotkinecal and FIGAROH, one run,
 the same data.
 
-    python benchmarks/calibration.py [--poses 1000] [--repeats 3]
+    python benchmarks/calibration.py [--poses 1000] [--repeats 3] [--datasets 1]
 
 The data: a UR5 as built (every joint axis tilted by ~2 mrad and shifted by ~1 mm about the
 nominal, the tool turned and moved likewise; joint scales exact, as robotkinecal's model has
@@ -15,7 +15,9 @@ with the 6 joint scales too (which this robot as built does not need, so they co
 variance). Times are wall clock of the identification alone (data in memory, model built: for
 urdf2dh ``identify``, for robotkinecal ``set_observations`` + ``solve``, for FIGAROH
 ``initialize`` + ``solve``), best of ``--repeats`` runs each (the machine may be shared). The
-whole ``urdf2dh calibrate`` command, start-up and files included, is timed once too.
+whole ``urdf2dh calibrate`` command, start-up and files included, is timed once too. With
+``--datasets K`` the accuracies of urdf2dh and robotkinecal are also compared on K further data
+sets (as-built UR5s and noise drawn with seeds 0 .. K-1).
 
 robotkinecal 0.1.0 (PyPI) pins numpy < 2; it is installed without its dependencies
 (``pip install --no-deps robotkinecal``) and runs on numpy 2 with roboticstoolbox-python 1.5.
@@ -188,6 +190,7 @@ def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--poses", type=int, default=1000)
     parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--datasets", type=int, default=1)
     args = parser.parse_args()
     warnings.simplefilter("ignore")
     nominal = urdf2dh.load("ur5")
@@ -241,7 +244,31 @@ def main() -> int:
             f"{acc['max_rot'] * 1e6:.3f} urad |"
         )
     print(f"\nwhole `urdf2dh calibrate` command (new process, files written): {command:.2f} s")
+    if args.datasets > 1:
+        more_datasets(nominal, args.poses, args.datasets)
     return 0
+
+
+def more_datasets(nominal: PoeModel, poses: int, count: int) -> None:
+    """RMS position (um) and rotation (urad) of urdf2dh and robotkinecal on more data sets."""
+    print(f"\n### Accuracy on {count} more data sets (RMS position um / rotation urad)\n")
+    print("| data set | urdf2dh --keep-scale | urdf2dh default | robotkinecal |")
+    print("|---|---|---|---|")
+    with tempfile.TemporaryDirectory(prefix="urdf2dh-bench-") as tmp:
+        for seed in range(count):
+            actual = perturb(nominal, seed=seed, angle=0.002, length=0.001)
+            m = synthesize(actual, poses, NOISE, NOISE, seed=50 + seed)
+            fresh = sample_configurations(actual, 2000, 99)
+            truth = actual.fk_batch(fresh)
+            cells = []
+            for fk in (
+                ours(nominal, m, 1, Options(keep_scale=True))[1],
+                ours(nominal, m, 1, Options())[1],
+                robotkinecal(nominal, m, Path(tmp))[1],
+            ):
+                acc = accuracy(fk(fresh), truth)
+                cells.append(f"{acc['rms_pos'] * 1e6:.3f} / {acc['rms_rot'] * 1e6:.3f}")
+            print(f"| {seed} | " + " | ".join(cells) + " |")
 
 
 if __name__ == "__main__":
