@@ -24,7 +24,7 @@ perpendicular from the device origin) and ``e1, e2`` an orthonormal basis normal
   ``keep_tool_axis`` the tool keeps the nominal's placement relative to the last joint's line:
   it moves with that line (``M' = G_n M``) and only screws about and along it, 2.
 * position measurements: each marker's home position in the device frame ``c_k' = c_k + dc``:
-  3 per marker (the tool frame itself is not observed; see :mod:`.tool`).
+  3 per marker (the tool frame itself is not observed; see :mod:`.identify`).
 
 This is Wu 2019 eq. (23) for poses, ``5h + 4r + 2t + n + 6`` coordinates; for positions with
 ``K`` markers ``5h + 4r + 2t + n + 3K``. The twists' variations are the adjoint error model of

@@ -18,7 +18,8 @@ Steps (issue 15):
    nominal positions on the tool; the tool origin when there is one marker and no layout) to
    the identified marker points, the rotation the points leave free being kept from the
    nominal (all of it with one marker, the turn about the line with two). With ``frame =
-   "nominal"`` the model is then expressed in the nominal's base frame (:func:`.anchor_base`).
+   "nominal"`` the model is then expressed in the nominal's base frame
+   (:func:`.frames.anchor_base`).
 """
 
 from __future__ import annotations
@@ -183,16 +184,11 @@ def identify(
     identified_points = (
         pose_points(model_poses(est, fit.q), size) if opts.pose else _identified_points(est, data)
     )
-    base = (
-        anchor_base(
-            device.joints[0],
-            nominal.joints[0],
-            identified_points,
-            nominal_points(nominal, fit, opts, ids),
-        )
-        if nominal.n
-        else np.eye(4)
-    )
+    nominal_pts = nominal_points(nominal, fit, opts, ids)
+    if nominal.n:
+        base = anchor_base(device.joints[0], nominal.joints[0], identified_points, nominal_pts)
+    else:  # no joint axis to anchor on: the rigid fit alone
+        base = fit_rigid(identified_points, nominal_pts)
     model = device
     if opts.frame == "nominal":
         model = PoeModel(

@@ -3,7 +3,7 @@
 Residual statistics of a model on a measurement set: the position error is the distance between
 the modelled and the measured tool point, the rotation error the angle of ``R R_meas^T``; RMS is
 the root of their mean square, max the largest. "Before" is the nominal placed in the device
-frame by the start fit (:func:`.identify.placement`), "after" the identified model. The noise
+frame by the start fit (:func:`.start.placement`), "after" the identified model. The noise
 floor is what a perfect model would leave: ``sqrt(3) sigma`` for isotropic noise of ``sigma``
 per coordinate.
 """
@@ -128,6 +128,7 @@ def report_tree(
     model_tree: dict[str, Any],
     diff: dict[str, Any],
     warnings: list[str],
+    frame: str = "device",
 ) -> dict[str, Any]:
     """The ``--report`` JSON tree (module docstring; README "Calibration")."""
     stats, est = result.stats, result.estimate
@@ -152,7 +153,7 @@ def report_tree(
         "nominal": result.model.name.removesuffix("-calibrated"),
         "measurements": fit.source,
         "measure": "pose" if pose else "position",
-        "frame": "nominal" if result.model.base_link != "device" else "device",
+        "frame": frame,
         "units": {"length": unit, "angle": "rad"},
         "counts": {
             "measurements": len(fit) + len(held),

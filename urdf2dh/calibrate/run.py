@@ -217,5 +217,6 @@ def run(req: Request) -> Outcome:
         poe_to_dict(result.model),
         _diff(req, result.model, table, tol),
         warnings,
+        req.frame,
     )
     return Outcome(text, json.dumps(tree, indent=2) + "\n", summary(tree), result, tree)

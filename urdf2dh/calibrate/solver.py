@@ -10,7 +10,7 @@ from the small ``p x p`` system (a step's precision only sets how fast the itera
 converges, not where to). Products with the tall ``J_s`` are taken by ``einsum``, not BLAS, and
 no tall factorisation is made: OpenBLAS wakes its threads for those, and on a busy two-core
 machine their spinning made the whole solve four to ten times slower. A step that lowers
-``|r|^2`` is kept and the chart re-centred on the new estimate (:func:`.retract`), and
+``|r|^2`` is kept and the chart re-centred on the new estimate (:func:`.chart.retract`), and
 ``lambda`` adapts by the gain ratio (Nielsen 1999; Madsen, Nielsen & Tingleff 2004, "Methods for
 non-linear least squares problems", §3.2). It stops when the next step would move no modelled
 tool point by more than ``CALIBRATION_STEP`` x size and no orientation by more than
