@@ -133,6 +133,8 @@ def test_calibrate_writes_every_convention_and_the_report(poses, tmp_path, capsy
                 "max_rotation",
             }
     assert len(tree["parameters"]) == 42 and all(p["std"] > 0 for p in tree["parameters"])
+    scale = next(p for p in tree["parameters"] if p["name"] == "j2.scale")
+    assert abs(scale["value"] - 1.00002) < 5 * scale["std"] and scale["unit"] == "1"
     assert tree["diff"]["convention"] == "dh" and tree["diff"]["parameters"]
     assert tree["model"]["format"] == "poe"
     # the text output says the same, briefly, on stdout (the model went to the file)

@@ -145,6 +145,10 @@ def report_tree(
             if leaf.startswith(("turn", "r"))
             else unit
         )
+    # scales and pitches are values in themselves; the other coordinates are zero at the
+    # estimate by construction (a chart centred on it), and only their deviations mean something
+    values = {f"{j.name}.scale": float(j.scale) for j in est.joints}
+    values |= {f"{j.name}.pitch": float(j.pitch) for j in est.joints if j.kind == "helical"}
     floor = {"position": math.sqrt(3.0) * result.sigma_pos}
     if pose:
         floor["rotation"] = math.sqrt(3.0) * result.sigma_rot
@@ -182,7 +186,7 @@ def report_tree(
             "after": {k: None if v is None else asdict(v) for k, v in after.items()},
         },
         "parameters": [
-            {"name": n, "unit": u, "std": _std(s)}
+            {"name": n, "unit": u, "value": values.get(n), "std": _std(s)}
             for n, u, s in zip(result.names, units, stats.std, strict=True)
         ],
         "nominal_base_in_device": _floats(result.base_in_device),
