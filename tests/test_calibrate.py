@@ -42,16 +42,26 @@ def fk_error(model: PoeModel, truth: PoeModel, seed: int = 11) -> tuple[float, f
     return pose_errors(model.fk_batch(q), truth.fk_batch(q))
 
 
+def param(params, name: str) -> float:
+    """A table parameter, whether ``params`` is a dict (today) or a dataclass (refactor)."""
+    return params[name] if isinstance(params, dict) else getattr(params, name)
+
+
 def dh_cells(table) -> list[float]:
     """Table II's cells of a dh table, in the paper's units (deg, mm, mm/deg)."""
 
     def four(p):
-        return [math.degrees(p["theta"]), p["d"], math.degrees(p["alpha"]), p["a"]]
+        return [
+            math.degrees(param(p, "theta")),
+            param(p, "d"),
+            math.degrees(param(p, "alpha")),
+            param(p, "a"),
+        ]
 
     cells = four(table.base)
     for row in table.rows:
         cells += [*four(row.params), row.pitch * math.pi / 180.0, row.scale]
-    return [*cells, math.degrees(table.tool["theta"]), table.tool["d"]]
+    return [*cells, math.degrees(param(table.tool, "theta")), param(table.tool, "d")]
 
 
 def test_puma_from_60_noise_free_poses_is_the_actual_model_and_table_ii(puma):
