@@ -44,3 +44,25 @@ def test_dh_urdf_roundtrip(tmp_path, keep):
     if keep:
         assert (tmp_path / "ur5.urdf").read_text().startswith("<?xml")
     assert list(scratch.iterdir()) == []
+
+
+@pytest.mark.parametrize("keep", [False, True])
+def test_calibrate_ur5(tmp_path, keep):
+    """nominal URDF -> measure -> calibrate -> UR yaml and calibrated URDF; without OUT_DIR the
+    files live in a temporary directory that is gone afterwards."""
+    scratch = tmp_path / "tmp"
+    scratch.mkdir()
+    out_dir = tmp_path / "out"
+    args = [str(out_dir)] if keep else []
+    proc = subprocess.run([sys.executable, str(EXAMPLES / "calibrate_ur5.py"), *args],
+                          capture_output=True, text=True, timeout=300,
+                          env={**os.environ, "TMPDIR": str(scratch)})
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    out = proc.stdout
+    assert "$ urdf2dh calibrate ur5" in out and "--to ur" in out and "--format urdf" in out
+    assert "calibration walk complete" in out
+    assert list(scratch.iterdir()) == []
+    if keep:
+        names = sorted(p.name for p in out_dir.iterdir())
+        assert names == ["as-built.yaml", "calibrated.json", "calibrated.urdf",
+                         "default_kinematics.yaml", "poses.csv", "report.json"]

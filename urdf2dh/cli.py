@@ -212,6 +212,9 @@ def get_argument_parser() -> argparse.ArgumentParser:
     _add_tolerances(p)
 
     sub.add_parser("robots", help="list the bundled robots")
+    from .calibrate.cli import add_parsers as add_calibration_parsers
+
+    add_calibration_parsers(sub)
     return parser
 
 

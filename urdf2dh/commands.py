@@ -10,6 +10,7 @@ import argparse
 import sys
 from typing import Any
 
+from .calibrate.cli import COMMANDS as calibration_commands
 from .files import write_output
 
 __all__ = ["COMMANDS"]
@@ -148,6 +149,7 @@ def _robots(args: argparse.Namespace) -> int:
 
 
 COMMANDS = {
+    **calibration_commands,
     "convert": _convert,
     "verify": _verify,
     "diff": _diff,

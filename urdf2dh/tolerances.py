@@ -10,7 +10,17 @@ import math
 import sys
 from dataclasses import dataclass, fields, replace
 
-__all__ = ["DEFAULT", "EXACT", "HASH_DECIMALS", "Tolerances"]
+__all__ = [
+    "CALIBRATION_GRADIENT",
+    "CALIBRATION_STEP",
+    "DEFAULT",
+    "EXACT",
+    "HASH_DECIMALS",
+    "NOISE_FLOOR",
+    "QUATERNION_NORM",
+    "RANK_RELATIVE",
+    "Tolerances",
+]
 
 EPS = sys.float_info.epsilon  # float64's; not numpy's, so that `urdf2dh --help` needs no numpy
 
@@ -19,6 +29,29 @@ EPS = sys.float_info.epsilon  # float64's; not numpy's, so that `urdf2dh --help`
 # one ulp off its decimal) that would change the hash's %g text; 1e-10 is far below the 6
 # significant digits the hash sees and far above round-off.
 HASH_DECIMALS = 10
+
+# ----------------------------------------------------------------------------- calibration
+
+# A measured quaternion (x, y, z, w) must be a unit quaternion within this (issue 15): files
+# written with 7 or more significant digits pass, a scaled or truncated one does not.
+QUATERNION_NORM = 1e-6
+
+# Identification (urdf2dh/calibrate/identify.py) has converged when the next Gauss-Newton step
+# would move no modelled tool point by more than CALIBRATION_STEP x robot size and no tool
+# orientation by more than CALIBRATION_STEP rad (below that, steps only chase round-off: forward
+# kinematics is itself good to ~1e-15 relative), or when every column of the (column-normalised)
+# Jacobian is within CALIBRATION_GRADIENT of orthogonal to the residual (a minimum with noise).
+CALIBRATION_STEP = 1e-11
+CALIBRATION_GRADIENT = 1e-10
+
+# Numerical rank of the column-scaled, weighted identification Jacobian: singular values below
+# RANK_RELATIVE x the largest count as zero. Identifiable directions of well-spread data lie
+# at 1e-4 and above; unidentifiable ones at round-off (1e-15).
+RANK_RELATIVE = 1e-10
+
+# Noise levels estimated from residuals (or given as 0) are raised to this x robot size
+# (position) and this (rad, rotation), so that noise-free data keeps finite weights.
+NOISE_FLOOR = 1e-14
 
 
 @dataclass(frozen=True, slots=True)

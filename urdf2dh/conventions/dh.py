@@ -13,15 +13,16 @@ give the next link.
 Styles choose among the equally exact tables (for each common normal, which of its two
 directions is the x axis): ``wu`` follows Wu 2019 §III (SPEC §3: ``a >= 0``); ``ur`` prefers
 zero ``theta`` offsets and turns a free x axis (coincident axes) so that the next ``alpha`` is
-positive, as Universal Robots' own tables do; ``zero`` prefers zero ``theta`` offsets and leaves
-free x axes at ``theta = 0``, the base's included (what controllers without offsets, such as
-LinuxCNC's genserkins, need).
+positive, as Universal Robots' own tables do, and a free last x (the tool z on the last axis)
+is the tool's own x, as UR's flange is D-H frame 6; ``zero`` prefers zero ``theta`` offsets
+and leaves free x axes at ``theta = 0``, the base's included (what controllers without
+offsets, such as LinuxCNC's genserkins, need).
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING, ClassVar
 
 from .. import frames
@@ -179,6 +180,16 @@ def links_from_poe(
             frames.compose(built[-1], frames.dh_frame(link.theta, link.d, link.alpha, link.a))
         )
     g = frames.between(built[-1], home)  # the tool transform Rz(theta) Tz(d) (Lemma 4)
+    if style == "ur" and links[-1].free and g[1][0] != 0.0:
+        # UR: the flange is D-H frame n, so a free last x (tool z on the last axis) is the
+        # tool's own x and the tool transform is the identity
+        last = links[-1]
+        turn = last.theta + frames.angle(g[1][0], g[0][0])
+        links[-1] = replace(last, theta=frames.angle(math.sin(turn), math.cos(turn)))
+        built[-1] = frames.compose(
+            built[-2], frames.dh_frame(links[-1].theta, last.d, last.alpha, last.a)
+        )
+        g = frames.between(built[-1], home)
     return links, (frames.angle(g[1][0], g[0][0]), g[2][3]), judgements
 
 
