@@ -77,15 +77,17 @@ CASES = {
     "unknown tip": (robot(CHAIN), ["--tip", "nope"], ["unknown tip link 'nope'"]),
     "tip not below base": (robot(CHAIN), ["--base", "b", "--tip", "a"],
                            ["tip link 'a' is not below base link 'b'"]),
-    "mimic on the chain": (robot(joint("j1") + joint("j2", parent="a", child="b",
-                                                     extra='<mimic joint="j1"/>')), [],
-                           ["joint 'j2'", "mimics joint 'j1'", "--ignore-mimic"]),
+    "mimic of a joint off the chain": (
+        robot(joint("j1") + joint("j2", parent="a", child="b", extra='<mimic joint="j3"/>')
+              + joint("j3", parent="base", child="c"), links=LINKS + '<link name="c"/>'),
+        [], ["joint 'j2'", "mimics joint 'j3', which is not on it", "--ignore-mimic"]),
 }
 
 
 # `info` reads the file and reports chain problems as text (test below), so it meets only the
 # file-level cases
-CHAIN_LEVEL = {"floating joint on the chain", "planar joint on the chain", "mimic on the chain",
+CHAIN_LEVEL = {"floating joint on the chain", "planar joint on the chain",
+               "mimic of a joint off the chain",
                "unknown base", "unknown tip", "tip not below base"}
 COMBINATIONS = [(case, command) for case in sorted(CASES)
                 for command in ("convert", "verify", "info")

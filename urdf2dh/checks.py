@@ -5,11 +5,14 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from .errors import InputError
 
-__all__ = ["LARGEST", "check_name", "check_number", "check_vector"]
+if TYPE_CHECKING:
+    from .screws import Followed, Mimic
+
+__all__ = ["LARGEST", "check_leaders", "check_name", "check_number", "check_vector", "read_mimic"]
 
 # No number a kinematic file holds is larger: 1e12 of any length unit urdf2dh knows is over a
 # million kilometres, and angles, scales and limits are far smaller. Beyond it, products and
@@ -53,3 +56,30 @@ def check_vector(
         raise error(f"{where} must be a list of 3 numbers")
     x, y, z = (check_number(v, where, error) for v in value)
     return x, y, z
+
+
+def read_mimic(raw: Any, where: str, error: type[InputError] = InputError) -> Mimic | None:
+    """A file's ``mimic: {joint, multiplier, offset}`` (SPEC §5) of the joint at ``where``."""
+    from .screws import Mimic
+
+    if raw is None:
+        return None
+    if not isinstance(raw, dict) or set(raw) - {"joint", "multiplier", "offset"}:
+        raise error(f"{where}: mimic must be a mapping of joint, multiplier and offset")
+    return Mimic(
+        check_name(raw.get("joint"), f"{where}: mimic joint", error),
+        check_number(raw.get("multiplier", 1.0), f"{where}: mimic multiplier", error),
+        check_number(raw.get("offset", 0.0), f"{where}: mimic offset", error),
+    )
+
+
+def check_leaders(joints: Sequence[Followed], where: str,
+                  error: type[InputError] = InputError) -> None:  # fmt: skip
+    """Every mimicking joint follows an actuated joint of the same chain."""
+    leaders = {j.name for j in joints if j.mimic is None}
+    for j in joints:
+        if j.mimic is not None and j.mimic.joint not in leaders:
+            raise error(
+                f"{where}: joint {j.name!r} mimics {j.mimic.joint!r}, which is not a joint of "
+                "the chain without mimic"
+            )

@@ -45,12 +45,12 @@ JUDGED_SAMPLES = 1000
 def sample_configurations(
     model: PoeModel, samples: int, seed: int | tuple[int, ...]
 ) -> NDArray[np.float64]:
-    """``(samples, n)`` joint positions drawn uniformly within the model's limits
+    """``(samples, dof)`` actuated joint positions drawn uniformly within the model's limits
     (:meth:`~urdf2dh.screws.PoeModel.limits`), seeded (a tuple seed names a separate stream, as
     ``numpy.random.default_rng`` takes it)."""
     lim = model.limits()
     rng = np.random.default_rng(seed)
-    return rng.uniform(lim[:, 0], lim[:, 1], size=(samples, model.n))
+    return rng.uniform(lim[:, 0], lim[:, 1], size=(samples, model.dof))
 
 
 def build_table(
@@ -72,7 +72,7 @@ def build_table(
         )
     result = conv.from_poe(model, tol, style)
     rows = tuple(
-        Row(j.name, j.kind, p, j.pitch, j.scale * sign, j.lower, j.upper)
+        Row(j.name, j.kind, p, j.pitch, j.scale * sign, j.lower, j.upper, j.mimic)
         for j, p, sign in zip(model.joints, result.rows, result.signs, strict=True)
     )
     table = Table(
@@ -98,7 +98,7 @@ def self_check(
     """The table's FK against the model's at ``samples`` seeded configurations (both by the
     reference FK, :func:`urdf2dh.fk.chains_fk`)."""
     q = sample_configurations(model, samples, seed)
-    ours, source = chains_fk([table.link_form(), model.link_form()], q)
+    ours, source = chains_fk([table.link_form(), model.link_form()], model.positions(q))
     return Check(samples, *pose_errors(ours, source))
 
 

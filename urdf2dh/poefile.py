@@ -20,13 +20,14 @@ with the twist. ``limits`` (optional, an extension) bounds ``q``.
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
 from . import se3
-from .checks import check_name, check_number
+from .checks import check_leaders, check_name, check_number, read_mimic
 from .errors import InputError, choices
 from .screws import KINDS, PoeModel, joint_from_twist
 from .tolerances import DEFAULT, Tolerances
@@ -115,7 +116,9 @@ def read_poe(data: Any, display: str, tol: Tolerances = DEFAULT) -> PoeModel:
                     "helical": f"pitch {joint.pitch:.6g} {unit}/rad (a helical joint)",
                 }[joint.kind]
                 raise InputError(f"{where} is declared {declared} but its twist has {detail}")
-        joints.append(joint)
+        mimic = read_mimic(entry.get("mimic"), where)
+        joints.append(joint if mimic is None else replace(joint, mimic=mimic))
+    check_leaders(joints, display)
     tool = data.get("tool")
     warnings = []
     if not isinstance(tool, dict) or ("twist" in tool) == ("matrix" in tool):
@@ -139,6 +142,9 @@ def poe_to_dict(model: PoeModel) -> dict[str, Any]:
         }
         if j.lower is not None and j.upper is not None:
             entry["limits"] = [float(j.lower), float(j.upper)]
+        if j.mimic is not None:
+            entry["mimic"] = {"joint": j.mimic.joint, "multiplier": j.mimic.multiplier,
+                              "offset": j.mimic.offset}  # fmt: skip
         joints.append(entry)
     return {
         "format": "poe",

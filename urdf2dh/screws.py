@@ -14,8 +14,9 @@ from __future__ import annotations
 
 import itertools
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, replace
-from typing import Literal
+from typing import Literal, Protocol
 
 import numpy as np
 from numpy.typing import NDArray
@@ -23,7 +24,17 @@ from numpy.typing import NDArray
 from . import frames, se3
 from .fk import chain_fk
 
-__all__ = ["KINDS", "Joint", "JointKind", "JointMotion", "PoeModel", "joint_from_twist"]
+__all__ = [
+    "KINDS",
+    "Joint",
+    "JointKind",
+    "JointMotion",
+    "Mimic",
+    "PoeModel",
+    "actuated",
+    "joint_from_twist",
+    "row_positions",
+]
 
 JointKind = Literal["revolute", "prismatic", "helical"]
 KINDS: tuple[str, ...] = ("revolute", "prismatic", "helical")
@@ -41,6 +52,51 @@ def _frozen(a: NDArray[np.float64] | None, shape: tuple[int, ...]) -> NDArray[np
     if a.shape != shape:
         raise ValueError(f"expected an array of shape {shape}, got {a.shape}")
     return a
+
+
+@dataclass(frozen=True, slots=True)
+class Mimic:
+    """A joint that follows another (URDF ``<mimic>``): its position is ``multiplier *
+    q_joint + offset``, ``joint`` being an actuated joint of the same chain."""
+
+    joint: str
+    multiplier: float = 1.0
+    offset: float = 0.0
+
+    def __post_init__(self) -> None:
+        if not (math.isfinite(self.multiplier) and math.isfinite(self.offset)):
+            raise ValueError(f"mimic of {self.joint!r}: multiplier and offset must be finite")
+
+
+class Followed(Protocol):
+    """A joint or a table row: its name, and whom it follows if it mimics."""
+
+    @property
+    def name(self) -> str: ...
+
+    @property
+    def mimic(self) -> Mimic | None: ...
+
+
+def actuated(items: Sequence[Followed]) -> tuple[int, ...]:
+    """The indices of the items that move on their own (no mimic): the positions ``q`` that
+    drive a chain, in order."""
+    return tuple(i for i, item in enumerate(items) if item.mimic is None)
+
+
+def row_positions(items: Sequence[Followed], q: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Every joint's position ``(N, n)`` from the actuated joints' ``q`` ``(N, n_actuated)``:
+    a mimicking joint's is ``multiplier * q_leader + offset``."""
+    driving = actuated(items)
+    if len(driving) == len(items):
+        return q
+    column = {items[i].name: k for k, i in enumerate(driving)}
+    out = np.empty((q.shape[0], len(items)))
+    for i, item in enumerate(items):
+        m = item.mimic
+        out[:, i] = q[:, column[item.name]] if m is None else (
+            m.multiplier * q[:, column[m.joint]] + m.offset)  # fmt: skip
+    return out
 
 
 class JointMotion:
@@ -85,6 +141,8 @@ class Joint(JointMotion):
         normalisation factor q_bar).
     lower, upper
         Joint position limits in ``q`` units, or ``None`` (continuous, or unknown).
+    mimic
+        Whom the joint follows, if it is not actuated on its own.
     """
 
     name: str
@@ -95,6 +153,7 @@ class Joint(JointMotion):
     scale: float = 1.0
     lower: float | None = None
     upper: float | None = None
+    mimic: Mimic | None = None
 
     def __post_init__(self) -> None:
         if self.kind not in KINDS:
@@ -172,11 +231,22 @@ class PoeModel:
         object.__setattr__(self, "joints", tuple(self.joints))
         object.__setattr__(self, "home", _frozen(self.home, (4, 4)))
         object.__setattr__(self, "warnings", tuple(self.warnings))
+        leaders = {j.name for j in self.joints if j.mimic is None}
+        for j in self.joints:
+            if j.mimic is not None and j.mimic.joint not in leaders:
+                raise ValueError(
+                    f"joint {j.name!r} mimics {j.mimic.joint!r}, not an actuated joint of the chain"
+                )
 
     @property
     def n(self) -> int:
-        """Number of movable joints."""
+        """Number of movable joints (the mimicking ones included)."""
         return len(self.joints)
+
+    @property
+    def dof(self) -> int:
+        """Number of actuated joints: the length of a configuration ``q``."""
+        return len(actuated(self.joints))
 
     def twists(self) -> NDArray[np.float64]:
         """``(n, 6)`` un-normalised twists ``[w, v]``, one row per joint."""
@@ -197,8 +267,8 @@ class PoeModel:
     def travel(self) -> float:
         """How far the joints can translate the tip along their axes: prismatic travel within
         the limits (within the extent where unknown) and helical advance over the rotation
-        range (:meth:`limits`)."""
-        lim = self.limits()
+        range (:meth:`limits`; a mimicking joint's range follows its leader's)."""
+        lim = row_positions(self.joints, self.limits().T).T  # (n, 2): each joint's range ends
         return float(sum(
             abs(j.translation * j.scale) * max(abs(lim[i, 0]), abs(lim[i, 1]))
             for i, j in enumerate(self.joints) if j.translation
@@ -218,12 +288,13 @@ class PoeModel:
         return math.fsum(math.dist(a, b) for a, b in itertools.pairwise(self._points()))
 
     def limits(self) -> NDArray[np.float64]:
-        """``(n, 2)`` sampling ranges for ``q``: the joint limits where known, else
-        ``[-pi, pi]`` for rotating joints and ``[-extent, extent]`` (in ``s``) for prismatic
-        ones (``[-1, 1]`` for a chain that is all at the origin)."""
-        out = np.empty((self.n, 2))
+        """``(dof, 2)`` sampling ranges for ``q``, one row per actuated joint: the joint limits
+        where known, else ``[-pi, pi]`` for rotating joints and ``[-extent, extent]`` (in ``s``)
+        for prismatic ones (``[-1, 1]`` for a chain that is all at the origin)."""
+        drivers = [self.joints[i] for i in actuated(self.joints)]
+        out = np.empty((len(drivers), 2))
         extent = self.extent() or 1.0
-        for i, j in enumerate(self.joints):
+        for i, j in enumerate(drivers):
             if j.lower is not None and j.upper is not None and j.upper > j.lower:
                 out[i] = (j.lower, j.upper)
             else:
@@ -253,14 +324,18 @@ class PoeModel:
         links.append(frames.between(previous, frames.frame_of(self.home)))
         return se3.stack(links), np.array(motions, dtype=float).reshape(-1, 2)
 
+    def positions(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Every joint's position ``(N, n)`` for configurations ``q`` ``(N, dof)``."""
+        return row_positions(self.joints, se3.as_configurations(q, self.dof))
+
     def fk_batch(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
-        """Poses ``(N, 4, 4)`` of the tip for configurations ``q`` of shape ``(N, n)``."""
-        return chain_fk(*self.link_form(), se3.as_configurations(q, self.n))
+        """Poses ``(N, 4, 4)`` of the tip for configurations ``q`` of shape ``(N, dof)``."""
+        return chain_fk(*self.link_form(), self.positions(q))
 
     def fk(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
-        """Pose ``(4, 4)`` of the tip for a configuration ``q`` of shape ``(n,)``; for a stack
-        of shape ``(..., n)``, poses ``(..., 4, 4)``."""
-        return se3.fk_of_stack(self.fk_batch, q, self.n)
+        """Pose ``(4, 4)`` of the tip for a configuration ``q`` of shape ``(dof,)``; for a
+        stack of shape ``(..., dof)``, poses ``(..., 4, 4)``."""
+        return se3.fk_of_stack(self.fk_batch, q, self.dof)
 
     def scaled(self, factor: float, unit: str) -> PoeModel:
         """The same chain with lengths multiplied by ``factor`` and called ``unit`` (points,

@@ -22,7 +22,7 @@ from numpy.typing import NDArray
 from . import frames, se3
 from .conventions import Convention, Params, get
 from .fk import chain_fk
-from .screws import Joint, JointKind, JointMotion, PoeModel
+from .screws import Joint, JointKind, JointMotion, Mimic, PoeModel, actuated, row_positions
 from .tolerances import DEFAULT
 
 __all__ = ["SCHEMA", "Check", "Row", "Table"]
@@ -34,7 +34,9 @@ Mat = NDArray[np.float64]
 
 @dataclass(frozen=True, slots=True)
 class Row(JointMotion):
-    """One movable joint's row: its motion (kind, pitch, scale), limits and parameters."""
+    """One movable joint's row: its motion (kind, pitch, scale), limits and parameters, and
+    whom it follows if it mimics another row's joint (SPEC §5: the table is driven by the rows
+    without ``mimic``, in order)."""
 
     name: str
     kind: JointKind
@@ -43,6 +45,7 @@ class Row(JointMotion):
     scale: float = 1.0
     lower: float | None = None
     upper: float | None = None
+    mimic: Mimic | None = None
 
 
 @dataclass(frozen=True, slots=True)
@@ -115,8 +118,13 @@ class Table:
 
     @property
     def n(self) -> int:
-        """Number of movable joints."""
+        """Number of rows (movable joints, the mimicking ones included)."""
         return len(self.rows)
+
+    @property
+    def dof(self) -> int:
+        """Number of actuated rows: the length of a configuration ``q``."""
+        return len(actuated(self.rows))
 
     @property
     def base_matrix(self) -> Mat:
@@ -141,14 +149,18 @@ class Table:
         motions = [(r.rotation * r.scale, r.translation * r.scale) for r in self.rows]
         return se3.stack(links), np.array(motions, dtype=float).reshape(-1, 2)
 
+    def positions(self, q: NDArray[np.float64]) -> Mat:
+        """Every row's position ``(N, n)`` for configurations ``q`` ``(N, dof)``."""
+        return row_positions(self.rows, se3.as_configurations(q, self.dof))
+
     def fk_batch(self, q: NDArray[np.float64]) -> Mat:
-        """Poses ``(N, 4, 4)`` of the tool for configurations ``q`` of shape ``(N, n)``."""
-        return chain_fk(*self.link_form(), se3.as_configurations(q, self.n))
+        """Poses ``(N, 4, 4)`` of the tool for configurations ``q`` of shape ``(N, dof)``."""
+        return chain_fk(*self.link_form(), self.positions(q))
 
     def fk(self, q: NDArray[np.float64]) -> Mat:
-        """Pose ``(4, 4)`` of the tool for a configuration ``q`` of shape ``(n,)``; for a stack
-        of shape ``(..., n)``, poses ``(..., 4, 4)``."""
-        return se3.fk_of_stack(self.fk_batch, q, self.n)
+        """Pose ``(4, 4)`` of the tool for a configuration ``q`` of shape ``(dof,)``; for a
+        stack of shape ``(..., dof)``, poses ``(..., 4, 4)``."""
+        return se3.fk_of_stack(self.fk_batch, q, self.dof)
 
     def frames(self) -> list[Mat]:
         """Home-pose frames ``(4, 4)``: for each joint, the frame whose z axis is its axis
@@ -167,7 +179,7 @@ class Table:
         poses = self.frames()
         joints = tuple(
             Joint(r.name, r.kind, f[:3, 2].copy(), f[:3, 3].copy(), r.pitch, r.scale, r.lower,
-                  r.upper)
+                  r.upper, r.mimic)
             for r, f in zip(self.rows, poses[:-1], strict=True)
         )  # fmt: skip
         return PoeModel(joints, poses[-1], self.robot, self.source, self.base_link,
@@ -193,6 +205,9 @@ class Table:
             }  # fmt: skip
             if r.lower is not None and r.upper is not None:
                 entry["limits"] = [float(r.lower), float(r.upper)]
+            if r.mimic is not None:
+                entry["mimic"] = {"joint": r.mimic.joint, "multiplier": r.mimic.multiplier,
+                                  "offset": r.mimic.offset}  # fmt: skip
             joints.append(entry)
         return {
             "schema": SCHEMA,

@@ -12,7 +12,7 @@ from typing import Any
 
 import numpy as np
 
-from .checks import check_number
+from .checks import check_leaders, check_number, read_mimic
 from .conventions import NAMES, get, read_params
 from .errors import TableFileError, choices
 from .screws import KINDS
@@ -84,7 +84,9 @@ def read_table(data: Any, display: str, tol: Tolerances = DEFAULT) -> Table:
                 raise TableFileError(f"{where}: limits must be [lower, upper]")
             lower, upper = (check_number(x, f"{where} limits", TableFileError) for x in lim)
         params = read_params(conv, "row", j.get("params"), where, tol)
-        rows.append(Row(name, kind, params, pitch, scale, lower, upper))
+        mimic = read_mimic(j.get("mimic"), where, TableFileError)
+        rows.append(Row(name, kind, params, pitch, scale, lower, upper, mimic))
+    check_leaders(rows, display, TableFileError)
     sections = {}
     for part in ("base", "tool"):
         sec = data.get(part)

@@ -26,7 +26,7 @@ from .conventions import NAMES
 from .convert import sample_configurations, to_table
 from .errors import InputError
 from .fk import chains_fk
-from .screws import PoeModel
+from .screws import PoeModel, actuated
 from .se3 import pose_errors
 from .sources import Source
 from .table import Check, Table
@@ -102,8 +102,9 @@ def _model_from_urdf(
     pin: Any, source: Source, poe: PoeModel
 ) -> tuple[Any, list[tuple[int, int, float]], int, int]:
     assert source.urdf_text is not None
+    # Pinocchio couples mimic joints itself (a mimicking joint has no coordinate of its own);
     # helical joints arrive as a revolute joint and a prismatic one mimicking it (urdfwrite.py)
-    mimic = any(j.kind == "helical" for j in poe.joints)
+    mimic = any(j.kind == "helical" or j.mimic is not None for j in poe.joints)
     error: Exception | None = None
     with _c_stderr() as log:  # urdfdom writes its reasons there, several lines a fault
         try:
@@ -115,11 +116,16 @@ def _model_from_urdf(
         why = f"urdfdom: {' '.join(reasons[0].split())}" if reasons else str(error)
         raise InputError(f"{source.display}: Pinocchio cannot load it ({why})") from error
     mapping = []
-    for j in poe.joints:
+    for j in (poe.joints[i] for i in actuated(poe.joints)):  # the mimicking ones follow
         jid = model.getJointId(j.name)
         if jid >= model.njoints:
-            raise InputError(f"{source.display}: Pinocchio has no joint '{j.name}'")
+            raise InputError(f"{source.display}: Pinocchio has no joint {j.name!r}")
         jm = model.joints[jid]
+        if jm.nq == 0:
+            raise InputError(
+                f"{source.display}: joint {j.name!r} is a mimic joint to Pinocchio, which reads "
+                "the helical joints' leads as mimic joints too; verify it without --ignore-mimic"
+            )
         mapping.append((jm.idx_q, jm.nq, 1.0))
 
     def frame(link: str) -> int:
@@ -133,12 +139,14 @@ def _model_from_urdf(
 
 def pinocchio_fk(source: Source, poe: PoeModel, q: Mat) -> Mat:
     """Pinocchio's pose ``(N, 4, 4)`` of the tip in the base link for configurations ``q``
-    ``(N, n)`` of the chain's joints (other joints at their neutral position)."""
+    ``(N, dof)`` of the chain's actuated joints (mimic joints following them, other joints at
+    their neutral position)."""
     pin = _pin()
     if source.kind == "urdf":
         model, mapping, base_f, tip_f = _model_from_urdf(pin, source, poe)
-    else:
+    else:  # our own model of Pinocchio joints, one per row, driven with the mimic coupling
         model, mapping, base_f, tip_f = _model_from_poe(pin, poe)
+        q = poe.positions(q)
     configs = np.repeat(pin.neutral(model)[None], q.shape[0], axis=0)
     for column, (idx, nq, scale) in zip(q.T, mapping, strict=True):
         if nq == 2:  # a continuous joint: (cos q, sin q)
@@ -214,7 +222,7 @@ def verify(
     q = sample_configurations(poe, samples, (seed, VERIFY_STREAM))
     reference = pinocchio_fk(source, poe, q)
     tables = [to_table(poe, conv, tol, samples=check_samples) for conv in conventions]
-    poses = chains_fk([poe.link_form(), *(t.link_form() for t in tables)], q)
+    poses = chains_fk([poe.link_form(), *(t.link_form() for t in tables)], poe.positions(q))
     base_pos = tol.check_position * poe.size() + _oracle_rounding(source, poe)
     base_rot = tol.check_rotation
     results = [Result("POE model", *pose_errors(poses[0], reference), base_pos, base_rot, None)]

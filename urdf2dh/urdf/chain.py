@@ -16,7 +16,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import ChainError
-from ..screws import Joint, JointKind, PoeModel
+from ..screws import Joint, JointKind, Mimic, PoeModel
 from .tree import UrdfJoint, UrdfTree, names
 
 __all__ = ["KINDS", "tree_to_poe"]
@@ -46,6 +46,7 @@ class _Moving:
     pitch: float
     lower: float | None
     upper: float | None
+    mimic: Mimic | None = None
 
 
 def _unit(v: Vec) -> Vec:
@@ -90,19 +91,44 @@ def _walk(
             if lead is not None:  # revolute + coaxial prismatic mimicking it = one helical joint
                 moving[-1] = replace(moving[-1], kind="helical", pitch=lead)
                 continue
-            if not ignore_mimic:
-                raise ChainError(
-                    f"{tree.path}: joint {uj.name!r} on the chain mimics joint {uj.mimic!r}; "
-                    "pass --ignore-mimic to treat it as an independent joint"
+            if ignore_mimic:
+                warnings.append(
+                    f"joint {uj.name!r} mimics {uj.mimic!r} in the URDF; treated as an "
+                    "independent joint (--ignore-mimic)"
                 )
-            warnings.append(
-                f"joint {uj.name!r} mimics {uj.mimic!r} in the URDF; treated as an independent "
-                "joint (--ignore-mimic)"
+        mimic = None
+        if uj.mimic is not None and not ignore_mimic:
+            mimic = Mimic(uj.mimic, uj.multiplier, uj.offset)
+        point = t[:3, 3].copy()
+        moving.append(_Moving(uj.name, KINDS[uj.type], axis, point, 0.0, uj.lower, uj.upper, mimic))
+    return _followed(tree, moving, base, tip), t, warnings
+
+
+def _followed(tree: UrdfTree, moving: list[_Moving], base: str, tip: str) -> list[_Moving]:
+    """Each mimicking joint following an actuated joint of the chain: a leader that mimics in
+    turn is replaced by its own leader (``m2 (m1 q + o1) + o2``); a leader off the chain is an
+    error (its position would be a second input the chain does not have)."""
+    by_name = {m.name: m for m in moving}
+    out = []
+    for m in moving:
+        relation, seen = m.mimic, {m.name}
+        while relation is not None and relation.joint in by_name:
+            leader = by_name[relation.joint].mimic
+            if leader is None:
+                break
+            if relation.joint in seen:
+                raise ChainError(f"{tree.path}: joints {names(sorted(seen))} mimic each other")
+            seen.add(relation.joint)
+            relation = Mimic(leader.joint, relation.multiplier * leader.multiplier,
+                             relation.multiplier * leader.offset + relation.offset)  # fmt: skip
+        if relation is not None and relation.joint not in by_name:
+            raise ChainError(
+                f"{tree.path}: joint {m.name!r} on the chain {base!r} -> {tip!r} mimics joint "
+                f"{relation.joint!r}, which is not on it; pass --ignore-mimic to treat it as an "
+                "independent joint"
             )
-        moving.append(
-            _Moving(uj.name, KINDS[uj.type], axis, t[:3, 3].copy(), 0.0, uj.lower, uj.upper)
-        )
-    return moving, t, warnings
+        out.append(replace(m, mimic=relation))
+    return out
 
 
 def tree_to_poe(
@@ -123,7 +149,7 @@ def tree_to_poe(
         below it (SPEC §1).
     ignore_mimic
         Treat a mimic joint on the chain as an independent joint (with a warning) instead of
-        refusing the chain; the lead of a helical joint is read as such either way.
+        keeping it coupled to its leader; the lead of a helical joint is read as such either way.
     name
         The model's name (default: the robot's).
 
@@ -137,7 +163,7 @@ def tree_to_poe(
     ------
     ChainError
         An unknown base or tip link, a tip not below the base, a floating or planar joint on the
-        chain, or a mimic joint on it without ``ignore_mimic``.
+        chain, or a mimic joint on it whose leader is not (without ``ignore_mimic``).
     """
     base = base or tree.root
     if base not in tree.links:
@@ -145,6 +171,7 @@ def tree_to_poe(
     tip = tip or tree.default_tip(base)
     moving, home, warnings = _walk(tree, tree.chain(base, tip), ignore_mimic, base, tip)
     joints = tuple(
-        Joint(m.name, m.kind, m.axis, m.point, m.pitch, 1.0, m.lower, m.upper) for m in moving
+        Joint(m.name, m.kind, m.axis, m.point, m.pitch, 1.0, m.lower, m.upper, m.mimic)
+        for m in moving
     )
     return PoeModel(joints, home, name or tree.name, tree.path, base, tip, "m", tuple(warnings))
