@@ -201,7 +201,8 @@ _MARKDOWN = set("\\`*[]<>|&~!")
 def markdown_text(text: str) -> str:
     """``text`` in Markdown (a table cell or a line): :func:`visible` text with every character
     that could start markup, a link, HTML or a new cell backslash-escaped; ``_`` only where it
-    could begin or end emphasis (between two letters or digits it cannot)."""
+    could begin or end emphasis (between two letters or digits it cannot); spaces at either
+    end as ``&#32;`` (a cell's edge spaces are trimmed, and emphasis cannot open before one)."""
     shown_text = visible(text)
     out = []
     for i, ch in enumerate(shown_text):
@@ -213,7 +214,13 @@ def markdown_text(text: str) -> str:
         elif ch in _MARKDOWN:
             ch = "\\" + ch
         out.append(ch)
-    return "".join(out)
+    text = "".join(out)
+    body = text.strip(" ")  # edge spaces as references: cells and emphasis would drop them
+    if body == text:
+        return text
+    left = len(text) - len(text.lstrip(" "))
+    right = len(text) - len(text.rstrip(" ")) if body else 0
+    return "&#32;" * left + body + "&#32;" * right
 
 
 _FORMULA = ("=", "+", "-", "@", "\t", "\r")  # what spreadsheets read as the start of a formula
