@@ -377,13 +377,17 @@ def run(
     kind: str,
     extra: list[str] | None = None,
 ) -> Outcome:
-    """``urdf2dh export SOURCE --to what`` or ``convert SOURCE --format what`` in-process, in
-    ``directory``, with ``--base``/``--tip`` for URDF sources (and ``extra`` options), output
-    to a file."""
+    """``urdf2dh export SOURCE --to what``, ``convert SOURCE --format what`` or ``plot SOURCE
+    -o out.what`` in-process, in ``directory``, with ``--base``/``--tip`` for URDF sources (and
+    ``extra`` options), output to a file."""
     out = directory / f"out-{command}-{what}"
     out.unlink(missing_ok=True)
     argv = [command, source, "-o", str(out), *(extra or [])]
-    argv += ["--to", what] if command == "export" else ["--format", what]
+    if command == "plot":
+        out = out.with_suffix("." + what)  # plot's format is the file's suffix
+        argv[3] = str(out)
+    else:
+        argv += ["--to", what] if command == "export" else ["--format", what]
     if kind == "urdf":
         argv += [f"--base={names.base}", f"--tip={names.tip}"]
     err = io.StringIO()

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import ast
 import csv
+import html
 import io
 import re
 
@@ -166,6 +167,18 @@ def test_the_classic_attacks_run_nothing_and_keep_their_names(tmp_path, monkeypa
     assert genserkins_links(hal) == genserkins_links(texts[clean.robot, "linuxcnc"])
     assert len(read_hal(hal).commands) == 18
     assert not (tmp_path / "PWNED").exists()
+
+
+def test_plot_labels_take_any_name(tmp_path):
+    names = names_with("$\\evil{$\n--><script>x</script>", "genser6")
+    source = write_source(tmp_path, "genser6", names, "urdf")
+    got = run(tmp_path, source, "plot", "svg", names, "urdf")
+    assert (got.code, got.stderr, got.crashed) == (0, "", None)
+    svg = etree.fromstring(got.output)
+    assert not [e for e in svg.iter() if "script" in str(e.tag)]
+    comments = [c.text for c in svg.iter(etree.Comment)]
+    label = "J1 " + visible(names.joints[0])  # as drawn: visible text, $ not math
+    assert label in [html.unescape(c).strip().replace("- -", "--") for c in comments]
 
 
 def test_ur_yaml_keeps_its_keys(tmp_path):

@@ -16,6 +16,7 @@ from numpy.typing import NDArray
 
 from . import se3
 from .errors import InputError, UsageError
+from .export.escape import matplotlib_text
 from .table import Table
 
 __all__ = ["FORMATS", "dh_frames", "render"]
@@ -54,7 +55,7 @@ def _arrow(ax: Any, origin: Mat, direction: Mat, length: float, colour: str, lab
            width: float = 1.8) -> None:
     tip = origin + length * direction
     ax.plot(*np.column_stack([origin, tip]), color=colour, linewidth=width)
-    ax.text(*(origin + 1.15 * length * direction), label, color=colour, fontsize=8)
+    ax.text(*(origin + 1.15 * length * direction), label, color=colour, fontsize=8, usetex=False)
 
 
 def render(table: Table, fmt: str = "png", title: str | None = None) -> bytes:
@@ -77,8 +78,8 @@ def render(table: Table, fmt: str = "png", title: str | None = None) -> bytes:
         ends = np.column_stack([p - 0.25 * span * z, p + 0.25 * span * z])
         ax.plot(*ends, color=COLOURS["joint"], linestyle="--", linewidth=1.2,
                 label="joint axes" if i == 0 else None)
-        ax.text(*(p + 0.27 * span * z), f"J{i + 1} {row.name}", color=COLOURS["joint"],
-                fontsize=7)
+        ax.text(*(p + 0.27 * span * z), f"J{i + 1} {matplotlib_text(row.name)}",
+                color=COLOURS["joint"], fontsize=7, usetex=False)
     for k, f in enumerate(frames[:-1]):
         _arrow(ax, f[:3, 3], f[:3, 0], arrow, COLOURS["x"], f"x{k}")
         _arrow(ax, f[:3, 3], f[:3, 2], arrow, COLOURS["z"], f"z{k}")
@@ -89,7 +90,8 @@ def render(table: Table, fmt: str = "png", title: str | None = None) -> bytes:
     world = np.eye(3)
     for axis, name in enumerate("xyz"):
         _arrow(ax, np.zeros(3), world[axis], 0.7 * arrow, "#000000",
-               f"{name}{'_' + table.base_link if name == 'x' and table.base_link else ''}",
+               f"{name}_{matplotlib_text(table.base_link)}" if name == "x" and table.base_link
+               else name,
                width=0.8)
     centre = (points.max(axis=0) + points.min(axis=0)) / 2
     half = 0.6 * span + arrow
@@ -102,9 +104,10 @@ def render(table: Table, fmt: str = "png", title: str | None = None) -> bytes:
     ax.set_ylabel(f"y [{unit}]")
     ax.set_zlabel(f"z [{unit}]")
     name = table.spec.label
-    ax.set_title(title or f"{table.robot or 'robot'}: {name} frames at home\n"
-                 f"{table.base_link} -> {table.tip_link}" if table.base_link else
-                 f"{table.robot or 'robot'}: {name} frames at home", fontsize=10)
+    robot = matplotlib_text(table.robot or "robot")
+    chain = f"{matplotlib_text(table.base_link)} -> {matplotlib_text(table.tip_link)}"
+    ax.set_title(title or f"{robot}: {name} frames at home\n{chain}" if table.base_link else
+                 f"{robot}: {name} frames at home", fontsize=10, usetex=False)
     ax.legend(loc="upper left", fontsize=8)
     buf = io.BytesIO()
     fig.savefig(buf, format=fmt)

@@ -21,6 +21,7 @@ XML (URDF)          attributes with XML's escapes (:func:`xml_attribute`), refus
                     ``--`` written ``- -`` (:func:`xml_comment`)
 Markdown            :func:`visible` text with its markup characters backslash-escaped
                     (:func:`markdown_text`)
+matplotlib          :func:`visible` text with ``$`` escaped (:func:`matplotlib_text`)
 CSV                 RFC 4180 quoting (:func:`csv_cell`); a cell a spreadsheet would read as
                     a formula gets a leading ``'``
 ==================  =========================================================================
@@ -44,6 +45,7 @@ __all__ = [
     "markdown_text",
     "matlab_comment",
     "matlab_string",
+    "matplotlib_text",
     "python_docstring",
     "python_string",
     "visible",
@@ -191,6 +193,15 @@ def xml_comment(text: str) -> str:
     """An XML comment showing ``text`` (:func:`visible`, with ``--``, which may not appear in
     a comment, written ``- -``)."""
     return "<!-- " + re.sub("-(?=-)", "- ", visible(text)) + " -->"
+
+
+# --------------------------------------------------------------------------- matplotlib
+
+
+def matplotlib_text(text: str) -> str:
+    """``text`` as a matplotlib label (drawn with ``usetex=False``): :func:`visible` text with
+    ``$`` as ``\\$``, so no name opens mathtext (whose parser fails on unknown commands)."""
+    return visible(text).replace("$", "\\$")
 
 
 # --------------------------------------------------------------------------- Markdown, CSV
