@@ -321,7 +321,7 @@ def _poe_geometry(geometry: str) -> tuple[list[list[float]], list[list[float]], 
     return twists, [[float(x) for x in row] for row in model.home], limits
 
 
-def poe_text(geometry: str, names: Names, fmt: str) -> str:
+def poe_text(geometry: str, names: Names, fmt: str, unit: str | None = None) -> str:
     """The chain as a POE model file (``fmt`` json, in metres, or yaml, in millimetres), joint
     names and ``name:`` hostile; written by json / PyYAML, which escape every character."""
     twists, home, limits = _poe_geometry(geometry)
@@ -337,7 +337,7 @@ def poe_text(geometry: str, names: Names, fmt: str) -> str:
     tree = {
         "format": "poe",
         "name": names.robot,
-        "length_unit": "mm" if k != 1 else "m",
+        "length_unit": unit or ("mm" if k != 1 else "m"),
         "joints": joints,
         "tool": {"matrix": home},
     }
@@ -346,13 +346,15 @@ def poe_text(geometry: str, names: Names, fmt: str) -> str:
     return yaml.safe_dump(tree, sort_keys=False)
 
 
-def write_source(directory: Path, geometry: str, names: Names, kind: str) -> str:
+def write_source(
+    directory: Path, geometry: str, names: Names, kind: str, unit: str | None = None
+) -> str:
     """Write the robot into ``directory``; the SOURCE argument naming it (``./<stem>.urdf``)."""
     if kind == "urdf":
         text, suffix = urdf_text(geometry, names), ".urdf"
     else:
         fmt = kind.split("-")[1]
-        text, suffix = poe_text(geometry, names, fmt), "." + fmt
+        text, suffix = poe_text(geometry, names, fmt, unit), "." + fmt
     (directory / (names.stem + suffix)).write_text(text, encoding="utf-8")
     return "./" + names.stem + suffix
 

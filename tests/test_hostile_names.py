@@ -39,7 +39,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from lxml import etree
 from matlab_reader import read_matlab
-from safety import FORMULA
+from safety import FORMULA, judge
 
 from urdf2dh.convert import to_table
 from urdf2dh.errors import ExportError, shown, visible
@@ -179,6 +179,25 @@ def test_plot_labels_take_any_name(tmp_path):
     comments = [c.text for c in svg.iter(etree.Comment)]
     label = "J1 " + visible(names.joints[0])  # as drawn: visible text, $ not math
     assert label in [html.unescape(c).strip().replace("- -", "--") for c in comments]
+
+
+def test_a_hostile_length_unit_stays_in_its_place(tmp_path):
+    """A POE file's ``length_unit`` is text from the file too: formats and targets that take
+    any unit write it as they write names; those that convert it refuse it on one line."""
+    unit = 'mm] |\n"""\nimport os\n<script>\x1b[2J%\r\nsetp genserkins.A-0 9'
+    names, clean = clean_names("genser6"), {}
+    for label, u in (("clean", "QZU"), ("hostile", unit)):
+        (tmp_path / label).mkdir()
+        source = write_source(tmp_path / label, "genser6", names, "poe-json", u)
+        clean[label] = {r: run(tmp_path / label, source, *r, names, "poe-json") for r in RUNS}
+    for r in RUNS:
+        got, want = clean["hostile"][r], clean["clean"][r]
+        assert got.crashed is None and got.code == want.code, (r, got.stderr)
+        if got.code:
+            assert got.stderr.count("\n") == 1 and got.stderr[:-1].isprintable()
+            assert visible(unit) in got.stderr or shown(unit) in got.stderr
+        elif r[1] != "poe":  # (the POE file keeps the unit, as YAML)
+            judge(r[1], got.output, want.output, {"QZU": unit})
 
 
 def test_ur_yaml_keeps_its_keys(tmp_path):

@@ -132,14 +132,16 @@ def _header(name: str, quantity: str, unit: str) -> str:
 
 
 def _grid(table: Table, show: Callable[[str], str]) -> tuple[list[str], list[list[str]]]:
-    """Header and rows of the tables for people; joint names as ``show`` writes them."""
+    """Header and rows of the tables for people; names (and the unit) as ``show`` writes
+    them."""
     unit = table.length_unit
     cols = _columns(table)
     show_pitch = any(r.kind == "helical" for r in table.rows)
     show_scale = any(r.scale != 1.0 for r in table.rows)
-    head = ["", "joint", "type", *(_header(name, quantity, unit) for name, quantity in cols)]
+    head = ["", "joint", "type",
+            *(_header(name, quantity, show(unit)) for name, quantity in cols)]
     if show_pitch:
-        head.append(f"h [{unit}/deg]")
+        head.append(f"h [{show(unit)}/deg]")
     if show_scale:
         head.append("scale")
     body = []

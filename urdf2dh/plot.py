@@ -99,7 +99,7 @@ def render(table: Table, fmt: str = "png", title: str | None = None) -> bytes:
     ax.set_ylim(centre[1] - half, centre[1] + half)
     ax.set_zlim(centre[2] - half, centre[2] + half)
     ax.set_box_aspect((1, 1, 1))
-    unit = table.length_unit
+    unit = matplotlib_text(table.length_unit)
     ax.set_xlabel(f"x [{unit}]")
     ax.set_ylabel(f"y [{unit}]")
     ax.set_zlabel(f"z [{unit}]")

@@ -27,7 +27,7 @@ import math
 import numpy as np
 
 from .. import units
-from ..errors import ExportError, shown
+from ..errors import ExportError, shown, visible
 from ..se3 import dh_matrix
 from ..table import Table
 from .common import (
@@ -79,7 +79,8 @@ def _links(table: Table, opts: Options) -> list[tuple[float, float, float]]:
         raise _refuse(table, f"has no tool transform beyond a length along the last axis, and "
                       f"{shown(table.tip_link)} is turned or offset from it (tool alpha = "
                       f"{math.degrees(tool['alpha']):.6g} deg, a = {tool['a']:.6g} "
-                      f"{table.length_unit}, theta = {math.degrees(tool['theta']):.6g} deg); "
+                      f"{visible(table.length_unit)}, theta = "
+                      f"{math.degrees(tool['theta']):.6g} deg); "
                       "choose a tip link on the last joint's axis with the same x")
     a, alpha, d = links[-1]
     links[-1] = (a, alpha, d + tool["d"])

@@ -146,7 +146,8 @@ def _check(table: Table, opts: Options) -> None:
         raise ExportError(
             f"ur: ur_macro.xacro puts tool0 on D-H frame 6 (UR's flange), but "
             f"{shown(table.tip_link)} is elsewhere (last row alpha = "
-            f"{math.degrees(last['alpha']):.6g} deg, a = {last['a']:.6g} {table.length_unit}; tool "
+            f"{math.degrees(last['alpha']):.6g} deg, a = {last['a']:.6g} "
+            f"{visible(table.length_unit)}; tool "
             f"{_params(table.tool)}); export to the UR description's tool0"
         )
 
