@@ -40,6 +40,7 @@ LANGUAGE = {
     "csv": "csv",
     "text": "text",
     "markdown": "markdown",
+    "opw": "yaml-comments",  # main's OPW target: YAML, names in comments only
 }
 FORMULA = ("=", "+", "-", "@", "\t", "\r")  # CSV: cells a spreadsheet reads as formulas
 # the self-check's measured errors (round-off of this machine; the unit may hold line breaks)
@@ -300,6 +301,8 @@ def judge(what: str, data: bytes, clean: bytes, names: dict[str, str]) -> None:
         text = data.decode("utf-8")
     except UnicodeDecodeError as e:
         raise Unsafe(f"not UTF-8: {e}") from e
+    if what not in LANGUAGE:
+        raise KeyError(f"no judge for {what!r}: add its language to safety.LANGUAGE")
     try:
         JUDGES[LANGUAGE[what]](text, clean.decode("utf-8"), names)
     except (HalSyntaxError, MatlabSyntaxError) as e:

@@ -142,7 +142,9 @@ def yaml_comment(text: str) -> str:
 def hal_comment(text: str) -> list[str]:
     """HAL ``#`` comment lines showing ``text`` (:func:`visible`), each at most
     :data:`HAL_LINE_BYTES` bytes of UTF-8, so halcmd reads every one whole. A line starting
-    with ``#`` is a comment to its end for halcmd whatever follows (``#``, ``;``, quotes)."""
+    with ``#`` is a comment to its end for halcmd whatever follows, so ``#``, ``;`` and quotes
+    stay as they are; so do ``$`` and ``[`` (halcmd's environment and INI substitutions: it
+    cuts the comment off before substituting)."""
     out: list[str] = []
     line, size = "#", 1
     for ch in " " + visible(text):
@@ -206,7 +208,7 @@ def matplotlib_text(text: str) -> str:
 
 # --------------------------------------------------------------------------- Markdown, CSV
 
-_MARKDOWN = set("\\`*[]<>|&~!")
+_MARKDOWN = set("\\`*[]<>|&~!$")  # ($: GitHub reads $...$ as math)
 
 
 def markdown_text(text: str) -> str:
