@@ -8,8 +8,10 @@ with plain numpy, so a generated file is judged by the rules its reader applies.
 * PyKDL: real where Debian's ``python3-pykdl`` is installed (no wheel on PyPI), else
   :class:`FakeKdl`, which implements KDL's documented ``Frame.DH`` / ``Frame.DH_Craig1989``,
   ``Segment`` and ``ChainFkSolverPos_recursive`` semantics, so the generated script runs either way.
-* MATLAB Robotics System Toolbox, Peter Corke's MATLAB toolbox, LinuxCNC genserkins: parsed back
-  statement by statement (anything unexpected fails) and evaluated with the documented formulas.
+* MATLAB Robotics System Toolbox, Peter Corke's MATLAB toolbox, LinuxCNC genserkins: read back
+  as MATLAB and halcmd read them (matlab_reader.py, hal_reader.py: literals, comments, line
+  breaks), statement by statement (anything unexpected fails), and evaluated with the
+  documented formulas.
 * Universal_Robots_ROS2_Description: the yaml's joint origins are put into a URDF exactly as
   ``ur_macro.xacro`` places them, and Pinocchio evaluates that URDF.
 """
@@ -25,6 +27,8 @@ import types
 from typing import Any
 
 import numpy as np
+from hal_reader import read_hal
+from matlab_reader import Call, Chars, Ref, Str, read_matlab
 
 # --------------------------------------------------------------------------- elementary transforms
 
@@ -59,15 +63,26 @@ def motion(kind: str, q: float) -> np.ndarray:
     return rz(q) if kind == "revolute" else tr(z=q)
 
 
-def _numbers(text: str) -> list[float]:
-    return [float(x) for x in re.split(r"[\s;,]+", text.strip().strip("[]")) if x]
+def _string(value: Any, what: str) -> str:
+    """The text of a MATLAB string or char vector (anything else is not what we write)."""
+    if not isinstance(value, Str | Chars):
+        raise AssertionError(f"{what}: expected text, got {value!r}")
+    return value.value
 
 
-def _matrix(text: str) -> np.ndarray:
-    values = _numbers(text)
-    if len(values) != 16:
-        raise AssertionError(f"not a 4x4 matrix literal: {text}")
-    return np.array(values).reshape(4, 4)
+def _matrix(value: Any) -> np.ndarray:
+    m = np.asarray(value, dtype=float)
+    if m.shape != (4, 4):
+        raise AssertionError(f"not a 4x4 matrix literal: {value!r}")
+    return m
+
+
+def _call(value: Any, name: str, arity: int | None = None) -> tuple[Any, ...]:
+    if not isinstance(value, Call) or value.name != name:
+        raise AssertionError(f"expected a call of {name}, got {value!r}")
+    if arity is not None and len(value.args) != arity:
+        raise AssertionError(f"{name} takes {arity} arguments here, got {value.args!r}")
+    return value.args
 
 
 # --------------------------------------------------------------------------- MATLAB RST
@@ -76,7 +91,9 @@ def _matrix(text: str) -> np.ndarray:
 class RigidBodyTree:
     """MATLAB Robotics System Toolbox ``rigidBodyTree``, from a script like ours.
 
-    A body's pose in its parent is ``JointToParentTransform . J(q) . ChildToJointTransform``;
+    The script is read as MATLAB reads it (:mod:`matlab_reader`: literals, comments,
+    statements); every statement must be one of those our exports write. A body's pose in its
+    parent is ``JointToParentTransform . J(q) . ChildToJointTransform``;
     ``setFixedTransform(j, [a alpha d theta], "dh")`` sets ``ChildToJoint`` to the standard D-H
     matrix and ``JointToParent`` to I, ``"mdh"`` sets ``JointToParent`` to Craig's matrix and
     ``ChildToJoint`` to I, ``setFixedTransform(j, T)`` sets ``JointToParent`` to T and
@@ -84,49 +101,57 @@ class RigidBodyTree:
     """
 
     def __init__(self, script: str) -> None:
+        parsed = read_matlab(script)
+        self.statements = parsed.statements
+        self.comments = parsed.comments
         self.base = "base"
         self.bodies: dict[str, dict[str, Any]] = {}
         self.order: list[str] = []  # movable joints in the order bodies were added
         body: dict[str, Any] | None = None
         joint: dict[str, Any] | None = None
         parent = None
-        for raw in script.splitlines():
-            line = raw.split("%", 1)[0].strip()
-            if not line:
-                continue
-            if m := re.fullmatch(r'robot = rigidBodyTree\("DataFormat", "row"\);', line):
-                continue
-            if m := re.fullmatch(r'robot\.BaseName = "(.+)";', line):
-                self.base = m[1]
-            elif line == "parent = robot.BaseName;":
+        for s in parsed.statements:
+            target, value = s.target, s.value
+            if target == "robot":
+                args = _call(value, "rigidBodyTree", 2)
+                assert [_string(a, "rigidBodyTree") for a in args] == ["DataFormat", "row"]
+            elif target == "robot.BaseName":
+                self.base = _string(value, "BaseName")
+            elif target == "parent" and value == Ref("robot.BaseName"):
                 parent = self.base
-            elif m := re.fullmatch(r'body = rigidBody\("(.+)"\);', line):
-                body = {"name": m[1]}
-            elif m := re.fullmatch(
-                r'joint = rigidBodyJoint\("(.+)", "(revolute|prismatic|fixed)"\);', line
-            ):
-                joint = {"name": m[1], "type": m[2], "j2p": np.eye(4), "c2j": np.eye(4)}
-            elif m := re.fullmatch(r"joint\.(PositionLimits|HomePosition) = (.+);", line):
+            elif target == "body" and isinstance(value, Call):
+                body = {"name": _string(_call(value, "rigidBody", 1)[0], "rigidBody")}
+            elif target == "joint":
+                name, kind = (_string(a, "rigidBodyJoint")
+                              for a in _call(value, "rigidBodyJoint", 2))
+                assert kind in ("revolute", "prismatic", "fixed"), kind
+                joint = {"name": name, "type": kind, "j2p": np.eye(4), "c2j": np.eye(4)}
+            elif target in ("joint.PositionLimits", "joint.HomePosition"):
                 assert joint is not None
-                joint[m[1]] = _numbers(m[2])
-            elif m := re.fullmatch(r'setFixedTransform\(joint, (\[.+\]), "(dh|mdh)"\);', line):
-                assert joint is not None
-                a, alpha, d, theta = _numbers(m[1])
-                if joint["type"] == "revolute":
-                    theta = 0.0
-                elif joint["type"] == "prismatic":
-                    d = 0.0
-                if m[2] == "dh":
-                    joint["j2p"], joint["c2j"] = np.eye(4), standard_dh(a, alpha, d, theta)
+                joint[target.split(".")[1]] = list(np.atleast_1d(np.asarray(value, float)))
+            elif target is None and isinstance(value, Call) and value.name == "setFixedTransform":
+                assert joint is not None and value.args[0] == Ref("joint")
+                if len(value.args) == 3:
+                    a, alpha, d, theta = (float(x) for x in np.asarray(value.args[1], float))
+                    convention = _string(value.args[2], "setFixedTransform")
+                    if joint["type"] == "revolute":
+                        theta = 0.0
+                    elif joint["type"] == "prismatic":
+                        d = 0.0
+                    if convention == "dh":
+                        joint["j2p"], joint["c2j"] = np.eye(4), standard_dh(a, alpha, d, theta)
+                    elif convention == "mdh":
+                        joint["j2p"], joint["c2j"] = craig_dh(a, alpha, d, theta), np.eye(4)
+                    else:
+                        raise AssertionError(f"setFixedTransform convention {convention!r}")
                 else:
-                    joint["j2p"], joint["c2j"] = craig_dh(a, alpha, d, theta), np.eye(4)
-            elif m := re.fullmatch(r"setFixedTransform\(joint, (\[.+\])\);", line):
-                assert joint is not None
-                joint["j2p"], joint["c2j"] = _matrix(m[1]), np.eye(4)
-            elif line == "body.Joint = joint;":
+                    _call(value, "setFixedTransform", 2)
+                    joint["j2p"], joint["c2j"] = _matrix(value.args[1]), np.eye(4)
+            elif target == "body.Joint" and value == Ref("joint"):
                 assert body is not None
                 body["joint"] = joint
-            elif line == "addBody(robot, body, parent);":
+            elif target is None and value == Call("addBody", (Ref("robot"), Ref("body"),
+                                                              Ref("parent"))):
                 assert body is not None and parent is not None and "joint" in body
                 if body["name"] in self.bodies or body["name"] == self.base:
                     raise AssertionError(f"duplicate body name {body['name']}")
@@ -134,11 +159,11 @@ class RigidBodyTree:
                 self.bodies[body["name"]] = body
                 if body["joint"]["type"] != "fixed":
                     self.order.append(body["name"])
-            elif line == "parent = body.Name;":
+            elif target == "parent" and value == Ref("body.Name"):
                 assert body is not None
                 parent = body["name"]
             else:
-                raise AssertionError(f"MATLAB statement not understood: {raw!r}")
+                raise AssertionError(f"MATLAB statement not understood (line {s.line}): {s!r}")
 
     def get_transform(self, q: np.ndarray, body: str) -> np.ndarray:
         """``getTransform(robot, q, body)``: the body's pose in the base."""
@@ -157,45 +182,47 @@ class RigidBodyTree:
 
 
 class SerialLink:
-    """Peter Corke's MATLAB ``SerialLink``, from ``L(i) = Link(...)`` lines and one
-    ``robot = SerialLink(L, ...)``: ``fkine = base . prod A_i . tool`` with standard
-    ``Rz(theta) Tz(d) Tx(a) Rx(alpha)`` or modified ``Rx(alpha) Tx(a) Rz(theta) Tz(d)`` links,
-    the joint variable plus ``offset`` being theta (revolute) or d (prismatic)."""
+    """Peter Corke's MATLAB ``SerialLink``, from ``L(i) = Link(...)`` statements and one
+    ``robot = SerialLink(L, ...)`` (read as MATLAB reads them: :mod:`matlab_reader`):
+    ``fkine = base . prod A_i . tool`` with standard ``Rz(theta) Tz(d) Tx(a) Rx(alpha)`` or
+    modified ``Rx(alpha) Tx(a) Rz(theta) Tz(d)`` links, the joint variable plus ``offset``
+    being theta (revolute) or d (prismatic)."""
 
     def __init__(self, script: str) -> None:
+        parsed = read_matlab(script)
+        self.statements = parsed.statements
+        self.comments = parsed.comments
         self.links: list[dict[str, Any]] = []
         self.base = self.tool = np.eye(4)
-        for raw in script.splitlines():
-            line = raw.split("%", 1)[0].strip()
-            if not line:
-                continue
-            if m := re.fullmatch(r"L\((\d+)\) = Link\((.+)\);", line):
-                assert int(m[1]) == len(self.links) + 1
-                self.links.append(self._link(m[2]))
-            elif m := re.fullmatch(
-                r"robot = SerialLink\(L, 'name', '(.*)', 'base', (\[.+?\]), 'tool', (\[.+?\])\);",
-                line,
-            ):
-                self.base, self.tool = _matrix(m[2]), _matrix(m[3])
+        self.name = ""
+        for s in parsed.statements:
+            if s.target == f"L({len(self.links) + 1})":
+                self.links.append(self._link(_call(s.value, "Link")))
+            elif s.target == "robot":
+                args = _call(s.value, "SerialLink", 7)
+                assert args[0] == Ref("L")
+                assert [_string(args[k], "SerialLink") for k in (1, 3, 5)] == [
+                    "name", "base", "tool"]
+                self.name = _string(args[2], "SerialLink name")
+                self.base, self.tool = _matrix(args[4]), _matrix(args[6])
             else:
-                raise AssertionError(f"MATLAB statement not understood: {raw!r}")
+                raise AssertionError(f"MATLAB statement not understood (line {s.line}): {s!r}")
 
     @staticmethod
-    def _link(args: str) -> dict[str, Any]:
-        tokens = re.findall(r"'[^']*'|\[[^\]]*\]|[-+0-9.eE]+", args)
+    def _link(args: tuple[Any, ...]) -> dict[str, Any]:
         link: dict[str, Any] = {"theta": 0.0, "d": 0.0, "a": 0.0, "alpha": 0.0, "offset": 0.0}
         i = 0
-        while i < len(tokens):
-            key = tokens[i].strip("'")
+        while i < len(args):
+            key = _string(args[i], "Link option")
             if key in ("revolute", "prismatic"):
                 link["kind"] = key
             elif key in ("standard", "modified"):
                 link["flavour"] = key
             elif key in ("theta", "d", "a", "alpha", "offset"):
-                link[key] = float(tokens[i + 1])
+                link[key] = float(args[i + 1])
                 i += 1
             elif key == "qlim":
-                link["qlim"] = _numbers(tokens[i + 1])
+                link["qlim"] = [float(x) for x in np.asarray(args[i + 1], float)]
                 i += 1
             else:
                 raise AssertionError(f"Link option not understood: {key}")
@@ -219,16 +246,18 @@ class SerialLink:
 
 
 def genserkins_links(hal: str) -> list[tuple[float, float, float]]:
-    """``(A-i, ALPHA-i, D-i)`` for i = 0..5 from ``setp genserkins.*`` lines."""
+    """``(A-i, ALPHA-i, D-i)`` for i = 0..5 from the file's commands, read as halcmd reads them
+    (:mod:`hal_reader`); every live line must be a ``setp genserkins.*`` of ours."""
     values: dict[str, float] = {}
-    for raw in hal.splitlines():
-        line = raw.split("#", 1)[0].strip()
-        if not line:
-            continue
-        m = re.fullmatch(r"setp genserkins\.(A|ALPHA|D)-([0-5]) (\S+)", line)
+    for tokens in read_hal(hal).commands:
+        m = re.fullmatch(r"genserkins\.(A|ALPHA|D)-([0-5])", tokens[1]) \
+            if len(tokens) == 3 and tokens[0] == "setp" else None
         if not m:
-            raise AssertionError(f"HAL line not understood: {raw!r}")
-        values[f"{m[1]}-{m[2]}"] = float(m[3])
+            raise AssertionError(f"HAL command not understood: {tokens!r}")
+        key = f"{m[1]}-{m[2]}"
+        if key in values:
+            raise AssertionError(f"HAL parameter {key} set twice")
+        values[key] = float(tokens[2])
     return [(values[f"A-{i}"], values[f"ALPHA-{i}"], values[f"D-{i}"]) for i in range(6)]
 
 

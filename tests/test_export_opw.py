@@ -22,7 +22,7 @@ from urdf2dh.catalog import ROBOTS, our_robots_dir
 from urdf2dh.convert import sample_configurations
 from urdf2dh.errors import ExportError, UsageError
 from urdf2dh.export import Options, export
-from urdf2dh.export.opw import yaml_comment
+from urdf2dh.export.escape import yaml_comment
 from urdf2dh.opw import opw_from_poe
 from urdf2dh.opwmodel import OpwParameters, opw_fk
 from urdf2dh.screws import Joint, PoeModel

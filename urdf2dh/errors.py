@@ -21,7 +21,11 @@ __all__ = [
     "UsageError",
     "VerificationError",
     "choices",
+    "shown",
+    "visible",
 ]
+
+SHOWN_LENGTH = 120  # characters of a name an error message shows
 
 
 class Urdf2DhError(Exception):
@@ -66,10 +70,37 @@ class VerificationError(Urdf2DhError):
     exit_code = 1
 
 
-def choices(names: Iterable[str], limit: int = 12) -> str:
-    """Format a list of valid names for an error message: ``[a, b, c, ... (20 in all)]``."""
-    items = sorted(names)
-    shown = ", ".join(items[:limit])
+def choices(names: Iterable[str], limit: int = 12, quoted: bool = False) -> str:
+    """Format a list of valid names for an error message: ``[a, b, c, ... (20 in all)]``, each
+    as :func:`visible` shows it (``quoted``: as :func:`shown` does, for names from a file)."""
+    items = [(shown if quoted else visible)(n) for n in sorted(names)]
+    listed = ", ".join(items[:limit])
     if len(items) > limit:
-        shown += f", ... ({len(items)} in all)"
-    return f"[{shown}]"
+        listed += f", ... ({len(items)} in all)"
+    return f"[{listed}]"
+
+
+def visible(text: str) -> str:
+    """``text`` on one line, as Python's ``repr`` shows it without the quotes: backslash
+    doubled, and every character Python does not print (line breaks, U+2028/U+2029/U+0085,
+    controls such as ESC, format characters such as the bidi overrides, surrogates) as its
+    Python escape. Other characters, non-ASCII letters included, are kept.
+
+    How names from files appear in comments of generated files and in text for people."""
+    if text.isprintable() and "\\" not in text:
+        return text
+    return "".join(_escape_char(ch) for ch in text)
+
+
+def _escape_char(ch: str) -> str:
+    return "\\\\" if ch == "\\" else ch if ch.isprintable() else repr(ch)[1:-1]
+
+
+def shown(name: str) -> str:
+    """A name from a file as an error message shows it: Python's ``repr`` (quoted, with
+    escapes for line breaks, controls and every other unprintable character, so the message
+    stays one line and shows what the name holds), cut after :data:`SHOWN_LENGTH`
+    characters."""
+    if len(name) <= SHOWN_LENGTH:
+        return repr(name)
+    return f"{name[:SHOWN_LENGTH]!r}... ({len(name)} characters)"

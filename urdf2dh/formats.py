@@ -3,20 +3,23 @@
 ``json`` and ``yaml`` hold the SPEC §2 tree in radians and source units with full precision;
 ``csv`` the same numbers flat; ``text`` and ``markdown`` are for people: angles in degrees,
 helix pitch in length per degree (the units of Wu 2019 Table II), units in the headers.
+Names from the source go through :mod:`urdf2dh.export.escape`: JSON and YAML escape them
+themselves, CSV quotes them, text shows them as :func:`~urdf2dh.errors.visible` text (one line,
+no terminal control characters) and Markdown escapes its markup too.
 ``urdf`` and ``poe`` write the table's kinematics as a model instead: a URDF in metres
 (:mod:`urdf2dh.urdfwrite`) or a POE model file (SPEC §4, YAML).
 """
 
 from __future__ import annotations
 
-import csv
-import io
 import json
 import math
+from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 from .conventions import Params, columns, get
-from .errors import UsageError, choices
+from .errors import UsageError, choices, visible
+from .export.escape import csv_cell, markdown_text
 from .units import DECIMALS
 
 if TYPE_CHECKING:
@@ -99,16 +102,12 @@ def _forms(table: Table) -> bool:
 
 def _csv(table: Table) -> str:
     cols = [name for name, _ in _columns(table)]
-    buf = io.StringIO()
-    w = csv.writer(buf, lineterminator="\n")
-    w.writerow(["row", "joint", "type", "pitch", "scale", *cols])
+    lines = [",".join(["row", "joint", "type", "pitch", "scale", *cols])]
     for label, joint, kind, pitch, scale, params, _ in _records(table):
-        w.writerow(
-            [label, joint, kind, "" if pitch is None else repr(pitch),
-             "" if scale is None else repr(scale)]
-            + [repr(params[c]) if c in params else "" for c in cols]
-        )
-    return buf.getvalue()
+        cells = [label, csv_cell(joint, "joint"), kind, "" if pitch is None else repr(pitch),
+                 "" if scale is None else repr(scale)]
+        lines.append(",".join(cells + [repr(params[c]) if c in params else "" for c in cols]))
+    return "\n".join(lines) + "\n"
 
 
 # --------------------------------------------------------------------------- for people
@@ -138,23 +137,25 @@ def _header(name: str, quantity: str, unit: str) -> str:
     return f"{name} [{unit}]"
 
 
-def _grid(table: Table) -> tuple[list[str], list[list[str]]]:
+def _grid(table: Table, show: Callable[[str], str]) -> tuple[list[str], list[list[str]]]:
+    """Header and rows of the tables for people; names (and the unit) as ``show`` writes
+    them."""
     unit = table.length_unit
     cols = _columns(table)
     show_pitch = any(r.kind == "helical" for r in table.rows)
     show_scale = any(r.scale != 1.0 for r in table.rows)
     show_form = _forms(table)
     head = ["", "joint", "type", *(["form"] if show_form else []),
-            *(_header(name, quantity, unit) for name, quantity in cols)]  # fmt: skip
+            *(_header(name, quantity, show(unit)) for name, quantity in cols)]  # fmt: skip
     if show_pitch:
-        head.append(f"h [{unit}/deg]")
+        head.append(f"h [{show(unit)}/deg]")
     if show_scale:
         head.append("scale")
     body = []
     for label, joint, kind, pitch, scale, params, form in _records(table):
         if not params:
             continue  # a record without parameters (CPC's tool: its shape is the last row's)
-        line = [label, joint, kind, *([form] if show_form else [])]
+        line = [label, show(joint), kind, *([form] if show_form else [])]
         line += [_cell(q, params[c], unit) if c in params else "" for c, q in cols]
         if show_pitch:
             line.append("" if pitch is None else f"{pitch * math.pi / 180.0:.6g}")
@@ -181,14 +182,14 @@ def summary(table: Table) -> list[str]:
     return lines
 
 
-def _title(table: Table) -> str:
-    where = f"{table.base_link} -> {table.tip_link}" if table.base_link else ""
-    src = f" ({table.source})" if table.source and table.source != table.robot else ""
-    return f"{table.robot}{src}  {where}".strip()
+def _title(table: Table, show: Callable[[str], str]) -> str:
+    where = f"{show(table.base_link)} -> {show(table.tip_link)}" if table.base_link else ""
+    src = f" ({show(table.source)})" if table.source and table.source != table.robot else ""
+    return f"{show(table.robot)}{src}  {where}".strip()
 
 
 def _text(table: Table) -> str:
-    head, body = _grid(table)
+    head, body = _grid(table, visible)
     widths = [max(len(r[i]) for r in [head, *body]) for i in range(len(head))]
     texts = 4 if _forms(table) else 3  # label, joint, type (and form) are text
     numeric = [i >= texts for i in range(len(head))]
@@ -198,18 +199,18 @@ def _text(table: Table) -> str:
                                                                           strict=True)]
         return "  ".join(cells).rstrip()
 
-    out = [_title(table), get(table.convention).title, "", fmt(head)]
+    out = [_title(table, visible), get(table.convention).title, "", fmt(head)]
     out.append("  ".join("-" * w for w in widths))
     out.extend(fmt(r) for r in body)
     out.append("")
-    out.extend(summary(table))
+    out.extend(visible(s) for s in summary(table))
     return "\n".join(out) + "\n"
 
 
 def _markdown(table: Table) -> str:
-    head, body = _grid(table)
+    head, body = _grid(table, markdown_text)
     head[0] = "row"
-    out = [f"**{_title(table)}** — {get(table.convention).title}", ""]
+    out = [f"**{_title(table, markdown_text)}** — {get(table.convention).title}", ""]
     out.append("| " + " | ".join(head) + " |")
     texts = 4 if _forms(table) else 3
     out.append("|" + "|".join("---" if i < texts else "---:" for i in range(len(head))) + "|")
@@ -217,5 +218,5 @@ def _markdown(table: Table) -> str:
     lines = summary(table)
     if lines:
         out.append("")
-        out.extend(f"- {s}" for s in lines)
+        out.extend(f"- {markdown_text(s)}" for s in lines)
     return "\n".join(out) + "\n"

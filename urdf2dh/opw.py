@@ -21,6 +21,7 @@ points as OPW's; offsets map the source's zero to OPW's (``theta = sign q - offs
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import replace
 
 import numpy as np
@@ -96,12 +97,13 @@ class _Judge:
             treated = f"opw: axes {self.axes(i, k)} are {off:.3g} rad off {ideal}; treated as such"
             self.made.append((treated, off, 0.0))
 
-    def meet(self, gap: float, fault: str, treated: str) -> None:
-        """Lines ``gap`` apart from meeting: ``fault`` (``{gap}`` filled in) beyond the distance."""
+    def meet(self, gap: float, fault: Callable[[str], str], treated: str) -> None:
+        """Lines ``gap`` apart from meeting: ``fault(gap text)`` beyond the distance (a function,
+        not a format string: the text holds names from the file, braces and all)."""
         if gap > self.distance:
-            gap_text = f"{gap:.4g} {self.unit}"
             raise ExportError(
-                f"opw: {fault.format(gap=gap_text)}; --intersect-distance {self.distance:.3g}"
+                f"opw: {fault(f'{gap:.4g} {self.unit}')}; --intersect-distance "
+                f"{self.distance:.3g}"
             )
         if gap > self.noise_length:
             self.made.append((f"opw: {treated} ({gap:.3g} {self.unit} off)", 0.0, gap))
@@ -154,8 +156,8 @@ def opw_from_poe(
     centre, gap = _meeting_point(p[3:], d[3:])
     judge.meet(
         gap,
-        f"wrist axes do not intersect: offset wrist (axes {judge.axes(3, 4, 5)} pass {{gap}} "
-        "from one common point)",
+        lambda apart: f"wrist axes do not intersect: offset wrist (axes {judge.axes(3, 4, 5)} "
+        f"pass {apart} from one common point)",
         "wrist axes treated as meeting in one point",
     )
     judge.relation(d, 0, 1, False, "not an ortho-parallel base")

@@ -17,6 +17,7 @@ from numpy.typing import NDArray
 
 from . import se3
 from .errors import InputError, UsageError
+from .export.escape import matplotlib_text
 from .table import Table
 
 __all__ = [
@@ -133,8 +134,8 @@ def layout(table: Table, title: str | None = None) -> tuple[Any, list[tuple[Labe
         ends = np.column_stack([p - 0.25 * span * z, p + 0.25 * span * z])
         ax.plot(*ends, color=COLOURS["joint"], linestyle="--", linewidth=1.2,
                 label="joint axes" if i == 0 else None)
-        labels.append(Label(f"J{i + 1} {row.name}", COLOURS["joint"], p + 0.27 * span * z, z,
-                            0.06 * span, 7))  # fmt: skip
+        labels.append(Label(f"J{i + 1} {matplotlib_text(row.name)}", COLOURS["joint"],
+                            p + 0.27 * span * z, z, 0.06 * span, 7))  # fmt: skip
     for k, f in enumerate(frames[:-1]):
         _arrow(ax, labels, f[:3, 3], f[:3, 0], arrow, COLOURS["x"], f"x{k}")
         _arrow(ax, labels, f[:3, 3], f[:3, 2], arrow, COLOURS["z"], f"z{k}")
@@ -145,7 +146,8 @@ def layout(table: Table, title: str | None = None) -> tuple[Any, list[tuple[Labe
     world = np.eye(3)
     for axis, name in enumerate("xyz"):
         _arrow(ax, labels, np.zeros(3), world[axis], 0.7 * arrow, "#000000",
-               f"{name}{'_' + table.base_link if name == 'x' and table.base_link else ''}",
+               f"{name}_{matplotlib_text(table.base_link)}" if name == "x" and table.base_link
+               else name,
                width=0.8)
     centre = (points.max(axis=0) + points.min(axis=0)) / 2
     half = 0.6 * span + arrow
@@ -153,18 +155,19 @@ def layout(table: Table, title: str | None = None) -> tuple[Any, list[tuple[Labe
     ax.set_ylim(centre[1] - half, centre[1] + half)
     ax.set_zlim(centre[2] - half, centre[2] + half)
     ax.set_box_aspect((1, 1, 1))
-    unit = table.length_unit
+    unit = matplotlib_text(table.length_unit)
     ax.set_xlabel(f"x [{unit}]")
     ax.set_ylabel(f"y [{unit}]")
     ax.set_zlabel(f"z [{unit}]")
     name = table.spec.label
-    ax.set_title(title or f"{table.robot or 'robot'}: {name} frames at home\n"
-                 f"{table.base_link} -> {table.tip_link}" if table.base_link else
-                 f"{table.robot or 'robot'}: {name} frames at home", fontsize=10)
+    robot = matplotlib_text(table.robot or "robot")
+    chain = f"{matplotlib_text(table.base_link)} -> {matplotlib_text(table.tip_link)}"
+    ax.set_title(title or f"{robot}: {name} frames at home\n{chain}" if table.base_link else
+                 f"{robot}: {name} frames at home", fontsize=10, usetex=False)
     ax.legend(loc="upper left", fontsize=8)
     placed = place(ax, labels)
     for label, position, _ in placed:
-        ax.text(*position, label.text, color=label.colour, fontsize=label.size)
+        ax.text(*position, label.text, color=label.colour, fontsize=label.size, usetex=False)
     return fig, placed
 
 

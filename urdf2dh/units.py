@@ -6,7 +6,7 @@ file's ``length_unit`` otherwise) until a target asks for another.
 
 from __future__ import annotations
 
-from .errors import InputError, choices
+from .errors import InputError, choices, shown
 
 __all__ = ["DECIMALS", "METRES_PER_UNIT", "factor", "metres_per"]
 
@@ -22,7 +22,7 @@ def metres_per(unit: str) -> float:
     known = ALIASES.get(unit, unit)
     if known not in METRES_PER_UNIT:
         raise InputError(
-            f"unknown length unit '{unit}'; known units are {choices(METRES_PER_UNIT)}"
+            f"unknown length unit {shown(unit)}; known units are {choices(METRES_PER_UNIT)}"
         )
     return METRES_PER_UNIT[known]
 

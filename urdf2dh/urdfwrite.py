@@ -16,12 +16,13 @@ URDF has no helical joint and no joint scale:
 from __future__ import annotations
 
 import math
-from xml.sax.saxutils import escape, quoteattr
 
 import numpy as np
 from numpy.typing import NDArray
 
 from . import __version__, se3, units
+from .errors import shown
+from .export.escape import xml_attribute, xml_comment
 from .table import Table
 
 __all__ = ["table_to_urdf"]
@@ -35,6 +36,14 @@ def _origin(t: NDArray[np.float64]) -> str:
     xyz = " ".join(_num(v) for v in t[:3, 3])
     rpy = " ".join(_num(v) for v in se3.rpy(t))
     return f'<origin xyz="{xyz}" rpy="{rpy}"/>'
+
+
+def _joint(name: str) -> str:
+    return xml_attribute(name, "joint")
+
+
+def _link(name: str) -> str:
+    return xml_attribute(name, "link")
 
 
 def _unique(name: str, taken: set[str]) -> str:
@@ -67,7 +76,7 @@ def table_to_urdf(table: Table) -> tuple[str, list[str]]:
         axis = f'<axis xyz="0 0 {_num(sign)}"/>'
         if abs(abs(scale) - 1.0) > 1e-15:
             notes.append(
-                f"joint '{row.name}' moves by s = {scale:.10g} q: its URDF position is "
+                f"joint {shown(row.name)} moves by s = {scale:.10g} q: its URDF position is "
                 f"{abs(scale):.10g} q (URDF joints have no scale)"
             )
         limit = ""
@@ -85,14 +94,14 @@ def table_to_urdf(table: Table) -> tuple[str, list[str]]:
                 limit = (f'<limit lower="{_num(-math.pi)}" upper="{_num(math.pi)}" '
                          'effort="0" velocity="0"/>')
                 notes.append(
-                    f"helical joint '{row.name}': limits unknown, [-pi, pi] written (URDF "
+                    f"helical joint {shown(row.name)}: limits unknown, [-pi, pi] written (URDF "
                     "revolute joints need limits, and mimic joints cannot follow continuous ones)"
                 )
         else:
             jtype = "revolute" if limit else "continuous"
         joints.append(
-            f'  <joint name={quoteattr(row.name)} type="{jtype}">\n'
-            f'    <parent link={quoteattr(parent)}/><child link={quoteattr(child)}/>\n'
+            f'  <joint name={_joint(row.name)} type="{jtype}">\n'
+            f"    <parent link={_link(parent)}/><child link={_link(child)}/>\n"
             f"    {_origin(se3.inv(prev) @ frame)}\n    {axis}\n"
             + (f"    {limit}\n" if limit else "") + "  </joint>"
         )
@@ -101,18 +110,18 @@ def table_to_urdf(table: Table) -> tuple[str, list[str]]:
         if row.kind == "helical":
             lead = _unique(f"{row.name}_lead_link", taken)
             joints.append(
-                f'  <joint name={quoteattr(row.name + "_lead")} type="prismatic">\n'
-                f'    <parent link={quoteattr(parent)}/><child link={quoteattr(lead)}/>\n'
+                f'  <joint name={_joint(row.name + "_lead")} type="prismatic">\n'
+                f"    <parent link={_link(parent)}/><child link={_link(lead)}/>\n"
                 f'    <origin xyz="0 0 0" rpy="0 0 0"/>\n    {axis}\n'
                 f'    <limit effort="0" velocity="0"/>\n'
-                f'    <mimic joint={quoteattr(row.name)} multiplier="{_num(metres * row.pitch)}" '
+                f'    <mimic joint={_joint(row.name)} multiplier="{_num(metres * row.pitch)}" '
                 'offset="0"/>\n  </joint>'
             )
             links.append(lead)
             parent = lead
     joints.append(
-        f'  <joint name={quoteattr(tip_name + "_joint")} type="fixed">\n'
-        f'    <parent link={quoteattr(parent)}/><child link={quoteattr(tip_name)}/>\n'
+        f'  <joint name={_joint(tip_name + "_joint")} type="fixed">\n'
+        f"    <parent link={_link(parent)}/><child link={_link(tip_name)}/>\n"
         f"    {_origin(se3.inv(prev) @ frames[-1])}\n  </joint>"
     )
     links.append(tip_name)
@@ -125,9 +134,9 @@ def table_to_urdf(table: Table) -> tuple[str, list[str]]:
     ]
     text = (
         '<?xml version="1.0"?>\n'
-        + "".join(f"<!-- {escape(h).replace('--', '- -')} -->\n" for h in header)
-        + f"<robot name={quoteattr(table.robot or 'robot')}>\n"
-        + "".join(f"  <link name={quoteattr(n)}/>\n" for n in links)
+        + "".join(xml_comment(h) + "\n" for h in header)
+        + f"<robot name={xml_attribute(table.robot or 'robot', 'robot name')}>\n"
+        + "".join(f"  <link name={_link(n)}/>\n" for n in links)
         + "\n".join(joints)
         + "\n</robot>\n"
     )

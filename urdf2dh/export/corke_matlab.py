@@ -19,6 +19,7 @@ from .common import (
     matlab_matrix,
     require,
 )
+from .escape import matlab_comment, matlab_string
 
 __all__ = ["render"]
 
@@ -39,17 +40,17 @@ def _link(index: int, row: Row, convention: str, numbers: Numbers) -> str:
         lim = numbers.position(row.kind)
         args.append(f"'qlim', [{lim(row.lower)} {lim(row.upper)}]")
     args.append(f"'{FLAVOURS[convention]}'")
-    return f"L({index}) = Link({', '.join(args)});  % {row.name}"
+    return f"L({index}) = Link({', '.join(args)});  {matlab_comment(row.name)}"
 
 
 def render(table: Table, opts: Options) -> str:
     """A MATLAB script building ``robot``, a ``SerialLink`` of the table."""
     require(table, "corke-matlab", ("dh", "mdh"))
     numbers = Numbers.of(table, opts.tol)
-    out = [f"% {line}" for line in header(table, "Robotics Toolbox for MATLAB SerialLink")]
+    out = [matlab_comment(line) for line in header(table, "Robotics Toolbox for MATLAB SerialLink")]
     out += [_link(i, r, table.convention, numbers) for i, r in enumerate(table.rows, start=1)]
-    name = (table.robot or "robot").replace("'", "''")
+    name = matlab_string(table.robot or "robot", "'")
     base = matlab_matrix(table.base_matrix, numbers)
     tool = matlab_matrix(table.tool_matrix, numbers)
-    out.append(f"robot = SerialLink(L, 'name', '{name}', 'base', {base}, 'tool', {tool});")
+    out.append(f"robot = SerialLink(L, 'name', {name}, 'base', {base}, 'tool', {tool});")
     return "\n".join(out) + "\n"

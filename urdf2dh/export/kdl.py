@@ -26,6 +26,7 @@ from .common import (
     header,
     require,
 )
+from .escape import python_docstring, python_string
 
 __all__ = ["render"]
 
@@ -42,8 +43,8 @@ def _frame(kind: str, p: dict[str, Any], numbers: Numbers) -> str:
 
 
 def _segment(name: str, joint_type: str, frame: str) -> str:
-    joint = f"kdl.Joint({name!r}, kdl.Joint.{joint_type})"
-    return f"    chain.addSegment(kdl.Segment({name!r}, {joint}, {frame}))"
+    joint = f"kdl.Joint({python_string(name)}, kdl.Joint.{joint_type})"
+    return f"    chain.addSegment(kdl.Segment({python_string(name)}, {joint}, {frame}))"
 
 
 def render(table: Table, opts: Options) -> str:
@@ -70,10 +71,10 @@ def render(table: Table, opts: Options) -> str:
             lines.append(_segment(row.name, JOINT_TYPES[row.kind], frame))
     doc = header(table, "PyKDL Chain")
     doc.append(f"Joints in chain order: {', '.join(r.name for r in table.rows)}.")
-    out = ['"""' + "\n".join(doc) + '\n"""', "", "import PyKDL as kdl", "", ""]
+    out = [python_docstring(doc, block=True), "", "import PyKDL as kdl", "", ""]
     out.append("def build_chain() -> kdl.Chain:")
-    out.append(f'    """{table.base_link or "base"} -> {table.tip_link or "tool"} as a KDL chain'
-               f' of {table.n} joints."""')
+    out.append("    " + python_docstring([f"{base_name} -> {tip_name} as a KDL chain of "
+                                          f"{table.n} joints."]))
     out.append("    chain = kdl.Chain()")
     out.extend(lines)
     out.append("    return chain")

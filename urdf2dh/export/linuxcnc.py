@@ -27,7 +27,7 @@ import math
 import numpy as np
 
 from .. import units
-from ..errors import ExportError
+from ..errors import ExportError, shown, visible
 from ..se3 import dh_matrix
 from ..table import Table
 from .common import (
@@ -39,6 +39,7 @@ from .common import (
     require,
     require_convention,
 )
+from .escape import hal_comment
 
 __all__ = ["JOINTS", "UNITS", "render"]
 
@@ -54,7 +55,7 @@ def _links(table: Table, opts: Options) -> list[tuple[float, float, float]]:
     """``(a, alpha, d)`` per genserkins link in the table's unit, base and tool folded in."""
     tol = opts.tol
     rows = [floats(r.params) for r in table.rows]
-    offsets = [f"'{r.name}' ({math.degrees(p['theta']):.6g} deg)"
+    offsets = [f"{shown(r.name)} ({math.degrees(p['theta']):.6g} deg)"
                for r, p in zip(table.rows, rows, strict=True)
                if abs(p["theta"]) > tol.check_rotation]
     if offsets:
@@ -70,15 +71,16 @@ def _links(table: Table, opts: Options) -> list[tuple[float, float, float]]:
     elif not base_moves and close_to(table, dh_matrix(0.0, 0.0, alpha1, a1), np.eye(4), tol):
         links[0] = (0.0, 0.0, d1 + base_d)  # Tz(d_B) slides along joint 1's axis into D-0
     else:
-        raise _refuse(table, f"has no base transform, and the base frame '{table.base_link}' "
+        raise _refuse(table, f"has no base transform, and the base frame {shown(table.base_link)} "
                       f"is turned {math.degrees(base['theta']):.6g} deg about joint 1's "
                       "axis from its zero position (or offset off it); choose a base link whose "
                       "x axis lies along joint 1's zero direction")
     if not close_to(table, table.tool_matrix, dh_matrix(0.0, tool["d"], 0.0, 0.0), tol):
         raise _refuse(table, f"has no tool transform beyond a length along the last axis, and "
-                      f"'{table.tip_link}' is turned or offset from it (tool alpha = "
+                      f"{shown(table.tip_link)} is turned or offset from it (tool alpha = "
                       f"{math.degrees(tool['alpha']):.6g} deg, a = {tool['a']:.6g} "
-                      f"{table.length_unit}, theta = {math.degrees(tool['theta']):.6g} deg); "
+                      f"{visible(table.length_unit)}, theta = "
+                      f"{math.degrees(tool['theta']):.6g} deg); "
                       "choose a tip link on the last joint's axis with the same x")
     a, alpha, d = links[-1]
     links[-1] = (a, alpha, d + tool["d"])
@@ -96,19 +98,20 @@ def render(table: Table, opts: Options) -> str:
         raise ExportError(f"linuxcnc: --units must be mm or inch, not '{opts.units}'")
     links = _links(table, opts)
     numbers = Numbers.of(table, opts.tol, units.factor(table.length_unit, unit))
-    out = [f"# {line}" for line in header(table, "LinuxCNC genserkins parameters")]
-    out.append(f"# genserkins link i = Rx(ALPHA-i) Tx(A-i) Rz(joint i) Tz(D-i) (Craig); A and D "
-               f"in {unit}, ALPHA in radians,")
-    out.append("# joint positions in degrees. The base height is in D-0, the tool length in "
-               f"D-{len(links) - 1}.")
+    notes = header(table, "LinuxCNC genserkins parameters")
+    notes.append(f"genserkins link i = Rx(ALPHA-i) Tx(A-i) Rz(joint i) Tz(D-i) (Craig); A and D "
+                 f"in {unit}, ALPHA in radians,")
+    notes.append("joint positions in degrees. The base height is in D-0, the tool length in "
+                 f"D-{len(links) - 1}.")
     for i, row in enumerate(table.rows):
         lim = ""
         if row.lower is not None and row.upper is not None:
             lim = (f", limits {math.degrees(row.lower):.6g} .. {math.degrees(row.upper):.6g} "
                    "deg")
-        out.append(f"# joint {i}: {row.name}{lim}")
+        notes.append(f"joint {i}: {row.name}{lim}")
     for i in range(table.n, JOINTS):
-        out.append(f"# joint {i}: none (a zero link; hold this joint at 0)")
+        notes.append(f"joint {i}: none (a zero link; hold this joint at 0)")
+    out = [line for note in notes for line in hal_comment(note)]
     links += [(0.0, 0.0, 0.0)] * (JOINTS - len(links))
     for i, (a, alpha, d) in enumerate(links):
         out.append(f"setp genserkins.A-{i} {numbers.lin(a)}")

@@ -30,14 +30,15 @@ from .common import (
     matlab_matrix,
     require,
 )
+from .escape import matlab_comment, matlab_string
 
 __all__ = ["render"]
 
 
 def _fixed_body(name: str, tform: str) -> list[str]:
     return [
-        f'body = rigidBody("{name}");',
-        f'joint = rigidBodyJoint("{name}_fixed", "fixed");',
+        f"body = rigidBody({matlab_string(name)});",
+        f'joint = rigidBodyJoint({matlab_string(name + "_fixed")}, "fixed");',
         f"setFixedTransform(joint, {tform});",
         "body.Joint = joint;",
         "addBody(robot, body, parent);",
@@ -69,7 +70,7 @@ def _joint_body(index: int, row: Row, convention: str, numbers: Numbers) -> list
     d = "0" if row.kind == "prismatic" else numbers.lin(p["d"])
     lines = [
         f'body = rigidBody("body{index}");',
-        f'joint = rigidBodyJoint("{row.name}", "{row.kind}");',
+        f"joint = rigidBodyJoint({matlab_string(row.name)}, {matlab_string(row.kind)});",
     ]
     if row.lower is not None and row.upper is not None:
         lim = numbers.position(row.kind)
@@ -90,13 +91,13 @@ def render(table: Table, opts: Options) -> str:
     """A MATLAB script building ``robot``, a ``rigidBodyTree`` of the table."""
     require(table, "matlab", ("dh", "mdh"))
     numbers = Numbers.of(table, opts.tol)
-    out = [f"% {line}" for line in header(table, "MATLAB rigidBodyTree")]
-    out.append(f'% setFixedTransform(..., "{table.convention}") ignores theta of revolute joints '
-               "(d of prismatic ones): those")
-    out.append("% offsets sit in fixed bodies of their own. Configuration: one value per joint, "
-               "in chain order.")
+    out = [matlab_comment(line) for line in header(table, "MATLAB rigidBodyTree")]
+    out.append(matlab_comment(f'setFixedTransform(..., "{table.convention}") ignores theta of '
+                              "revolute joints (d of prismatic ones): those"))
+    out.append(matlab_comment("offsets sit in fixed bodies of their own. Configuration: one "
+                              "value per joint, in chain order."))
     out.append('robot = rigidBodyTree("DataFormat", "row");')
-    out.append(f'robot.BaseName = "{table.base_link or "base_link"}";')
+    out.append(f"robot.BaseName = {matlab_string(table.base_link or 'base_link')};")
     out.append("parent = robot.BaseName;")
     out.append("")
     out += _fixed_body("dh_base", matlab_matrix(table.base_matrix, numbers))

@@ -17,7 +17,8 @@ and ``rpy`` (radians, URDF's ``R = Rz(yaw) Ry(pitch) Rx(roll)``), so that
 ``pose(q) = B . F(theta) . T``. Both are the identity when the base link's z lies on axis 1
 and the tip sits on axis 6 facing along it, as in the support packages.
 
-Names from the source appear only in comments, each line made safe by :func:`yaml_comment`.
+Names from the source appear only in comments, each line made safe by
+:func:`~urdf2dh.export.escape.yaml_comment`.
 """
 
 from __future__ import annotations
@@ -31,17 +32,9 @@ from ..screws import PoeModel
 from ..se3 import rpy
 from ..table import Table
 from .common import Numbers, Options, yaml_float
+from .escape import yaml_comment
 
-__all__ = ["render", "render_model", "yaml_comment"]
-
-
-def yaml_comment(text: str) -> str:
-    """``text`` as one YAML comment line: every character that is not printable (line breaks,
-    controls, U+2028, ...) written as its Python escape, so a name from a file can neither end
-    the comment nor start YAML of its own (``#`` and quotes are harmless inside a comment).
-    The one place a shared YAML escaping function would replace."""
-    safe = "".join(c if c.isprintable() else repr(c)[1:-1] for c in text)
-    return f"# {safe}".rstrip()
+__all__ = ["render", "render_model"]
 
 
 def _transform(key: str, m: np.ndarray, numbers: Numbers) -> list[str]:
@@ -64,7 +57,7 @@ def _header(model: PoeModel, p: OpwParameters, metres: float) -> list[str]:
         "  F = Rz(t1) T(a1, 0, c1) Ry(t2) Tz(c2) Ry(t3) T(a2, b, c3) Rz(t4) Ry(t5) Rz(t6) Tz(c4),",
         "with B = urdf2dh_base_transform and T = urdf2dh_tool_transform below (OPW holds neither).",
         "Lengths in metres, angles in radians.",
-        "Joints: " + ", ".join(f"{i} {j.name!r}" for i, j in enumerate(model.joints, 1)) + ".",
+        "Joints: " + ", ".join(f"{i} '{j.name}'" for i, j in enumerate(model.joints, 1)) + ".",
         f"check: FK against the source at {samples} configurations: max position error "
         f"{pos * metres:.2g} m, max rotation error {rot:.2g} rad",
     ]

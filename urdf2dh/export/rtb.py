@@ -21,6 +21,7 @@ from .common import (
     header,
     require,
 )
+from .escape import python_docstring, python_string
 
 __all__ = ["render"]
 
@@ -62,7 +63,7 @@ def _link(table: Table, row: Row, numbers: Numbers) -> str:
     if row.lower is not None and row.upper is not None:
         lim = numbers.position(row.kind)
         args.append(f"qlim=[{lim(row.lower)}, {lim(row.upper)}]")
-    args.append(f"name={row.name!r}")
+    args.append(f"name={python_string(row.name)}")
     return f"        {cls}({', '.join(args)}),"
 
 
@@ -72,7 +73,7 @@ def render(table: Table, opts: Options) -> str:
     numbers = Numbers.of(table, opts.tol)
     base, tool = _motions(table.base), _motions(table.tool)
     classes = sorted({CLASSES[(table.convention, r.kind)] for r in table.rows})
-    out = ['"""' + "\n".join(header(table, "roboticstoolbox-python DHRobot")) + '\n"""', ""]
+    out = [python_docstring(header(table, "roboticstoolbox-python DHRobot"), block=True), ""]
     out.append(f"from roboticstoolbox import DHRobot, {', '.join(classes)}")
     out.append("from spatialmath import SE3")
     out.append("")
@@ -80,7 +81,7 @@ def render(table: Table, opts: Options) -> str:
     out.append("    [")
     out.extend(_link(table, r, numbers) for r in table.rows)
     out.append("    ],")
-    out.append(f"    name={(table.robot or 'robot')!r},")
+    out.append(f"    name={python_string(table.robot or 'robot')},")
     out.append(f"    base={_se3(base, numbers)},")
     out.append(f"    tool={_se3(tool, numbers)},")
     out.append(")")

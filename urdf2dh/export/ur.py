@@ -48,7 +48,7 @@ from numpy.typing import NDArray
 
 from .. import units
 from ..conventions import Params
-from ..errors import ExportError
+from ..errors import ExportError, shown, visible
 from ..se3 import dh_matrix, rot_z, rpy
 from ..table import Table
 from ..tolerances import HASH_DECIMALS
@@ -62,6 +62,7 @@ from .common import (
     require_convention,
     yaml_float,
 )
+from .escape import yaml_comment
 
 __all__ = [
     "LINKS",
@@ -136,16 +137,17 @@ def _check(table: Table, opts: Options) -> None:
     if not close_to(table, table.base_matrix, _MACRO_BASE, opts.tol):
         raise ExportError(
             f"ur: ur_macro.xacro puts UR's base frame at Rz(pi) from base_link, but this "
-            f"chain's D-H frame 0 is elsewhere from '{table.base_link}' (base params "
+            f"chain's D-H frame 0 is elsewhere from {shown(table.base_link)} (base params "
             f"{_params(table.base)}); export from the UR description's base_link"
         )
     last = floats(table.rows[-1].params)
     flange = dh_matrix(0.0, 0.0, last["alpha"], last["a"]) @ table.tool_matrix
     if not close_to(table, flange, np.eye(4), opts.tol):
         raise ExportError(
-            f"ur: ur_macro.xacro puts tool0 on D-H frame 6 (UR's flange), but '{table.tip_link}'"
-            f" is elsewhere (last row alpha = {math.degrees(last['alpha']):.6g} deg, a = "
-            f"{last['a']:.6g} {table.length_unit}; tool "
+            f"ur: ur_macro.xacro puts tool0 on D-H frame 6 (UR's flange), but "
+            f"{shown(table.tip_link)} is elsewhere (last row alpha = "
+            f"{math.degrees(last['alpha']):.6g} deg, a = {last['a']:.6g} "
+            f"{visible(table.length_unit)}; tool "
             f"{_params(table.tool)}); export to the UR description's tool0"
         )
 
@@ -172,13 +174,15 @@ def render(table: Table, opts: Options) -> str:
     """``default_kinematics.yaml`` for ``ur_macro.xacro`` (see the module docstring)."""
     _check(table, opts)
     rows = hashed_rows(table)
-    lines = [f"# {line}" for line in header(table, "UR default_kinematics.yaml")]
-    lines.append("# Joint origins for Universal_Robots_ROS2_Description's ur_macro.xacro (metres,")
-    lines.append("# URDF rpy). The hash is the UR client library's, of this D-H table (rounded to")
-    lines.append(f"# {HASH_DECIMALS} decimals; theta, d, a, alpha per joint):")
-    width = max(len(r.name) for r in table.rows)
+    notes = header(table, "UR default_kinematics.yaml")
+    notes.append("Joint origins for Universal_Robots_ROS2_Description's ur_macro.xacro (metres,")
+    notes.append("URDF rpy). The hash is the UR client library's, of this D-H table (rounded to")
+    notes.append(f"{HASH_DECIMALS} decimals; theta, d, a, alpha per joint):")
+    width = max(len(visible(r.name)) for r in table.rows)
     for r, values in zip(table.rows, rows, strict=True):
-        lines.append(f"#   {r.name:<{width}}  " + "  ".join(f"{v:>10g}" for v in values))
+        pad = " " * (width - len(visible(r.name)))
+        notes.append(f"  {r.name}{pad}  " + "  ".join(f"{v:>10g}" for v in values))
+    lines = [yaml_comment(note) for note in notes]
     lines.append("kinematics:")
     metres = units.factor(table.length_unit, "m")
     numbers = Numbers(table.size * metres, opts.tol.noise)  # origins are in metres

@@ -29,7 +29,7 @@ _IDENTITY.setflags(write=False)
 
 def names(items: Iterable[str], limit: int = 12) -> str:
     """Names from a file, listed for a message with ``repr``-style escapes (one line)."""
-    return choices((repr(item) for item in items), limit)
+    return choices(items, limit, quoted=True)
 
 
 def _read_only(a: Mat) -> Mat:

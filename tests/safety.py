@@ -1,0 +1,309 @@
+"""Is a file written for a hostile robot safe? Compared with its clean twin, in its language.
+
+A file is safe when it parses in its language (as its consumer reads it) into exactly the
+structure the clean twin's file has (statements, assignments, keys, live lines, elements, table
+cells), and every place that held a placeholder name holds the hostile name: exactly where the
+language has string values (Python, MATLAB, XML attributes, JSON, YAML, CSV cells, Pinocchio's
+model), or as :func:`urdf2dh.errors.visible` shows it where it has none (comments, text and
+Markdown for people). :func:`judge` raises :class:`Unsafe` with the reason otherwise.
+"""
+
+from __future__ import annotations
+
+import ast
+import csv
+import io
+import json
+import re
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+import yaml
+from hal_reader import HalSyntaxError, read_hal
+from lxml import etree
+from matlab_reader import Call, Chars, MatlabSyntaxError, Str, read_matlab
+
+from urdf2dh.errors import visible
+
+LANGUAGE = {
+    "rtb": "python",
+    "kdl": "python",
+    "matlab": "matlab",
+    "corke-matlab": "matlab",
+    "linuxcnc": "hal",
+    "ur": "yaml-comments",
+    "urdf": "xml",
+    "json": "json",
+    "yaml": "yaml",
+    "poe": "yaml",
+    "csv": "csv",
+    "text": "text",
+    "markdown": "markdown",
+    "opw": "yaml-comments",  # main's OPW target: YAML, names in comments only
+}
+FORMULA = ("=", "+", "-", "@", "\t", "\r")  # CSV: cells a spreadsheet reads as formulas
+# the self-check's measured errors (round-off of this machine; the unit may hold line breaks)
+CHECK = re.compile(r"(check: FK against the source at \d+ configurations:).*?error \S+ rad", re.S)
+
+
+class Unsafe(AssertionError):
+    """The hostile file differs from its clean twin beyond the names."""
+
+
+def substitute(text: str, names: dict[str, str], show: Callable[[str], str] = str) -> str:
+    """``text`` with every placeholder replaced by its name as ``show`` writes it."""
+    if not names:
+        return text
+    pattern = "|".join(re.escape(k) for k in sorted(names, key=len, reverse=True))
+    return re.sub(pattern, lambda m: show(names[m[0]]), text)
+
+
+def _same(got: Any, clean: Any, names: dict[str, str], where: str) -> None:
+    """Trees equal but for the names in string leaves."""
+    if isinstance(clean, dict):
+        if not isinstance(got, dict) or list(got) != [substitute(k, names) for k in clean]:
+            raise Unsafe(
+                f"{where}: keys {list(got) if isinstance(got, dict) else got!r}, "
+                f"clean {list(clean)!r}"
+            )
+        for (k, v), g in zip(clean.items(), got.values(), strict=True):
+            _same(g, v, names, f"{where}.{k}")
+    elif isinstance(clean, list | tuple):
+        if not isinstance(got, list | tuple) or len(got) != len(clean):
+            raise Unsafe(f"{where}: {got!r} is not a list like {clean!r}")
+        for i, (g, c) in enumerate(zip(got, clean, strict=True)):
+            _same(g, c, names, f"{where}[{i}]")
+    elif isinstance(clean, str):
+        if got != substitute(clean, names):
+            raise Unsafe(f"{where}: {got!r}, expected {substitute(clean, names)!r}")
+    elif got != clean or type(got) is not type(clean):
+        raise Unsafe(f"{where}: {got!r} != clean {clean!r}")
+
+
+def _comments(
+    got: list[str], clean: list[str], names: dict[str, str], where: str, squeeze: bool = False
+) -> None:
+    """Comments equal to the clean ones with the names as :func:`visible` shows them (with runs
+    of spaces as one where ``squeeze``: columns padded to the names' widths)."""
+
+    def norm(text: str) -> str:
+        text = CHECK.sub(r"\1", text)
+        return re.sub(" +", " ", text) if squeeze else text
+
+    want = [norm(substitute(c, names, visible)) for c in clean]
+    got = [norm(g) for g in got]
+    if got != want:
+        bad = next(
+            i for i, (g, w) in enumerate(zip([*got, ""], [*want, ""], strict=False)) if g != w
+        )
+        raise Unsafe(
+            f"{where} comment {bad}: {got[bad : bad + 1]!r}, expected {want[bad : bad + 1]!r}"
+        )
+
+
+# --------------------------------------------------------------------------- per language
+
+
+def _python(text: str, clean: str, names: dict[str, str]) -> None:
+    trees = []
+    for t in (text, clean):
+        try:
+            tree = ast.parse(t)
+        except SyntaxError as e:
+            raise Unsafe(f"Python does not parse: {e}") from e
+        strings = []
+        for node in ast.walk(tree):
+            if isinstance(node, ast.Constant) and isinstance(node.value, str):
+                strings.append(node.value)
+                node.value = "S"
+        trees.append((ast.dump(tree), strings))
+    (shape, strings), (clean_shape, clean_strings) = trees
+    if shape != clean_shape:
+        raise Unsafe("Python statements differ from the clean file's")
+    _same(
+        [CHECK.sub(r"\1", s) for s in strings],
+        [CHECK.sub(r"\1", s) for s in clean_strings],
+        names,
+        "python strings",
+    )
+
+
+def _matlab_values(value: Any, strings: list[str]) -> Any:
+    if isinstance(value, Str | Chars):
+        strings.append(value.value)
+        return type(value)("S")
+    if isinstance(value, Call):
+        return Call(value.name, tuple(_matlab_values(a, strings) for a in value.args))
+    if isinstance(value, np.ndarray):
+        return (value.shape, tuple(value.ravel().tolist()))
+    return value
+
+
+def _matlab(text: str, clean: str, names: dict[str, str]) -> None:
+    got, want = read_matlab(text), read_matlab(clean)
+    for script, shapes, strings in (
+        (got, g_shapes := [], g_strings := []),
+        (want, w_shapes := [], w_strings := []),
+    ):
+        for s in script.statements:
+            shapes.append((s.target, _matlab_values(s.value, strings)))
+    if g_shapes != w_shapes:
+        raise Unsafe("MATLAB statements differ from the clean file's")
+    _same(g_strings, w_strings, names, "MATLAB strings")
+    _comments(got.comments, want.comments, names, "MATLAB")
+
+
+def _hal(text: str, clean: str, names: dict[str, str]) -> None:
+    got, want = read_hal(text), read_hal(clean)
+    if got.commands != want.commands:
+        raise Unsafe(f"HAL live lines {got.commands!r} differ from the clean file's")
+    joined = "".join(c[1:] if c.startswith(" ") else c for c in got.comments)
+    clean_joined = "".join(c[1:] for c in want.comments)
+    _comments([joined], [clean_joined], names, "HAL")
+
+
+def _yaml_comments(text: str, clean: str, names: dict[str, str]) -> None:
+    try:
+        tree = yaml.safe_load(text)
+    except yaml.YAMLError as e:
+        raise Unsafe(f"YAML does not load: {e}") from e
+    if tree != yaml.safe_load(clean):
+        raise Unsafe("YAML keys or values differ from the clean file's")
+    lines, clean_lines = text.split("\n"), clean.split("\n")
+    if len(lines) != len(clean_lines):
+        raise Unsafe("the YAML file has another number of lines than the clean one")
+    _comments(
+        [x for x in lines if x.startswith("#")],
+        [x for x in clean_lines if x.startswith("#")],
+        names,
+        "YAML",
+        squeeze=True,
+    )
+
+
+def _tree(text: str, clean: str, names: dict[str, str], load: Callable[[str], Any]) -> None:
+    try:
+        got = load(text)
+    except Exception as e:
+        raise Unsafe(f"does not load: {type(e).__name__}: {e}") from e
+    _same(_mask(got), _mask(load(clean)), names, "tree")
+
+
+def _mask(tree: Any) -> Any:
+    if isinstance(tree, dict):
+        return {k: ("..." if k == "check" else _mask(v)) for k, v in tree.items()}
+    if isinstance(tree, list):
+        return [_mask(v) for v in tree]
+    return tree
+
+
+def _xml(text: str, clean: str, names: dict[str, str]) -> None:
+    try:
+        root = etree.fromstring(text.encode("utf-8"))
+    except etree.XMLSyntaxError as e:
+        raise Unsafe(f"XML does not parse: {e}") from e
+    clean_root = etree.fromstring(clean.encode("utf-8"))
+    got_nodes = list(root.itersiblings(preceding=True))[::-1] + list(root.iter())
+    want_nodes = list(clean_root.itersiblings(preceding=True))[::-1] + list(clean_root.iter())
+    if len(got_nodes) != len(want_nodes):
+        raise Unsafe("XML has other nodes than the clean file")
+    for g, w in zip(got_nodes, want_nodes, strict=True):
+        if isinstance(w, etree._Comment):
+            want = re.sub("-(?=-)", "- ", substitute(w.text, names, visible))
+            if not isinstance(g, etree._Comment) or g.text != want:
+                raise Unsafe(f"XML comment {g.text!r}, expected {want!r}")
+            continue
+        if g.tag != w.tag or list(g.attrib) != list(w.attrib):
+            raise Unsafe(f"XML element {g.tag} {dict(g.attrib)} unlike {w.tag} {dict(w.attrib)}")
+        _same(dict(g.attrib), dict(w.attrib), names, f"<{g.tag}>")
+    import pinocchio as pin
+
+    model, clean_model = pin.buildModelFromXML(text), pin.buildModelFromXML(clean)
+    _same(list(model.names), list(clean_model.names), names, "Pinocchio joint names")
+    _same(model.name, clean_model.name, names, "Pinocchio model name")
+
+
+def _csv(text: str, clean: str, names: dict[str, str]) -> None:
+    rows = list(csv.reader(io.StringIO(text, newline="")))
+    clean_rows = list(csv.reader(io.StringIO(clean, newline="")))
+    if [len(r) for r in rows] != [len(r) for r in clean_rows]:
+        raise Unsafe("CSV rows or cells differ from the clean file's")
+    for row, clean_row in zip(rows, clean_rows, strict=True):
+        for cell, want in zip(row, clean_row, strict=True):
+            if want in names:
+                name = names[want]
+                want = "'" + name if name.startswith(FORMULA) else name
+            if cell != want:
+                raise Unsafe(f"CSV cell {cell!r}, expected {want!r}")
+
+
+def _text(text: str, clean: str, names: dict[str, str]) -> None:
+    lines, clean_lines = text.split("\n"), clean.split("\n")
+    if len(lines) != len(clean_lines):
+        raise Unsafe("the text has another number of lines than the clean one")
+    if not all(line.isprintable() for line in lines):
+        raise Unsafe("the text holds unprintable characters (terminal controls)")
+    for line, want in zip(lines, clean_lines, strict=True):
+        if want and set(want) <= {"-", " "}:  # the rule under the header: as wide as columns
+            if len(line.split()) != len(want.split()) or not set(line) <= {"-", " "}:
+                raise Unsafe(f"text rule {line!r} unlike {want!r}")
+            continue
+        want = " ".join(CHECK.sub(r"\1", substitute(want, names, visible)).split())
+        if " ".join(CHECK.sub(r"\1", line).split()) != want:
+            raise Unsafe(f"text line {line!r}, expected {want!r}")
+
+
+def _markdown_tokens(text: str) -> list[tuple[str, str]]:
+    from markdown_it import MarkdownIt
+
+    out: list[tuple[str, str]] = []
+    for block in MarkdownIt("commonmark").enable("table").parse(text):
+        for t in block.children or [block]:
+            if t.type == "text" and out and out[-1][0] == "text":
+                out[-1] = ("text", out[-1][1] + t.content)
+            else:
+                out.append((t.type, t.content if t.type == "text" else t.tag))
+    return out
+
+
+def _markdown(text: str, clean: str, names: dict[str, str]) -> None:
+    got, want = _markdown_tokens(text), _markdown_tokens(clean)
+    if [t for t, _ in got] != [t for t, _ in want]:
+        raise Unsafe("Markdown renders to other elements than the clean file")
+    for (kind, g), (_, w) in zip(got, want, strict=True):
+        if kind == "text":
+            w = CHECK.sub(r"\1", substitute(w, names, visible))
+            if CHECK.sub(r"\1", g) != w:
+                raise Unsafe(f"Markdown text {g!r}, expected {w!r}")
+        elif g != w:
+            raise Unsafe(f"Markdown element {g!r}, expected {w!r}")
+
+
+JUDGES: dict[str, Callable[[str, str, dict[str, str]], None]] = {
+    "python": _python,
+    "matlab": _matlab,
+    "hal": _hal,
+    "yaml-comments": _yaml_comments,
+    "xml": _xml,
+    "json": lambda t, c, n: _tree(t, c, n, json.loads),
+    "yaml": lambda t, c, n: _tree(t, c, n, yaml.safe_load),
+    "csv": _csv,
+    "text": _text,
+    "markdown": _markdown,
+}
+
+
+def judge(what: str, data: bytes, clean: bytes, names: dict[str, str]) -> None:
+    """Raise :class:`Unsafe` unless ``data`` (written for target or format ``what``) is its
+    clean twin ``clean`` with the placeholder names replaced (``names``: placeholder -> name)."""
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError as e:
+        raise Unsafe(f"not UTF-8: {e}") from e
+    if what not in LANGUAGE:
+        raise KeyError(f"no judge for {what!r}: add its language to safety.LANGUAGE")
+    try:
+        JUDGES[LANGUAGE[what]](text, clean.decode("utf-8"), names)
+    except (HalSyntaxError, MatlabSyntaxError) as e:
+        raise Unsafe(f"{what}: does not read as its consumer reads it: {e}") from e
