@@ -23,7 +23,7 @@ import numpy as np
 
 from . import units
 from .conventions import Params
-from .errors import InputError, UsageError
+from .errors import InputError, UsageError, visible
 from .formats import fixed
 from .screws import PoeModel
 from .table import Row, Table
@@ -228,24 +228,26 @@ def render_diff(info: dict[str, Any], changes: list[Change], pairs: list[IllPair
             return f"{c.change:+.6g}"
         return f"{signed(c.change, decimals, exact * info['size'])} {unit}"
 
-    width = max(len(c.row) for c in changes)
+    rows = [visible(c.row) for c in changes]
+    width = max(map(len, rows))
     thresholds = info["thresholds"]
     out = [
-        f"diff ({info['convention']}): {info['nominal']} -> {info['actual']}; marked (*): "
+        f"diff ({info['convention']}): {visible(info['nominal'])} -> {visible(info['actual'])}; "
+        "marked (*): "
         f"changes over {math.degrees(thresholds['angle']):g} deg (modulo 180) or "
         f"{thresholds['length']:g} {unit}",
         f"{'row':<{width}}  {'param':<6} {'nominal':>28} {'actual':>28}  change",
     ]
-    for c in changes:
+    for c, row in zip(changes, rows, strict=True):
         if c.kind in ("pitch", "scale") and c.change == 0.0:
             continue
-        out.append(f"{c.row:<{width}}  {c.param:<6} {show(c.nominal, c.kind):>28} "
+        out.append(f"{row:<{width}}  {c.param:<6} {show(c.nominal, c.kind):>28} "
                    f"{show(c.actual, c.kind):>28}  {delta(c)}{'  *' if c.marked else ''}")
     marked = sum(c.marked for c in changes)
     out.append(f"{marked} parameter{'' if marked == 1 else 's'} changed beyond the thresholds")
     if pairs:
         names = ", ".join(
-            f"({p.first}, {p.second}) {math.degrees(p.nominal_angle):.3f} / "
+            f"({visible(p.first)}, {visible(p.second)}) {math.degrees(p.nominal_angle):.3f} / "
             f"{math.degrees(p.actual_angle):.3f} deg" for p in pairs
         )
         out.append(f"ill-conditioned axis pairs (nearly parallel; nominal / actual): {names}")

@@ -151,6 +151,9 @@ def _grid(table: Table, show: Callable[[str], str]) -> tuple[list[str], list[lis
         head.append(f"h [{show(unit)}/deg]")
     if show_scale:
         head.append("scale")
+    follows = {r.name: r.mimic for r in table.rows if r.mimic}
+    if follows:
+        head.append("mimics (q = m q_leader + o)")
     body = []
     for label, joint, kind, pitch, scale, params, form in _records(table):
         if not params:
@@ -161,6 +164,9 @@ def _grid(table: Table, show: Callable[[str], str]) -> tuple[list[str], list[lis
             line.append("" if pitch is None else f"{pitch * math.pi / 180.0:.6g}")
         if show_scale:
             line.append("" if scale is None else f"{scale:.8g}")
+        if follows:
+            m = follows.get(joint) if label not in ("base", "tool") else None
+            line.append("" if m is None else f"{show(m.joint)} m={m.multiplier:g} o={m.offset:g}")
         body.append(line)
     return head, body
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from collections import Counter
 
-from .errors import ChainError, choices
+from .errors import ChainError, choices, visible
 from .screws import PoeModel
 from .sources import Source
 
@@ -36,10 +36,16 @@ def identifiability(model: PoeModel) -> dict[str, int]:
 def _chain_lines(model: PoeModel) -> list[str]:
     ident = identifiability(model)
     letters = "".join(LETTER[j.kind] for j in model.joints) or "(none)"
-    out = [f"chain: {model.base_link} -> {model.tip_link}: {model.n} movable joints {letters}"]
-    out.extend(f"  {i}. {j.name} ({j.kind})" for i, j in enumerate(model.joints, 1))
-    out.append(f"size: {model.size():.6g} {model.length_unit} (the robot size that errors and "
-               "tolerances are measured against)")
+    v = visible
+    out = [f"chain: {v(model.base_link)} -> {v(model.tip_link)}: {model.n} movable joints "
+           f"{letters}"]  # fmt: skip
+    for i, j in enumerate(model.joints, 1):
+        follows = "" if j.mimic is None else (
+            f", follows {v(j.mimic.joint)}: q = {j.mimic.multiplier:g} q_{v(j.mimic.joint)} "
+            f"+ {j.mimic.offset:g}")  # fmt: skip
+        out.append(f"  {i}. {v(j.name)} ({j.kind}{follows})")
+    out.append(f"size: {model.size():.6g} {v(model.length_unit)} (the robot size that errors "
+               "and tolerances are measured against)")  # fmt: skip
     out.append(
         f"identifiable parameters (Wu 2019 eq. 23): 5h + 4r + 2t + n + 6 = "
         f"5*{ident['helical']} + 4*{ident['revolute']} + 2*{ident['prismatic']} + "
@@ -50,30 +56,31 @@ def _chain_lines(model: PoeModel) -> list[str]:
         f"{ident['conventional']}; of its 6 base/tool parameters, {ident['base']} sit in the "
         f"base and {ident['tool']} in the tool"
     )
-    out.extend(f"warning: {w}" for w in model.warnings)
+    out.extend(f"warning: {v(w)}" for w in model.warnings)
     return out
 
 
 def describe(source: Source, base: str | None, tip: str | None, ignore_mimic: bool) -> str:
     """The text that ``urdf2dh info`` prints."""
-    lines = [f"robot: {source.name} ({source.kind}: {source.display})"]
+    v = visible
+    lines = [f"robot: {v(source.name)} ({source.kind}: {v(source.display)})"]
     tree = source.tree
     if tree is not None:
         types = Counter(j.type for j in tree.joints.values())
-        lines.append(f"links: {len(tree.links)}; root: {tree.root}")
+        lines.append(f"links: {len(tree.links)}; root: {v(tree.root)}")
         lines.append(
             f"joints: {len(tree.joints)} ("
             + ", ".join(f"{n} {t}" for t, n in sorted(types.items())) + ")"
         )
         for j in tree.joints.values():
-            extra = f", mimics {j.mimic}" if j.mimic else ""
-            lines.append(f"  {j.name}: {j.type}, {j.parent} -> {j.child}{extra}")
+            extra = f", mimics {v(j.mimic)}" if j.mimic else ""
+            lines.append(f"  {v(j.name)}: {j.type}, {v(j.parent)} -> {v(j.child)}{extra}")
         start = base or (source.bundled.base if source.bundled else None) or tree.root
-        lines.append(f"candidate tips below {start}: {choices(tree.leaves(start), limit=40)}")
+        lines.append(f"candidate tips below {v(start)}: {choices(tree.leaves(start), limit=40)}")
     try:
         model = source.model(base, tip, ignore_mimic)
     except ChainError as e:
-        lines.append(f"chain: not determined ({e})")
+        lines.append(f"chain: not determined ({v(str(e))})")
     else:
         lines.extend(_chain_lines(model))
     return "\n".join(lines) + "\n"

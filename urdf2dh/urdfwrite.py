@@ -23,7 +23,7 @@ from numpy.typing import NDArray
 from . import __version__, se3, units
 from .errors import shown
 from .export.escape import xml_attribute, xml_comment
-from .table import Table
+from .table import Row, Table
 
 __all__ = ["table_to_urdf"]
 
@@ -70,6 +70,13 @@ def table_to_urdf(table: Table) -> tuple[str, list[str]]:
     joints: list[str] = []
     notes: list[str] = []
     parent, prev = base, np.eye(4)
+    rows = {r.name: r for r in table.rows}
+    coupled = {name for r in table.rows if r.mimic for name in (r.name, r.mimic.joint)}
+
+    def urdf_position(row: Row) -> float:
+        """URDF position of ``row`` per unit of its own ``q``."""
+        return abs(row.scale) * (metres if row.kind == "prismatic" else 1.0)
+
     for row, frame in zip(table.rows, frames[:-1], strict=True):
         scale = row.scale
         sign = 1.0 if scale > 0 else -1.0
@@ -88,22 +95,28 @@ def table_to_urdf(table: Table) -> tuple[str, list[str]]:
         if row.kind == "prismatic":
             jtype = "prismatic"
             limit = limit or '<limit effort="0" velocity="0"/>'
-        elif row.kind == "helical":
+        elif row.kind == "helical" or row.name in coupled:
             jtype = "revolute"
             if not limit:
                 limit = (f'<limit lower="{_num(-math.pi)}" upper="{_num(math.pi)}" '
                          'effort="0" velocity="0"/>')
                 notes.append(
-                    f"helical joint {shown(row.name)}: limits unknown, [-pi, pi] written (URDF "
-                    "revolute joints need limits, and mimic joints cannot follow continuous ones)"
+                    f"joint {shown(row.name)}: limits unknown, [-pi, pi] written (URDF revolute "
+                    "joints need limits, and mimic joints cannot follow continuous ones)"
                 )
         else:
             jtype = "revolute" if limit else "continuous"
+        mimic = ""
+        if row.mimic is not None:  # q = m q_leader + o, in each joint's URDF position
+            leader = rows[row.mimic.joint]
+            multiplier = urdf_position(row) * row.mimic.multiplier / urdf_position(leader)
+            mimic = (f"    <mimic joint={_joint(leader.name)} multiplier=\"{_num(multiplier)}\" "
+                     f'offset="{_num(urdf_position(row) * row.mimic.offset)}"/>\n')
         joints.append(
             f'  <joint name={_joint(row.name)} type="{jtype}">\n'
             f"    <parent link={_link(parent)}/><child link={_link(child)}/>\n"
             f"    {_origin(se3.inv(prev) @ frame)}\n    {axis}\n"
-            + (f"    {limit}\n" if limit else "") + "  </joint>"
+            + (f"    {limit}\n" if limit else "") + mimic + "  </joint>"
         )
         links.append(child)
         parent, prev = child, frame
@@ -125,10 +138,10 @@ def table_to_urdf(table: Table) -> tuple[str, list[str]]:
         f"    {_origin(se3.inv(prev) @ frames[-1])}\n  </joint>"
     )
     links.append(tip_name)
+    converted = f"; lengths converted from {table.length_unit} to m" if metres != 1.0 else ""
     header = [
         f"Written by urdf2dh {__version__} from {table.source or table.robot} "
-        f"({table.convention} table; lengths converted from {table.length_unit} to m)."
-        if metres != 1.0 else f"({table.convention} table).",
+        f"({table.convention} table{converted}).",
         "Kinematics only: no inertias, no geometry.",
         *notes,
     ]

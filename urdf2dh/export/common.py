@@ -15,6 +15,7 @@ import numpy as np
 from ..conventions import Params
 from ..errors import ExportError, UsageError, shown
 from ..formats import summary
+from ..screws import Followed
 from ..se3 import pose_errors
 from ..table import Table
 from ..tolerances import DEFAULT, Tolerances
@@ -147,10 +148,22 @@ def header(table: Table, what: str) -> list[str]:
 
 def require(table: Table, target: str, conventions: Iterable[str],
             kinds: Iterable[str] = ("revolute", "prismatic")) -> None:
-    """What every target checks first: the table's convention, its joint kinds, unit scales."""
+    """What every target checks first: the table's convention, its joint kinds, unit scales,
+    and no coupled (mimic) joints."""
     require_convention(table, target, conventions)
     require_joint_kinds(table, target, kinds)
     require_unit_scale(table, target)
+    require_uncoupled(table.rows, target)
+
+
+def require_uncoupled(joints: Iterable[Followed], target: str) -> None:
+    """Refuse joints that mimic another: no target but the URDF writer holds a coupling."""
+    coupled = [f"{shown(j.name)} (mimics {shown(j.mimic.joint)})" for j in joints if j.mimic]
+    if coupled:
+        raise ExportError(
+            f"{target}: joints {', '.join(coupled)} follow another joint; {target} has no coupled "
+            "joints (--format urdf keeps the coupling; --ignore-mimic treats them as independent)"
+        )
 
 
 def require_joint_kinds(table: Table, target: str, allowed: Iterable[str]) -> None:

@@ -31,7 +31,7 @@ from ..opwmodel import GEOMETRY, OpwParameters
 from ..screws import PoeModel
 from ..se3 import rpy
 from ..table import Table
-from .common import Numbers, Options, yaml_float
+from .common import Numbers, Options, require_uncoupled, yaml_float
 from .escape import yaml_comment
 
 __all__ = ["render", "render_model"]
@@ -80,6 +80,7 @@ def _frames_note(model: PoeModel, p: OpwParameters, numbers: Numbers) -> list[st
 
 def render_model(model: PoeModel, opts: Options, samples: int | None = None) -> str:
     """The OPW parameter file of ``model`` (module doc)."""
+    require_uncoupled(model.joints, "opw")
     p = opw_from_poe(model, opts.tol, samples)
     metres = units.factor(model.length_unit, "m")
     numbers = Numbers(model.size() * metres, opts.tol.noise, metres)
