@@ -12,6 +12,8 @@ from __future__ import annotations
 import json
 import os
 import stat
+import subprocess
+import sys
 from pathlib import Path
 from xml.sax.saxutils import quoteattr
 
@@ -490,3 +492,41 @@ def test_the_written_tables_match_their_chains(capsys, tree, tmp_path):
             [1.0 if j.kind == "revolute" else 0.2 for j in model.joints]
         )
         np.testing.assert_allclose(table.fk_batch(q), model.fk_batch(q), atol=1e-12)
+
+
+PROBE = """
+import os, signal, sys
+from urdf2dh.cli import main
+
+real, calls = os.{call}, []
+def interrupted(src, dst):
+    calls.append(dst)
+    if len(calls) == {when}:
+        print(src, flush=True)
+        os.kill(os.getpid(), signal.{signal})
+    real(src, dst)
+os.{call} = interrupted
+sys.exit(main(["convert", sys.argv[1], "--all-tips", "-o", sys.argv[2]]))
+"""
+
+
+@pytest.mark.parametrize(("name", "code"), [("SIGTERM", 143), ("SIGINT", 130)])
+def test_signals_leave_a_directory_as_it_was(tree, tmp_path, name, code):
+    """Interrupted between two renames into an existing DIR, or before a new DIR's rename."""
+    root = Path(__file__).resolve().parents[1]
+    out_dir = tmp_path / "out"
+    out_dir.mkdir()
+    (out_dir / "left_tip.txt").write_text("old")
+    before = listing(tmp_path)
+    for call, when, target in (("replace", 2, out_dir), ("rename", 1, tmp_path / "new")):
+        probe = PROBE.format(call=call, when=when, signal=name)
+        proc = subprocess.run(
+            [sys.executable, "-c", probe, str(tree), str(target)],
+            capture_output=True,
+            text=True,
+            cwd=root,
+            timeout=120,
+        )
+        assert proc.returncode == code, proc.stderr
+        assert proc.stdout.strip() and "Traceback" not in proc.stderr  # it was interrupted
+        assert listing(tmp_path) == before
