@@ -162,7 +162,7 @@ def get_argument_parser() -> argparse.ArgumentParser:
     p.add_argument("--style", choices=STYLES, default="wu",
                    help="D-H choices: wu (Wu 2019, a >= 0; default), ur (zero theta offsets, "
                         "Universal Robots' signs) or zero (zero theta offsets wherever possible)")
-    p.add_argument("-o", "--output", metavar="FILE",
+    p.add_argument("-o", "--output", metavar="FILE|DIR",
                    help="write to FILE instead of stdout; with several tips a directory, one "
                         "file per tip (DIR/<tip>.txt, .json, .yaml, .csv, .md, .urdf, "
                         ".poe.yaml), all or nothing; to stdout several tables go in text, "
@@ -213,7 +213,7 @@ def get_argument_parser() -> argparse.ArgumentParser:
                    help="D-H choices (default ur for ur, zero for linuxcnc, wu otherwise)")
     p.add_argument("--units", choices=("mm", "inch"), default=None,
                    help="linuxcnc: length unit of A and D (default mm)")
-    p.add_argument("-o", "--output", metavar="FILE",
+    p.add_argument("-o", "--output", metavar="FILE|DIR",
                    help="write to FILE instead of stdout; with several tips (required) a "
                         "directory: DIR/<tip> plus the target's suffix, all or nothing")
     _add_tolerances(p)

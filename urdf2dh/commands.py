@@ -82,24 +82,23 @@ def _convert(args: argparse.Namespace) -> int:
     from .formats import render
 
     tol = _tolerances(args)
-    source = _open(args, tol)
     if _several(args):
-        return _convert_tips(args, source, tol)
+        return _convert_tips(args, tol)
+    source = _open(args, tol)
     model = source.model(args.base, _one_tip(args), args.ignore_mimic)
     table = to_table(model, args.convention, tol, samples=args.check_samples, style=args.style)
     write_output(render(table, args.format), args.output, [args.source])
     return 0
 
 
-def _convert_tips(args: argparse.Namespace, source: Any, tol: Any) -> int:
+def _convert_tips(args: argparse.Namespace, tol: Any) -> int:
     from .convert import to_table
-    from .errors import UsageError
     from .formats import render
-    from .tips import FORMAT_SUFFIXES, STDOUT_FORMATS, join_tables, naming_tip
+    from .tips import FORMAT_SUFFIXES, check_stdout_format, join_tables, naming_tip
 
-    if args.output is None and args.format not in STDOUT_FORMATS:
-        raise UsageError(f"--format {args.format} writes one file per chain; with several "
-                         "tips give -o DIR")
+    if args.output is None:
+        check_stdout_format(args.format)  # before any reading
+    source = _open(args, tol)
     suffix = FORMAT_SUFFIXES[args.format]
     models = _chains(args, source, suffix if args.output is not None else None)
     tables = []

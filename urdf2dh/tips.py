@@ -42,6 +42,7 @@ __all__ = [
     "TipError",
     "chain_models",
     "chain_tips",
+    "check_stdout_format",
     "file_names",
     "join_tables",
     "naming_tip",
@@ -127,13 +128,13 @@ def chain_tips(
 
 
 @contextmanager
-def naming_tip(tip: str, enabled: bool = True) -> Iterator[None]:
+def naming_tip(tip: str) -> Iterator[None]:
     """Re-raise an urdf2dh error met meanwhile as a :class:`TipError` naming ``tip``."""
     try:
         yield
+    except TipError:
+        raise
     except Urdf2DhError as e:
-        if not enabled or isinstance(e, TipError):
-            raise
         raise TipError(tip, e) from e
 
 
@@ -192,16 +193,22 @@ def file_names(display: str, tips: Sequence[str], suffix: str) -> dict[str, str]
     return out
 
 
+def check_stdout_format(fmt: str) -> None:
+    """Refuse (before any conversion) a format that cannot hold several tables on stdout."""
+    if fmt not in STDOUT_FORMATS:
+        raise UsageError(f"--format {fmt} writes one file per chain; with several tips give -o DIR")
+
+
 def join_tables(tables: Sequence[Table], fmt: str) -> str:
     """Several tables as one stdout text in ``fmt`` (one of :data:`STDOUT_FORMATS`)."""
     from .formats import render
 
+    check_stdout_format(fmt)
     if fmt == "json":
         return json.dumps({t.tip_link: t.to_dict() for t in tables}, indent=2) + "\n"
     if fmt == "yaml":
         return "".join(f"---\n{render(t, fmt)}" for t in tables)
     if fmt == "text":
         return "\n".join(f"==> {shown(t.tip_link)} <==\n{render(t, fmt)}" for t in tables)
-    if fmt == "markdown":
-        return "\n".join(f"## {shown(t.tip_link)}\n\n{render(t, fmt)}" for t in tables)
-    raise UsageError(f"--format {fmt} writes one file per chain; with several tips give -o DIR")
+    # markdown
+    return "\n".join(f"## {shown(t.tip_link)}\n\n{render(t, fmt)}" for t in tables)
