@@ -31,14 +31,11 @@ def tree_urdf(
     left: str = "left_tip",
     right: str = "right_tip",
     right_joint: str = "prismatic",
-    mimic: bool = False,
 ) -> str:
     """A small tree; ``right_joint`` is the type of the right arm's joint (``floating`` or
-    ``planar`` to put one on that chain), ``mimic`` makes the left arm's second joint mimic its
-    first."""
+    ``planar`` to put one on that chain)."""
     left_q, right_q = quoteattr(left), quoteattr(right)
     limit = '<limit lower="0" upper="0.4" effort="1" velocity="1"/>'
-    mimic_el = '<mimic joint="left_1" multiplier="2"/>' if mimic else ""
     return f"""<robot name="ytree">
   <link name="base"/><link name="trunk"/><link name="left_1"/><link name={left_q}/>
   <link name="right_1"/><link name={right_q}/><link name="camera"/>
@@ -49,7 +46,7 @@ def tree_urdf(
     <origin xyz="0 0.2 0.1" rpy="0.3 0 0"/><axis xyz="1 0 0"/>
     <limit lower="-2" upper="2" effort="1" velocity="1"/></joint>
   <joint name="left_2" type="continuous"><parent link="left_1"/><child link={left_q}/>
-    <origin xyz="0.25 0 0"/><axis xyz="0 1 0"/>{mimic_el}</joint>
+    <origin xyz="0.25 0 0"/><axis xyz="0 1 0"/></joint>
   <joint name="right_1" type="{right_joint}"><parent link="trunk"/><child link="right_1"/>
     <origin xyz="0 -0.2 0.1"/><axis xyz="0 0 1"/>{limit if right_joint == "prismatic" else ""}
   </joint>
@@ -241,8 +238,10 @@ def failing_runs(tmp_path: Path) -> list[tuple[list[str], int, tuple[str, ...]]]
     """Runs over several chains of which one fails: (argv, exit code, parts of the message)."""
     floating = tmp_path / "floating.urdf"
     floating.write_text(tree_urdf(right_joint="floating"))
-    mimic = tmp_path / "mimic.urdf"
-    mimic.write_text(tree_urdf(mimic=True))
+    planar = tmp_path / "planar.urdf"
+    planar.write_text(tree_urdf(right_joint="planar"))
+    good = tmp_path / "good.urdf"
+    good.write_text(tree_urdf())
     return [
         (
             ["convert", str(floating), "--all-tips"],
@@ -253,9 +252,14 @@ def failing_runs(tmp_path: Path) -> list[tuple[list[str], int, tuple[str, ...]]]
             ),
         ),
         (
-            ["convert", str(mimic), "--all-tips", "--format", "yaml"],
+            ["convert", str(planar), "--all-tips", "--format", "yaml"],
             2,
-            ("tip 'left_tip': ", "mimic.urdf: joint 'left_2' on the chain mimics joint 'left_1'"),
+            ("tip 'right_tip': ", "planar.urdf: joint 'right_1' on the chain", "is planar"),
+        ),
+        (
+            ["convert", str(good), "--tip", "left_tip", "--tip", "nowhere", "--format", "csv"],
+            2,
+            ("tip 'nowhere': ", "good.urdf: unknown tip link 'nowhere'"),
         ),
         (
             ["export", str(floating), "--all-tips", "--to", "rtb"],
