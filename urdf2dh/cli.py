@@ -90,16 +90,27 @@ def _positive_float(text: str) -> float:
     return value
 
 
-def _add_chain(p: argparse.ArgumentParser) -> None:
+def _add_chain(p: argparse.ArgumentParser, several: bool = False) -> None:
     p.add_argument("source", metavar="SOURCE",
                    help="URDF file, POE model file, table file, or bundled robot name")
-    _add_chain_options(p)
+    _add_chain_options(p, several)
 
 
-def _add_chain_options(p: argparse.ArgumentParser) -> None:
+def _add_chain_options(p: argparse.ArgumentParser, several: bool = False) -> None:
+    """The chain options; ``several``: the command takes several chains of a tree (``--tip``
+    repeated, into ``args.tips``, or ``--all-tips``)."""
     p.add_argument("--base", metavar="LINK", help="base link (default: the URDF root link)")
-    p.add_argument("--tip", metavar="LINK",
-                   help="tip link (default: the single deepest leaf below the base)")
+    if several:
+        tips = p.add_mutually_exclusive_group()
+        tips.add_argument("--tip", metavar="LINK", action="append", dest="tips",
+                          help="tip link (default: the single deepest leaf below the base); "
+                               "given several times, one chain per tip")
+        tips.add_argument("--all-tips", action="store_true",
+                          help="one chain per leaf below the base (leaves reached through "
+                               "fixed joints only are skipped)")
+    else:
+        p.add_argument("--tip", metavar="LINK",
+                       help="tip link (default: the single deepest leaf below the base)")
     p.add_argument("--ignore-mimic", action="store_true",
                    help="treat mimic joints on the chain as independent joints (with a warning)")
     p.add_argument("--package-path", type=_package_path, action="append", default=[],
@@ -143,7 +154,7 @@ def get_argument_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
 
     p = sub.add_parser("convert", help="print or write the parameter table of a chain")
-    _add_chain(p)
+    _add_chain(p, several=True)
     p.add_argument("--convention", choices=NAMES, default=NAMES[0],
                    help="parameter convention (default %(default)s)")
     p.add_argument("--format", choices=FORMATS, default="text",
@@ -151,11 +162,15 @@ def get_argument_parser() -> argparse.ArgumentParser:
     p.add_argument("--style", choices=STYLES, default="wu",
                    help="D-H choices: wu (Wu 2019, a >= 0; default), ur (zero theta offsets, "
                         "Universal Robots' signs) or zero (zero theta offsets wherever possible)")
-    p.add_argument("-o", "--output", metavar="FILE", help="write to FILE instead of stdout")
+    p.add_argument("-o", "--output", metavar="FILE|DIR",
+                   help="write to FILE instead of stdout; with several tips a directory, one "
+                        "file per tip (DIR/<tip>.txt, .json, .yaml, .csv, .md, .urdf, "
+                        ".poe.yaml), all or nothing; to stdout several tables go in text, "
+                        "markdown, json (an object keyed by tip) or yaml (a document per tip)")
     _add_tolerances(p)
 
     p = sub.add_parser("verify", help="compare every convention's FK with Pinocchio's")
-    _add_chain(p)
+    _add_chain(p, several=True)
     p.add_argument("--samples", type=_samples, default=1000, metavar="N",
                    help="random configurations within joint limits (default %(default)s)")
     p.add_argument("--seed", type=_seed, default=0, metavar="S",
@@ -186,7 +201,7 @@ def get_argument_parser() -> argparse.ArgumentParser:
     _add_chain(p)
 
     p = sub.add_parser("export", help="write a controller or toolbox configuration file")
-    _add_chain(p)
+    _add_chain(p, several=True)
     p.add_argument("--to", required=True, choices=tuple(TARGETS), metavar="TARGET",
                    help="; ".join(f"{t.name}: {t.summary}" for t in TARGETS.values()))
     p.add_argument("--convention", choices=tuple(dict.fromkeys(
@@ -198,7 +213,9 @@ def get_argument_parser() -> argparse.ArgumentParser:
                    help="D-H choices (default ur for ur, zero for linuxcnc, wu otherwise)")
     p.add_argument("--units", choices=("mm", "inch"), default=None,
                    help="linuxcnc: length unit of A and D (default mm)")
-    p.add_argument("-o", "--output", metavar="FILE", help="write to FILE instead of stdout")
+    p.add_argument("-o", "--output", metavar="FILE|DIR",
+                   help="write to FILE instead of stdout; with several tips (required) a "
+                        "directory: DIR/<tip> plus the target's suffix, all or nothing")
     _add_tolerances(p)
 
     p = sub.add_parser("plot", help="draw the arm at home with its D-H frames (png, svg, pdf)")

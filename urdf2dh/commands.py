@@ -43,24 +43,120 @@ def _open(args: argparse.Namespace, tol: Any = None) -> Any:
 # --------------------------------------------------------------------------- commands
 
 
+def _one_tip(args: argparse.Namespace) -> str | None:
+    """The tip of a single-chain run of a command that takes several (``args.tips``)."""
+    return args.tips[0] if args.tips else None
+
+
+def _several(args: argparse.Namespace) -> bool:
+    from .tips import several
+
+    return several(args.all_tips, args.tips)
+
+
+def _chains(args: argparse.Namespace, source: Any, suffix: str | None = None) -> list[Any]:
+    """The models of a run over several chains; ``suffix``: of the files of ``-o DIR``, whose
+    names are checked before any conversion."""
+    from .tips import chain_models, chain_tips, file_names
+
+    base, tips = chain_tips(source, args.base, args.tips, args.all_tips)
+    if suffix is not None:
+        file_names(source.display, tips, suffix)
+    return chain_models(source, base, tips, args.ignore_mimic)
+
+
+def _write_tips(
+    args: argparse.Namespace, source: Any, texts: list[tuple[Any, str]], suffix: str
+) -> None:
+    """Write ``(model, text)`` pairs as ``-o DIR/<tip><suffix>``, all or nothing."""
+    from .files import write_directory
+    from .tips import file_names
+
+    names = file_names(source.display, [m.tip_link for m, _ in texts], suffix)
+    write_directory({names[m.tip_link]: text for m, text in texts}, args.output,
+                    [args.source])
+
+
 def _convert(args: argparse.Namespace) -> int:
     from .convert import to_table
     from .formats import render
 
     tol = _tolerances(args)
+    if _several(args):
+        return _convert_tips(args, tol)
     source = _open(args, tol)
-    model = source.model(args.base, args.tip, args.ignore_mimic)
+    model = source.model(args.base, _one_tip(args), args.ignore_mimic)
     table = to_table(model, args.convention, tol, samples=args.check_samples, style=args.style)
     write_output(render(table, args.format), args.output, [args.source])
     return 0
 
 
-def _verify(args: argparse.Namespace) -> int:
-    from .verify import verify
+def _convert_tips(args: argparse.Namespace, tol: Any) -> int:
+    from .convert import to_table
+    from .formats import render
+    from .tips import FORMAT_SUFFIXES, check_stdout_format, join_tables, naming_tip
 
+    if args.output is None:
+        check_stdout_format(args.format)  # before any reading
+    source = _open(args, tol)
+    suffix = FORMAT_SUFFIXES[args.format]
+    models = _chains(args, source, suffix if args.output is not None else None)
+    tables = []
+    for model in models:
+        with naming_tip(model.tip_link):
+            tables.append(to_table(model, args.convention, tol, samples=args.check_samples,
+                                   style=args.style))
+    if args.output is None:
+        write_output(join_tables(tables, args.format), None)
+        return 0
+    texts = []
+    for model, table in zip(models, tables, strict=True):
+        with naming_tip(model.tip_link):
+            texts.append((model, render(table, args.format)))
+    _write_tips(args, source, texts, suffix)
+    return 0
+
+
+def _verify(args: argparse.Namespace) -> int:
     tol = _tolerances(args)
     source = _open(args, tol)
-    model = source.model(args.base, args.tip, args.ignore_mimic)
+    if not _several(args):
+        model = source.model(args.base, _one_tip(args), args.ignore_mimic)
+        if _verify_chain(args, source, model, tol):
+            print("verify: all conventions agree with Pinocchio")
+            return 0
+        return 1
+    from .tips import TipError, naming_tip
+
+    models = _chains(args, source)
+    failed = []
+    for i, model in enumerate(models):
+        if i:
+            print()
+        try:
+            with naming_tip(model.tip_link):
+                ok = _verify_chain(args, source, model, tol)
+        except TipError as e:
+            if e.exit_code != 1:
+                raise
+            print(f"verify: {e}", file=sys.stderr)  # a table failed its own check: go on
+            ok = False
+        if not ok:
+            failed.append(model.tip_link)
+    if failed:
+        from .tips import shown
+
+        print(f"verify: FAILED on {len(failed)} of {len(models)} chains: "
+              f"{', '.join(shown(t) for t in failed)}", file=sys.stderr)
+        return 1
+    print(f"verify: all conventions agree with Pinocchio on all {len(models)} chains")
+    return 0
+
+
+def _verify_chain(args: argparse.Namespace, source: Any, model: Any, tol: Any) -> bool:
+    """Verify one chain and print its report; whether every model agrees with Pinocchio."""
+    from .verify import verify
+
     results = verify(source, model, args.samples, args.seed, tol,
                      check_samples=args.check_samples)
     unit, size = model.length_unit, model.size()
@@ -76,11 +172,11 @@ def _verify(args: argparse.Namespace) -> int:
             print(f"  warning: {w}")
     failed = [r.label for r in results if not r.ok]
     if failed:
-        print(f"verify: FAILED for {', '.join(failed)} (allowed {results[0].allowed_position:.2g}"
-              f" {unit} + declared deviations)", file=sys.stderr)
-        return 1
-    print("verify: all conventions agree with Pinocchio")
-    return 0
+        where = f" on {chain[:-2]}" if chain and _several(args) else ""
+        print(f"verify: FAILED{where} for {', '.join(failed)} (allowed "
+              f"{results[0].allowed_position:.2g} {unit} + declared deviations)", file=sys.stderr)
+        return False
+    return True
 
 
 def _diff(args: argparse.Namespace) -> int:
@@ -111,16 +207,31 @@ def _info(args: argparse.Namespace) -> int:
 
 def _export(args: argparse.Namespace) -> int:
     from .errors import UsageError
-    from .export import Options, export, table_choices
+    from .export import TARGETS, Options, export, table_choices
 
     if args.units is not None and args.to != "linuxcnc":
         raise UsageError(f"--units applies to --to linuxcnc, not --to {args.to}")
     table_choices(args.to, args.convention, args.style)  # bad choices fail before any reading
+    if _several(args) and args.output is None:
+        raise UsageError("export with several tips writes one file per tip; give -o DIR")
     tol = _tolerances(args)
-    model = _open(args, tol).model(args.base, args.tip, args.ignore_mimic)
-    text = export(model, args.to, args.convention, args.style, Options(args.units, tol),
-                  samples=args.check_samples)
-    write_output(text, args.output, [args.source])
+    source = _open(args, tol)
+    opts = Options(args.units, tol)
+    if not _several(args):
+        model = source.model(args.base, _one_tip(args), args.ignore_mimic)
+        text = export(model, args.to, args.convention, args.style, opts,
+                      samples=args.check_samples)
+        write_output(text, args.output, [args.source])
+        return 0
+    from .tips import naming_tip
+
+    suffix = TARGETS[args.to].suffix
+    texts = []
+    for model in _chains(args, source, suffix):
+        with naming_tip(model.tip_link):
+            texts.append((model, export(model, args.to, args.convention, args.style, opts,
+                                        samples=args.check_samples)))
+    _write_tips(args, source, texts, suffix)
     return 0
 
 

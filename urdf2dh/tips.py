@@ -1,0 +1,214 @@
+"""Several chains of one URDF tree in one run (SPEC §5, "Trees"): ``--all-tips`` or ``--tip``
+given more than once.
+
+:func:`chain_tips` says which tips; :func:`chain_models` builds one POE model per tip, every
+error naming its tip (:class:`TipError`); :func:`file_names` turns the tips into the file names
+of ``-o DIR``, refusing a link name that cannot be one; :func:`join_tables` puts several tables
+on stdout where a format can hold them.
+
+The rules (README, "Commands"):
+
+* The base is ``--base``, else a bundled robot's own base, else the URDF's root link.
+* ``--all-tips``: every leaf below the base, in the file's link order, except leaves whose chain
+  holds only fixed joints (sensor and collision frames: their table would be a constant
+  transform); no leaf left is an error. ``--tip`` given several times: those tips, in the order
+  given, whatever their joints; a tip given twice is an error.
+* ``-o DIR`` writes ``DIR/<tip><suffix>`` per tip. A tip whose name cannot be a file name is
+  refused (exit 2) naming the link: empty, ``.`` or ``..``, holding ``/``, ``\\`` or a character
+  that ``str.isprintable`` rejects (control characters, line breaks, NUL), starting with ``-``,
+  longer than 255 bytes with its suffix, or equal to another tip's file name but for case.
+* stdout: ``text`` and ``markdown`` print each table under a heading naming its tip; ``json``
+  one object keyed by tip; ``yaml`` one document per tip (each names its ``tip_link``); ``csv``,
+  ``urdf`` and ``poe`` are one file per chain and need ``-o DIR``.
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Iterator, Sequence
+from contextlib import contextmanager
+from typing import TYPE_CHECKING
+
+from .errors import ChainError, Urdf2DhError, UsageError
+
+if TYPE_CHECKING:
+    from .screws import PoeModel
+    from .sources import Source
+    from .table import Table
+
+__all__ = [
+    "FORMAT_SUFFIXES",
+    "STDOUT_FORMATS",
+    "TipError",
+    "chain_models",
+    "chain_tips",
+    "check_stdout_format",
+    "file_names",
+    "join_tables",
+    "naming_tip",
+    "several",
+    "shown",
+]
+
+#: ``convert --format`` -> the suffix of each file in ``-o DIR``.
+FORMAT_SUFFIXES = {
+    "text": ".txt",
+    "json": ".json",
+    "yaml": ".yaml",
+    "csv": ".csv",
+    "markdown": ".md",
+    "urdf": ".urdf",
+    "poe": ".poe.yaml",
+}
+
+#: Formats that hold several tables on stdout (the others need ``-o DIR``).
+STDOUT_FORMATS = ("text", "markdown", "json", "yaml")
+
+NAME_MAX = 255  # bytes of a file name (Linux, macOS, Windows alike)
+
+
+class TipError(Urdf2DhError):
+    """An error met on one chain of several, naming the tip; it keeps the original's exit code
+    (2 for bad input, 1 for a table that failed its own check)."""
+
+    def __init__(self, tip: str, error: Urdf2DhError) -> None:
+        super().__init__(f"tip {tip!r}: {error}")
+        self.exit_code = error.exit_code
+
+
+def several(all_tips: bool, tips: Sequence[str] | None) -> bool:
+    """Whether the options ask for several chains (then ``-o`` names a directory)."""
+    return all_tips or len(tips or ()) > 1
+
+
+def shown(name: str) -> str:
+    """A name from a file as a heading shows it: as it is, or ``repr``-escaped when it holds a
+    character that would break the line (a control character, a line break)."""
+    return name if name.isprintable() else repr(name)
+
+
+def chain_tips(
+    source: Source, base: str | None, tips: Sequence[str] | None, all_tips: bool
+) -> tuple[str, list[str]]:
+    """The base link and the tips of a run over several chains (module docstring).
+
+    Raises
+    ------
+    UsageError
+        A source that is not a URDF, or a tip given twice.
+    ChainError
+        An unknown base, or (``all_tips``) no leaf below the base with a moving joint on its
+        chain.
+    """
+    tree = source.tree
+    if tree is None:
+        raise UsageError(
+            f"{source.display}: --all-tips and several --tip apply to URDF sources; a "
+            f"{source.kind} file is a single chain"
+        )
+    base = base or (source.bundled.base if source.bundled else None) or tree.root
+    if base not in tree.links:
+        from .urdf.tree import names
+
+        raise ChainError(f"{tree.path}: unknown base link {base!r}; links are {names(tree.links)}")
+    if not all_tips:
+        chosen = list(tips or ())
+        for i, tip in enumerate(chosen):
+            if tip in chosen[:i]:
+                raise UsageError(f"--tip {tip!r} is given twice")
+        return base, chosen
+    order = {link: i for i, link in enumerate(tree.links)}
+    leaves = sorted(tree.leaves(base), key=order.__getitem__)
+    moving = [t for t in leaves if any(j.type != "fixed" for j in tree.chain(base, t))]
+    if not moving:
+        raise ChainError(
+            f"{tree.path}: no leaf below base link {base!r} has a moving joint on its chain"
+        )
+    return base, moving
+
+
+@contextmanager
+def naming_tip(tip: str) -> Iterator[None]:
+    """Re-raise an urdf2dh error met meanwhile as a :class:`TipError` naming ``tip``."""
+    try:
+        yield
+    except TipError:
+        raise
+    except Urdf2DhError as e:
+        raise TipError(tip, e) from e
+
+
+def chain_models(
+    source: Source, base: str, tips: Sequence[str], ignore_mimic: bool
+) -> list[PoeModel]:
+    """The POE model of the chain ``base -> tip`` for each tip; the first failure (a floating
+    joint, a mimic joint without ``ignore_mimic``, an unknown tip) names its tip."""
+    models = []
+    for tip in tips:
+        with naming_tip(tip):
+            models.append(source.model(base, tip, ignore_mimic))
+    return models
+
+
+def _why_not_a_file_name(name: str, suffix: str) -> str | None:
+    if name in ("", ".", ".."):
+        return "it is empty, '.' or '..'"
+    for bad in ("/", "\\"):
+        if bad in name:
+            return f"it holds {bad!r}"
+    if not name.isprintable():
+        return "it holds a control character"
+    if name.startswith("-"):
+        return "it starts with '-'"
+    if len((name + suffix).encode("utf-8", "surrogatepass")) > NAME_MAX:
+        return f"a file name has at most {NAME_MAX} bytes"
+    return None
+
+
+def file_names(display: str, tips: Sequence[str], suffix: str) -> dict[str, str]:
+    """Tip -> its file name ``<tip><suffix>`` in ``-o DIR``.
+
+    Raises
+    ------
+    UsageError
+        A tip whose name cannot be a file name (module docstring), or two tips whose file names
+        differ only in case.
+    """
+    out: dict[str, str] = {}
+    folded: dict[str, str] = {}
+    for tip in tips:
+        why = _why_not_a_file_name(tip, suffix)
+        if why is not None:
+            raise UsageError(
+                f"{display}: tip link {tip!r} cannot name a file in the output directory ({why})"
+            )
+        name = tip + suffix
+        other = folded.setdefault(name.casefold(), tip)
+        if other != tip:
+            raise UsageError(
+                f"{display}: tip links {other!r} and {tip!r} differ only in case; their files "
+                "would be one on a case-insensitive file system"
+            )
+        out[tip] = name
+    return out
+
+
+def check_stdout_format(fmt: str) -> None:
+    """Refuse (before any conversion) a format that cannot hold several tables on stdout."""
+    if fmt not in STDOUT_FORMATS:
+        raise UsageError(f"--format {fmt} writes one file per chain; with several tips give -o DIR")
+
+
+def join_tables(tables: Sequence[Table], fmt: str) -> str:
+    """Several tables as one stdout text in ``fmt`` (one of :data:`STDOUT_FORMATS`)."""
+    from .formats import render
+
+    check_stdout_format(fmt)
+    if fmt == "json":
+        return json.dumps({t.tip_link: t.to_dict() for t in tables}, indent=2) + "\n"
+    if fmt == "yaml":
+        return "".join(f"---\n{render(t, fmt)}" for t in tables)
+    if fmt == "text":
+        return "\n".join(f"==> {shown(t.tip_link)} <==\n{render(t, fmt)}" for t in tables)
+    # markdown
+    return "\n".join(f"## {shown(t.tip_link)}\n\n{render(t, fmt)}" for t in tables)
