@@ -77,17 +77,22 @@ CASES = {
     "unknown tip": (robot(CHAIN), ["--tip", "nope"], ["unknown tip link 'nope'"]),
     "tip not below base": (robot(CHAIN), ["--base", "b", "--tip", "a"],
                            ["tip link 'a' is not below base link 'b'"]),
-    "mimic of a joint off the chain": (
-        robot(joint("j1") + joint("j2", parent="a", child="b", extra='<mimic joint="j3"/>')
+    "mimic of no joint that moves": (
+        robot(joint("j1") + joint("j2", parent="a", child="b",
+                                  extra='<mimic joint="j3" multiplier="0"/>')
               + joint("j3", parent="base", child="c"), links=LINKS + '<link name="c"/>'),
-        [], ["joint 'j2'", "mimics joint 'j3', which is not on it", "--ignore-mimic"]),
+        [], ["joint 'j2'", "mimics 'j3' with multiplier 0", "--ignore-mimic"]),
+    "joints mimicking each other": (
+        robot(joint("j1", extra='<mimic joint="j2"/>')
+              + joint("j2", parent="a", child="b", extra='<mimic joint="j1"/>')),
+        [], ["joints ['j1', 'j2'] mimic each other"]),
 }
 
 
 # `info` reads the file and reports chain problems as text (test below), so it meets only the
 # file-level cases
 CHAIN_LEVEL = {"floating joint on the chain", "planar joint on the chain",
-               "mimic of a joint off the chain",
+               "mimic of no joint that moves", "joints mimicking each other",
                "unknown base", "unknown tip", "tip not below base"}
 COMBINATIONS = [(case, command) for case in sorted(CASES)
                 for command in ("convert", "verify", "info")

@@ -26,11 +26,12 @@ from .conventions import NAMES
 from .convert import sample_configurations, to_table
 from .errors import InputError
 from .fk import chains_fk
-from .screws import PoeModel, actuated
+from .screws import Mimic, PoeModel, actuated
 from .se3 import pose_errors
 from .sources import Source
 from .table import Check, Table
 from .tolerances import DEFAULT, EPS, Tolerances
+from .urdf.chain import final_leader
 
 __all__ = ["Result", "pinocchio_fk", "verify"]
 
@@ -59,7 +60,10 @@ def _frame_to_z(axis: Mat, point: Mat) -> Mat:
     return out
 
 
-def _model_from_poe(pin: Any, poe: PoeModel) -> tuple[Any, list[tuple[int, int, float]], int, int]:
+Mapping = list[tuple[int, int, float, float]]  # per driven column: idx_q, nq, scale, shift
+
+
+def _model_from_poe(pin: Any, poe: PoeModel) -> tuple[Any, Mapping, int, int]:
     model = pin.Model()
     parent, prev = 0, np.eye(4)
     mapping = []
@@ -73,7 +77,7 @@ def _model_from_poe(pin: Any, poe: PoeModel) -> tuple[Any, list[tuple[int, int, 
         else:
             jm = pin.JointModelHelicalUnaligned(np.array([0.0, 0.0, 1.0]), j.pitch)
         parent = model.addJoint(parent, jm, pin.SE3(np.linalg.inv(prev) @ frame), j.name)
-        mapping.append((model.joints[parent].idx_q, 1, j.scale))
+        mapping.append((model.joints[parent].idx_q, 1, j.scale, 0.0))
         prev = frame
     tip = model.addFrame(
         pin.Frame("tip", parent, pin.SE3(np.linalg.inv(prev) @ poe.home), pin.FrameType.OP_FRAME)
@@ -98,35 +102,56 @@ def _c_stderr() -> Iterator[list[str]]:
             lines.extend(tmp.read().decode("utf-8", errors="replace").splitlines())
 
 
-def _model_from_urdf(
-    pin: Any, source: Source, poe: PoeModel
-) -> tuple[Any, list[tuple[int, int, float]], int, int]:
+def _build(pin: Any, source: Source, mimic: bool) -> Any:
+    """Pinocchio's model of the URDF text; an ``InputError`` with urdfdom's first reason."""
     assert source.urdf_text is not None
-    # Pinocchio couples mimic joints itself (a mimicking joint has no coordinate of its own);
-    # helical joints arrive as a revolute joint and a prismatic one mimicking it (urdfwrite.py)
-    mimic = any(j.kind == "helical" or j.mimic is not None for j in poe.joints)
     error: Exception | None = None
     with _c_stderr() as log:  # urdfdom writes its reasons there, several lines a fault
         try:
-            model = pin.buildModelFromXML(source.urdf_text.decode(), mimic=mimic)
+            return pin.buildModelFromXML(source.urdf_text.decode(), mimic=mimic)
         except Exception as e:  # Pinocchio raises RuntimeError/ValueError with C++ text
             error = e
-    if error is not None:
-        reasons = [line.split(":", 1)[1] for line in log if line.startswith("Error:")]
-        why = f"urdfdom: {' '.join(reasons[0].split())}" if reasons else str(error)
-        raise InputError(f"{source.display}: Pinocchio cannot load it ({why})") from error
-    mapping = []
-    for j in (poe.joints[i] for i in actuated(poe.joints)):  # the mimicking ones follow
+    reasons = [line.split(":", 1)[1] for line in log if line.startswith("Error:")]
+    why = f"urdfdom: {' '.join(reasons[0].split())}" if reasons else str(error)
+    raise InputError(f"{source.display}: Pinocchio cannot load it ({why})") from error
+
+
+def _model_from_urdf(
+    pin: Any, source: Source, poe: PoeModel
+) -> tuple[Any, Mapping, int, int, bool]:
+    """Pinocchio's model, how the chain's configurations drive it, base and tip frames, and
+    whether it is driven by every joint's position (``True``) or by the actuated ones only.
+
+    Pinocchio couples mimic joints itself (a mimicking joint has no coordinate of its own), and
+    helical joints arrive as a revolute joint and a prismatic one mimicking it (urdfwrite.py).
+    Where Pinocchio cannot build a URDF's mimic joints (a leader it has not met yet, as in
+    Romeo's hands) and the chain has no helical joint, it is built without them and every joint
+    of the chain is set to the position the coupling gives it.
+    """
+    helical = any(j.kind == "helical" for j in poe.joints)
+    mimic = helical or any(j.mimic is not None for j in poe.joints)
+    try:
+        model = _build(pin, source, mimic)
+    except InputError:
+        if not mimic or helical:
+            raise
+        model, mimic = _build(pin, source, False), False
+    mapping: Mapping = []
+    driving = actuated(poe.joints) if mimic else range(poe.n)
+    for j in (poe.joints[i] for i in driving):  # with mimic, the mimicking ones follow
         jid = model.getJointId(j.name)
         if jid >= model.njoints:
             raise InputError(f"{source.display}: Pinocchio has no joint {j.name!r}")
+        scale, shift = 1.0, 0.0
+        if model.joints[jid].nq == 0:
+            # a joint of the chain standing in for a leader off it (or one --ignore-mimic made
+            # independent): Pinocchio's mimic joint follows that leader, so the leader is set
+            # to what gives the joint its position, q_leader = (q - offset) / multiplier
+            relation = _urdf_leader(source, j.name)
+            jid = model.getJointId(relation.joint)
+            scale, shift = 1.0 / relation.multiplier, -relation.offset / relation.multiplier
         jm = model.joints[jid]
-        if jm.nq == 0:
-            raise InputError(
-                f"{source.display}: joint {j.name!r} is a mimic joint to Pinocchio, which reads "
-                "the helical joints' leads as mimic joints too; verify it without --ignore-mimic"
-            )
-        mapping.append((jm.idx_q, jm.nq, 1.0))
+        mapping.append((jm.idx_q, jm.nq, scale, shift))
 
     def frame(link: str) -> int:
         fid = model.getFrameId(link, pin.FrameType.BODY)
@@ -134,7 +159,16 @@ def _model_from_urdf(
             raise InputError(f"{source.display}: Pinocchio has no frame for link '{link}'")
         return int(fid)
 
-    return model, mapping, frame(poe.base_link), frame(poe.tip_link)
+    return model, mapping, frame(poe.base_link), frame(poe.tip_link), not mimic
+
+
+def _urdf_leader(source: Source, name: str) -> Mimic:
+    """The joint a URDF joint finally follows (through mimics of mimics), and how."""
+    assert source.tree is not None
+    joint = source.tree.joints[name]
+    if joint.mimic is None or joint.multiplier == 0.0:
+        raise InputError(f"{source.display}: Pinocchio cannot drive joint {name!r}")
+    return final_leader(source.tree, Mimic(joint.mimic, joint.multiplier, joint.offset))
 
 
 def pinocchio_fk(source: Source, poe: PoeModel, q: Mat) -> Mat:
@@ -143,16 +177,19 @@ def pinocchio_fk(source: Source, poe: PoeModel, q: Mat) -> Mat:
     their neutral position)."""
     pin = _pin()
     if source.kind == "urdf":
-        model, mapping, base_f, tip_f = _model_from_urdf(pin, source, poe)
+        model, mapping, base_f, tip_f, rows = _model_from_urdf(pin, source, poe)
     else:  # our own model of Pinocchio joints, one per row, driven with the mimic coupling
         model, mapping, base_f, tip_f = _model_from_poe(pin, poe)
+        rows = True
+    if rows:
         q = poe.positions(q)
     configs = np.repeat(pin.neutral(model)[None], q.shape[0], axis=0)
-    for column, (idx, nq, scale) in zip(q.T, mapping, strict=True):
+    for column, (idx, nq, scale, shift) in zip(q.T, mapping, strict=True):
+        value = scale * column + shift
         if nq == 2:  # a continuous joint: (cos q, sin q)
-            configs[:, idx], configs[:, idx + 1] = np.cos(column), np.sin(column)
+            configs[:, idx], configs[:, idx + 1] = np.cos(value), np.sin(value)
         else:
-            configs[:, idx] = scale * column
+            configs[:, idx] = value
     data = model.createData()
     # the base link lies above the chain, so its pose moves with none of the sampled joints
     pin.forwardKinematics(model, data, pin.neutral(model))

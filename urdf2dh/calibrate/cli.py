@@ -11,7 +11,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
-from ..errors import InputError, UsageError, choices
+from ..errors import InputError, UsageError, choices, shown
 from ..files import write_output
 
 __all__ = ["COMMANDS", "add_parsers", "calibrate_command", "measure_command"]
@@ -177,11 +177,20 @@ def add_parsers(sub: Any) -> None:
 
 
 def _model(args: argparse.Namespace, tol: Any = None) -> Any:
+    from ..commands import _xacro
     from ..sources import open_source
     from ..tolerances import DEFAULT
 
-    source = open_source(args.source, tol or DEFAULT, dict(args.package_path))
-    return source.model(args.base, args.tip, args.ignore_mimic)
+    source = open_source(args.source, tol or DEFAULT, xacro=_xacro(args))
+    model = source.model(args.base, args.tip, args.ignore_mimic)
+    coupled = [f"{shown(j.name)} (mimics {shown(j.mimic.joint)})" for j in model.joints if j.mimic]
+    if coupled:
+        raise InputError(
+            f"{args.source}: joints {', '.join(coupled)} follow another joint; calibration "
+            "identifies every joint's screw and scale on its own (--ignore-mimic makes them "
+            "independent)"
+        )
+    return model
 
 
 def measure_command(args: argparse.Namespace) -> int:

@@ -19,7 +19,7 @@ from ..errors import ChainError
 from ..screws import Joint, JointKind, Mimic, PoeModel
 from .tree import UrdfJoint, UrdfTree, names
 
-__all__ = ["KINDS", "tree_to_poe"]
+__all__ = ["KINDS", "final_leader", "tree_to_poe"]
 
 #: URDF joint type -> the kind of the POE model's joint.
 KINDS: dict[str, JointKind] = {
@@ -101,32 +101,55 @@ def _walk(
             mimic = Mimic(uj.mimic, uj.multiplier, uj.offset)
         point = t[:3, 3].copy()
         moving.append(_Moving(uj.name, KINDS[uj.type], axis, point, 0.0, uj.lower, uj.upper, mimic))
-    return _followed(tree, moving, base, tip), t, warnings
+    return _followed(tree, moving, base, tip, warnings), t, warnings
 
 
-def _followed(tree: UrdfTree, moving: list[_Moving], base: str, tip: str) -> list[_Moving]:
-    """Each mimicking joint following an actuated joint of the chain: a leader that mimics in
-    turn is replaced by its own leader (``m2 (m1 q + o1) + o2``); a leader off the chain is an
-    error (its position would be a second input the chain does not have)."""
-    by_name = {m.name: m for m in moving}
+def final_leader(tree: UrdfTree, relation: Mimic) -> Mimic:
+    """``relation`` to the joint that moves on its own: a leader that mimics in turn is replaced
+    by its own leader, ``m2 (m1 q + o1) + o2`` (URDF allows mimics of mimics)."""
+    seen = {relation.joint}
+    while (leader := tree.joints.get(relation.joint)) is not None and leader.mimic is not None:
+        if leader.mimic in seen:
+            raise ChainError(f"{tree.path}: joints {names(sorted(seen))} mimic each other")
+        seen.add(leader.mimic)
+        relation = Mimic(leader.mimic, relation.multiplier * leader.multiplier,
+                         relation.multiplier * leader.offset + relation.offset)  # fmt: skip
+    return relation
+
+
+def _followed(
+    tree: UrdfTree, moving: list[_Moving], base: str, tip: str, warnings: list[str]
+) -> list[_Moving]:
+    """Each mimicking joint following a joint of the chain that moves on its own.
+
+    A leader off the chain (a gripper finger following its twin on another branch) is no input
+    of this chain: the first joint on the chain that follows it stands in for it, driven on its
+    own (a warning says so), and any other joint following the same leader follows the stand-in
+    (``q2 = m2 (q1 - o1) / m1 + o2``).
+    """
+    on_chain = {m.name for m in moving}
+    stand_ins: dict[str, tuple[str, Mimic]] = {}  # off-chain leader -> (stand-in, its relation)
     out = []
     for m in moving:
-        relation, seen = m.mimic, {m.name}
-        while relation is not None and relation.joint in by_name:
-            leader = by_name[relation.joint].mimic
-            if leader is None:
-                break
-            if relation.joint in seen:
-                raise ChainError(f"{tree.path}: joints {names(sorted(seen))} mimic each other")
-            seen.add(relation.joint)
-            relation = Mimic(leader.joint, relation.multiplier * leader.multiplier,
-                             relation.multiplier * leader.offset + relation.offset)  # fmt: skip
-        if relation is not None and relation.joint not in by_name:
-            raise ChainError(
-                f"{tree.path}: joint {m.name!r} on the chain {base!r} -> {tip!r} mimics joint "
-                f"{relation.joint!r}, which is not on it; pass --ignore-mimic to treat it as an "
-                "independent joint"
-            )
+        relation = None if m.mimic is None else final_leader(tree, m.mimic)
+        if relation is not None and relation.joint not in on_chain:
+            if relation.joint not in stand_ins and relation.multiplier != 0.0:
+                stand_ins[relation.joint] = (m.name, relation)
+                warnings.append(
+                    f"joint {m.name!r} follows {relation.joint!r}, which is not on the chain "
+                    f"{base!r} -> {tip!r}: it is driven on its own here (in the URDF, q = "
+                    f"{relation.multiplier:g} q_{relation.joint} + {relation.offset:g})"
+                )
+                relation = None
+            elif relation.joint in stand_ins:
+                first, r1 = stand_ins[relation.joint]
+                ratio = relation.multiplier / r1.multiplier
+                relation = Mimic(first, ratio, relation.offset - ratio * r1.offset)
+            else:  # a multiplier of 0: a constant position, of no joint
+                raise ChainError(
+                    f"{tree.path}: joint {m.name!r} mimics {relation.joint!r} with multiplier 0; "
+                    "pass --ignore-mimic to treat it as an independent joint"
+                )
         out.append(replace(m, mimic=relation))
     return out
 
