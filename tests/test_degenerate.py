@@ -173,8 +173,7 @@ def test_rounded_angles_give_sane_tables_and_a_stated_deviation(off):
 @pytest.mark.parametrize("off", [3.7e-6, 2e-4])
 def test_exact_mode_keeps_the_geometry_and_warns_about_far_offsets(off):
     model = source(rounded_arm(off)).model("base", "tip")
-    # 3.7e-6 rad is snapped by default, so --exact; 2e-4 rad is beyond the default angle
-    table = to_table(model, "dh", EXACT if off < DEFAULT.parallel_angle else DEFAULT)
+    table = to_table(model, "dh", EXACT)
     far = [w for w in table.warnings if "far beyond the robot's size" in w]
     assert far and "'j1'" in far[0] and "cpc" in far[0]
     assert not [w for w in table.warnings if "treated as" in w]
@@ -188,10 +187,12 @@ def test_cli_tolerance_options(tmp_path, capsys):
     path = tmp_path / "rounded.urdf"
     path.write_text(rounded_arm(3.7e-6))
     assert main(["convert", str(path), "--tip", "tip"]) == 0
-    assert "treated as parallel (--parallel-angle 0.0001)" in capsys.readouterr().out
+    assert "treated as parallel (--parallel-angle 0.0001;" in capsys.readouterr().out
+    # beyond a smaller --parallel-angle, the exact normal (100 km away, over 1e3 x size) is
+    # still out of reach: treated as parallel all the same
     assert main(["convert", str(path), "--tip", "tip", "--parallel-angle", "1e-6"]) == 0
     out = capsys.readouterr().out
-    assert "treated as parallel" not in out and "far beyond the robot's size" in out
+    assert "treated as parallel" in out and "far beyond the robot's size" not in out
     assert main(["convert", str(path), "--tip", "tip", "--exact"]) == 0
     assert "far beyond the robot's size" in capsys.readouterr().out
 
@@ -216,3 +217,34 @@ def test_mimic_joint_following_another_branch_stands_in_for_it(capsys):
     model = open_source("panda").model(tip="panda_leftfinger")
     assert model.n == 8 and model.warnings == ()
     assert np.isfinite(to_table(model, "dh").check.max_position_error)
+
+
+@pytest.mark.parametrize("off", [2e-4, 2e-3])
+def test_beyond_the_parallel_angle_dh_never_refuses_and_hayati_is_exact(off):
+    """Axes 2e-4 and 2e-3 rad apart, beyond --parallel-angle. At 2e-4 the exact D-H row would
+    put d 2 km away (over 1e3 x size): dh and mdh treat the axes as parallel with the deviation
+    declared, naming --convention hayati. At 2e-3 it is 200 m (under 1e3 x size): the exact
+    table is kept and warned about. hayati is exact and sane in both."""
+    src = source(rounded_arm(off))
+    model = src.model("base", "tip")
+    q, reference = pin_reference(src, model, samples=200)
+    for conv in ("dh", "mdh"):
+        table = to_table(model, conv)
+        big = max(abs(getattr(r.params, k)) for r in table.rows for k in ("d", "a"))
+        if off == 2e-4:
+            assert big <= model.size()
+            assert any("treated as parallel" in w and "--convention hayati" in w
+                       for w in table.warnings)
+            rel, rot = table.check.declared_position / model.size(), table.check.declared_rotation
+        else:
+            assert 100 * model.size() < big < DEFAULT.sane_factor * model.size()
+            assert any("far beyond the robot's size" in w and "--convention hayati" in w
+                       for w in table.warnings)
+            rel, rot = 1e-12, 1e-12
+        assert_fk_matches(f"{off} {conv}", table.fk_batch(q), reference, model.size(), q,
+                          rel=rel, rot=rot)
+    hayati = to_table(model, "hayati")
+    assert hayati.warnings == ()
+    assert all(abs(v) <= 2 * model.size() for r in hayati.rows
+               for k, v in r.params.scalars().items() if k in ("d", "a"))
+    assert_fk_matches(f"{off} hayati", hayati.fk_batch(q), reference, model.size(), q)

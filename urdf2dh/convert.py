@@ -175,7 +175,8 @@ def to_table(
         if j.kind == "parallel":
             warnings.append(
                 f"{convention}: '{j.first}' and '{j.second}' are {shown:.3g} rad from parallel; "
-                f"treated as parallel (--parallel-angle {tol.parallel_angle:g})"
+                f"treated as parallel (--parallel-angle {tol.parallel_angle:g}; the exact D-H "
+                "row is beyond reach or precision; --convention hayati is exact here)"
             )
         else:
             warnings.append(

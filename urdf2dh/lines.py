@@ -70,13 +70,15 @@ class Limits:
     distance: float  # lines closer than this intersect
     far: float  # a common normal farther than this from the pivot is too far for D-H
     noise: float  # float round-off, as an angle
+    sane: float  # beyond this |d| or |a| the lines are treated as parallel whatever the angle
 
     @classmethod
     def of(cls, tol: Tolerances, size: float) -> Limits:
         """The thresholds of ``tol`` for a robot of ``size``."""
         parallel = max(tol.parallel_angle, tol.noise)  # round-off is never geometry
+        sane = tol.sane_factor * size if tol.sane_factor > 0.0 else math.inf
         return cls(parallel, max(parallel, tol.meet_angle), tol.distance(size),
-                   tol.far_factor * size, tol.noise)
+                   tol.far_factor * size, tol.noise, sane)
 
 
 def _far(u: Vec3, p: Vec3, pivot_d: float, far: float) -> bool:
@@ -121,11 +123,7 @@ def link_to_line(
     if rho == 0.0 or off_parallel <= lim.snap:
         # (Nearly) parallel. Pivot on the tool origin (the frame lands on it, the tool's own d
         # is 0), or on the line's crossing of the local xy plane (d = 0, Wu's parallel case).
-        if tool:
-            x, y, d = p
-        else:
-            t = p[2] / uz
-            x, y, d = p[0] - t * ux, p[1] - t * uy, 0.0
+        x, y, d = _pivot(u, p, tool)
         gap = math.hypot(x, y)
         if gap <= lim.distance:
             # The lines meet at the pivot: a = 0 and the exact direction is kept, which is
@@ -139,15 +137,16 @@ def link_to_line(
         if off_parallel <= lim.noise or (
             off_parallel <= lim.parallel and _far(u, p, d, lim.far)
         ):
-            if rho > 0.0:
-                judgements.append(Judgement("parallel", *names, off_parallel, 0.0))
-            alpha = 0.0 if uz > 0.0 else math.pi
-            return LinkParams(angle(y, x), d, alpha, gap, True), judgements
+            return _parallel(u, (x, y, d), off_parallel, names)
     px, py, pz = p
     # the line's moment p x u; the same for any point p on the line
     mx, my, mz = py * uz - pz * uy, pz * ux - px * uz, px * uy - py * ux
     d = (ux * my - uy * mx) / (rho * rho) + 0.0  # Wu eq. after (17), h = 0 in the moment
     a_abs = abs(mz) / rho
+    if max(abs(d), a_abs) > lim.sane and uz != 0.0:
+        # exact, the table would reach kilometres away (d grows as offset / angle): treated as
+        # parallel, with the deviation declared; D-H cannot be both exact and sane here
+        return _parallel(u, _pivot(u, p, tool), off_parallel, names)
     if tool or a_abs <= lim.distance:
         # Tool (Lemma 4) or (nearly) intersecting lines: alpha > 0 and a keeps its exact,
         # possibly tiny negative, value. No judgement is needed: this is exact.
@@ -157,3 +156,23 @@ def link_to_line(
     alpha = angle(sigma * rho, uz)
     theta = angle(sigma * ux, -sigma * uy)  # Wu eq. (16)
     return LinkParams(theta, d, alpha, a, False), judgements
+
+
+def _pivot(u: Vec3, p: Vec3, tool: bool) -> Vec3:
+    """Where a frame treating the line as parallel lands: on the tool origin, or where the line
+    crosses the local xy plane (``d = 0``)."""
+    if tool:
+        return p
+    t = p[2] / u[2]
+    return p[0] - t * u[0], p[1] - t * u[1], 0.0
+
+
+def _parallel(
+    u: Vec3, pivot: Vec3, off_parallel: float, names: tuple[str, str]
+) -> tuple[LinkParams, list[Judgement]]:
+    """The link to a line treated as parallel to the local z, through ``pivot``: ``alpha`` 0 or
+    pi, ``a`` the distance, and the judgement (unless the angle is exactly 0)."""
+    x, y, d = pivot
+    judgements = [Judgement("parallel", *names, off_parallel, 0.0)] if off_parallel > 0.0 else []
+    alpha = 0.0 if u[2] > 0.0 else math.pi
+    return LinkParams(angle(y, x), d, alpha, math.hypot(x, y), True), judgements

@@ -103,6 +103,11 @@ class Tolerances:
         -1, or it would trade one singularity for another.
     far_factor
         A D-H ``|d|`` or ``|a|`` larger than ``far_factor`` x the robot's size is warned about.
+    sane_factor
+        Axes farther than ``parallel_angle`` from parallel whose exact common normal would put a
+        D-H ``|d|`` or ``|a|`` beyond ``sane_factor`` x the robot's size are treated as parallel
+        all the same, with the deviation declared (``dh`` and ``mdh`` never refuse a chain; the
+        ``hayati`` convention is exact there). Not with ``--exact``.
     rotation_input
         A rotation typed into a file (POE tool matrix, table matrix) may be off orthonormal by
         this much (it is then orthonormalised, with a warning); more is an input error.
@@ -131,6 +136,7 @@ class Tolerances:
     cpc_reverse_below: float = -0.5
     cpc_singular_margin: float = 1e-3
     far_factor: float = 10.0
+    sane_factor: float = 1e3
     rotation_input: float = 1e-3
     noise: float = 256 * EPS
     report: float = 1e-12
@@ -163,7 +169,7 @@ class Tolerances:
 
     def with_exact(self) -> Tolerances:
         """The same tolerances with snapping turned off."""
-        return replace(self, parallel_angle=0.0, intersect_distance=0.0)
+        return replace(self, parallel_angle=0.0, intersect_distance=0.0, sane_factor=0.0)
 
 
 DEFAULT = Tolerances()

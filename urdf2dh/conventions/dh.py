@@ -86,8 +86,9 @@ def far_rows(
             out.append(
                 f"{name}: row '{joint.name}' has {shown}, far beyond the robot's size "
                 f"({model.size():.3g} {unit}): nearly parallel axes put the common "
-                "normal far away and D-H loses precision there; cpc (or the POE model) "
-                "describes this geometry without it, while mdh shares the common normals"
+                "normal far away and D-H loses precision there; --convention hayati (or cpc, or "
+                "the POE model) describes this geometry without it, while mdh shares the common "
+                "normals"
             )
     return tuple(out)
 
