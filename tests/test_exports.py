@@ -213,7 +213,9 @@ def test_helical_joints_are_refused_by_every_target(target):
 
 def test_targets_refuse_other_conventions_and_styles():
     model = open_source("ur5").model()
-    with pytest.raises(UsageError, match="--to linuxcnc takes mdh tables"):
+    refusal = (r"linuxcnc takes mdh tables, not dh \(row 'shoulder_pan_joint' is a D-H row: "
+               r"theta, d, alpha, a\); export with --convention mdh")
+    with pytest.raises(UsageError, match=refusal):
         export(model, "linuxcnc", "dh")
     with pytest.raises(UsageError, match="unknown export target 'vrml'"):
         export(model, "vrml")

@@ -104,17 +104,19 @@ def self_check(
 
 def deviation_bound(judgements: tuple[Judgement, ...], reach: float) -> tuple[float, float]:
     """What tolerance judgements can cost, at most, at any configuration: ``(position,
-    rotation)``.
+    rotation)``; ``reach`` bounds every point's distance from the base origin.
 
     A pair of lines treated as parallel (``angle`` apart) leaves the table's joint axis turned by
-    ``angle`` about a point ``a`` on it; every frame after it is fitted to the source, so the home
-    pose is exact and a turn ``q`` of that joint differs from the source's by ``S R S^T - R``
-    (``S`` the turn by ``angle``), of norm at most ``2 angle``: a point ``p`` moves at most
-    ``2 angle |p - a| <= 4 angle reach`` (both within ``reach`` of the base origin), the
-    orientation at most ``2 angle``. Lines ``gap`` apart treated as meeting shift the axis by
-    ``gap``: a point moves at most ``2 gap``, the orientation not at all. The judgements add.
+    ``angle`` about a point ``a`` of it (the judgement's ``pivot`` is ``|a|`` at home). Every
+    frame after it is fitted to the source, so the table is the source's product of
+    exponentials with that one screw turned: a turn ``q`` about it differs from the source's by
+    ``S R S^T - R`` (``S`` the turn by ``angle``), of norm at most ``2 angle``, and moves a point
+    ``p`` at most ``2 angle |p - a| <= 2 angle (reach + |a|)``, the orientation at most
+    ``2 angle``. Lines ``gap`` apart treated as meeting shift the axis by ``gap``: a point moves
+    at most ``2 gap``, the orientation not at all. A product of rigid motions differs from
+    another by at most the sum of its factors' differences, so the judgements add.
     """
-    position = math.fsum(4.0 * j.angle * reach + 2.0 * j.gap for j in judgements)
+    position = math.fsum(2.0 * j.angle * (reach + j.pivot) + 2.0 * j.gap for j in judgements)
     return position, math.fsum(2.0 * j.angle for j in judgements)
 
 
@@ -160,7 +162,7 @@ def to_table(
         tolerance plus what the reported judgements account for.
     """
     table, result = build_table(model, convention, tol, style)
-    size, reach, unit = model.size(), max(model.reach(), model.size()), model.length_unit
+    size, reach, unit = model.size(), model.reach() + model.travel(), model.length_unit
     table = written(table, tol.written, tol.written * size)
     warnings = list(model.warnings)
     declared_pos, declared_rot = deviation_bound(result.judgements, reach)
@@ -169,8 +171,11 @@ def to_table(
         # a judgement is new only if the lines are apart both in the frames built so far and in
         # the source; otherwise it carries on (or undoes) an earlier judgement's deviation
         shown = j.angle if j.source_angle is None else min(j.angle, j.source_angle)
-        if shown <= tol.report and j.gap <= tol.report * size:
-            continue  # below the exactness promised, or a consequence of an earlier judgement
+        pos, rot = deviation_bound((replace(j, angle=shown),), reach)
+        if (pos <= tol.report * size and rot <= tol.report) or (
+            shown <= tol.noise and j.gap <= tol.noise * size
+        ):
+            continue  # below the exactness promised, float round-off, or a consequence
         snapped = True
         if j.kind == "parallel":
             warnings.append(

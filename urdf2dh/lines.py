@@ -38,6 +38,7 @@ class Judgement:
     angle: float  # radians the lines were from the assumed relation (0 if not angular)
     gap: float  # length the lines were from the assumed relation (0 if not a distance)
     source_angle: float | None = None  # the same angle between the lines in the source model
+    pivot: float = 0.0  # distance from the base origin, at home, of the point the line turned on
 
 
 @dataclass(frozen=True, slots=True)

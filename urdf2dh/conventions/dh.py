@@ -163,7 +163,10 @@ def links_from_poe(
         link, found = link_to_line(u, p, limits, (names[k], names[k + 1]), is_tool)
         if found:
             source = source_angle(k)
-            found = [Judgement(j.kind, j.first, j.second, j.angle, j.gap, source) for j in found]
+            # the line was turned (or moved) onto one through the new frame's origin
+            origin = frames.compose(built[k], frames.dh_frame(link.theta, link.d, 0.0, link.a))
+            pivot = math.hypot(origin[0][3], origin[1][3], origin[2][3])
+            found = [replace(j, source_angle=source, pivot=pivot) for j in found]
         return (_prefer_small_theta(link) if prefer_small_theta else link), found
 
     for k in range(len(lines)):

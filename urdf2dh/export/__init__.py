@@ -79,8 +79,8 @@ TARGETS: dict[str, Target] = {
                ("dh",), ("ur",), ".yaml"),
         Target("linuxcnc", "linuxcnc", "LinuxCNC genserkins HAL parameters (Craig D-H)",
                ("mdh",), ("zero", "ur", "wu"), ".hal"),
-        Target("rtb", "rtb", "roboticstoolbox-python DHRobot script",
-               ("dh", "mdh"), ("wu", "ur", "zero"), ".py"),
+        Target("rtb", "rtb", "roboticstoolbox-python DHRobot script (hayati: an ETS Robot)",
+               ("dh", "mdh", "hayati"), ("wu", "ur", "zero"), ".py"),
         Target("matlab", "matlab", "MATLAB Robotics System Toolbox rigidBodyTree script",
                ("dh", "mdh"), ("wu", "ur", "zero"), ".m"),
         Target("kdl", "kdl", "PyKDL Chain script (Frame.DH / Frame.DH_Craig1989)",
@@ -101,7 +101,9 @@ def _target(name: str) -> Target:
 
 def table_choices(target: str, convention: str | None, style: str | None) -> tuple[str, str]:
     """The convention and style a target's table is built with (its defaults where ``None``;
-    empty for a target that reads the POE model, which takes neither)."""
+    empty for a target that reads the POE model, which takes neither). A convention the target
+    does not read is refused by the target itself, once the table is made, naming its first row
+    of a form the target has no place for (:func:`.common.require_convention`)."""
     t = _target(target)
     if t.reads_model:
         if convention or style:
@@ -110,11 +112,6 @@ def table_choices(target: str, convention: str | None, style: str | None) -> tup
         return "", ""
     convention = convention or t.conventions[0]
     style = style or t.styles[0]
-    if convention not in t.conventions:
-        raise UsageError(
-            f"--to {target} takes {' or '.join(t.conventions)} tables, not --convention "
-            f"{convention}"
-        )
     if style not in t.styles:
         raise UsageError(
             f"--to {target} takes --style {' or '.join(t.styles)}, not {style}"

@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..conventions import Params
+from ..conventions import Params, get
 from ..errors import ExportError, UsageError, shown
 from ..formats import summary
 from ..screws import Followed
@@ -188,9 +188,17 @@ def require_unit_scale(table: Table, target: str) -> None:
 
 
 def require_convention(table: Table, target: str, allowed: Iterable[str]) -> None:
-    """Refuse a table in a convention the target does not read."""
+    """Refuse a table in a convention the target does not read, naming the first row whose
+    form none of them has."""
     allowed = tuple(allowed)
-    if table.convention not in allowed:
-        raise UsageError(
-            f"{target} takes {' or '.join(allowed)} tables, not {table.convention}"
-        )
+    if table.convention in allowed:
+        return
+    known = {cls for name in allowed for cls in get(name).row_types}
+    odd = next((r for r in table.rows if type(r.params) not in known), None)
+    row = "" if odd is None else (
+        f" (row {shown(odd.name)} is a {odd.params.form or table.convention} row: "
+        f"{', '.join(odd.params.values())})")  # fmt: skip
+    raise UsageError(
+        f"{target} takes {' or '.join(allowed)} tables, not {table.convention}{row}; export "
+        f"with --convention {allowed[0]}"
+    )
