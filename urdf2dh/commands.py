@@ -155,13 +155,14 @@ def _verify(args: argparse.Namespace) -> int:
 
 def _verify_chain(args: argparse.Namespace, source: Any, model: Any, tol: Any) -> bool:
     """Verify one chain and print its report; whether every model agrees with Pinocchio."""
+    from .errors import visible as v
     from .verify import verify
 
     results = verify(source, model, args.samples, args.seed, tol,
                      check_samples=args.check_samples)
-    unit, size = model.length_unit, model.size()
-    chain = f"{model.base_link} -> {model.tip_link}, " if model.base_link else ""
-    print(f"{source.name}: {chain}{model.n} joints; against Pinocchio at {args.samples} "
+    unit, size = v(model.length_unit), model.size()
+    chain = f"{v(model.base_link)} -> {v(model.tip_link)}, " if model.base_link else ""
+    print(f"{v(source.name)}: {chain}{model.n} joints; against Pinocchio at {args.samples} "
           f"configurations (seed {args.seed}); robot size {size:.4g} {unit}")
     print(f"  {'model':<10} {'position error':>16} {'relative':>10} {'rotation error':>16}  result")
     for r in results:
@@ -169,7 +170,7 @@ def _verify_chain(args: argparse.Namespace, source: Any, model: Any, tol: Any) -
               f"{r.rotation:>12.2e} rad  {'ok' if r.ok else 'FAILED'}")
     for r in results:
         for w in r.table.warnings if r.table is not None else ():
-            print(f"  warning: {w}")
+            print(f"  warning: {v(w)}")
     failed = [r.label for r in results if not r.ok]
     if failed:
         where = f" on {chain[:-2]}" if chain and _several(args) else ""

@@ -26,7 +26,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from . import se3
+from . import se3, units
 from .checks import check_leaders, check_name, check_number, read_mimic
 from .errors import InputError, choices
 from .screws import KINDS, PoeModel, joint_from_twist
@@ -70,6 +70,14 @@ def check_matrix(
     return m, note
 
 
+def _known_unit(unit: str, where: str) -> None:
+    """A length unit :mod:`urdf2dh.units` knows, or an error naming the field."""
+    try:
+        units.metres_per(unit)
+    except InputError as e:
+        raise InputError(f"{where}: {e}") from None
+
+
 def read_poe(data: Any, display: str, tol: Tolerances = DEFAULT) -> PoeModel:
     """Build a :class:`PoeModel` from a parsed POE file, naming the joint at fault on error."""
     if not isinstance(data, dict) or data.get("format") != "poe":
@@ -77,6 +85,7 @@ def read_poe(data: Any, display: str, tol: Tolerances = DEFAULT) -> PoeModel:
     unit = data.get("length_unit", "m")
     if not isinstance(unit, str) or not unit:
         raise InputError(f"{display}: length_unit must be a name such as m or mm")
+    _known_unit(unit, f"{display}: length_unit")
     raw = data.get("joints")
     if not isinstance(raw, list):
         raise InputError(f"{display}: 'joints' must be a list")

@@ -14,10 +14,11 @@ import numpy as np
 
 from .checks import check_leaders, check_number, read_mimic
 from .conventions import NAMES, get, read_params
-from .errors import TableFileError, choices
+from .errors import InputError, TableFileError, choices
 from .screws import KINDS
 from .table import SCHEMA, Check, Row, Table
 from .tolerances import DEFAULT, Tolerances
+from .units import metres_per
 
 __all__ = ["read_table"]
 
@@ -59,6 +60,10 @@ def read_table(data: Any, display: str, tol: Tolerances = DEFAULT) -> Table:
     if units.get("angle", "rad") != "rad":
         raise TableFileError(f"{display}: angles must be in rad (units.angle)")
     length_unit = _text(units, "length", "m", f"{display}: units")
+    try:
+        metres_per(length_unit)
+    except InputError as e:
+        raise TableFileError(f"{display}: units.length: {e}") from None
     joints = data.get("joints")
     if not isinstance(joints, list):
         raise TableFileError(f"{display}: 'joints' must be a list")
