@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING, Any
 from .errors import InputError
 
 if TYPE_CHECKING:
-    from .screws import Followed, Mimic
+    from .mimic import Followed, Mimic
 
 __all__ = ["LARGEST", "check_leaders", "check_name", "check_number", "check_vector", "read_mimic"]
 
@@ -60,7 +60,7 @@ def check_vector(
 
 def read_mimic(raw: Any, where: str, error: type[InputError] = InputError) -> Mimic | None:
     """A file's ``mimic: {joint, multiplier, offset}`` (SPEC §5) of the joint at ``where``."""
-    from .screws import Mimic
+    from .mimic import Mimic
 
     if raw is None:
         return None

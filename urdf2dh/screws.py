@@ -14,27 +14,17 @@ from __future__ import annotations
 
 import itertools
 import math
-from collections.abc import Sequence
 from dataclasses import dataclass, replace
-from typing import Literal, Protocol
+from typing import Literal
 
 import numpy as np
 from numpy.typing import NDArray
 
 from . import frames, se3
 from .fk import chain_fk
+from .mimic import Mimic, actuated, row_positions
 
-__all__ = [
-    "KINDS",
-    "Joint",
-    "JointKind",
-    "JointMotion",
-    "Mimic",
-    "PoeModel",
-    "actuated",
-    "joint_from_twist",
-    "row_positions",
-]
+__all__ = ["KINDS", "Joint", "JointKind", "JointMotion", "PoeModel", "joint_from_twist"]
 
 JointKind = Literal["revolute", "prismatic", "helical"]
 KINDS: tuple[str, ...] = ("revolute", "prismatic", "helical")
@@ -52,51 +42,6 @@ def _frozen(a: NDArray[np.float64] | None, shape: tuple[int, ...]) -> NDArray[np
     if a.shape != shape:
         raise ValueError(f"expected an array of shape {shape}, got {a.shape}")
     return a
-
-
-@dataclass(frozen=True, slots=True)
-class Mimic:
-    """A joint that follows another (URDF ``<mimic>``): its position is ``multiplier *
-    q_joint + offset``, ``joint`` being an actuated joint of the same chain."""
-
-    joint: str
-    multiplier: float = 1.0
-    offset: float = 0.0
-
-    def __post_init__(self) -> None:
-        if not (math.isfinite(self.multiplier) and math.isfinite(self.offset)):
-            raise ValueError(f"mimic of {self.joint!r}: multiplier and offset must be finite")
-
-
-class Followed(Protocol):
-    """A joint or a table row: its name, and whom it follows if it mimics."""
-
-    @property
-    def name(self) -> str: ...
-
-    @property
-    def mimic(self) -> Mimic | None: ...
-
-
-def actuated(items: Sequence[Followed]) -> tuple[int, ...]:
-    """The indices of the items that move on their own (no mimic): the positions ``q`` that
-    drive a chain, in order."""
-    return tuple(i for i, item in enumerate(items) if item.mimic is None)
-
-
-def row_positions(items: Sequence[Followed], q: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Every joint's position ``(N, n)`` from the actuated joints' ``q`` ``(N, n_actuated)``:
-    a mimicking joint's is ``multiplier * q_leader + offset``."""
-    driving = actuated(items)
-    if len(driving) == len(items):
-        return q
-    column = {items[i].name: k for k, i in enumerate(driving)}
-    out = np.empty((q.shape[0], len(items)))
-    for i, item in enumerate(items):
-        m = item.mimic
-        out[:, i] = q[:, column[item.name]] if m is None else (
-            m.multiplier * q[:, column[m.joint]] + m.offset)  # fmt: skip
-    return out
 
 
 class JointMotion:

@@ -22,7 +22,8 @@ from numpy.typing import NDArray
 from . import frames, se3
 from .conventions import Convention, Params, get
 from .fk import chain_fk
-from .screws import Joint, JointKind, JointMotion, Mimic, PoeModel, actuated, row_positions
+from .mimic import Mimic, actuated, row_positions
+from .screws import Joint, JointKind, JointMotion, PoeModel
 from .tolerances import DEFAULT
 
 __all__ = ["SCHEMA", "Check", "Row", "Table"]

@@ -26,7 +26,8 @@ from .conventions import NAMES
 from .convert import sample_configurations, to_table
 from .errors import InputError
 from .fk import chains_fk
-from .screws import Mimic, PoeModel, actuated
+from .mimic import Mimic, actuated
+from .screws import PoeModel
 from .se3 import pose_errors
 from .sources import Source
 from .table import Check, Table

@@ -15,7 +15,7 @@ import numpy as np
 from ..conventions import Params, get
 from ..errors import ExportError, UsageError, shown
 from ..formats import summary
-from ..screws import Followed
+from ..mimic import Followed
 from ..se3 import pose_errors
 from ..table import Table
 from ..tolerances import DEFAULT, Tolerances

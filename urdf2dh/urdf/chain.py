@@ -16,7 +16,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import ChainError
-from ..screws import Joint, JointKind, Mimic, PoeModel
+from ..mimic import Mimic
+from ..screws import Joint, JointKind, PoeModel
 from .tree import UrdfJoint, UrdfTree, names
 
 __all__ = ["KINDS", "final_leader", "tree_to_poe"]
