@@ -27,11 +27,13 @@ def _numbers(text: str | None, default: str) -> NDArray[np.longdouble]:
 
 def _rotation(axis: NDArray[np.longdouble], angle: NDArray[np.longdouble]) -> NDArray:
     """``(N, 4, 4)`` rotations by ``angle`` about the unit ``axis`` (Rodrigues)."""
-    k = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]],
-                 dtype=X)
+    k = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]], dtype=X)
     out = np.zeros((angle.shape[0], 4, 4), dtype=X)
-    out[:, :3, :3] = (np.eye(3, dtype=X) + np.sin(angle)[:, None, None] * k
-                      + (1 - np.cos(angle))[:, None, None] * (k @ k))
+    out[:, :3, :3] = (
+        np.eye(3, dtype=X)
+        + np.sin(angle)[:, None, None] * k
+        + (1 - np.cos(angle))[:, None, None] * (k @ k)
+    )
     out[:, 3, 3] = 1
     return out
 
@@ -40,9 +42,11 @@ def _origin(xyz: NDArray[np.longdouble], rpy: NDArray[np.longdouble]) -> NDArray
     """URDF's origin: ``Tr(xyz) Rz(yaw) Ry(pitch) Rx(roll)``."""
     (cr, cp, cy), (sr, sp, sy) = np.cos(rpy), np.sin(rpy)
     out = np.eye(4, dtype=X)
-    out[:3, :3] = [[cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr],
-                   [sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr],
-                   [-sp, cp * sr, cp * cr]]
+    out[:3, :3] = [
+        [cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr],
+        [sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr],
+        [-sp, cp * sr, cp * cr],
+    ]
     out[:3, 3] = xyz
     return out
 
@@ -60,8 +64,9 @@ def chain_fk(text: str, base: str, tip: str, q: NDArray[np.float64]) -> NDArray[
     for joint in reversed(path):
         origin = joint.find("origin")
         attrs = {} if origin is None else origin.attrib
-        out = out @ _origin(_numbers(attrs.get("xyz"), "0 0 0"),
-                            _numbers(attrs.get("rpy"), "0 0 0"))
+        out = out @ _origin(
+            _numbers(attrs.get("xyz"), "0 0 0"), _numbers(attrs.get("rpy"), "0 0 0")
+        )
         kind = joint.get("type")
         if kind == "fixed":
             continue

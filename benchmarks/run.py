@@ -84,33 +84,60 @@ def engine(repeat: int) -> list[Figure]:
         "dh conversion (no check)": lambda: build_table(model, "dh", DEFAULT),
         f"self-check at {DEFAULT_SAMPLES} configurations": lambda: self_check(model, table),
         f"self-check at {JUDGED_SAMPLES} configurations": lambda: self_check(
-            model, table, JUDGED_SAMPLES),
+            model, table, JUDGED_SAMPLES
+        ),
     }
-    times = best_of([lambda: pin.buildModelFromUrdf(str(path)), lambda: ours(DEFAULT_SAMPLES),
-                     lambda: ours(JUDGED_SAMPLES), lambda: from_tree(DEFAULT_SAMPLES),
-                     lambda: whole(DEFAULT_SAMPLES)], repeat)
+    times = best_of(
+        [
+            lambda: pin.buildModelFromUrdf(str(path)),
+            lambda: ours(DEFAULT_SAMPLES),
+            lambda: ours(JUDGED_SAMPLES),
+            lambda: from_tree(DEFAULT_SAMPLES),
+            lambda: whole(DEFAULT_SAMPLES),
+        ],
+        repeat,
+    )
     stage_times = best_of(list(stages.values()), repeat)
     load = best_of([lambda: yourdfpy_robot(root, "")], max(3, repeat // 10))[0]
-    print(f"\n{ARM}: {model.n} joints, {path.stat().st_size} bytes of URDF. Ours = reading the "
-          "file, its one XML parse (lxml) and our strict check of every element, the tree built "
-          "from yourdfpy's Robot, the chain walk to the POE model, the dh conversion and its "
-          "self-check. yourdfpy's part (its Robot made from the parsed elements by its own "
-          "element parsers) is reported separately, and included in the 'whole' line. "
-          "Pinocchio = buildModelFromUrdf(path), which reads and parses the file too. Stages, "
-          "best of each:")
+    print(
+        f"\n{ARM}: {model.n} joints, {path.stat().st_size} bytes of URDF. Ours = reading the "
+        "file, its one XML parse (lxml) and our strict check of every element, the tree built "
+        "from yourdfpy's Robot, the chain walk to the POE model, the dh conversion and its "
+        "self-check. yourdfpy's part (its Robot made from the parsed elements by its own "
+        "element parsers) is reported separately, and included in the 'whole' line. "
+        "Pinocchio = buildModelFromUrdf(path), which reads and parses the file too. Stages, "
+        "best of each:"
+    )
     for (name, _), t in zip(stages.items(), stage_times, strict=True):
         print(f"  {name:<38} {t * 1e3:7.3f} ms")
     pin_t = times[0]
     return [
-        Figure(f"engine, self-check at {DEFAULT_SAMPLES} configurations (the default)", times[1],
-               pin_t, "ms"),
-        Figure(f"engine, self-check at {JUDGED_SAMPLES} configurations (where axes were "
-               "treated as parallel)", times[2], pin_t, "ms"),
-        Figure(f"from the parsed tree: chain walk + dh + self-check at {DEFAULT_SAMPLES} "
-               "(no XML)", times[3], pin_t, "ms"),
+        Figure(
+            f"engine, self-check at {DEFAULT_SAMPLES} configurations (the default)",
+            times[1],
+            pin_t,
+            "ms",
+        ),
+        Figure(
+            f"engine, self-check at {JUDGED_SAMPLES} configurations (where axes were "
+            "treated as parallel)",
+            times[2],
+            pin_t,
+            "ms",
+        ),
+        Figure(
+            f"from the parsed tree: chain walk + dh + self-check at {DEFAULT_SAMPLES} (no XML)",
+            times[3],
+            pin_t,
+            "ms",
+        ),
         Figure("yourdfpy's Robot from the parsed elements (not ours)", load, pin_t, "ms"),
-        Figure(f"whole: parse_tree (yourdfpy's part included) + dh + self-check at "
-               f"{DEFAULT_SAMPLES}", times[4], pin_t, "ms"),
+        Figure(
+            f"whole: parse_tree (yourdfpy's part included) + dh + self-check at {DEFAULT_SAMPLES}",
+            times[4],
+            pin_t,
+            "ms",
+        ),
     ]
 
 
@@ -136,26 +163,45 @@ def whole_command(runs: int) -> list[Figure]:
     path = str(robot_path(ROBOTS[ARM]))
     convert = run_process(["-m", "urdf2dh.cli", "convert", ARM], runs)
     only_yourdfpy = run_process(["-c", "import yourdfpy"], runs)
-    pinocchio = run_process(["-c", f"import pinocchio; pinocchio.buildModelFromUrdf({path!r})"],
-                            runs)
+    pinocchio = run_process(
+        ["-c", f"import pinocchio; pinocchio.buildModelFromUrdf({path!r})"], runs
+    )
     help_ = run_process(["-m", "urdf2dh.cli", "--help"], runs)
     only_pin = run_process(["-c", "import pinocchio"], runs)
-    share, pin_share = (min(float(run_process(["-c", code], 1).stdout) for _ in range(runs))
-                        for code in (OUR_SHARE.format(arm=ARM), PIN_SHARE.format(path=path)))
-    print(f"\nNew processes, best of {runs}: `urdf2dh convert {ARM}` (python -m urdf2dh.cli) "
-          f"{convert.seconds:.3f} s; one that only imports yourdfpy {only_yourdfpy.seconds:.3f} s "
-          f"(difference {convert.seconds - only_yourdfpy.seconds:.3f} s); Pinocchio importing and "
-          f"loading the URDF {pinocchio.seconds:.3f} s. Our share, timed inside a new process: "
-          "what follows `import yourdfpy` (our imports and the conversion); Pinocchio's: its "
-          "import and model build.")
+    share, pin_share = (
+        min(float(run_process(["-c", code], 1).stdout) for _ in range(runs))
+        for code in (OUR_SHARE.format(arm=ARM), PIN_SHARE.format(path=path))
+    )
+    print(
+        f"\nNew processes, best of {runs}: `urdf2dh convert {ARM}` (python -m urdf2dh.cli) "
+        f"{convert.seconds:.3f} s; one that only imports yourdfpy {only_yourdfpy.seconds:.3f} s "
+        f"(difference {convert.seconds - only_yourdfpy.seconds:.3f} s); Pinocchio importing and "
+        f"loading the URDF {pinocchio.seconds:.3f} s. Our share, timed inside a new process: "
+        "what follows `import yourdfpy` (our imports and the conversion); Pinocchio's: its "
+        "import and model build."
+    )
     return [
         Figure(f"whole command: urdf2dh convert {ARM}", convert.seconds, pinocchio.seconds, "s"),
-        Figure("our share of it vs Pinocchio's (import + build)", share, pin_share, "s",
-               "ours <= 0.25 s", share <= 0.25),
-        Figure("start-up: urdf2dh --help vs python -c 'import pinocchio'", help_.seconds,
-               only_pin.seconds, "s"),
-        Figure(f"peak memory: convert {ARM} vs Pinocchio loading it", convert.peak_bytes,
-               pinocchio.peak_bytes, "MiB"),
+        Figure(
+            "our share of it vs Pinocchio's (import + build)",
+            share,
+            pin_share,
+            "s",
+            "ours <= 0.25 s",
+            share <= 0.25,
+        ),
+        Figure(
+            "start-up: urdf2dh --help vs python -c 'import pinocchio'",
+            help_.seconds,
+            only_pin.seconds,
+            "s",
+        ),
+        Figure(
+            f"peak memory: convert {ARM} vs Pinocchio loading it",
+            convert.peak_bytes,
+            pinocchio.peak_bytes,
+            "MiB",
+        ),
     ]
 
 
@@ -165,17 +211,36 @@ def imports() -> list[Figure]:
     cli = import_ms("import urdf2dh.cli")
     convert = import_ms("import urdf2dh.convert, urdf2dh.sources, urdf2dh.formats, urdf2dh.urdf")
     yd = import_ms("import yourdfpy")
-    hygiene = run_process(["-c", "import sys; from urdf2dh.cli import main\ntry: main(['--help'])\n"
-                           "except SystemExit: pass\nprint(sorted({m.split('.')[0] for m in "
-                           "sys.modules} & {'numpy', 'yourdfpy', 'pinocchio', 'lxml'}))"], 1)
-    print(f"\nModules `urdf2dh --help` imports of numpy, yourdfpy, pinocchio, lxml: "
-          f"{hygiene.stdout.strip().splitlines()[-1]}")
+    hygiene = run_process(
+        [
+            "-c",
+            "import sys; from urdf2dh.cli import main\ntry: main(['--help'])\n"
+            "except SystemExit: pass\nprint(sorted({m.split('.')[0] for m in "
+            "sys.modules} & {'numpy', 'yourdfpy', 'pinocchio', 'lxml'}))",
+        ],
+        1,
+    )
+    print(
+        f"\nModules `urdf2dh --help` imports of numpy, yourdfpy, pinocchio, lxml: "
+        f"{hygiene.stdout.strip().splitlines()[-1]}"
+    )
     return [
-        Figure("import urdf2dh.cli (all that --help needs)", cli["total"] / 1e3, pin_ms / 1e3,
-               "ms", "no yourdfpy, no Pinocchio", "yourdfpy" not in cli and "pinocchio" not in cli),
-        Figure("import of convert's modules (ours, numpy; yourdfpy is imported on use)",
-               convert["total"] / 1e3, pin_ms / 1e3, "ms", "no Pinocchio",
-               "pinocchio" not in convert),
+        Figure(
+            "import urdf2dh.cli (all that --help needs)",
+            cli["total"] / 1e3,
+            pin_ms / 1e3,
+            "ms",
+            "no yourdfpy, no Pinocchio",
+            "yourdfpy" not in cli and "pinocchio" not in cli,
+        ),
+        Figure(
+            "import of convert's modules (ours, numpy; yourdfpy is imported on use)",
+            convert["total"] / 1e3,
+            pin_ms / 1e3,
+            "ms",
+            "no Pinocchio",
+            "pinocchio" not in convert,
+        ),
         Figure("import yourdfpy (not ours)", yd["total"] / 1e3, pin_ms / 1e3, "ms"),
     ]
 
@@ -207,21 +272,33 @@ def batch_fk(count: int, repeat: int) -> list[Figure]:
             pin.forwardKinematics(reduced, data, config)
 
     ours_t, poe_t, loop_t, bare_t = best_of(
-        [lambda: table.fk_batch(q), lambda: model.fk_batch(q), loop, fk_only], repeat)
+        [lambda: table.fk_batch(q), lambda: model.fk_batch(q), loop, fk_only], repeat
+    )
     ours, theirs = table.fk_batch(q), loop()
     pos, rot = pose_errors(ours, theirs)
-    print(f"\n{ARM}, N = {count:,} configurations within the joint limits; Pinocchio's model is "
-          f"the URDF's reduced to the 7 arm joints. Max difference of the poses: {pos:.2e} m, "
-          f"{rot:.2e} rad; largest entry {np.abs(ours - theirs).max():.2e}. One thread, numpy "
-          f"{np.__version__}'s cos and sin (urdf2dh/fk.py).")
+    print(
+        f"\n{ARM}, N = {count:,} configurations within the joint limits; Pinocchio's model is "
+        f"the URDF's reduced to the 7 arm joints. Max difference of the poses: {pos:.2e} m, "
+        f"{rot:.2e} rad; largest entry {np.abs(ours - theirs).max():.2e}. One thread, numpy "
+        f"{np.__version__}'s cos and sin (urdf2dh/fk.py)."
+    )
     return [
-        Figure("batch FK: Table.fk_batch vs loop of forwardKinematics + tip pose", ours_t,
-               loop_t, "ms"),
-        Figure("batch FK vs the loop's forwardKinematics alone (poses not read out)", ours_t,
-               bare_t, "ms"),
+        Figure(
+            "batch FK: Table.fk_batch vs loop of forwardKinematics + tip pose", ours_t, loop_t, "ms"
+        ),
+        Figure(
+            "batch FK vs the loop's forwardKinematics alone (poses not read out)",
+            ours_t,
+            bare_t,
+            "ms",
+        ),
         Figure("batch FK of the POE model vs the loop", poe_t, loop_t, "ms"),
-        Figure("batch FK peak allocation vs the loop's", peak_alloc(lambda: table.fk_batch(q)),
-               peak_alloc(loop), "MiB"),
+        Figure(
+            "batch FK peak allocation vs the loop's",
+            peak_alloc(lambda: table.fk_batch(q)),
+            peak_alloc(loop),
+            "MiB",
+        ),
     ]
 
 
@@ -254,13 +331,27 @@ def verify_run(samples: int, runs: int, repeat: int) -> list[Figure]:
     oracle = ORACLE.format(path=str(robot_path(bundled)), tip=bundled.tip, samples=samples)
     theirs = run_process(["-c", oracle], runs)
     return [
-        Figure(f"verify {ARM} at {samples} configurations (POE + 3 tables + their conversions) "
-               "vs Pinocchio alone at them, in one process", ours_t, theirs_t, "ms", "<= 2x",
-               ours_t <= 2.0 * theirs_t),
-        Figure(f"urdf2dh verify {ARM} --samples {samples} vs Pinocchio's FK at as many, new "
-               "processes", ours.seconds, theirs.seconds, "s"),
-        Figure("peak memory of the verify run vs Pinocchio's", ours.peak_bytes,
-               theirs.peak_bytes, "MiB"),
+        Figure(
+            f"verify {ARM} at {samples} configurations (POE + 3 tables + their conversions) "
+            "vs Pinocchio alone at them, in one process",
+            ours_t,
+            theirs_t,
+            "ms",
+            "<= 2x",
+            ours_t <= 2.0 * theirs_t,
+        ),
+        Figure(
+            f"urdf2dh verify {ARM} --samples {samples} vs Pinocchio's FK at as many, new processes",
+            ours.seconds,
+            theirs.seconds,
+            "s",
+        ),
+        Figure(
+            "peak memory of the verify run vs Pinocchio's",
+            ours.peak_bytes,
+            theirs.peak_bytes,
+            "MiB",
+        ),
     ]
 
 
@@ -269,9 +360,11 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--quick", action="store_true", help="CI's short run")
     args = parser.parse_args(argv)
     quick = args.quick
-    print(f"# urdf2dh benchmark{' (quick)' if quick else ''}\n\nPython {platform.python_version()}"
-          f", Pinocchio {pin.__version__}, yourdfpy {yourdfpy.__version__}, numpy "
-          f"{np.__version__}; {os.cpu_count()} CPUs; load average {os.getloadavg()[0]:.2f}")
+    print(
+        f"# urdf2dh benchmark{' (quick)' if quick else ''}\n\nPython {platform.python_version()}"
+        f", Pinocchio {pin.__version__}, yourdfpy {yourdfpy.__version__}, numpy "
+        f"{np.__version__}; {os.cpu_count()} CPUs; load average {os.getloadavg()[0]:.2f}"
+    )
     figures = engine(repeat=20 if quick else 200)
     print_table("Engine (one process)", figures)
     rows = whole_command(runs=1 if quick else 5)
@@ -288,15 +381,19 @@ def main(argv: list[str] | None = None) -> int:
     rows = batch_fk(count=10_000 if quick else 100_000, repeat=2 if quick else 7)
     print_table("Batch forward kinematics", rows)
     figures += rows
-    rows = verify_run(samples=1000 if quick else 10_000, runs=1 if quick else 3,
-                      repeat=3 if quick else 10)
+    rows = verify_run(
+        samples=1000 if quick else 10_000, runs=1 if quick else 3, repeat=3 if quick else 10
+    )
     print_table("verify", rows)
     figures += rows
     goals = [f for f in figures if f.met is not None]
-    print(f"\nGoals met: {sum(f.met is True for f in goals)} of {len(goals)}"
-          + "".join(f"\n  NOT met: {f.name} ({f.ratio:.3g}x; goal {f.goal})"
-                    for f in goals if not f.met)
-          + f"\nLoad average at the end: {os.getloadavg()[0]:.2f}")
+    print(
+        f"\nGoals met: {sum(f.met is True for f in goals)} of {len(goals)}"
+        + "".join(
+            f"\n  NOT met: {f.name} ({f.ratio:.3g}x; goal {f.goal})" for f in goals if not f.met
+        )
+        + f"\nLoad average at the end: {os.getloadavg()[0]:.2f}"
+    )
     return 0
 
 

@@ -53,8 +53,16 @@ def chain_lengths(sizes: list[int], accuracy_samples: int) -> tuple[list[Figure]
         pin_t, t = best_of([lambda text=text: pin.buildModelFromXML(text), ours], repeat)
         times.append(t)
         ok = t <= 1.0 if n == 1000 else None
-        rows.append(Figure(f"{n} joints: convert to dh, self-check included", t, pin_t, "ms",
-                           "ours <= 1 s" if n == 1000 else "", ok))
+        rows.append(
+            Figure(
+                f"{n} joints: convert to dh, self-check included",
+                t,
+                pin_t,
+                "ms",
+                "ours <= 1 s" if n == 1000 else "",
+                ok,
+            )
+        )
         tree = _tree(data, robot)
         model = tree_to_poe(tree, "base", "tool")
         q = sample_configurations(model, accuracy_samples, 1)
@@ -63,13 +71,20 @@ def chain_lengths(sizes: list[int], accuracy_samples: int) -> tuple[list[Figure]
         ours_err = [pose_errors(model.fk_batch(q), exact)]
         ours_err += [pose_errors(to_table(model, c).fk_batch(q), exact) for c in CONVENTIONS]
         pos, rot = max(p for p, _ in ours_err) / size, max(r for _, r in ours_err)
-        theirs = (None if n > PIN_FK_MAX else pose_errors(pinocchio_fk(
-            Source("urdf", "chain.urdf", tree.name, tree, data), model, q), exact))
+        theirs = (
+            None
+            if n > PIN_FK_MAX
+            else pose_errors(
+                pinocchio_fk(Source("urdf", "chain.urdf", tree.name, tree, data), model, q), exact
+            )
+        )
         errors.append((n, pos, rot, theirs and theirs[0] / size, theirs and theirs[1]))
-        pin_cells = ("n/a | n/a" if theirs is None
-                     else f"{theirs[0] / size:.2e} | {theirs[1]:.2e}")
-        lines.append(f"| {n} | {size:.3g} | " + " | ".join(f"{p / size:.2e}" for p, _ in ours_err)
-                     + f" | {rot:.2e} | {pin_cells} |")
+        pin_cells = "n/a | n/a" if theirs is None else f"{theirs[0] / size:.2e} | {theirs[1]:.2e}"
+        lines.append(
+            f"| {n} | {size:.3g} | "
+            + " | ".join(f"{p / size:.2e}" for p, _ in ours_err)
+            + f" | {rot:.2e} | {pin_cells} |"
+        )
     notes = [
         f"Largest chain ({sizes[-1]} joints): peak allocation of the conversion "
         f"{peak_alloc(ours) / 2**20:.1f} MiB.",  # ours: the last chain's
@@ -93,9 +108,11 @@ def _fits(sizes: list[int], times: list[float], errors: list[tuple]) -> list[str
     r2 = 1 - np.sum((t_arr - (a + b * n_arr)) ** 2) / np.sum((t_arr - t_arr.mean()) ** 2)
     big = n_arr >= 100 if (n_arr >= 100).sum() >= 2 else n_arr > 0
     slope = np.polyfit(np.log(n_arr[big]), np.log(t_arr[big]), 1)[0]
-    out = [f"Time against joints: t = {a * 1e3:.3g} ms + {b * 1e6:.3g} us x n (R^2 = {r2:.4f}); "
-           f"log-log slope for n >= {int(n_arr[big].min())}: {slope:.2f} (1 = linear); per joint: "
-           + ", ".join(f"{n}: {t / n * 1e6:.0f} us" for n, t in zip(sizes, times, strict=True))]
+    out = [
+        f"Time against joints: t = {a * 1e3:.3g} ms + {b * 1e6:.3g} us x n (R^2 = {r2:.4f}); "
+        f"log-log slope for n >= {int(n_arr[big].min())}: {slope:.2f} (1 = linear); per joint: "
+        + ", ".join(f"{n}: {t / n * 1e6:.0f} us" for n, t in zip(sizes, times, strict=True))
+    ]
     floor = 2.0**-60  # an error of exactly 0 has no logarithm
 
     def loglog(k: int, rows: list[tuple]) -> str:
@@ -103,8 +120,10 @@ def _fits(sizes: list[int], times: list[float], errors: list[tuple]) -> list[str
         return f"{np.polyfit(x, np.log([max(r[k], floor) for r in rows]), 1)[0]:.2f}"
 
     theirs = [e for e in errors if e[3] is not None]
-    slopes = ("Worst error against joints, log-log slope (<= 1: no faster than linear): ours, "
-              f"position / size {loglog(1, errors)}, rotation {loglog(2, errors)}")
+    slopes = (
+        "Worst error against joints, log-log slope (<= 1: no faster than linear): ours, "
+        f"position / size {loglog(1, errors)}, rotation {loglog(2, errors)}"
+    )
     if len(theirs) > 1:
         slopes += f"; Pinocchio (n <= {PIN_FK_MAX}) {loglog(3, theirs)} and {loglog(4, theirs)}"
     return [*out, slopes]

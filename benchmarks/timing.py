@@ -77,26 +77,34 @@ print(json.dumps(result))
 
 def run_process(args: Sequence[str], runs: int) -> Process:
     """Run ``python args...`` ``runs`` times (it must exit 0): best wall time, peak memory."""
-    launched = subprocess.run([sys.executable, "-c", LAUNCHER,
-                               json.dumps([sys.executable, *args]), str(runs)],
-                              capture_output=True, text=True, check=True)
+    launched = subprocess.run(
+        [sys.executable, "-c", LAUNCHER, json.dumps([sys.executable, *args]), str(runs)],
+        capture_output=True,
+        text=True,
+        check=True,
+    )
     result = json.loads(launched.stdout)
     if result["code"] != 0:
-        raise RuntimeError(f"python {' '.join(args)} exited {result['code']}: "
-                           f"{result['stderr'].strip()}")
+        raise RuntimeError(
+            f"python {' '.join(args)} exited {result['code']}: {result['stderr'].strip()}"
+        )
     return Process(result["seconds"], float(result["peak"]), result["stdout"])
 
 
 def import_ms(statement: str) -> dict[str, float]:
     """Milliseconds each top-level module imported by ``statement`` took (``-X importtime``,
     cumulative), plus ``"total"``, in a new process."""
-    proc = subprocess.run([sys.executable, "-X", "importtime", "-c", statement],
-                          capture_output=True, text=True, check=True)
+    proc = subprocess.run(
+        [sys.executable, "-X", "importtime", "-c", statement],
+        capture_output=True,
+        text=True,
+        check=True,
+    )
     out: dict[str, float] = {"total": 0.0}
     for line in proc.stderr.splitlines():
         if not line.startswith("import time:") or "cumulative" in line:
             continue
-        _, cumulative, name = line[len("import time:"):].split("|")
+        _, cumulative, name = line[len("import time:") :].split("|")
         if name.startswith("  "):  # nested: counted in its top-level importer
             continue
         out[name.strip()] = int(cumulative) / 1000.0
@@ -132,6 +140,8 @@ def print_table(title: str, rows: Sequence[Figure]) -> None:
     for f in rows:
         k = SCALE[f.unit]
         goal = f.goal + ("" if f.met is None else (" (met)" if f.met else " (NOT met)"))
-        print(f"| {f.name} | {f.ours * k:.4g} {f.unit} | {f.pinocchio * k:.4g} {f.unit} | "
-              f"{f.ratio:.3g}x | {goal} |")
+        print(
+            f"| {f.name} | {f.ours * k:.4g} {f.unit} | {f.pinocchio * k:.4g} {f.unit} | "
+            f"{f.ratio:.3g}x | {goal} |"
+        )
     sys.stdout.flush()

@@ -24,14 +24,26 @@ from urdf2dh.urdfwrite import table_to_urdf
 from urdf2dh.verify import pinocchio_fk
 
 # Universal Robots UR5: (theta, d, alpha, a); theta offsets 0
-UR5 = [(0, 0.089159, math.pi / 2, 0), (0, 0, 0, -0.425), (0, 0, 0, -0.39225),
-       (0, 0.10915, math.pi / 2, 0), (0, 0.09465, -math.pi / 2, 0), (0, 0.0823, 0, 0)]
+UR5 = [
+    (0, 0.089159, math.pi / 2, 0),
+    (0, 0, 0, -0.425),
+    (0, 0, 0, -0.39225),
+    (0, 0.10915, math.pi / 2, 0),
+    (0, 0.09465, -math.pi / 2, 0),
+    (0, 0.0823, 0, 0),
+]
 
 
 def dh(theta: float, d: float, alpha: float, a: float) -> np.ndarray:
     ct, st, ca, sa = math.cos(theta), math.sin(theta), math.cos(alpha), math.sin(alpha)
-    return np.array([[ct, -st * ca, st * sa, a * ct], [st, ct * ca, -ct * sa, a * st],
-                     [0, sa, ca, d], [0, 0, 0, 1.0]])
+    return np.array(
+        [
+            [ct, -st * ca, st * sa, a * ct],
+            [st, ct * ca, -ct * sa, a * st],
+            [0, sa, ca, d],
+            [0, 0, 0, 1.0],
+        ]
+    )
 
 
 def textbook_fk(q: np.ndarray) -> np.ndarray:
@@ -48,13 +60,24 @@ def main() -> int:
 
 def round_trip(work: Path) -> int:
     tree = {
-        "schema": "urdf2dh/1", "convention": "dh", "robot": "ur5-textbook",
-        "base_link": "base", "tip_link": "flange", "units": {"length": "m", "angle": "rad"},
+        "schema": "urdf2dh/1",
+        "convention": "dh",
+        "robot": "ur5-textbook",
+        "base_link": "base",
+        "tip_link": "flange",
+        "units": {"length": "m", "angle": "rad"},
         "base": {"params": {"theta": 0.0, "d": 0.0, "alpha": 0.0, "a": 0.0}},
-        "joints": [{"name": f"joint{i + 1}", "type": "revolute", "pitch": 0.0, "scale": 1.0,
-                    "params": {"theta": t, "d": d, "alpha": al, "a": a},
-                    "limits": [-2 * math.pi, 2 * math.pi]}
-                   for i, (t, d, al, a) in enumerate(UR5)],
+        "joints": [
+            {
+                "name": f"joint{i + 1}",
+                "type": "revolute",
+                "pitch": 0.0,
+                "scale": 1.0,
+                "params": {"theta": t, "d": d, "alpha": al, "a": a},
+                "limits": [-2 * math.pi, 2 * math.pi],
+            }
+            for i, (t, d, al, a) in enumerate(UR5)
+        ],
         "tool": {"params": {"theta": 0.0, "d": 0.0}},
     }
     table_file = work / "ur5-textbook.json"
@@ -75,8 +98,11 @@ def round_trip(work: Path) -> int:
     print(f"Pinocchio on the URDF vs the D-H formula, 500 configurations: max |dT| = {err:.2g}")
 
     again = to_table(model, "dh", style="ur")
-    worst = max(abs(getattr(r.params, k) - p[i]) for r, p in zip(again.rows, UR5, strict=True)
-                for i, k in enumerate(("theta", "d", "alpha", "a")))
+    worst = max(
+        abs(getattr(r.params, k) - p[i])
+        for r, p in zip(again.rows, UR5, strict=True)
+        for i, k in enumerate(("theta", "d", "alpha", "a"))
+    )
     print(f"URDF -> dh (--style ur) vs the typed table: max parameter difference {worst:.2g}")
     limits = [(r.lower, r.upper) for r in again.rows]
     print(f"joint limits carried through: {limits[0]}")

@@ -29,8 +29,10 @@ def compare(label: str, cells: list) -> int:
         paper = " ".join(f"{float(c.printed):9.3f}" for c in group)
         off = [c.column for c in group if not c.ok]
         bad += len(off)
-        print(f"  {row}  ours  {ours}\n       paper {paper}" + (f"   <- {', '.join(off)}"
-                                                                 if off else ""))
+        print(
+            f"  {row}  ours  {ours}\n       paper {paper}"
+            + (f"   <- {', '.join(off)}" if off else "")
+        )
     return bad
 
 
@@ -38,17 +40,23 @@ def main() -> int:
     model = open_source("puma560-actual").model()
     table = to_table(model, "cpc")
     print(render(table, "text"))
-    compare("Table III against the POE model as printed (columns b_xyz, l_xyz, beta):",
-            sumenkov_table3())
+    compare(
+        "Table III against the POE model as printed (columns b_xyz, l_xyz, beta):",
+        sumenkov_table3(),
+    )
     print()
-    compare("Table III against joint 6 = [-0.095, -0.031, -0.995, -51, 249, 0]:",
-            sumenkov_table3(joint6_as_behind_rows_6_7=True))
+    compare(
+        "Table III against joint 6 = [-0.095, -0.031, -0.995, -51, 249, 0]:",
+        sumenkov_table3(joint6_as_behind_rows_6_7=True),
+    )
     # Sumenkov Table II: position and orientation errors over 1000 configurations in [-pi, pi]
     q = np.random.default_rng(560).uniform(-np.pi, np.pi, size=(1000, model.n))
     pos, rot = pose_errors(table.fk_batch(q), model.fk_batch(q))
-    print(f"\nPOE -> CPC over 1000 configurations: max position error {pos * 1e-3:.3g} m, "
-          f"max orientation error {rot:.3g} rad (Sumenkov Table II, POE-CPC: 7.4e-16 m, "
-          "3.9e-15 rad)")
+    print(
+        f"\nPOE -> CPC over 1000 configurations: max position error {pos * 1e-3:.3g} m, "
+        f"max orientation error {rot:.3g} rad (Sumenkov Table II, POE-CPC: 7.4e-16 m, "
+        "3.9e-15 rad)"
+    )
     return 0 if pos < 1e-12 * model.size() and rot < 1e-12 else 1
 
 

@@ -25,13 +25,19 @@ def main() -> int:
             group = list(group)
             ours = " ".join(f"{c.ours:>{12 if c.column == 'h' else 10}.6g}" for c in group)
             printed = " ".join(f"{c.printed:>{12 if c.column == 'h' else 10}}" for c in group)
-            marks = "" if all(c.ok for c in group) else "   <- differs: " + ", ".join(
-                c.column for c in group if not c.ok)
+            marks = (
+                ""
+                if all(c.ok for c in group)
+                else "   <- differs: " + ", ".join(c.column for c in group if not c.ok)
+            )
             print(f"  {row:6} {ours}\n  {'paper':6} {printed}{marks}")
             failures += sum(not c.ok for c in group)
         print()
-    print("all cells agree with the printed table" if not failures
-          else f"{failures} cells differ from the printed table")
+    print(
+        "all cells agree with the printed table"
+        if not failures
+        else f"{failures} cells differ from the printed table"
+    )
     return 1 if failures else 0
 
 

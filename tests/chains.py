@@ -65,8 +65,11 @@ def random_chain_urdf(
         else:  # prismatic, along a random or quarter-turn direction
             jtype = "prismatic"
             xyz = rng.uniform(-1, 1, 3) * scale
-            rpy = (rng.uniform(-math.pi, math.pi, 3) if rng.random() < 0.5
-                   else np.array([float(rng.choice(QUARTER)), 0.0, 0.0]))
+            rpy = (
+                rng.uniform(-math.pi, math.pi, 3)
+                if rng.random() < 0.5
+                else np.array([float(rng.choice(QUARTER)), 0.0, 0.0])
+            )
         if rng.random() < 0.2 and jtype == "revolute":
             jtype = "continuous"
         limit = ""

@@ -6,7 +6,9 @@ sys.path.insert(0, os.path.dirname(__file__))
 
 def pytest_addoption(parser):
     parser.addoption(
-        "--update-golden", action="store_true", default=False,
+        "--update-golden",
+        action="store_true",
+        default=False,
         help="rewrite the golden files in tests/golden/ from the current output (then review "
-             "the diff before committing)",
+        "the diff before committing)",
     )

@@ -122,8 +122,9 @@ class RigidBodyTree:
             elif target == "body" and isinstance(value, Call):
                 body = {"name": _string(_call(value, "rigidBody", 1)[0], "rigidBody")}
             elif target == "joint":
-                name, kind = (_string(a, "rigidBodyJoint")
-                              for a in _call(value, "rigidBodyJoint", 2))
+                name, kind = (
+                    _string(a, "rigidBodyJoint") for a in _call(value, "rigidBodyJoint", 2)
+                )
                 assert kind in ("revolute", "prismatic", "fixed"), kind
                 joint = {"name": name, "type": kind, "j2p": np.eye(4), "c2j": np.eye(4)}
             elif target in ("joint.PositionLimits", "joint.HomePosition"):
@@ -150,8 +151,9 @@ class RigidBodyTree:
             elif target == "body.Joint" and value == Ref("joint"):
                 assert body is not None
                 body["joint"] = joint
-            elif target is None and value == Call("addBody", (Ref("robot"), Ref("body"),
-                                                              Ref("parent"))):
+            elif target is None and value == Call(
+                "addBody", (Ref("robot"), Ref("body"), Ref("parent"))
+            ):
                 assert body is not None and parent is not None and "joint" in body
                 if body["name"] in self.bodies or body["name"] == self.base:
                     raise AssertionError(f"duplicate body name {body['name']}")
@@ -202,7 +204,10 @@ class SerialLink:
                 args = _call(s.value, "SerialLink", 7)
                 assert args[0] == Ref("L")
                 assert [_string(args[k], "SerialLink") for k in (1, 3, 5)] == [
-                    "name", "base", "tool"]
+                    "name",
+                    "base",
+                    "tool",
+                ]
                 self.name = _string(args[2], "SerialLink name")
                 self.base, self.tool = _matrix(args[4]), _matrix(args[6])
             else:
@@ -250,8 +255,11 @@ def genserkins_links(hal: str) -> list[tuple[float, float, float]]:
     (:mod:`hal_reader`); every live line must be a ``setp genserkins.*`` of ours."""
     values: dict[str, float] = {}
     for tokens in read_hal(hal).commands:
-        m = re.fullmatch(r"genserkins\.(A|ALPHA|D)-([0-5])", tokens[1]) \
-            if len(tokens) == 3 and tokens[0] == "setp" else None
+        m = (
+            re.fullmatch(r"genserkins\.(A|ALPHA|D)-([0-5])", tokens[1])
+            if len(tokens) == 3 and tokens[0] == "setp"
+            else None
+        )
         if not m:
             raise AssertionError(f"HAL command not understood: {tokens!r}")
         key = f"{m[1]}-{m[2]}"
@@ -361,7 +369,11 @@ class _Solver:
 
 
 FakeKdl = types.SimpleNamespace(
-    Frame=_Frame, Joint=_Joint, Segment=_Segment, Chain=_Chain, JntArray=_JntArray,
+    Frame=_Frame,
+    Joint=_Joint,
+    Segment=_Segment,
+    Chain=_Chain,
+    JntArray=_JntArray,
     ChainFkSolverPos_recursive=_Solver,
 )
 
@@ -420,13 +432,18 @@ def ur_description_urdf(kinematics: dict[str, Any]) -> str:
     ``base_link_inertia`` turned by pi about z, each joint's origin the yaml's x y z and
     roll pitch yaw verbatim with its axis along z, and ``wrist_3_link`` -> ``flange`` (rpy 0,
     -pi/2, -pi/2) -> ``tool0`` (rpy pi/2, 0, pi/2)."""
+
     def f(x: Any) -> str:
         return repr(float(x))
 
     pi = math.pi
-    parts = ['<robot name="ur">', '<link name="base_link"/>', '<link name="base_link_inertia"/>',
-             '<joint name="base_link-base_link_inertia" type="fixed"><parent link="base_link"/>'
-             f'<child link="base_link_inertia"/><origin xyz="0 0 0" rpy="0 0 {f(pi)}"/></joint>']
+    parts = [
+        '<robot name="ur">',
+        '<link name="base_link"/>',
+        '<link name="base_link_inertia"/>',
+        '<joint name="base_link-base_link_inertia" type="fixed"><parent link="base_link"/>'
+        f'<child link="base_link_inertia"/><origin xyz="0 0 0" rpy="0 0 {f(pi)}"/></joint>',
+    ]
     for key, joint, parent, child in UR_JOINTS:
         k = kinematics[key]
         parts.append(f'<link name="{child}"/>')
@@ -437,7 +454,8 @@ def ur_description_urdf(kinematics: dict[str, Any]) -> str:
             '<limit lower="-6.28" upper="6.28" effort="1" velocity="1"/></joint>'
         )
     parts += [
-        '<link name="flange"/>', '<link name="tool0"/>',
+        '<link name="flange"/>',
+        '<link name="tool0"/>',
         '<joint name="wrist_3-flange" type="fixed"><parent link="wrist_3_link"/>'
         f'<child link="flange"/><origin xyz="0 0 0" rpy="0 {f(-pi / 2)} {f(-pi / 2)}"/></joint>',
         '<joint name="flange-tool0" type="fixed"><parent link="flange"/>'

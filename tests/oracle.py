@@ -20,8 +20,9 @@ def pin_reference(source: Source, model: PoeModel, samples: int = 200, seed: int
     return q, pinocchio_fk(source, model, q)
 
 
-def assert_fk_matches(label: str, poses, reference, size: float, q, rel: float = EXACT,
-                      rot: float = EXACT) -> tuple[float, float]:
+def assert_fk_matches(
+    label: str, poses, reference, size: float, q, rel: float = EXACT, rot: float = EXACT
+) -> tuple[float, float]:
     """Assert the worst position error <= rel * size and rotation error <= rot (radians)."""
     pos_err, rot_err = pose_errors(poses, reference)
     if not (pos_err <= rel * size and rot_err <= rot):

@@ -15,8 +15,10 @@ def robot(body: str, links: str = LINKS) -> str:
 
 
 def joint(name="j", jtype="revolute", parent="base", child="a", extra="") -> str:
-    return (f'<joint name="{name}" type="{jtype}"><parent link="{parent}"/>'
-            f'<child link="{child}"/>{extra}</joint>')
+    return (
+        f'<joint name="{name}" type="{jtype}"><parent link="{parent}"/>'
+        f'<child link="{child}"/>{extra}</joint>'
+    )
 
 
 CHAIN = joint("j1") + joint("j2", parent="a", child="b")
@@ -30,73 +32,143 @@ CASES = {
     "whitespace file": ("  \n\t ", [], ["empty file"]),
     "binary file": (b"\x89PNG\r\n\x1a\n\x00\x00\x00", [], ["binary file"]),
     "no links": ("<robot name='r'/>", [], ["declares no links"]),
-    "undeclared child link": (robot(joint(child="c")), [],
-                              ["joint 'j'", "undeclared link 'c'", "child"]),
-    "undeclared parent link": (robot(joint(parent="nowhere")), [],
-                               ["joint 'j'", "undeclared link 'nowhere'"]),
-    "missing child element": (robot('<joint name="j" type="fixed"><parent link="base"/></joint>'),
-                              [], ["joint 'j'", "no <child link=...>"]),
-    "link with two parents": (robot(joint("j1") + joint("j2", parent="b", child="a")), [],
-                              ["link 'a' is the child of both", "kinematic loop"]),
-    "cycle without root": (robot(joint("j1", parent="a", child="b")
-                                 + joint("j2", parent="b", child="a"),
-                                 links='<link name="a"/><link name="b"/>'),
-                           [], ["kinematic loop"]),
-    "detached cycle": (robot(joint("j0", parent="base", child="c")
-                             + joint("j1", parent="a", child="b")
-                             + joint("j2", parent="b", child="a"),
-                             links=LINKS + '<link name="c"/>'),
-                       [], ["not connected to root 'base'", "kinematic loop"]),
-    "several roots": (robot(joint("j1", parent="base", child="a"),
-                            links=LINKS), [], ["several root links", "base", "b"]),
+    "undeclared child link": (
+        robot(joint(child="c")),
+        [],
+        ["joint 'j'", "undeclared link 'c'", "child"],
+    ),
+    "undeclared parent link": (
+        robot(joint(parent="nowhere")),
+        [],
+        ["joint 'j'", "undeclared link 'nowhere'"],
+    ),
+    "missing child element": (
+        robot('<joint name="j" type="fixed"><parent link="base"/></joint>'),
+        [],
+        ["joint 'j'", "no <child link=...>"],
+    ),
+    "link with two parents": (
+        robot(joint("j1") + joint("j2", parent="b", child="a")),
+        [],
+        ["link 'a' is the child of both", "kinematic loop"],
+    ),
+    "cycle without root": (
+        robot(
+            joint("j1", parent="a", child="b") + joint("j2", parent="b", child="a"),
+            links='<link name="a"/><link name="b"/>',
+        ),
+        [],
+        ["kinematic loop"],
+    ),
+    "detached cycle": (
+        robot(
+            joint("j0", parent="base", child="c")
+            + joint("j1", parent="a", child="b")
+            + joint("j2", parent="b", child="a"),
+            links=LINKS + '<link name="c"/>',
+        ),
+        [],
+        ["not connected to root 'base'", "kinematic loop"],
+    ),
+    "several roots": (
+        robot(joint("j1", parent="base", child="a"), links=LINKS),
+        [],
+        ["several root links", "base", "b"],
+    ),
     "zero axis": (robot(joint(extra='<axis xyz="0 0 0"/>')), [], ["joint 'j'", "zero axis"]),
     "NaN axis": (robot(joint(extra='<axis xyz="0 nan 1"/>')), [], ["joint 'j'", "not finite"]),
-    "non-numeric axis": (robot(joint(extra='<axis xyz="0 one 1"/>')), [],
-                         ["joint 'j'", "axis xyz '0 one 1' is not 3 numbers"]),
+    "non-numeric axis": (
+        robot(joint(extra='<axis xyz="0 one 1"/>')),
+        [],
+        ["joint 'j'", "axis xyz '0 one 1' is not 3 numbers"],
+    ),
     "short axis": (robot(joint(extra='<axis xyz="0 1"/>')), [], ["joint 'j'", "not 3 numbers"]),
-    "NaN origin": (robot(joint(extra='<origin xyz="0 0 nan"/>')), [],
-                   ["joint 'j'", "origin xyz", "not finite"]),
-    "infinite origin": (robot(joint(extra='<origin xyz="0 0 1e999"/>')), [],
-                        ["joint 'j'", "not finite"]),
-    "non-numeric origin": (robot(joint(extra='<origin rpy="0 x 0"/>')), [],
-                           ["joint 'j'", "origin rpy '0 x 0' is not 3 numbers"]),
-    "non-numeric limit": (robot(joint(extra='<limit lower="a" upper="1"/>')), [],
-                          ["joint 'j'", "limit lower"]),
+    "NaN origin": (
+        robot(joint(extra='<origin xyz="0 0 nan"/>')),
+        [],
+        ["joint 'j'", "origin xyz", "not finite"],
+    ),
+    "infinite origin": (
+        robot(joint(extra='<origin xyz="0 0 1e999"/>')),
+        [],
+        ["joint 'j'", "not finite"],
+    ),
+    "non-numeric origin": (
+        robot(joint(extra='<origin rpy="0 x 0"/>')),
+        [],
+        ["joint 'j'", "origin rpy '0 x 0' is not 3 numbers"],
+    ),
+    "non-numeric limit": (
+        robot(joint(extra='<limit lower="a" upper="1"/>')),
+        [],
+        ["joint 'j'", "limit lower"],
+    ),
     "unknown joint type": (robot(joint(jtype="ball")), [], ["joint 'j'", "unknown type 'ball'"]),
-    "floating joint on the chain": (robot(joint("j1", jtype="floating")
-                                          + joint("j2", parent="a", child="b")), [],
-                                    ["joint 'j1'", "is floating"]),
-    "planar joint on the chain": (robot(joint("j1", jtype="planar")
-                                        + joint("j2", parent="a", child="b")), [],
-                                  ["joint 'j1'", "is planar"]),
-    "duplicate joint": (robot(joint("j") + joint("j", parent="a", child="b")), [],
-                        ["joint 'j' is declared twice"]),
-    "duplicate link": (robot(joint(), links=LINKS + '<link name="a"/>'), [],
-                       ["link 'a' is declared twice"]),
+    "floating joint on the chain": (
+        robot(joint("j1", jtype="floating") + joint("j2", parent="a", child="b")),
+        [],
+        ["joint 'j1'", "is floating"],
+    ),
+    "planar joint on the chain": (
+        robot(joint("j1", jtype="planar") + joint("j2", parent="a", child="b")),
+        [],
+        ["joint 'j1'", "is planar"],
+    ),
+    "duplicate joint": (
+        robot(joint("j") + joint("j", parent="a", child="b")),
+        [],
+        ["joint 'j' is declared twice"],
+    ),
+    "duplicate link": (
+        robot(joint(), links=LINKS + '<link name="a"/>'),
+        [],
+        ["link 'a' is declared twice"],
+    ),
     "unknown base": (robot(CHAIN), ["--base", "nope"], ["unknown base link 'nope'", "base"]),
     "unknown tip": (robot(CHAIN), ["--tip", "nope"], ["unknown tip link 'nope'"]),
-    "tip not below base": (robot(CHAIN), ["--base", "b", "--tip", "a"],
-                           ["tip link 'a' is not below base link 'b'"]),
+    "tip not below base": (
+        robot(CHAIN),
+        ["--base", "b", "--tip", "a"],
+        ["tip link 'a' is not below base link 'b'"],
+    ),
     "mimic of no joint that moves": (
-        robot(joint("j1") + joint("j2", parent="a", child="b",
-                                  extra='<mimic joint="j3" multiplier="0"/>')
-              + joint("j3", parent="base", child="c"), links=LINKS + '<link name="c"/>'),
-        [], ["joint 'j2'", "mimics 'j3' with multiplier 0", "--ignore-mimic"]),
+        robot(
+            joint("j1")
+            + joint("j2", parent="a", child="b", extra='<mimic joint="j3" multiplier="0"/>')
+            + joint("j3", parent="base", child="c"),
+            links=LINKS + '<link name="c"/>',
+        ),
+        [],
+        ["joint 'j2'", "mimics 'j3' with multiplier 0", "--ignore-mimic"],
+    ),
     "joints mimicking each other": (
-        robot(joint("j1", extra='<mimic joint="j2"/>')
-              + joint("j2", parent="a", child="b", extra='<mimic joint="j1"/>')),
-        [], ["joints ['j1', 'j2'] mimic each other"]),
+        robot(
+            joint("j1", extra='<mimic joint="j2"/>')
+            + joint("j2", parent="a", child="b", extra='<mimic joint="j1"/>')
+        ),
+        [],
+        ["joints ['j1', 'j2'] mimic each other"],
+    ),
 }
 
 
 # `info` reads the file and reports chain problems as text (test below), so it meets only the
 # file-level cases
-CHAIN_LEVEL = {"floating joint on the chain", "planar joint on the chain",
-               "mimic of no joint that moves", "joints mimicking each other",
-               "unknown base", "unknown tip", "tip not below base"}
-COMBINATIONS = [(case, command) for case in sorted(CASES)
-                for command in ("convert", "verify", "info")
-                if not (command == "info" and case in CHAIN_LEVEL)]
+CHAIN_LEVEL = {
+    "floating joint on the chain",
+    "planar joint on the chain",
+    "mimic of no joint that moves",
+    "joints mimicking each other",
+    "unknown base",
+    "unknown tip",
+    "tip not below base",
+}
+COMBINATIONS = [
+    (case, command)
+    for case in sorted(CASES)
+    for command in ("convert", "verify", "info")
+    if not (command == "info" and case in CHAIN_LEVEL)
+]
 
 
 @pytest.mark.parametrize("case, command", COMBINATIONS)
@@ -128,26 +200,42 @@ def test_info_reports_chain_problems_without_failing(case, tmp_path, capsys):
     assert "chain: not determined" in out and fragments[0] in out
 
 
-@pytest.mark.parametrize("content, suffix, fragment", [
-    ("format: poe\njoints: [\n", ".yaml", "malformed YAML"),
-    ('{"format": "poe", "joints": [}', ".json", "malformed JSON"),
-    ("just some words", ".yaml", "not a URDF, POE model"),
-    ("format: poe\njoints: 3\ntool: {twist: [0,0,0,0,0,0]}\n", ".yaml", "'joints' must be a list"),
-    ("format: poe\njoints: []\n", ".yaml", "'tool' must give either"),
-    ("schema: urdf2dh/1\nconvention: xyz\n", ".yaml", "convention must be one of"),
-    # issue 12: none of these may be an internal error, a hang or a memory blow-up
-    ('{"format": "poe", "n": ' + "9" * 5000 + "}", ".json", "malformed JSON (Exceeds"),
-    ("[" * 100_000 + "]" * 100_000, ".json", "nested too deeply"),
-    ("[" * 100_000 + "]" * 100_000, ".yaml", "nested too deeply"),
-    ("format: poe\nname: caf\xe9\n".encode("latin-1"), ".yaml", "not UTF-8 text (byte 21)"),
-    ("format: poe\na: &a [x, x, x, x, x, x, x, x, x, x]\n"
-     + "".join(f"{chr(98 + k)}: &{chr(98 + k)} [*{chr(97 + k)}, *{chr(97 + k)}, *{chr(97 + k)},"
-               f" *{chr(97 + k)}, *{chr(97 + k)}, *{chr(97 + k)}, *{chr(97 + k)}, *{chr(97 + k)},"
-               f" *{chr(97 + k)}, *{chr(97 + k)}]\n" for k in range(8)),
-     ".yaml", "more than 1,000,000 values (aliases counted as expanded)"),
-    ("format: poe\nname: [1]\njoints: []\ntool: {twist: [0, 0, 0, 0, 0, 0]}\n", ".yaml",
-     "name must be a non-empty string"),
-])
+@pytest.mark.parametrize(
+    "content, suffix, fragment",
+    [
+        ("format: poe\njoints: [\n", ".yaml", "malformed YAML"),
+        ('{"format": "poe", "joints": [}', ".json", "malformed JSON"),
+        ("just some words", ".yaml", "not a URDF, POE model"),
+        (
+            "format: poe\njoints: 3\ntool: {twist: [0,0,0,0,0,0]}\n",
+            ".yaml",
+            "'joints' must be a list",
+        ),
+        ("format: poe\njoints: []\n", ".yaml", "'tool' must give either"),
+        ("schema: urdf2dh/1\nconvention: xyz\n", ".yaml", "convention must be one of"),
+        # issue 12: none of these may be an internal error, a hang or a memory blow-up
+        ('{"format": "poe", "n": ' + "9" * 5000 + "}", ".json", "malformed JSON (Exceeds"),
+        ("[" * 100_000 + "]" * 100_000, ".json", "nested too deeply"),
+        ("[" * 100_000 + "]" * 100_000, ".yaml", "nested too deeply"),
+        ("format: poe\nname: caf\xe9\n".encode("latin-1"), ".yaml", "not UTF-8 text (byte 21)"),
+        (
+            "format: poe\na: &a [x, x, x, x, x, x, x, x, x, x]\n"
+            + "".join(
+                f"{chr(98 + k)}: &{chr(98 + k)} [*{chr(97 + k)}, *{chr(97 + k)}, *{chr(97 + k)},"
+                f" *{chr(97 + k)}, *{chr(97 + k)}, *{chr(97 + k)}, *{chr(97 + k)}, *{chr(97 + k)},"
+                f" *{chr(97 + k)}, *{chr(97 + k)}]\n"
+                for k in range(8)
+            ),
+            ".yaml",
+            "more than 1,000,000 values (aliases counted as expanded)",
+        ),
+        (
+            "format: poe\nname: [1]\njoints: []\ntool: {twist: [0, 0, 0, 0, 0, 0]}\n",
+            ".yaml",
+            "name must be a non-empty string",
+        ),
+    ],
+)
 def test_bad_model_and_table_files(content, suffix, fragment, tmp_path, capsys):
     path = tmp_path / f"bad{suffix}"
     path.write_bytes(content if isinstance(content, bytes) else content.encode())
@@ -169,20 +257,23 @@ def test_missing_files_directories_and_outputs(tmp_path, capsys):
     assert "--base/--tip apply to URDF sources" in capsys.readouterr().err
 
 
-@pytest.mark.parametrize("argv", [
-    ["convert", "ur5", "--convention", "xyz"],
-    ["convert", "ur5", "--format", "pdf"],
-    ["verify", "ur5", "--samples", "0"],
-    ["convert", "ur5", "--parallel-angle", "-1"],
-    ["convert", "ur5", "--parallel-angle", "nan"],
-    ["convert", "ur5", "--parallel-angle", "1e300"],  # beyond 0.1 rad is not "nearly parallel"
-    ["verify", "ur5", "--samples", "1000000000"],  # would take 44 GiB
-    ["convert", "ur5", "--check-samples", "1000001"],
-    ["verify", "ur5", "--seed", "-1"],
-    ["convert", "x.xacro", "--xacro-timeout", "0"],
-    ["convert"],
-    ["frobnicate"],
-])
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["convert", "ur5", "--convention", "xyz"],
+        ["convert", "ur5", "--format", "pdf"],
+        ["verify", "ur5", "--samples", "0"],
+        ["convert", "ur5", "--parallel-angle", "-1"],
+        ["convert", "ur5", "--parallel-angle", "nan"],
+        ["convert", "ur5", "--parallel-angle", "1e300"],  # beyond 0.1 rad is not "nearly parallel"
+        ["verify", "ur5", "--samples", "1000000000"],  # would take 44 GiB
+        ["convert", "ur5", "--check-samples", "1000001"],
+        ["verify", "ur5", "--seed", "-1"],
+        ["convert", "x.xacro", "--xacro-timeout", "0"],
+        ["convert"],
+        ["frobnicate"],
+    ],
+)
 def test_bad_usage_exits_2(argv, capsys):
     with pytest.raises(SystemExit) as e:
         main(argv)

@@ -10,27 +10,52 @@ import sys
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-ROW = re.compile(r"^\| (?P<name>[^|]+) \| (?P<ours>\S+) (?P<u1>\S+) \| (?P<pin>\S+) (?P<u2>\S+) "
-                 r"\| (?P<ratio>\S+)x \| (?P<goal>[^|]*) \|$")
-SECTIONS = ("Engine (one process)", "Whole command and start-up (new processes)", "Import times",
-            "Chain length (random chains, in one process)", "Batch forward kinematics", "verify")
+ROW = re.compile(
+    r"^\| (?P<name>[^|]+) \| (?P<ours>\S+) (?P<u1>\S+) \| (?P<pin>\S+) (?P<u2>\S+) "
+    r"\| (?P<ratio>\S+)x \| (?P<goal>[^|]*) \|$"
+)
+SECTIONS = (
+    "Engine (one process)",
+    "Whole command and start-up (new processes)",
+    "Import times",
+    "Chain length (random chains, in one process)",
+    "Batch forward kinematics",
+    "verify",
+)
 
 
 def test_quick_benchmark_reports_every_figure_with_pinocchio_and_ratio():
-    proc = subprocess.run([sys.executable, str(ROOT / "benchmarks" / "run.py"), "--quick"],
-                          capture_output=True, text=True, timeout=900, cwd=ROOT)
+    proc = subprocess.run(
+        [sys.executable, str(ROOT / "benchmarks" / "run.py"), "--quick"],
+        capture_output=True,
+        text=True,
+        timeout=900,
+        cwd=ROOT,
+    )
     assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
     out = proc.stdout
     for title in SECTIONS:
         assert f"### {title}\n" in out, title
     rows = [m for m in map(ROW.match, out.splitlines()) if m]
     names = [m["name"] for m in rows]
-    for expected in ("engine, self-check at 100", "engine, self-check at 1000",
-                     "from the parsed tree", "whole command", "our share",
-                     "start-up: urdf2dh --help", "peak memory: convert", "import urdf2dh.cli",
-                     "import yourdfpy", "10 joints", "200 joints", "batch FK: Table.fk_batch",
-                     "batch FK of the POE model", "verify panda at", "urdf2dh verify",
-                     "peak memory of the verify"):
+    for expected in (
+        "engine, self-check at 100",
+        "engine, self-check at 1000",
+        "from the parsed tree",
+        "whole command",
+        "our share",
+        "start-up: urdf2dh --help",
+        "peak memory: convert",
+        "import urdf2dh.cli",
+        "import yourdfpy",
+        "10 joints",
+        "200 joints",
+        "batch FK: Table.fk_batch",
+        "batch FK of the POE model",
+        "verify panda at",
+        "urdf2dh verify",
+        "peak memory of the verify",
+    ):
         assert any(n.startswith(expected) for n in names), (expected, names)
     for m in rows:
         ours, pin, ratio = float(m["ours"]), float(m["pin"]), float(m["ratio"])

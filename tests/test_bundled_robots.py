@@ -32,13 +32,21 @@ def test_every_convention_matches_pinocchio(name):
             assert any("treated as parallel" in w for w in table.warnings)
             pos, rot = table.check.declared_position, table.check.declared_rotation
             assert 1e-7 < max(pos / size, rot) < 1e-4
-            assert_fk_matches(f"{name} {conv}", table.fk_batch(q), reference, size, q,
-                              rel=max(pos / size, EXACT), rot=rot)
+            assert_fk_matches(
+                f"{name} {conv}",
+                table.fk_batch(q),
+                reference,
+                size,
+                q,
+                rel=max(pos / size, EXACT),
+                rot=rot,
+            )
             # with --exact the geometry is kept, and only D-H's conditioning limits precision
             exact = to_table(model, conv, EXACT_TOL)
             assert any("far beyond the robot's size" in w for w in exact.warnings)
-            assert_fk_matches(f"{name} {conv} --exact", exact.fk_batch(q), reference, size, q,
-                              rel=1e-10)
+            assert_fk_matches(
+                f"{name} {conv} --exact", exact.fk_batch(q), reference, size, q, rel=1e-10
+            )
         else:
             assert_fk_matches(f"{name} {conv}", table.fk_batch(q), reference, size, q)
             assert table.check.max_position_error <= EXACT * size

@@ -98,8 +98,19 @@ def test_verify_info_robots_version(capsys):
     assert "candidate tips" in out and "identifiable parameters" in out
     code, out, _ = run(capsys, "robots")
     assert code == 0
-    for name in ("ur3", "ur5", "ur10", "panda", "kinova", "xarm7", "z1", "so100", "so101",
-                 "puma560-nominal", "puma560-actual"):
+    for name in (
+        "ur3",
+        "ur5",
+        "ur10",
+        "panda",
+        "kinova",
+        "xarm7",
+        "z1",
+        "so100",
+        "so101",
+        "puma560-nominal",
+        "puma560-actual",
+    ):
         assert f"\n{name} " in "\n" + out
     with pytest.raises(SystemExit) as e:
         main(["--version"])
@@ -109,8 +120,9 @@ def test_verify_info_robots_version(capsys):
 def test_console_script_runs_without_traceback(tmp_path):
     bad = tmp_path / "bad.urdf"
     bad.write_text("<robot name='x'><link name='a'/><joint name='j' type='revolute'>")
-    proc = subprocess.run([sys.executable, "-m", "urdf2dh.cli", "convert", str(bad)],
-                          capture_output=True, text=True)
+    proc = subprocess.run(
+        [sys.executable, "-m", "urdf2dh.cli", "convert", str(bad)], capture_output=True, text=True
+    )
     assert proc.returncode == 2
     assert "malformed XML" in proc.stderr and "Traceback" not in proc.stderr
     assert proc.stderr.count("\n") == 1

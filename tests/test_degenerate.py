@@ -28,19 +28,27 @@ def urdf(joints: list[tuple[str, str, str, str]], tip: tuple[str, str] = ("0 0 0
     links = ['<link name="base"/>'] + [f'<link name="l{i}"/>' for i in range(1, len(joints) + 1)]
     body = []
     for i, (jtype, xyz, rpy, axis) in enumerate(joints, 1):
-        limit = ('<limit lower="-0.5" upper="0.5" effort="1" velocity="1"/>'
-                 if jtype == "prismatic" else
-                 '<limit lower="-3" upper="3" effort="1" velocity="1"/>'
-                 if jtype == "revolute" else "")
+        limit = (
+            '<limit lower="-0.5" upper="0.5" effort="1" velocity="1"/>'
+            if jtype == "prismatic"
+            else '<limit lower="-3" upper="3" effort="1" velocity="1"/>'
+            if jtype == "revolute"
+            else ""
+        )
         parent = "base" if i == 1 else f"l{i - 1}"
-        body.append(f'<joint name="j{i}" type="{jtype}"><parent link="{parent}"/>'
-                    f'<child link="l{i}"/><origin xyz="{xyz}" rpy="{rpy}"/>'
-                    f'<axis xyz="{axis}"/>{limit}</joint>')
+        body.append(
+            f'<joint name="j{i}" type="{jtype}"><parent link="{parent}"/>'
+            f'<child link="l{i}"/><origin xyz="{xyz}" rpy="{rpy}"/>'
+            f'<axis xyz="{axis}"/>{limit}</joint>'
+        )
     last = f"l{len(joints)}" if joints else "base"
-    body.append(f'<joint name="tip_joint" type="fixed"><parent link="{last}"/>'
-                f'<child link="tip"/><origin xyz="{tip[0]}" rpy="{tip[1]}"/></joint>')
-    return '<robot name="case">' + "".join(links) + '<link name="tip"/>' + "".join(body) + \
-        "</robot>"
+    body.append(
+        f'<joint name="tip_joint" type="fixed"><parent link="{last}"/>'
+        f'<child link="tip"/><origin xyz="{tip[0]}" rpy="{tip[1]}"/></joint>'
+    )
+    return (
+        '<robot name="case">' + "".join(links) + '<link name="tip"/>' + "".join(body) + "</robot>"
+    )
 
 
 def source(text: str) -> Source:
@@ -51,36 +59,72 @@ def source(text: str) -> Source:
 R = "revolute"
 P = "prismatic"
 CASES = {
-    "anti-parallel axes": urdf([(R, "0 0 0.3", "0 0 0", "0 0 1"),
-                                (R, "0.4 0.1 0", f"{PI} 0 0", "0 0 1"),
-                                (R, "0.3 0 0", "0 0 0", "0 0 1")], ("0.1 0 0", "0 0 0")),
-    "coincident axes": urdf([(R, "0 0 0.3", "0 0 0", "0 0 1"),
-                             (R, "0 0 0.2", "0 0 0.7", "0 0 1"),
-                             (R, "0 0 -0.5", f"{PI} 0 0", "0 0 1")], ("0 0 0.1", "0 0 0")),
-    "intersecting axes": urdf([(R, "0 0 0.3", "0 0 0", "0 0 1"),
-                               (R, "0 0 0", f"{HALF} 0 0", "0 0 1"),
-                               (R, "0 0 0", f"0 {HALF} 0", "0 0 1")], ("0 0 0.2", "0 0 0")),
-    "prismatic first": urdf([(P, "0.1 0.2 0.3", "0.3 0.2 0.1", "0 0 1"),
-                             (R, "0.2 0 0", f"{HALF} 0 0", "0 0 1")], ("0 0.1 0.1", "0 0 0")),
-    "prismatic last": urdf([(R, "0 0 0.3", "0 0 0", "0 0 1"),
-                            (P, "0.2 0.1 0", "0.4 -0.3 0.2", "0 0 1")], ("0 0 0.1", "0 0 0")),
-    "consecutive prismatic": urdf([(P, "0 0 0.1", "0 0 0", "0 0 1"),
-                                   (P, "0.1 0 0", f"0 {HALF} 0", "0 0 1"),
-                                   (P, "0 0.1 0", f"{HALF} 0 0", "0 0 1"),
-                                   (R, "0 0 0.2", "0 0 0", "0 0 1")], ("0.1 0 0", "0 0 0")),
-    "prismatic parallel to revolute": urdf([(R, "0 0 0.3", "0 0 0", "0 0 1"),
-                                            (P, "0.25 0 0", "0 0 0", "0 0 1"),
-                                            (R, "0 0.1 0", "0 0 0", "0 0 1"),
-                                            (P, "0 0 0", "0 0 0", "0 0 -1")],
-                                           ("0.05 0 0", "0 0 0")),
-    "zero-length chain": urdf([(R, "0 0 0", "0 0 0", "0 0 1"),
-                               (R, "0 0 0", f"{HALF} 0 0", "0 0 1"),
-                               (R, "0 0 0", f"0 {HALF} 0", "0 0 1")]),
+    "anti-parallel axes": urdf(
+        [
+            (R, "0 0 0.3", "0 0 0", "0 0 1"),
+            (R, "0.4 0.1 0", f"{PI} 0 0", "0 0 1"),
+            (R, "0.3 0 0", "0 0 0", "0 0 1"),
+        ],
+        ("0.1 0 0", "0 0 0"),
+    ),
+    "coincident axes": urdf(
+        [
+            (R, "0 0 0.3", "0 0 0", "0 0 1"),
+            (R, "0 0 0.2", "0 0 0.7", "0 0 1"),
+            (R, "0 0 -0.5", f"{PI} 0 0", "0 0 1"),
+        ],
+        ("0 0 0.1", "0 0 0"),
+    ),
+    "intersecting axes": urdf(
+        [
+            (R, "0 0 0.3", "0 0 0", "0 0 1"),
+            (R, "0 0 0", f"{HALF} 0 0", "0 0 1"),
+            (R, "0 0 0", f"0 {HALF} 0", "0 0 1"),
+        ],
+        ("0 0 0.2", "0 0 0"),
+    ),
+    "prismatic first": urdf(
+        [(P, "0.1 0.2 0.3", "0.3 0.2 0.1", "0 0 1"), (R, "0.2 0 0", f"{HALF} 0 0", "0 0 1")],
+        ("0 0.1 0.1", "0 0 0"),
+    ),
+    "prismatic last": urdf(
+        [(R, "0 0 0.3", "0 0 0", "0 0 1"), (P, "0.2 0.1 0", "0.4 -0.3 0.2", "0 0 1")],
+        ("0 0 0.1", "0 0 0"),
+    ),
+    "consecutive prismatic": urdf(
+        [
+            (P, "0 0 0.1", "0 0 0", "0 0 1"),
+            (P, "0.1 0 0", f"0 {HALF} 0", "0 0 1"),
+            (P, "0 0.1 0", f"{HALF} 0 0", "0 0 1"),
+            (R, "0 0 0.2", "0 0 0", "0 0 1"),
+        ],
+        ("0.1 0 0", "0 0 0"),
+    ),
+    "prismatic parallel to revolute": urdf(
+        [
+            (R, "0 0 0.3", "0 0 0", "0 0 1"),
+            (P, "0.25 0 0", "0 0 0", "0 0 1"),
+            (R, "0 0.1 0", "0 0 0", "0 0 1"),
+            (P, "0 0 0", "0 0 0", "0 0 -1"),
+        ],
+        ("0.05 0 0", "0 0 0"),
+    ),
+    "zero-length chain": urdf(
+        [
+            (R, "0 0 0", "0 0 0", "0 0 1"),
+            (R, "0 0 0", f"{HALF} 0 0", "0 0 1"),
+            (R, "0 0 0", f"0 {HALF} 0", "0 0 1"),
+        ]
+    ),
     "no movable joint": urdf([], ("0.1 0.2 0.3", "0.1 0.2 0.3")),
-    "CPC singular direction": urdf([(R, "0 0 0.4", "0 0 0", "0 0 1"),
-                                    (R, "0.3 0 0", "0 0 0", "0 0 1"),
-                                    (P, "0.2 0 0", f"{PI} 0 0", "0 0 1")],
-                                   ("0 0 0.05", "0 0 0")),
+    "CPC singular direction": urdf(
+        [
+            (R, "0 0 0.4", "0 0 0", "0 0 1"),
+            (R, "0.3 0 0", "0 0 0", "0 0 1"),
+            (P, "0.2 0 0", f"{PI} 0 0", "0 0 1"),
+        ],
+        ("0 0 0.05", "0 0 0"),
+    ),
 }
 
 
@@ -104,8 +148,9 @@ def test_base_equal_to_tip(capsys):
     assert main(["convert", "ur5", "--base", "tool0", "--tip", "tool0", "--format", "json"]) == 0
     out = capsys.readouterr().out
     assert '"joints": []' in out
-    assert main(["verify", "ur5", "--base", "wrist_3_link", "--tip", "tool0",
-                 "--samples", "20"]) == 0
+    assert (
+        main(["verify", "ur5", "--base", "wrist_3_link", "--tip", "tool0", "--samples", "20"]) == 0
+    )
 
 
 # ----------------------------------------------------------------- nearly parallel axes
@@ -117,9 +162,14 @@ def rounded_arm(off: float, along: str = "y") -> str:
     offsets run along ``along``: along y the tilt swings the common normal far away (the D-H
     problem); along x, the tilt axis, the common normal stays near."""
     offset = {"x": "0.4 0 0", "y": "0 0.4 0"}[along]
-    return urdf([(R, "0 0 0.3", "0 0 0", "0 0 1"),
-                 (R, offset, f"{math.pi / 2 + off} 0 0", "0 1 0"),
-                 (R, "0.3 0 0", f"{-math.pi / 2} 0 0", "0 0 1")], ("0.2 0 0", "0 0 0"))
+    return urdf(
+        [
+            (R, "0 0 0.3", "0 0 0", "0 0 1"),
+            (R, offset, f"{math.pi / 2 + off} 0 0", "0 1 0"),
+            (R, "0.3 0 0", f"{-math.pi / 2} 0 0", "0 0 1"),
+        ],
+        ("0.2 0 0", "0 0 0"),
+    )
 
 
 def test_a_tilt_about_the_common_perpendicular_stays_exact():
@@ -132,9 +182,16 @@ def test_a_tilt_about_the_common_perpendicular_stays_exact():
 
 def test_the_issue_example_rpy_1_5708(tmp_path, capsys):
     path = tmp_path / "rounded.urdf"
-    path.write_text(urdf([(R, "0 0 0.3", "0 0 0", "0 0 1"),
-                          (R, "0 0.4 0", "1.5708 0 0", "0 1 0"),
-                          (R, "0.3 0 0", "-1.5708 0 0", "0 0 1")], ("0.2 0 0", "0 0 0")))
+    path.write_text(
+        urdf(
+            [
+                (R, "0 0 0.3", "0 0 0", "0 0 1"),
+                (R, "0 0.4 0", "1.5708 0 0", "0 1 0"),
+                (R, "0.3 0 0", "-1.5708 0 0", "0 0 1"),
+            ],
+            ("0.2 0 0", "0 0 0"),
+        )
+    )
     assert main(["convert", str(path), "--format", "json"]) == 0
     import json
 
@@ -164,8 +221,15 @@ def test_rounded_angles_give_sane_tables_and_a_stated_deviation(off):
         # configurations; it scales with the angle, and the measured one is within it
         assert 0.2 * off * 0.3 < table.check.max_position_error <= declared
         assert declared <= 5 * off * model.reach()
-        assert_fk_matches(f"{off} {conv}", table.fk_batch(q), reference, model.size(), q,
-                          rel=declared / model.size(), rot=table.check.declared_rotation)
+        assert_fk_matches(
+            f"{off} {conv}",
+            table.fk_batch(q),
+            reference,
+            model.size(),
+            q,
+            rel=declared / model.size(),
+            rot=table.check.declared_rotation,
+        )
     cpc = to_table(model, "cpc")  # CPC is continuous: exact, no judgement
     assert_fk_matches(f"{off} cpc", cpc.fk_batch(q), reference, model.size(), q)
 
@@ -211,8 +275,10 @@ def test_mimic_joint_following_another_branch_stands_in_for_it(capsys):
     assert main(["convert", "panda", "--tip", "panda_rightfinger", "--ignore-mimic"]) == 0
     out = capsys.readouterr().out
     assert "treated as an independent joint (--ignore-mimic)" in out
-    assert main(["verify", "panda", "--tip", "panda_rightfinger", "--ignore-mimic",
-                 "--samples", "50"]) == 0
+    assert (
+        main(["verify", "panda", "--tip", "panda_rightfinger", "--ignore-mimic", "--samples", "50"])
+        == 0
+    )
     # off the chain, mimic joints do not matter
     model = open_source("panda").model(tip="panda_leftfinger")
     assert model.n == 8 and model.warnings == ()
@@ -233,18 +299,26 @@ def test_beyond_the_parallel_angle_dh_never_refuses_and_hayati_is_exact(off):
         big = max(abs(getattr(r.params, k)) for r in table.rows for k in ("d", "a"))
         if off == 2e-4:
             assert big <= model.size()
-            assert any("treated as parallel" in w and "--convention hayati" in w
-                       for w in table.warnings)
+            assert any(
+                "treated as parallel" in w and "--convention hayati" in w for w in table.warnings
+            )
             rel, rot = table.check.declared_position / model.size(), table.check.declared_rotation
         else:
             assert 100 * model.size() < big < DEFAULT.sane_factor * model.size()
-            assert any("far beyond the robot's size" in w and "--convention hayati" in w
-                       for w in table.warnings)
+            assert any(
+                "far beyond the robot's size" in w and "--convention hayati" in w
+                for w in table.warnings
+            )
             rel, rot = 1e-12, 1e-12
-        assert_fk_matches(f"{off} {conv}", table.fk_batch(q), reference, model.size(), q,
-                          rel=rel, rot=rot)
+        assert_fk_matches(
+            f"{off} {conv}", table.fk_batch(q), reference, model.size(), q, rel=rel, rot=rot
+        )
     hayati = to_table(model, "hayati")
     assert hayati.warnings == ()
-    assert all(abs(v) <= 2 * model.size() for r in hayati.rows
-               for k, v in r.params.scalars().items() if k in ("d", "a"))
+    assert all(
+        abs(v) <= 2 * model.size()
+        for r in hayati.rows
+        for k, v in r.params.scalars().items()
+        if k in ("d", "a")
+    )
     assert_fk_matches(f"{off} hayati", hayati.fk_batch(q), reference, model.size(), q)

@@ -8,9 +8,19 @@ from urdf2dh.cli import main
 
 # Wu 2019 Table II underlines the cells that changed by > 60 deg or > 30 mm between the nominal
 # and actual PUMA 560 (rows B->0, 0->1 = j1, ..., 5->6 = j6, 6->T = tool).
-WU_MARKED = {("base", "theta"), ("j1", "theta"), ("j2", "theta"), ("j2", "d"), ("j2", "a"),
-             ("j3", "theta"), ("j3", "d"), ("j6", "theta"), ("j6", "d"), ("tool", "theta"),
-             ("tool", "d")}
+WU_MARKED = {
+    ("base", "theta"),
+    ("j1", "theta"),
+    ("j2", "theta"),
+    ("j2", "d"),
+    ("j2", "a"),
+    ("j3", "theta"),
+    ("j3", "d"),
+    ("j6", "theta"),
+    ("j6", "d"),
+    ("tool", "theta"),
+    ("tool", "d"),
+}
 # ... and names the parallel pairs (Base Z, joint 1), (joint 2, joint 3), (joint 6, Tool Z).
 WU_PAIRS = [("base z", "j1"), ("j2", "j3"), ("j6", "tool z")]
 
@@ -40,8 +50,20 @@ def test_diff_text_and_thresholds(capsys):
     out = capsys.readouterr().out
     assert "11 parameters changed beyond the thresholds" in out
     assert "(j2, j3) 0.000 / 10.254 deg" in out and "-0.0000" not in out
-    assert main(["diff", "puma560-nominal", "puma560-actual", "--angle-threshold", "1",
-                 "--length-threshold", "1"]) == 0
+    assert (
+        main(
+            [
+                "diff",
+                "puma560-nominal",
+                "puma560-actual",
+                "--angle-threshold",
+                "1",
+                "--length-threshold",
+                "1",
+            ]
+        )
+        == 0
+    )
     assert "11 parameters" not in capsys.readouterr().out
 
 
@@ -88,8 +110,11 @@ def test_diff_across_units_and_conventions(tmp_path, capsys):
         assert max(abs(p["change"]) for p in tree["parameters"]) < 1e-9
     tree = run_json(capsys, "ur5", "ur10", "--angle-threshold", "60", "--length-threshold", "0.03")
     assert {(p["row"], p["param"]) for p in tree["parameters"] if p["marked"]} == {
-        ("shoulder_lift_joint", "a"), ("elbow_joint", "a"), ("shoulder_pan_joint", "d"),
-        ("wrist_1_joint", "d")}
+        ("shoulder_lift_joint", "a"),
+        ("elbow_joint", "a"),
+        ("shoulder_pan_joint", "d"),
+        ("wrist_1_joint", "d"),
+    }
 
 
 def test_diff_of_different_chains_is_an_input_error(capsys):

@@ -42,14 +42,15 @@ def test_any_convention_to_any_other_through_table_files(robot, tmp_path, capsys
     size = model.size()
     for first in CONVENTIONS:
         path = tmp_path / f"{first}.json"
-        assert main(["convert", robot, "--convention", first, "--format", "json",
-                     "-o", str(path)]) == 0
+        assert (
+            main(["convert", robot, "--convention", first, "--format", "json", "-o", str(path)])
+            == 0
+        )
         source = open_source(str(path))
         assert source.kind == "table"
         for second in CONVENTIONS:
             table = to_table(source.model(), second)
-            assert_fk_matches(f"{robot} {first}->{second}", table.fk_batch(q), reference, size,
-                              q)
+            assert_fk_matches(f"{robot} {first}->{second}", table.fk_batch(q), reference, size, q)
             if second == first:  # convention -> POE -> convention is idempotent
                 close_tables(table, to_table(model, first), size)
 
@@ -70,8 +71,7 @@ def test_urdf_writer_matches_pinocchio_and_round_trips(robot, tmp_path):
         q_table = q / np.array([abs(r.scale) for r in table.rows])
         ours = table.fk_batch(q_table)
         ours[:, :3, 3] *= metres
-        assert_fk_matches(f"{robot} {conv} -> URDF (Pinocchio)", ours, reference,
-                          again.size(), q)
+        assert_fk_matches(f"{robot} {conv} -> URDF (Pinocchio)", ours, reference, again.size(), q)
         if conv == "dh" and model.length_unit == "m":
             # URDF -> dh -> URDF -> dh returns the same table, limits included
             first = to_table(again, "dh")
@@ -79,8 +79,9 @@ def test_urdf_writer_matches_pinocchio_and_round_trips(robot, tmp_path):
             second_path.write_text(table_to_urdf(first)[0])
             second = to_table(open_source(str(second_path)).model(), "dh")
             close_tables(first, second, again.size())
-            assert [(r.lower, r.upper) for r in second.rows] == \
-                [(j.lower, j.upper) for j in model.joints]
+            assert [(r.lower, r.upper) for r in second.rows] == [
+                (j.lower, j.upper) for j in model.joints
+            ]
 
 
 def test_rpy_round_trip_including_gimbal_lock():
@@ -109,13 +110,22 @@ def test_table_file_errors(tmp_path, capsys):
     good = json.loads(_convert_json(capsys, "ur5"))
     cases = {
         "schema": ({**good, "schema": "other/2"}, "not a table file"),
-        "params": ({**good, "joints": [{**good["joints"][0], "params": {"theta": 0}}]},
-                   "params must be exactly"),
-        "matrix": ({**good, "base": {**good["base"], "matrix": np.eye(4).tolist()}
-                    | {"params": {**good["base"]["params"], "d": 1.0}}},
-                   "matrix disagrees with params"),
-        "pitch": ({**good, "joints": [{**good["joints"][0], "pitch": 0.1}]},
-                  "type revolute contradicts pitch"),
+        "params": (
+            {**good, "joints": [{**good["joints"][0], "params": {"theta": 0}}]},
+            "params must be exactly",
+        ),
+        "matrix": (
+            {
+                **good,
+                "base": {**good["base"], "matrix": np.eye(4).tolist()}
+                | {"params": {**good["base"]["params"], "d": 1.0}},
+            },
+            "matrix disagrees with params",
+        ),
+        "pitch": (
+            {**good, "joints": [{**good["joints"][0], "pitch": 0.1}]},
+            "type revolute contradicts pitch",
+        ),
     }
     for name, (tree, message) in cases.items():
         path = tmp_path / f"{name}.json"

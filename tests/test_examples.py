@@ -14,8 +14,13 @@ EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 
 def run(script: str, *args: str, tmp: Path | None = None) -> str:
     env = None if tmp is None else {**os.environ, "TMPDIR": str(tmp)}
-    proc = subprocess.run([sys.executable, str(EXAMPLES / script), *args],
-                          capture_output=True, text=True, timeout=300, env=env)
+    proc = subprocess.run(
+        [sys.executable, str(EXAMPLES / script), *args],
+        capture_output=True,
+        text=True,
+        timeout=300,
+        env=env,
+    )
     assert proc.returncode == 0, proc.stdout + proc.stderr
     return proc.stdout
 
@@ -54,9 +59,13 @@ def test_calibrate_ur5(tmp_path, keep):
     scratch.mkdir()
     out_dir = tmp_path / "out"
     args = [str(out_dir)] if keep else []
-    proc = subprocess.run([sys.executable, str(EXAMPLES / "calibrate_ur5.py"), *args],
-                          capture_output=True, text=True, timeout=300,
-                          env={**os.environ, "TMPDIR": str(scratch)})
+    proc = subprocess.run(
+        [sys.executable, str(EXAMPLES / "calibrate_ur5.py"), *args],
+        capture_output=True,
+        text=True,
+        timeout=300,
+        env={**os.environ, "TMPDIR": str(scratch)},
+    )
     assert proc.returncode == 0, proc.stdout + proc.stderr
     out = proc.stdout
     assert "$ urdf2dh calibrate ur5" in out and "--to ur" in out and "--format urdf" in out
@@ -64,5 +73,11 @@ def test_calibrate_ur5(tmp_path, keep):
     assert list(scratch.iterdir()) == []
     if keep:
         names = sorted(p.name for p in out_dir.iterdir())
-        assert names == ["as-built.yaml", "calibrated.json", "calibrated.urdf",
-                         "default_kinematics.yaml", "poses.csv", "report.json"]
+        assert names == [
+            "as-built.yaml",
+            "calibrated.json",
+            "calibrated.urdf",
+            "default_kinematics.yaml",
+            "poses.csv",
+            "report.json",
+        ]

@@ -73,14 +73,22 @@ def test_yaml_through_the_macro_moves_like_the_source(robot):
     tree = yaml.safe_load(text)
     kin = tree["kinematics"]
     for link in ("shoulder", "upper_arm", "forearm", "wrist_1", "wrist_2", "wrist_3"):
-        assert all(isinstance(kin[link][k], float)
-                   for k in ("x", "y", "z", "roll", "pitch", "yaw")), kin[link]
-    names = ["shoulder_pan_joint", "shoulder_lift_joint", "elbow_joint", "wrist_1_joint",
-             "wrist_2_joint", "wrist_3_joint"]
+        assert all(
+            isinstance(kin[link][k], float) for k in ("x", "y", "z", "roll", "pitch", "yaw")
+        ), kin[link]
+    names = [
+        "shoulder_pan_joint",
+        "shoulder_lift_joint",
+        "elbow_joint",
+        "wrist_1_joint",
+        "wrist_2_joint",
+        "wrist_3_joint",
+    ]
     q, reference = pin_reference(source, model, samples=100, seed=3)
     poses = _pin_fk_of_urdf(ur_description_urdf(kin), "base_link", "tool0", names, q)
-    pos, rot = assert_fk_matches(f"{robot} via ur_macro", poses, reference, model.size(), q,
-                                 rel=1e-9, rot=1e-9)
+    pos, rot = assert_fk_matches(
+        f"{robot} via ur_macro", poses, reference, model.size(), q, rel=1e-9, rot=1e-9
+    )
     assert pos < 1e-9 and rot < 1e-9
 
 

@@ -80,18 +80,47 @@ def test_toolbox_targets_move_like_pinocchio(case, convention):
     size = model.size()
     label = f"{case} {convention}"
     scripts = {t: export(model, t, convention) for t in ("rtb", "kdl", "matlab", "corke-matlab")}
-    assert_fk_matches(f"rtb {label}", _rtb_fk(scripts["rtb"], q), reference, size, q,
-                      rel=AGREE, rot=AGREE)
-    assert_fk_matches(f"kdl (as documented) {label}", kdl_fk(FakeKdl, scripts["kdl"], q),
-                      reference, size, q, rel=AGREE, rot=AGREE)
+    assert_fk_matches(
+        f"rtb {label}", _rtb_fk(scripts["rtb"], q), reference, size, q, rel=AGREE, rot=AGREE
+    )
+    assert_fk_matches(
+        f"kdl (as documented) {label}",
+        kdl_fk(FakeKdl, scripts["kdl"], q),
+        reference,
+        size,
+        q,
+        rel=AGREE,
+        rot=AGREE,
+    )
     if PYKDL is not None:
-        assert_fk_matches(f"PyKDL {label}", kdl_fk(PYKDL, scripts["kdl"], q), reference, size,
-                          q, rel=AGREE, rot=AGREE)
+        assert_fk_matches(
+            f"PyKDL {label}",
+            kdl_fk(PYKDL, scripts["kdl"], q),
+            reference,
+            size,
+            q,
+            rel=AGREE,
+            rot=AGREE,
+        )
     tip = model.tip_link or "tool"
-    assert_fk_matches(f"matlab {label}", _matlab_fk(scripts["matlab"], tip, q), reference, size,
-                      q, rel=AGREE, rot=AGREE)
-    assert_fk_matches(f"corke-matlab {label}", _corke_fk(scripts["corke-matlab"], q), reference,
-                      size, q, rel=AGREE, rot=AGREE)
+    assert_fk_matches(
+        f"matlab {label}",
+        _matlab_fk(scripts["matlab"], tip, q),
+        reference,
+        size,
+        q,
+        rel=AGREE,
+        rot=AGREE,
+    )
+    assert_fk_matches(
+        f"corke-matlab {label}",
+        _corke_fk(scripts["corke-matlab"], q),
+        reference,
+        size,
+        q,
+        rel=AGREE,
+        rot=AGREE,
+    )
 
 
 def test_the_kdl_stand_in_reads_the_documented_frames():
@@ -104,16 +133,14 @@ def test_the_kdl_stand_in_reads_the_documented_frames():
     for a, alpha, d, theta in rng.uniform(-2, 2, (20, 4)):
         expected = {
             "DH": se3.rot_z(theta) @ se3.trans(z=d) @ se3.rot_x(alpha) @ se3.trans(x=a),
-            "DH_Craig1989": se3.rot_x(alpha) @ se3.trans(x=a) @ se3.rot_z(theta)
-            @ se3.trans(z=d),
+            "DH_Craig1989": se3.rot_x(alpha) @ se3.trans(x=a) @ se3.rot_z(theta) @ se3.trans(z=d),
         }
         for name, frame in expected.items():
             ours = getattr(FakeKdl.Frame, name)(a, alpha, d, theta).m
             np.testing.assert_allclose(ours[:3], frame[:3], atol=1e-14)
             if PYKDL is not None:
                 real = getattr(PYKDL.Frame, name)(a, alpha, d, theta)
-                got = np.array([[real.M[i, j] for j in range(3)] + [real.p[i]]
-                                for i in range(3)])
+                got = np.array([[real.M[i, j] for j in range(3)] + [real.p[i]] for i in range(3)])
                 np.testing.assert_allclose(got, frame[:3], atol=1e-14)
 
 
@@ -121,8 +148,11 @@ def test_matlab_offsets_sit_in_fixed_bodies():
     script = export(open_source("ur5").model(), "matlab")
     assert script.count('"dh");') == 6
     # setFixedTransform(..., "dh") ignores theta of revolute joints: every row passes 0 there
-    assert all(line.rstrip().endswith('0], "dh");')
-               for line in script.splitlines() if line.endswith('"dh");'))
+    assert all(
+        line.rstrip().endswith('0], "dh");')
+        for line in script.splitlines()
+        if line.endswith('"dh");')
+    )
     assert 'rigidBody("body1_offset")' in script  # UR5 (Wu style) has theta_1 = pi
     mdh = export(open_source("stanford").model(), "matlab", "mdh")
     lines = mdh.splitlines()
@@ -133,8 +163,9 @@ def test_matlab_offsets_sit_in_fixed_bodies():
 def test_rtb_script_runs_standalone(tmp_path):
     script = tmp_path / "ur5_rtb.py"
     script.write_text(export(open_source("ur5").model(), "rtb", style="ur"))
-    proc = subprocess.run([sys.executable, str(script)], capture_output=True, text=True,
-                          timeout=300)
+    proc = subprocess.run(
+        [sys.executable, str(script)], capture_output=True, text=True, timeout=300
+    )
     assert proc.returncode == 0, proc.stderr
     assert "DHRobot: ur5, 6 joints (RRRRRR), standard DH" in proc.stdout
 
@@ -148,8 +179,7 @@ def _genser_check(text: str, source: Source, model, unit_in_m: float) -> tuple[f
     q, reference = pin_reference(source, model, samples=60, seed=2)
     q_deg = np.degrees(np.pad(q, ((0, 0), (0, 6 - model.n))))
     poses = np.array([genserkins_fk(links_m, row) for row in q_deg])
-    return assert_fk_matches("genserkins", poses, reference, model.size(), q, rel=AGREE,
-                             rot=AGREE)
+    return assert_fk_matches("genserkins", poses, reference, model.size(), q, rel=AGREE, rot=AGREE)
 
 
 @pytest.mark.parametrize(("units", "metres"), [(None, 0.001), ("mm", 0.001), ("inch", 0.0254)])
@@ -213,8 +243,10 @@ def test_helical_joints_are_refused_by_every_target(target):
 
 def test_targets_refuse_other_conventions_and_styles():
     model = open_source("ur5").model()
-    refusal = (r"linuxcnc takes mdh tables, not dh \(row 'shoulder_pan_joint' is a D-H row: "
-               r"theta, d, alpha, a\); export with --convention mdh")
+    refusal = (
+        r"linuxcnc takes mdh tables, not dh \(row 'shoulder_pan_joint' is a D-H row: "
+        r"theta, d, alpha, a\); export with --convention mdh"
+    )
     with pytest.raises(UsageError, match=refusal):
         export(model, "linuxcnc", "dh")
     with pytest.raises(UsageError, match="unknown export target 'vrml'"):

@@ -30,8 +30,16 @@ def mixed_model(n: int) -> PoeModel:
         kind = ("revolute", "prismatic", "helical", "revolute")[i % 4]
         point = None if kind == "prismatic" and i % 8 == 1 else RNG.normal(size=3)
         pitch = RNG.normal() if kind == "helical" else 0.0
-        joints.append(Joint(f"j{i}", kind, unit(RNG.normal(size=3)), point, pitch,
-                            RNG.uniform(0.5, 2.0) * RNG.choice([-1.0, 1.0])))
+        joints.append(
+            Joint(
+                f"j{i}",
+                kind,
+                unit(RNG.normal(size=3)),
+                point,
+                pitch,
+                RNG.uniform(0.5, 2.0) * RNG.choice([-1.0, 1.0]),
+            )
+        )
     return PoeModel(tuple(joints), se3.twist_exp(RNG.normal(size=6)))
 
 

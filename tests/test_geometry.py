@@ -115,11 +115,13 @@ def test_r_of_b_matches_sumenkov_eq4_away_from_the_singularity():
         if b[2] < -0.5:
             b = -b
         bx, by, bz = b
-        eq4 = np.array([
-            [1 - bx**2 / (1 + bz), -bx * by / (1 + bz), bx],
-            [-bx * by / (1 + bz), 1 - by**2 / (1 + bz), by],
-            [-bx, -by, bz],
-        ])
+        eq4 = np.array(
+            [
+                [1 - bx**2 / (1 + bz), -bx * by / (1 + bz), bx],
+                [-bx * by / (1 + bz), 1 - by**2 / (1 + bz), by],
+                [-bx, -by, bz],
+            ]
+        )
         assert np.allclose(np.array(r_rows(b)), eq4, atol=1e-15)
         v = matrix_of(v_frame(b, [0.1, -0.2, 0.3], 0.4))
         assert np.allclose(v[:3, 2], b)

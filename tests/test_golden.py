@@ -27,8 +27,13 @@ CHECK = re.compile(r"(check: FK against the source at \d+ configurations:)[^\n]*
 CASES = [
     ("ur-ur10.yaml", "ur10", "ur", None, Options()),
     ("linuxcnc-genser6.hal", "tests/data/genser6.urdf", "linuxcnc", None, Options()),
-    ("linuxcnc-genser6-inch.hal", "tests/data/genser6.urdf", "linuxcnc", None,
-     Options(units="inch")),
+    (
+        "linuxcnc-genser6-inch.hal",
+        "tests/data/genser6.urdf",
+        "linuxcnc",
+        None,
+        Options(units="inch"),
+    ),
     ("rtb-ur5.py", "ur5", "rtb", None, Options()),
     ("rtb-stanford-mdh.py", "stanford", "rtb", "mdh", Options()),
     ("matlab-ur5.m", "ur5", "matlab", None, Options()),
@@ -55,15 +60,16 @@ def _same(got: str, want: str) -> str | None:
             fx, fy = float(x), float(y)
             if abs(fx - fy) <= 1e-12 * max(1.0, abs(fx), abs(fy)):
                 continue
-        context = "".join(a[max(0, i - 6):i + 6])
+        context = "".join(a[max(0, i - 6) : i + 6])
         return f"token {i}: got {x!r}, golden {y!r}, near: {context!r}"
     if len(a) != len(b):
         return f"lengths differ: {len(a)} tokens, golden {len(b)}"
     return None
 
 
-@pytest.mark.parametrize(("name", "source", "target", "convention", "opts"), CASES,
-                         ids=[c[0] for c in CASES])
+@pytest.mark.parametrize(
+    ("name", "source", "target", "convention", "opts"), CASES, ids=[c[0] for c in CASES]
+)
 def test_golden(name, source, target, convention, opts, request, monkeypatch):
     monkeypatch.chdir(ROOT)  # sources named relative to the repository, as in the files
     model = open_source(source).model()
@@ -87,5 +93,10 @@ def test_the_comparison_catches_real_changes():
     assert _same("a 0.1 b", "a 0.1000001 b") is not None
     assert _same("setp x.D-5 100.0", "setp x.D-4 100.0") is not None
     assert _same("a 1.0", "a 1.0 b") is not None
-    assert _same("# checked against the source at 9 configurations: 1e-16 m",
-                 "# checked against the source at 9 configurations: 3e-16 m") is None
+    assert (
+        _same(
+            "# checked against the source at 9 configurations: 1e-16 m",
+            "# checked against the source at 9 configurations: 3e-16 m",
+        )
+        is None
+    )

@@ -56,8 +56,15 @@ def test_wu_2019s_three_ill_conditioned_pairs_get_hayati_rows():
     parallel (Wu 2019 §V-B): the base and rows j2 and j6 take Hayati's form, the rest D-H's."""
     table = to_table(open_source("puma560-actual").model(), "hayati")
     forms = [type(table.base).__name__] + [type(r.params).__name__ for r in table.rows]
-    assert forms == ["HayatiLink", "DhLink", "HayatiLink", "DhLink", "DhLink", "DhLink",
-                     "HayatiLink"]
+    assert forms == [
+        "HayatiLink",
+        "DhLink",
+        "HayatiLink",
+        "DhLink",
+        "DhLink",
+        "DhLink",
+        "HayatiLink",
+    ]
 
 
 def test_exactly_parallel_axes_keep_wus_d_h_row_and_the_text_names_each_form(capsys):
@@ -73,8 +80,9 @@ def test_exactly_parallel_axes_keep_wus_d_h_row_and_the_text_names_each_form(cap
 
 # ------------------------------------------------------------------------ nearly parallel axes
 
-SETTINGS = settings(derandomize=True, max_examples=80, deadline=None,
-                    suppress_health_check=[HealthCheck.too_slow])
+SETTINGS = settings(
+    derandomize=True, max_examples=80, deadline=None, suppress_health_check=[HealthCheck.too_slow]
+)
 
 
 def _tilted(axis, angle, rng):
@@ -102,8 +110,9 @@ def nearly_parallel_chains(draw):
             axis /= np.linalg.norm(axis)
         point = point + rng.uniform(-0.5, 0.5, 3)
         kind = str(rng.choice(["revolute", "revolute", "revolute", "prismatic", "helical"]))
-        joints.append(Joint(f"j{i}", kind, axis, point, 0.05 if kind == "helical" else 0.0,
-                            1.0, -2.0, 2.0))
+        joints.append(
+            Joint(f"j{i}", kind, axis, point, 0.05 if kind == "helical" else 0.0, 1.0, -2.0, 2.0)
+        )
     home = np.eye(4)
     tool_z = _tilted(axis, 10.0 ** draw(st.floats(-12.0, -1.0)), rng)
     x = np.cross(tool_z, rng.normal(size=3))
@@ -128,8 +137,15 @@ def test_dh_and_mdh_never_refuse_and_keep_their_declared_bound(model):
     for conv in ("dh", "mdh"):
         table = to_table(model, conv)  # never a ConversionError
         bound = table.check.declared_position, table.check.declared_rotation
-        assert_fk_matches(conv, table.fk_batch(q), reference, model.size(), q,
-                          rel=EXACT + bound[0] / model.size(), rot=EXACT + bound[1])
+        assert_fk_matches(
+            conv,
+            table.fk_batch(q),
+            reference,
+            model.size(),
+            q,
+            rel=EXACT + bound[0] / model.size(),
+            rot=EXACT + bound[1],
+        )
 
 
 # ------------------------------------------------------------------------ files and exports
@@ -139,8 +155,21 @@ def test_table_files_hold_each_rows_form(tmp_path):
     model = open_source("puma560-actual").model()
     table = to_table(model, "hayati")
     path = tmp_path / "hayati.yaml"
-    assert main(["convert", "puma560-actual", "--convention", "hayati", "--format", "yaml",
-                 "-o", str(path)]) == 0
+    assert (
+        main(
+            [
+                "convert",
+                "puma560-actual",
+                "--convention",
+                "hayati",
+                "--format",
+                "yaml",
+                "-o",
+                str(path),
+            ]
+        )
+        == 0
+    )
     text = path.read_text()
     assert text.count("beta:") == 3  # the base and rows j2, j6: Hayati rows hold beta, no d
     again = open_source(str(path)).model()
@@ -161,8 +190,7 @@ def test_urdf_writer_and_roboticstoolbox_carry_hayati_tables(tmp_path):
         namespace: dict = {"__name__": "generated"}
         exec(compile(export_table(table, "rtb"), "rtb.py", "exec"), namespace)
         rtb = np.array([namespace["robot"].fkine(row).A for row in q])
-        assert_fk_matches("hayati rtb", rtb, table.fk_batch(q), robot.size(), q, rel=1e-9,
-                          rot=1e-9)
+        assert_fk_matches("hayati rtb", rtb, table.fk_batch(q), robot.size(), q, rel=1e-9, rot=1e-9)
 
 
 @pytest.mark.parametrize("target", ["kdl", "matlab", "corke-matlab", "ur"])

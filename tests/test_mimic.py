@@ -27,10 +27,16 @@ def test_the_rows_follow_their_leaders_and_pinocchio_agrees():
     source = open_source(ARM)
     model = source.model()
     assert (model.n, model.dof) == (5, 3)
-    assert [(j.name, j.mimic and (j.mimic.joint, j.mimic.multiplier, j.mimic.offset))
-            for j in model.joints] == [
-        ("turn", None), ("shoulder", None), ("elbow", ("shoulder", -1.0, 0.1)),
-        ("wrist_turn", None), ("gripper_slide", ("wrist_turn", 0.01, 0.002))]
+    assert [
+        (j.name, j.mimic and (j.mimic.joint, j.mimic.multiplier, j.mimic.offset))
+        for j in model.joints
+    ] == [
+        ("turn", None),
+        ("shoulder", None),
+        ("elbow", ("shoulder", -1.0, 0.1)),
+        ("wrist_turn", None),
+        ("gripper_slide", ("wrist_turn", 0.01, 0.002)),
+    ]
     q, reference = pin_reference(source, model)  # Pinocchio with its own mimic joints
     assert q.shape == (200, 3)
     assert_fk_matches("POE", model.fk_batch(q), reference, model.size(), q)
@@ -65,8 +71,9 @@ def test_the_urdf_writer_writes_mimic_joints_pinocchio_couples(tmp_path):
     model = open_source(ARM).model()
     for conv in ("dh", "hayati"):
         path = tmp_path / f"{conv}.urdf"
-        assert main(["convert", ARM, "--convention", conv, "--format", "urdf",
-                     "-o", str(path)]) == 0
+        assert (
+            main(["convert", ARM, "--convention", conv, "--format", "urdf", "-o", str(path)]) == 0
+        )
         assert path.read_text().count("<mimic ") == 2
         written = open_source(str(path))
         q, reference = pin_reference(written, written.model(), samples=100)
@@ -82,7 +89,8 @@ def test_mimic_joints_of_a_millimetre_table_keep_their_meaning(tmp_path):
         "  - {name: turn, twist: [0, 0, 1, 0, 100, 0]}\n"
         "  - {name: slide, twist: [0, 0, 0, 1, 0, 0], mimic: {joint: turn, multiplier: 20, "
         "offset: 5}}\n"
-        "tool:\n  matrix: [[1, 0, 0, 300], [0, 1, 0, 0], [0, 0, 1, 50], [0, 0, 0, 1]]\n")
+        "tool:\n  matrix: [[1, 0, 0, 300], [0, 1, 0, 0], [0, 0, 1, 50], [0, 0, 0, 1]]\n"
+    )
     urdf = tmp_path / "mm.urdf"
     assert main(["convert", str(poe), "--format", "urdf", "-o", str(urdf)]) == 0
     assert 'multiplier="0.02" offset="0.005"' in urdf.read_text()
@@ -125,8 +133,11 @@ def _source(tmp_path, j2: str, j3: str):
 
 
 def test_a_mimic_of_a_mimic_follows_the_actuated_joint(tmp_path):
-    source = _source(tmp_path, '<mimic joint="j1" multiplier="2" offset="0.1"/>',
-                     '<mimic joint="j2" multiplier="-0.5" offset="0.3"/>')
+    source = _source(
+        tmp_path,
+        '<mimic joint="j1" multiplier="2" offset="0.1"/>',
+        '<mimic joint="j2" multiplier="-0.5" offset="0.3"/>',
+    )
     model = source.model(tip="c")
     relation = model.joints[2].mimic
     assert (relation.joint, relation.multiplier, relation.offset) == ("j1", -1.0, 0.25)
@@ -138,23 +149,29 @@ def test_a_mimic_of_a_mimic_follows_the_actuated_joint(tmp_path):
 def test_a_leader_off_the_chain_has_a_stand_in(tmp_path):
     """Two joints of the chain following a joint on another branch: the first is driven on its
     own (said in a warning), the second follows it; Pinocchio, setting the leader, agrees."""
-    source = _source(tmp_path, '<mimic joint="side_joint" multiplier="2" offset="0.1"/>',
-                     '<mimic joint="side_joint" multiplier="-1" offset="0.2"/>')
+    source = _source(
+        tmp_path,
+        '<mimic joint="side_joint" multiplier="2" offset="0.1"/>',
+        '<mimic joint="side_joint" multiplier="-1" offset="0.2"/>',
+    )
     model = source.model(tip="c")
     assert model.joints[1].mimic is None and model.dof == 2
     relation = model.joints[2].mimic
     assert (relation.joint, relation.multiplier) == ("j2", -0.5)
     assert relation.offset == pytest.approx(0.25, abs=1e-15)
-    assert any("'j2' follows 'side_joint', which is not on the chain" in w
-               for w in model.warnings)
+    assert any("'j2' follows 'side_joint', which is not on the chain" in w for w in model.warnings)
     q, reference = pin_reference(source, model, samples=100)
     for conv in NAMES:
         assert_fk_matches(conv, to_table(model, conv).fk_batch(q), reference, model.size(), q)
 
 
 def test_refusals(tmp_path):
-    tree = parse_tree(CHAIN.format(extra_links="", j2='<mimic joint="side_joint" '
-                                   'multiplier="0"/>', j3="").encode(), "r.urdf")
+    tree = parse_tree(
+        CHAIN.format(
+            extra_links="", j2='<mimic joint="side_joint" multiplier="0"/>', j3=""
+        ).encode(),
+        "r.urdf",
+    )
     with pytest.raises(ChainError, match="mimics 'side_joint' with multiplier 0"):
         tree_to_poe(tree, tip="c")
 

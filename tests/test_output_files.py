@@ -83,8 +83,9 @@ def test_other_files_are_refused(tmp_path, capsys):
 def test_a_full_disk_is_an_error(tmp_path):
     code = "from urdf2dh.cli import main; raise SystemExit(main(['convert', 'ur5']))"
     with open("/dev/full", "wb") as full:
-        proc = subprocess.run([sys.executable, "-c", code], stdout=full, stderr=subprocess.PIPE,
-                              text=True, cwd=ROOT)
+        proc = subprocess.run(
+            [sys.executable, "-c", code], stdout=full, stderr=subprocess.PIPE, text=True, cwd=ROOT
+        )
     assert proc.returncode == 2, proc.stderr
     assert proc.stderr.startswith("urdf2dh: error: stdout: cannot write (No space left")
     assert proc.stderr.count("\n") == 1
@@ -124,8 +125,13 @@ sys.exit(main(["convert", "ur5", "-o", sys.argv[1]]))
 @pytest.mark.parametrize(("name", "code"), [("SIGTERM", 143), ("SIGINT", 130)])
 def test_signals_remove_the_temporary_file(tmp_path, name, code):
     target = tmp_path / "table.txt"
-    proc = subprocess.run([sys.executable, "-c", PROBE.format(signal=name), str(target)],
-                          capture_output=True, text=True, cwd=ROOT, timeout=120)
+    proc = subprocess.run(
+        [sys.executable, "-c", PROBE.format(signal=name), str(target)],
+        capture_output=True,
+        text=True,
+        cwd=ROOT,
+        timeout=120,
+    )
     assert proc.returncode == code, proc.stderr
     temporary = Path(proc.stdout.strip())
     assert temporary.parent == tmp_path and temporary.name.startswith(".table.txt.")

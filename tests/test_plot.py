@@ -14,7 +14,7 @@ from urdf2dh.sources import open_source
 
 
 def _rgb(hex_colour: str) -> np.ndarray:
-    return np.array([int(hex_colour[i:i + 2], 16) for i in (1, 3, 5)]) / 255.0
+    return np.array([int(hex_colour[i : i + 2], 16) for i in (1, 3, 5)]) / 255.0
 
 
 def test_png_is_a_real_picture(tmp_path, capsys):

@@ -18,16 +18,27 @@ from urdf2dh.sources import open_source
 
 
 def poe(joints, tool=None, **extra):
-    return {"format": "poe", "name": "t", "length_unit": "mm", "joints": joints,
-            "tool": tool or {"twist": [0, 0, 0, 100, 0, 0]}, **extra}
+    return {
+        "format": "poe",
+        "name": "t",
+        "length_unit": "mm",
+        "joints": joints,
+        "tool": tool or {"twist": [0, 0, 0, 100, 0, 0]},
+        **extra,
+    }
 
 
 def test_unnormalised_twists_give_scale_and_pitch():
-    model = read_poe(poe([
-        {"name": "r", "twist": [0, 0, 2, 0, 0, 0]},
-        {"name": "h", "twist": [0, 0, 1.5, 0, -3, 0.75]},  # pitch 0.75 * 1.5 / 1.5^2
-        {"name": "p", "twist": [0, 0, 0, 0, 3, 4]},
-    ]), "t.yaml")
+    model = read_poe(
+        poe(
+            [
+                {"name": "r", "twist": [0, 0, 2, 0, 0, 0]},
+                {"name": "h", "twist": [0, 0, 1.5, 0, -3, 0.75]},  # pitch 0.75 * 1.5 / 1.5^2
+                {"name": "p", "twist": [0, 0, 0, 0, 3, 4]},
+            ]
+        ),
+        "t.yaml",
+    )
     r, h, p = model.joints
     assert (r.kind, r.scale, r.pitch) == ("revolute", 2.0, 0.0)
     assert (h.kind, h.scale) == ("helical", 1.5)
@@ -46,52 +57,67 @@ def test_puma_actual_is_helical_where_wu_says():
     assert model.length_unit == "mm"
 
 
-@pytest.mark.parametrize("entry, message", [
-    ({"name": "a", "twist": [0, 0, 1, 0, 1, 1], "type": "revolute"}, "declared revolute but"),
-    ({"name": "a", "twist": [0, 0, 1, 0, 1, 0], "type": "helical"}, "declared helical but"),
-    ({"name": "a", "twist": [0, 0, 1, 0, 1, 0], "type": "prismatic"}, "declared prismatic"),
-    ({"name": "a", "twist": [0, 0, 0, 0, 0, 1], "type": "revolute"}, r"w = 0 \(a prismatic"),
-    ({"name": "a", "twist": [0, 0, 1, 0, 1, 0], "type": "ball"}, "unknown type 'ball'"),
-    ({"name": "a", "twist": [0, 0, 0, 0, 0, 0]}, "zero twist"),
-    ({"name": "a", "twist": [0, 0, 1, 0, 1]}, "list of 6 numbers"),
-    ({"name": "a", "twist": [0, 0, "x", 0, 1, 0]}, "twist must be a number, not 'x'"),
-    ({"name": "a", "twist": [0, 0, 1e300, 0, 1, 0]}, r"twist is 1e\+300: beyond 1e\+12"),
-    ({"name": "a", "twist": [0, 0, 1e-300, 0, 0, 0]}, r"scale 0 .* within \[1e-09, 1e\+09\]"),
-    ({"name": "a", "twist": [0, 0, 1e-300, 0, 1e-300, 0]}, "scale 1e-300"),
-    ({"name": "a", "twist": [0, 0, 1e-11, 0, 0, 0]}, "scale 1e-11"),
-    ({"name": "a", "twist": [0, 0, 1, 0, 0, 0], "limits": [-1e308, 1e308]}, "limits is -1e"),
-    ({"name": "a", "twist": [0, 0, 1, 0, 0, 0], "limits": [0, 10**5000]}, "too large for a float"),
-    ({"name": "a", "twist": [0, 0, float("nan"), 0, 1, 0]}, "finite"),
-    ({"name": "a", "twist": [0, 0, 1, 0, 0, 0], "limits": [1, -1]}, "lower < upper"),
-])
+@pytest.mark.parametrize(
+    "entry, message",
+    [
+        ({"name": "a", "twist": [0, 0, 1, 0, 1, 1], "type": "revolute"}, "declared revolute but"),
+        ({"name": "a", "twist": [0, 0, 1, 0, 1, 0], "type": "helical"}, "declared helical but"),
+        ({"name": "a", "twist": [0, 0, 1, 0, 1, 0], "type": "prismatic"}, "declared prismatic"),
+        ({"name": "a", "twist": [0, 0, 0, 0, 0, 1], "type": "revolute"}, r"w = 0 \(a prismatic"),
+        ({"name": "a", "twist": [0, 0, 1, 0, 1, 0], "type": "ball"}, "unknown type 'ball'"),
+        ({"name": "a", "twist": [0, 0, 0, 0, 0, 0]}, "zero twist"),
+        ({"name": "a", "twist": [0, 0, 1, 0, 1]}, "list of 6 numbers"),
+        ({"name": "a", "twist": [0, 0, "x", 0, 1, 0]}, "twist must be a number, not 'x'"),
+        ({"name": "a", "twist": [0, 0, 1e300, 0, 1, 0]}, r"twist is 1e\+300: beyond 1e\+12"),
+        ({"name": "a", "twist": [0, 0, 1e-300, 0, 0, 0]}, r"scale 0 .* within \[1e-09, 1e\+09\]"),
+        ({"name": "a", "twist": [0, 0, 1e-300, 0, 1e-300, 0]}, "scale 1e-300"),
+        ({"name": "a", "twist": [0, 0, 1e-11, 0, 0, 0]}, "scale 1e-11"),
+        ({"name": "a", "twist": [0, 0, 1, 0, 0, 0], "limits": [-1e308, 1e308]}, "limits is -1e"),
+        (
+            {"name": "a", "twist": [0, 0, 1, 0, 0, 0], "limits": [0, 10**5000]},
+            "too large for a float",
+        ),
+        ({"name": "a", "twist": [0, 0, float("nan"), 0, 1, 0]}, "finite"),
+        ({"name": "a", "twist": [0, 0, 1, 0, 0, 0], "limits": [1, -1]}, "lower < upper"),
+    ],
+)
 def test_bad_joints_are_named(entry, message):
     with pytest.raises(InputError, match=message) as e:
         read_poe(poe([entry]), "robot.yaml")
     assert "robot.yaml: joint 'a'" in str(e.value)
 
 
-@pytest.mark.parametrize(("name", "message"), [
-    (7, "joint 1 name must be a non-empty string, not 7"),
-    (["x"], "joint 1 name must be a non-empty string, not ['x']"),
-    ("", "joint 1 name must be a non-empty string"),
-])
+@pytest.mark.parametrize(
+    ("name", "message"),
+    [
+        (7, "joint 1 name must be a non-empty string, not 7"),
+        (["x"], "joint 1 name must be a non-empty string, not ['x']"),
+        ("", "joint 1 name must be a non-empty string"),
+    ],
+)
 def test_names_must_be_strings(name, message):
     with pytest.raises(InputError, match=re.escape(message)):
         read_poe(poe([{"name": name, "twist": [0, 0, 1, 0, 0, 0]}]), "robot.yaml")
 
 
 def test_tool_matrix_and_bad_tools():
-    m = read_poe(poe([{"name": "a", "twist": [0, 0, 1, 0, 0, 0]}],
-                     tool={"matrix": [[0, -1, 0, 1], [1, 0, 0, 2], [0, 0, 1, 3], [0, 0, 0, 1]]}),
-                 "t.yaml")
+    m = read_poe(
+        poe(
+            [{"name": "a", "twist": [0, 0, 1, 0, 0, 0]}],
+            tool={"matrix": [[0, -1, 0, 1], [1, 0, 0, 2], [0, 0, 1, 3], [0, 0, 0, 1]]},
+        ),
+        "t.yaml",
+    )
     assert np.allclose(m.home[:3, 3], [1, 2, 3])
     rounded = [[0.70711, -0.70711, 0, 0], [0.70711, 0.70711, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]
     m = read_poe(poe([], tool={"matrix": rounded}), "t.yaml")
     assert np.allclose(m.home[:3, :3].T @ m.home[:3, :3], np.eye(3), atol=1e-15)
     assert any("orthonormalised" in w for w in m.warnings)
     with pytest.raises(InputError, match="not a rotation"):
-        read_poe(poe([], tool={"matrix": [[1, 0.1, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0],
-                                          [0, 0, 0, 1]]}), "t.yaml")
+        read_poe(
+            poe([], tool={"matrix": [[1, 0.1, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]}),
+            "t.yaml",
+        )
     with pytest.raises(InputError, match="either 'twist' or 'matrix'"):
         read_poe(poe([], tool={"twist": [0] * 6, "matrix": rounded}), "t.yaml")
 

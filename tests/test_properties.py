@@ -21,8 +21,9 @@ from urdf2dh.convert import sample_configurations, to_table
 from urdf2dh.screws import Joint, PoeModel
 
 RELATIONS = ("parallel", "antiparallel", "intersecting", "coincident", "perpendicular", "skew")
-SETTINGS = settings(derandomize=True, max_examples=120, deadline=None,
-                    suppress_health_check=[HealthCheck.too_slow])
+SETTINGS = settings(
+    derandomize=True, max_examples=120, deadline=None, suppress_health_check=[HealthCheck.too_slow]
+)
 
 unit = st.floats(-1.0, 1.0, allow_nan=False)
 
@@ -66,10 +67,21 @@ def chains(draw):
         if kind == "helical" and abs(pitch) < 1e-3 * size:
             pitch = 0.1 * size
         located = kind != "prismatic" or draw(st.booleans())
-        joints.append(Joint(f"j{i + 1}", kind, axis.copy(), point.copy() if located else None,
-                            pitch, scale, -2.0, 2.0))
-    tool = se3.twist_exp(np.array([draw(unit), draw(unit), draw(unit)]
-                                  + [size * draw(unit) for _ in range(3)]))
+        joints.append(
+            Joint(
+                f"j{i + 1}",
+                kind,
+                axis.copy(),
+                point.copy() if located else None,
+                pitch,
+                scale,
+                -2.0,
+                2.0,
+            )
+        )
+    tool = se3.twist_exp(
+        np.array([draw(unit), draw(unit), draw(unit)] + [size * draw(unit) for _ in range(3)])
+    )
     if draw(st.booleans()) and joints and joints[-1].point is not None:
         # the tool z on the last axis: the coincident tool case
         frame = np.eye(4)

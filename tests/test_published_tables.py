@@ -33,12 +33,15 @@ def test_panda_recovers_franka_geometry():
     # d1 0.333, d3 0.316, a4 0.0825, a5 -0.0825, d5 0.384, a7 0.088, flange d 0.107.
     table = to_table(open_source("panda").model(), "mdh")
     rows = [r.params.values() for r in table.rows]
-    assert [abs(r["d"]) for r in rows] == pytest.approx([0.333, 0, 0.316, 0, 0.384, 0, 0.107],
-                                                        abs=1e-12)
-    assert [abs(r["a"]) for r in rows] == pytest.approx([0, 0, 0, 0.0825, 0.0825, 0, 0.088],
-                                                        abs=1e-12)
+    assert [abs(r["d"]) for r in rows] == pytest.approx(
+        [0.333, 0, 0.316, 0, 0.384, 0, 0.107], abs=1e-12
+    )
+    assert [abs(r["a"]) for r in rows] == pytest.approx(
+        [0, 0, 0, 0.0825, 0.0825, 0, 0.088], abs=1e-12
+    )
     assert [abs(math.degrees(r["alpha"])) for r in rows] == pytest.approx(
-        [0, 90, 90, 90, 90, 90, 90], abs=1e-9)
+        [0, 90, 90, 90, 90, 90, 90], abs=1e-9
+    )
 
 
 @pytest.mark.parametrize("robot", ["puma560-nominal", "puma560-actual"])
@@ -57,8 +60,9 @@ def test_sumenkov_table_iii():
     wrong = [(c.row, c.column) for c in printed_model if not c.ok]
     # rows V_0..V_3 agree to the printed digits; V_4 all but l_x (6.59245 vs 6.593)
     assert [w for w in wrong if w[0] in ("V_0", "V_1", "V_2", "V_3", "V_4")] == [("V_4", "l_x")]
-    assert next(c for c in printed_model if (c.row, c.column) == ("V_4", "l_x")).ours == \
-        pytest.approx(6.593, abs=6e-4)
+    assert next(
+        c for c in printed_model if (c.row, c.column) == ("V_4", "l_x")
+    ).ours == pytest.approx(6.593, abs=6e-4)
     # rows V_5, V_6 do not follow from the printed joint 6 ...
     assert sum(w[0] in ("V_5", "V_6") for w in wrong) >= 8
     # ... but from joint 6 with w_x, w_y negated (Sumenkov's own printed h_6 = -2.874)
@@ -72,12 +76,30 @@ def test_sumenkov_table_iii():
 # Universal Robots' published D-H parameters (support article "DH parameters for calculations of
 # kinematics and dynamics"): (d, a, alpha) per joint, theta offsets all 0.
 UR_TABLES = {
-    "ur3": [(0.1519, 0, math.pi / 2), (0, -0.24365, 0), (0, -0.21325, 0),
-            (0.11235, 0, math.pi / 2), (0.08535, 0, -math.pi / 2), (0.0819, 0, 0)],
-    "ur5": [(0.089159, 0, math.pi / 2), (0, -0.425, 0), (0, -0.39225, 0),
-            (0.10915, 0, math.pi / 2), (0.09465, 0, -math.pi / 2), (0.0823, 0, 0)],
-    "ur10": [(0.1273, 0, math.pi / 2), (0, -0.612, 0), (0, -0.5723, 0),
-             (0.163941, 0, math.pi / 2), (0.1157, 0, -math.pi / 2), (0.0922, 0, 0)],
+    "ur3": [
+        (0.1519, 0, math.pi / 2),
+        (0, -0.24365, 0),
+        (0, -0.21325, 0),
+        (0.11235, 0, math.pi / 2),
+        (0.08535, 0, -math.pi / 2),
+        (0.0819, 0, 0),
+    ],
+    "ur5": [
+        (0.089159, 0, math.pi / 2),
+        (0, -0.425, 0),
+        (0, -0.39225, 0),
+        (0.10915, 0, math.pi / 2),
+        (0.09465, 0, -math.pi / 2),
+        (0.0823, 0, 0),
+    ],
+    "ur10": [
+        (0.1273, 0, math.pi / 2),
+        (0, -0.612, 0),
+        (0, -0.5723, 0),
+        (0.163941, 0, math.pi / 2),
+        (0.1157, 0, -math.pi / 2),
+        (0.0922, 0, 0),
+    ],
 }
 
 

@@ -34,8 +34,9 @@ def test_random_chain_all_conventions(seed):
         assert not [w for w in table.warnings if "treated as" in w], table.warnings
 
 
-@pytest.mark.parametrize("relation", ["parallel", "antiparallel", "intersecting", "coincident",
-                                      "prismatic"])
+@pytest.mark.parametrize(
+    "relation", ["parallel", "antiparallel", "intersecting", "coincident", "prismatic"]
+)
 def test_chains_of_one_relation(relation):
     """Long runs of the same degenerate relation (e.g. 8 parallel axes in a row)."""
     for seed in range(5):
@@ -45,8 +46,9 @@ def test_chains_of_one_relation(relation):
         q, reference = pin_reference(source, model, samples=60, seed=seed)
         for conv in CONVENTIONS:
             table = to_table(model, conv)
-            assert_fk_matches(f"{relation} seed {seed} {conv}", table.fk_batch(q), reference,
-                              model.size(), q)
+            assert_fk_matches(
+                f"{relation} seed {seed} {conv}", table.fk_batch(q), reference, model.size(), q
+            )
 
 
 def test_parallel_rule_d_is_zero():
@@ -69,5 +71,6 @@ def test_exactness_scales_with_robot_size():
         q, reference = pin_reference(source, model, samples=50)
         for conv in CONVENTIONS:
             table = to_table(model, conv)
-            assert_fk_matches(f"scale {scale} {conv}", table.fk_batch(q), reference,
-                              model.size(), q, rel=EXACT)
+            assert_fk_matches(
+                f"scale {scale} {conv}", table.fk_batch(q), reference, model.size(), q, rel=EXACT
+            )

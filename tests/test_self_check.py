@@ -66,11 +66,13 @@ def test_the_default_catches_a_slightly_wrong_table(robot, param, relative):
     step = relative * size if param == "d" else relative
     for k, row in enumerate(table.rows):
         params = replace(row.params, **{param: getattr(row.params, param) + step})
-        rows = (*table.rows[:k], replace(row, params=params), *table.rows[k + 1:])
+        rows = (*table.rows[:k], replace(row, params=params), *table.rows[k + 1 :])
         check = self_check(model, replace(table, rows=rows))
         assert check.samples == DEFAULT_SAMPLES
-        assert (check.max_position_error > DEFAULT.check_position * size
-                or check.max_rotation_error > DEFAULT.check_rotation), (row.name, check)
+        assert (
+            check.max_position_error > DEFAULT.check_position * size
+            or check.max_rotation_error > DEFAULT.check_rotation
+        ), (row.name, check)
 
 
 @pytest.mark.parametrize("robot", ["so100", "so101"])

@@ -25,8 +25,12 @@ print("\\nIMPORTED " + json.dumps([code, heavy]))
 
 
 def imported(*argv: str) -> tuple[int, list[str]]:
-    proc = subprocess.run([sys.executable, "-c", PROBE.format(argv=list(argv), heavy=HEAVY)],
-                          capture_output=True, text=True, timeout=120)
+    proc = subprocess.run(
+        [sys.executable, "-c", PROBE.format(argv=list(argv), heavy=HEAVY)],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
     line = proc.stdout.rsplit("IMPORTED ", 1)[-1]
     assert proc.returncode == 0 and line != proc.stdout, proc.stdout + proc.stderr
     code, heavy = json.loads(line)
@@ -40,11 +44,14 @@ def test_help_imports_no_heavy_package(argv):
     assert heavy == [], f"urdf2dh {' '.join(argv)} imported {heavy}"
 
 
-@pytest.mark.parametrize("argv", [
-    ["convert", "ur5"],
-    ["convert", "panda", "--convention", "cpc", "--format", "json"],
-    ["convert", "puma560-actual", "--convention", "mdh", "--format", "yaml"],
-])
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["convert", "ur5"],
+        ["convert", "panda", "--convention", "cpc", "--format", "json"],
+        ["convert", "puma560-actual", "--convention", "mdh", "--format", "yaml"],
+    ],
+)
 def test_convert_never_imports_pinocchio(argv):
     code, heavy = imported(*argv)
     assert code == 0

@@ -63,8 +63,11 @@ def expected_tips(path: Path) -> tuple[str, list[str]]:
 CASES = [(f, ignore) for f, mimic in ROBOTS for ignore in ((False, True) if mimic else (False,))]
 
 
-@pytest.mark.parametrize(("file", "ignore_mimic"), CASES,
-                         ids=[f"{Path(f).stem}{'-ignore-mimic' if i else ''}" for f, i in CASES])
+@pytest.mark.parametrize(
+    ("file", "ignore_mimic"),
+    CASES,
+    ids=[f"{Path(f).stem}{'-ignore-mimic' if i else ''}" for f, i in CASES],
+)
 def test_verify_all_tips_agrees_with_pinocchio_on_every_chain(capsys, file, ignore_mimic):
     path = example_robot_data_dir() / file
     root, tips = expected_tips(path)

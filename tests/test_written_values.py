@@ -39,8 +39,9 @@ def test_parameters_are_exact_where_round_off_would_show(robot, capsys):
                         assert off == 0.0 or off > ROUND_OFF, (robot, conv, v)
                         assert -math.pi < v <= math.pi
                     elif quantity == "direction":
-                        assert all(abs(v - t) == 0.0 or abs(v - t) > ROUND_OFF
-                                   for t in (-1.0, 0.0, 1.0)), (robot, conv, v)
+                        assert all(
+                            abs(v - t) == 0.0 or abs(v - t) > ROUND_OFF for t in (-1.0, 0.0, 1.0)
+                        ), (robot, conv, v)
                     else:
                         assert v == 0.0 or abs(v) > ROUND_OFF * size, (robot, conv, v)
                     assert math.copysign(1.0, v) > 0 or v != 0.0, (robot, conv, "-0.0")

@@ -46,8 +46,11 @@ def test_missing_package_names_it_and_the_option(capsys, tmp_path):
 
 def test_package_url_is_resolved_too(tmp_path):
     # only package:// is used here (the include goes through $(find) in demo_arm)
-    text = (DATA / "demo_arm.urdf.xacro").read_text().replace(
-        "$(find demo_description)/urdf", "package://demo_description/urdf")
+    text = (
+        (DATA / "demo_arm.urdf.xacro")
+        .read_text()
+        .replace("$(find demo_description)/urdf", "package://demo_description/urdf")
+    )
     assert "$(find" not in text.split("-->", 1)[1]
     path = tmp_path / "arm.xacro"
     path.write_text(text)
@@ -57,8 +60,16 @@ def test_package_url_is_resolved_too(tmp_path):
 
 
 def test_cli_package_path_option(capsys):
-    code = main(["convert", XACRO, "--package-path",
-                 f"demo_description={PACKAGES['demo_description']}", "--format", "csv"])
+    code = main(
+        [
+            "convert",
+            XACRO,
+            "--package-path",
+            f"demo_description={PACKAGES['demo_description']}",
+            "--format",
+            "csv",
+        ]
+    )
     assert code == 0
     assert "wrist_joint" in capsys.readouterr().out
     code = main(["convert", XACRO, "--package-path", "demo_description=/no/such/dir"])
@@ -70,8 +81,10 @@ def test_cli_package_path_option(capsys):
 
 def test_broken_xacro_is_one_line(tmp_path, capsys):
     bad = tmp_path / "bad.urdf.xacro"
-    bad.write_text('<robot name="x" xmlns:xacro="http://www.ros.org/wiki/xacro">'
-                   '<link name="${undefined_property}"/></robot>')
+    bad.write_text(
+        '<robot name="x" xmlns:xacro="http://www.ros.org/wiki/xacro">'
+        '<link name="${undefined_property}"/></robot>'
+    )
     assert main(["convert", str(bad)]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "xacro cannot expand it" in err and "undefined" in err
@@ -107,8 +120,22 @@ def test_xacro_arguments_choose_the_robot_as_urs_description_does(arm_type, caps
 
 def test_an_argument_may_name_the_yaml_file_itself(capsys):
     dims = ARM_PACKAGE / "config" / "small" / "dims.yaml"
-    assert main(["convert", ARM, *ARM_OPTIONS, "--xacro-arg", "name:=a",
-                 "--xacro-arg", f"dims_file:={dims}", "--format", "csv"]) == 0
+    assert (
+        main(
+            [
+                "convert",
+                ARM,
+                *ARM_OPTIONS,
+                "--xacro-arg",
+                "name:=a",
+                "--xacro-arg",
+                f"dims_file:={dims}",
+                "--format",
+                "csv",
+            ]
+        )
+        == 0
+    )
     assert "0.24365" in capsys.readouterr().out
 
 
@@ -124,16 +151,20 @@ def test_a_missing_argument_is_named_with_the_option(capsys):
     assert "expected NAME:=VALUE" in capsys.readouterr().err
 
 
-@pytest.mark.parametrize(("expression", "options", "message"), [
-    ("${9**9**9}", ["--xacro-timeout", "2"], "took longer than 2 s (--xacro-timeout"),
-    ("${len('x'*10**10)}", [], "needs more than 1024 MiB of memory (--xacro-memory"),
-    ("${len('x'*10**8)}", ["--xacro-memory", "64"], "needs more than 64 MiB"),
-])
-def test_expansion_is_bounded_in_time_and_memory(tmp_path, capsys, expression, options,
-                                                 message):
+@pytest.mark.parametrize(
+    ("expression", "options", "message"),
+    [
+        ("${9**9**9}", ["--xacro-timeout", "2"], "took longer than 2 s (--xacro-timeout"),
+        ("${len('x'*10**10)}", [], "needs more than 1024 MiB of memory (--xacro-memory"),
+        ("${len('x'*10**8)}", ["--xacro-memory", "64"], "needs more than 64 MiB"),
+    ],
+)
+def test_expansion_is_bounded_in_time_and_memory(tmp_path, capsys, expression, options, message):
     bomb = tmp_path / "bomb.urdf.xacro"
-    bomb.write_text('<robot name="b" xmlns:xacro="http://www.ros.org/wiki/xacro">'
-                    f'<link name="l{expression}"/></robot>')
+    bomb.write_text(
+        '<robot name="b" xmlns:xacro="http://www.ros.org/wiki/xacro">'
+        f'<link name="l{expression}"/></robot>'
+    )
     out = tmp_path / "out.json"
     assert main(["convert", str(bomb), *options, "-o", str(out)]) == 2
     err = capsys.readouterr().err
@@ -143,6 +174,21 @@ def test_expansion_is_bounded_in_time_and_memory(tmp_path, capsys, expression, o
 
 def test_a_bound_that_is_not_hit_changes_nothing(capsys):
     package = f"demo_description={PACKAGES['demo_description']}"
-    assert main(["convert", XACRO, "--package-path", package, "--xacro-timeout", "60",
-                 "--xacro-memory", "2048", "--format", "csv"]) == 0
+    assert (
+        main(
+            [
+                "convert",
+                XACRO,
+                "--package-path",
+                package,
+                "--xacro-timeout",
+                "60",
+                "--xacro-memory",
+                "2048",
+                "--format",
+                "csv",
+            ]
+        )
+        == 0
+    )
     assert "wrist_joint" in capsys.readouterr().out

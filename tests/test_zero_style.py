@@ -31,5 +31,6 @@ def test_zero_style_tables_are_exact(robot):
     q, reference = pin_reference(source, model, samples=50, seed=4)
     for convention in ("dh", "mdh"):
         table = to_table(model, convention, style="zero")
-        assert_fk_matches(f"{robot} {convention} zero", table.fk_batch(q), reference,
-                          model.size(), q)
+        assert_fk_matches(
+            f"{robot} {convention} zero", table.fk_batch(q), reference, model.size(), q
+        )

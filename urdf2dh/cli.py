@@ -15,7 +15,7 @@ import signal
 import sys
 import warnings
 
-from . import __version__
+from . import __version__, options
 from .commands import COMMANDS
 from .conventions import NAMES, STYLES
 from .errors import Urdf2DhError
@@ -23,124 +23,6 @@ from .export import TARGETS
 from .formats import FORMATS
 
 __all__ = ["get_argument_parser", "main"]
-
-
-MAX_SAMPLES = 1_000_000  # configurations of a check or a verify run (about 1 GB at most)
-MAX_PARALLEL_ANGLE = 0.1  # rad: beyond, "nearly parallel" would take in perpendicular axes
-MAX_SEED = 2**63 - 1
-
-
-def _integer(text: str, low: int, high: int) -> int:
-    try:
-        value = int(text)
-    except ValueError as e:
-        raise argparse.ArgumentTypeError(f"'{text}' is not an integer") from e
-    if not low <= value <= high:
-        raise argparse.ArgumentTypeError(f"must be from {low} to {high}, not {value}")
-    return value
-
-
-def _positive_int(text: str) -> int:
-    return _integer(text, 1, 2**31 - 1)
-
-
-def _samples(text: str) -> int:
-    return _integer(text, 1, MAX_SAMPLES)
-
-
-def _seed(text: str) -> int:
-    return _integer(text, 0, MAX_SEED)
-
-
-def _parallel_angle(text: str) -> float:
-    value = _nonnegative_float(text)
-    if value > MAX_PARALLEL_ANGLE:
-        raise argparse.ArgumentTypeError(f"must be at most {MAX_PARALLEL_ANGLE} rad, not {text}")
-    return value
-
-
-def _nonnegative_float(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError as e:
-        raise argparse.ArgumentTypeError(f"'{text}' is not a number") from e
-    if not value >= 0.0 or value == float("inf"):
-        raise argparse.ArgumentTypeError(f"must be a finite number >= 0, not {text}")
-    return value
-
-
-def _package_path(text: str) -> tuple[str, str]:
-    name, sep, directory = text.partition("=")
-    if not sep or not name or not directory:
-        raise argparse.ArgumentTypeError(f"expected NAME=DIR, not '{text}'")
-    return name, directory
-
-
-def _xacro_arg(text: str) -> tuple[str, str]:
-    name, sep, value = text.partition(":=")
-    if not sep or not name:
-        raise argparse.ArgumentTypeError(f"expected NAME:=VALUE, not '{text}'")
-    return name, value
-
-
-def _positive_float(text: str) -> float:
-    value = _nonnegative_float(text)
-    if value == 0.0:
-        raise argparse.ArgumentTypeError("must be greater than 0")
-    return value
-
-
-def _add_chain(p: argparse.ArgumentParser, several: bool = False) -> None:
-    p.add_argument("source", metavar="SOURCE",
-                   help="URDF file, POE model file, table file, or bundled robot name")
-    _add_chain_options(p, several)
-
-
-def _add_chain_options(p: argparse.ArgumentParser, several: bool = False) -> None:
-    """The chain options; ``several``: the command takes several chains of a tree (``--tip``
-    repeated, into ``args.tips``, or ``--all-tips``)."""
-    p.add_argument("--base", metavar="LINK", help="base link (default: the URDF root link)")
-    if several:
-        tips = p.add_mutually_exclusive_group()
-        tips.add_argument("--tip", metavar="LINK", action="append", dest="tips",
-                          help="tip link (default: the single deepest leaf below the base); "
-                               "given several times, one chain per tip")
-        tips.add_argument("--all-tips", action="store_true",
-                          help="one chain per leaf below the base (leaves reached through "
-                               "fixed joints only are skipped)")
-    else:
-        p.add_argument("--tip", metavar="LINK",
-                       help="tip link (default: the single deepest leaf below the base)")
-    p.add_argument("--ignore-mimic", action="store_true",
-                   help="treat mimic joints on the chain as independent joints (with a warning)")
-    p.add_argument("--package-path", type=_package_path, action="append", default=[],
-                   metavar="NAME=DIR",
-                   help="for .xacro sources: the directory of ROS package NAME, for $(find NAME) "
-                        "and package://NAME (repeatable)")
-    p.add_argument("--xacro-arg", type=_xacro_arg, action="append", default=[],
-                   metavar="NAME:=VALUE", help="for .xacro sources: an argument (repeatable)")
-    p.add_argument("--xacro-timeout", type=_positive_float, default=20.0, metavar="SECONDS",
-                   help="for .xacro sources: time the expansion may take (default %(default)g)")
-    p.add_argument("--xacro-memory", type=_positive_int, default=1024, metavar="MIB",
-                   help="for .xacro sources: memory the expansion may use (default %(default)s)")
-
-
-def _add_tolerances(p: argparse.ArgumentParser) -> None:
-    from .tolerances import DEFAULT
-
-    g = p.add_argument_group("tolerance judgements (D-H conventions)")
-    g.add_argument("--exact", action="store_true",
-                   help="no snapping: keep nearly parallel or nearly intersecting axes as they are")
-    g.add_argument("--parallel-angle", type=_parallel_angle, metavar="RAD",
-                   default=DEFAULT.parallel_angle,
-                   help="treat axes this close to parallel as parallel (default %(default)g rad)")
-    g.add_argument("--intersect-distance", type=_nonnegative_float, metavar="LENGTH",
-                   default=None,
-                   help="treat lines this close as intersecting or coincident, in the source's "
-                        f"length unit (default {DEFAULT.intersect_relative:g} x the robot's size)")
-    g.add_argument("--check-samples", type=_samples, default=None, metavar="N",
-                   help="configurations of the self-check (default 100; 1000 where axes were "
-                        "treated as parallel, to measure the deviation)")
 
 
 def get_argument_parser() -> argparse.ArgumentParser:
@@ -154,79 +36,151 @@ def get_argument_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
 
     p = sub.add_parser("convert", help="print or write the parameter table of a chain")
-    _add_chain(p, several=True)
-    p.add_argument("--convention", choices=NAMES, default=NAMES[0],
-                   help="parameter convention (default %(default)s)")
-    p.add_argument("--format", choices=FORMATS, default="text",
-                   help="output format (default %(default)s)")
-    p.add_argument("--style", choices=STYLES, default="wu",
-                   help="D-H choices: wu (Wu 2019, a >= 0; default), ur (zero theta offsets, "
-                        "Universal Robots' signs) or zero (zero theta offsets wherever possible)")
-    p.add_argument("-o", "--output", metavar="FILE|DIR",
-                   help="write to FILE instead of stdout; with several tips a directory, one "
-                        "file per tip (DIR/<tip>.txt, .json, .yaml, .csv, .md, .urdf, "
-                        ".poe.yaml), all or nothing; to stdout several tables go in text, "
-                        "markdown, json (an object keyed by tip) or yaml (a document per tip)")
-    _add_tolerances(p)
+    options.add_chain(p, several=True)
+    p.add_argument(
+        "--convention",
+        choices=NAMES,
+        default=NAMES[0],
+        help="parameter convention (default %(default)s)",
+    )
+    p.add_argument(
+        "--format", choices=FORMATS, default="text", help="output format (default %(default)s)"
+    )
+    p.add_argument(
+        "--style",
+        choices=STYLES,
+        default="wu",
+        help="D-H choices: wu (Wu 2019, a >= 0; default), ur (zero theta offsets, "
+        "Universal Robots' signs) or zero (zero theta offsets wherever possible)",
+    )
+    p.add_argument(
+        "-o",
+        "--output",
+        metavar="FILE|DIR",
+        help="write to FILE instead of stdout; with several tips a directory, one "
+        "file per tip (DIR/<tip>.txt, .json, .yaml, .csv, .md, .urdf, "
+        ".poe.yaml), all or nothing; to stdout several tables go in text, "
+        "markdown, json (an object keyed by tip) or yaml (a document per tip)",
+    )
+    options.add_tolerances(p)
 
     p = sub.add_parser("verify", help="compare every convention's FK with Pinocchio's")
-    _add_chain(p, several=True)
-    p.add_argument("--samples", type=_samples, default=1000, metavar="N",
-                   help="random configurations within joint limits (default %(default)s)")
-    p.add_argument("--seed", type=_seed, default=0, metavar="S",
-                   help="random seed (default %(default)s)")
-    _add_tolerances(p)
+    options.add_chain(p, several=True)
+    p.add_argument(
+        "--samples",
+        type=options.samples,
+        default=1000,
+        metavar="N",
+        help="random configurations within joint limits (default %(default)s)",
+    )
+    p.add_argument(
+        "--seed",
+        type=options.seed,
+        default=0,
+        metavar="S",
+        help="random seed (default %(default)s)",
+    )
+    options.add_tolerances(p)
 
     p = sub.add_parser("diff", help="compare two parameter sets (calibration: nominal vs actual)")
     p.add_argument("nominal", metavar="NOMINAL", help="URDF, POE model, table file or robot")
     p.add_argument("actual", metavar="ACTUAL", help="URDF, POE model, table file or robot")
-    _add_chain_options(p)
-    p.add_argument("--convention", choices=NAMES, default=NAMES[0],
-                   help="convention to compare in (default %(default)s)")
+    options.add_chain_options(p)
+    p.add_argument(
+        "--convention",
+        choices=NAMES,
+        default=NAMES[0],
+        help="convention to compare in (default %(default)s)",
+    )
     p.add_argument("--style", choices=STYLES, default="wu", help="D-H choices (see convert)")
-    p.add_argument("--angle-threshold", type=_nonnegative_float, default=0.01, metavar="DEG",
-                   help="mark angle changes over this, modulo 180 (default %(default)g; Wu 2019 "
-                        "Table II's marks: 60)")
-    p.add_argument("--length-threshold", type=_nonnegative_float, metavar="LENGTH",
-                   help="mark length changes over this, in the tables' unit (default 0.1 mm; Wu "
-                        "2019 Table II's marks: 30 mm)")
-    p.add_argument("--parallel-within", type=_nonnegative_float, default=5.0, metavar="DEG",
-                   help="name axis pairs this close to parallel in either model as "
-                        "ill-conditioned for D-H (default %(default)g)")
+    p.add_argument(
+        "--angle-threshold",
+        type=options.nonnegative_float,
+        default=0.01,
+        metavar="DEG",
+        help="mark angle changes over this, modulo 180 (default %(default)g; Wu 2019 "
+        "Table II's marks: 60)",
+    )
+    p.add_argument(
+        "--length-threshold",
+        type=options.nonnegative_float,
+        metavar="LENGTH",
+        help="mark length changes over this, in the tables' unit (default 0.1 mm; Wu "
+        "2019 Table II's marks: 30 mm)",
+    )
+    p.add_argument(
+        "--parallel-within",
+        type=options.nonnegative_float,
+        default=5.0,
+        metavar="DEG",
+        help="name axis pairs this close to parallel in either model as "
+        "ill-conditioned for D-H (default %(default)g)",
+    )
     p.add_argument("--format", choices=("text", "json"), default="text")
     p.add_argument("-o", "--output", metavar="FILE", help="write to FILE instead of stdout")
-    _add_tolerances(p)
+    options.add_tolerances(p)
 
     p = sub.add_parser("info", help="links, joints, the chain, candidate tips, identifiability")
-    _add_chain(p)
+    options.add_chain(p)
 
     p = sub.add_parser("export", help="write a controller or toolbox configuration file")
-    _add_chain(p, several=True)
-    p.add_argument("--to", required=True, choices=tuple(TARGETS), metavar="TARGET",
-                   help="; ".join(f"{t.name}: {t.summary}" for t in TARGETS.values()))
-    p.add_argument("--convention", choices=tuple(dict.fromkeys(
-                       c for t in TARGETS.values() for c in t.conventions)), default=None,
-                   help="convention of the file, where the target takes several (default: the "
-                        "target's first: " + ", ".join(
-                            f"{t.name} {'/'.join(t.conventions)}" for t in TARGETS.values()) + ")")
-    p.add_argument("--style", choices=STYLES, default=None,
-                   help="D-H choices (default ur for ur, zero for linuxcnc, wu otherwise)")
-    p.add_argument("--units", choices=("mm", "inch"), default=None,
-                   help="linuxcnc: length unit of A and D (default mm)")
-    p.add_argument("-o", "--output", metavar="FILE|DIR",
-                   help="write to FILE instead of stdout; with several tips (required) a "
-                        "directory: DIR/<tip> plus the target's suffix, all or nothing")
-    _add_tolerances(p)
+    options.add_chain(p, several=True)
+    p.add_argument(
+        "--to",
+        required=True,
+        choices=tuple(TARGETS),
+        metavar="TARGET",
+        help="; ".join(f"{t.name}: {t.summary}" for t in TARGETS.values()),
+    )
+    p.add_argument(
+        "--convention",
+        choices=tuple(dict.fromkeys(c for t in TARGETS.values() for c in t.conventions)),
+        default=None,
+        help="convention of the file, where the target takes several (default: the "
+        "target's first: "
+        + ", ".join(f"{t.name} {'/'.join(t.conventions)}" for t in TARGETS.values())
+        + ")",
+    )
+    p.add_argument(
+        "--style",
+        choices=STYLES,
+        default=None,
+        help="D-H choices (default ur for ur, zero for linuxcnc, wu otherwise)",
+    )
+    p.add_argument(
+        "--units",
+        choices=("mm", "inch"),
+        default=None,
+        help="linuxcnc: length unit of A and D (default mm)",
+    )
+    p.add_argument(
+        "-o",
+        "--output",
+        metavar="FILE|DIR",
+        help="write to FILE instead of stdout; with several tips (required) a "
+        "directory: DIR/<tip> plus the target's suffix, all or nothing",
+    )
+    options.add_tolerances(p)
 
     p = sub.add_parser("plot", help="draw the arm at home with its D-H frames (png, svg, pdf)")
-    _add_chain(p)
-    p.add_argument("-o", "--output", required=True, metavar="FILE",
-                   help="image file; its suffix picks the format (.png, .svg, .pdf)")
-    p.add_argument("--convention", choices=NAMES, default=NAMES[0],
-                   help="whose frames to draw (default %(default)s)")
-    p.add_argument("--style", choices=STYLES, default="wu",
-                   help="D-H choices (default %(default)s)")
-    _add_tolerances(p)
+    options.add_chain(p)
+    p.add_argument(
+        "-o",
+        "--output",
+        required=True,
+        metavar="FILE",
+        help="image file; its suffix picks the format (.png, .svg, .pdf)",
+    )
+    p.add_argument(
+        "--convention",
+        choices=NAMES,
+        default=NAMES[0],
+        help="whose frames to draw (default %(default)s)",
+    )
+    p.add_argument(
+        "--style", choices=STYLES, default="wu", help="D-H choices (default %(default)s)"
+    )
+    options.add_tolerances(p)
 
     sub.add_parser("robots", help="list the bundled robots")
     from .calibrate.cli import add_parsers as add_calibration_parsers
@@ -277,8 +231,11 @@ def main(argv: list[str] | None = None) -> int:
     except Exception as e:  # a bug, or bad input we failed to foresee: still no traceback
         if os.environ.get("URDF2DH_DEBUG"):
             raise
-        print(f"urdf2dh: internal error: {type(e).__name__}: {_one_line(str(e))} (set "
-              "URDF2DH_DEBUG=1 for the traceback, and please report it)", file=sys.stderr)
+        print(
+            f"urdf2dh: internal error: {type(e).__name__}: {_one_line(str(e))} (set "
+            "URDF2DH_DEBUG=1 for the traceback, and please report it)",
+            file=sys.stderr,
+        )
         return 2
     finally:
         if previous is not None:

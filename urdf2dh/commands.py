@@ -12,32 +12,16 @@ from typing import Any
 
 from .calibrate.cli import COMMANDS as calibration_commands
 from .files import write_output
+from .options import tolerances, xacro_options
 
 __all__ = ["COMMANDS"]
-
-
-def _tolerances(args: argparse.Namespace) -> Any:
-    from dataclasses import replace
-
-    from .tolerances import DEFAULT
-
-    tol = replace(DEFAULT, parallel_angle=args.parallel_angle,
-                  intersect_distance=args.intersect_distance)
-    return tol.with_exact() if args.exact else tol
-
-
-def _xacro(args: argparse.Namespace) -> Any:
-    from .xacro import XacroOptions
-
-    return XacroOptions(dict(args.package_path), dict(args.xacro_arg), args.xacro_timeout,
-                        args.xacro_memory)
 
 
 def _open(args: argparse.Namespace, tol: Any = None) -> Any:
     from .sources import open_source
     from .tolerances import DEFAULT
 
-    return open_source(args.source, tol or DEFAULT, xacro=_xacro(args))
+    return open_source(args.source, tol or DEFAULT, xacro=xacro_options(args))
 
 
 # --------------------------------------------------------------------------- commands
@@ -73,15 +57,14 @@ def _write_tips(
     from .tips import file_names
 
     names = file_names(source.display, [m.tip_link for m, _ in texts], suffix)
-    write_directory({names[m.tip_link]: text for m, text in texts}, args.output,
-                    [args.source])
+    write_directory({names[m.tip_link]: text for m, text in texts}, args.output, [args.source])
 
 
 def _convert(args: argparse.Namespace) -> int:
     from .convert import to_table
     from .formats import render
 
-    tol = _tolerances(args)
+    tol = tolerances(args)
     if _several(args):
         return _convert_tips(args, tol)
     source = _open(args, tol)
@@ -104,8 +87,9 @@ def _convert_tips(args: argparse.Namespace, tol: Any) -> int:
     tables = []
     for model in models:
         with naming_tip(model.tip_link):
-            tables.append(to_table(model, args.convention, tol, samples=args.check_samples,
-                                   style=args.style))
+            tables.append(
+                to_table(model, args.convention, tol, samples=args.check_samples, style=args.style)
+            )
     if args.output is None:
         write_output(join_tables(tables, args.format), None)
         return 0
@@ -118,7 +102,7 @@ def _convert_tips(args: argparse.Namespace, tol: Any) -> int:
 
 
 def _verify(args: argparse.Namespace) -> int:
-    tol = _tolerances(args)
+    tol = tolerances(args)
     source = _open(args, tol)
     if not _several(args):
         model = source.model(args.base, _one_tip(args), args.ignore_mimic)
@@ -146,8 +130,11 @@ def _verify(args: argparse.Namespace) -> int:
     if failed:
         from .tips import shown
 
-        print(f"verify: FAILED on {len(failed)} of {len(models)} chains: "
-              f"{', '.join(shown(t) for t in failed)}", file=sys.stderr)
+        print(
+            f"verify: FAILED on {len(failed)} of {len(models)} chains: "
+            f"{', '.join(shown(t) for t in failed)}",
+            file=sys.stderr,
+        )
         return 1
     print(f"verify: all conventions agree with Pinocchio on all {len(models)} chains")
     return 0
@@ -158,24 +145,30 @@ def _verify_chain(args: argparse.Namespace, source: Any, model: Any, tol: Any) -
     from .errors import visible as v
     from .verify import verify
 
-    results = verify(source, model, args.samples, args.seed, tol,
-                     check_samples=args.check_samples)
+    results = verify(source, model, args.samples, args.seed, tol, check_samples=args.check_samples)
     unit, size = v(model.length_unit), model.size()
     chain = f"{v(model.base_link)} -> {v(model.tip_link)}, " if model.base_link else ""
-    print(f"{v(source.name)}: {chain}{model.n} joints; against Pinocchio at {args.samples} "
-          f"configurations (seed {args.seed}); robot size {size:.4g} {unit}")
+    print(
+        f"{v(source.name)}: {chain}{model.n} joints; against Pinocchio at {args.samples} "
+        f"configurations (seed {args.seed}); robot size {size:.4g} {unit}"
+    )
     print(f"  {'model':<10} {'position error':>16} {'relative':>10} {'rotation error':>16}  result")
     for r in results:
-        print(f"  {r.label:<10} {r.position:>13.2e} {unit:<2} {r.position / size:>10.2e} "
-              f"{r.rotation:>12.2e} rad  {'ok' if r.ok else 'FAILED'}")
+        print(
+            f"  {r.label:<10} {r.position:>13.2e} {unit:<2} {r.position / size:>10.2e} "
+            f"{r.rotation:>12.2e} rad  {'ok' if r.ok else 'FAILED'}"
+        )
     for r in results:
         for w in r.table.warnings if r.table is not None else ():
             print(f"  warning: {v(w)}")
     failed = [r.label for r in results if not r.ok]
     if failed:
         where = f" on {chain[:-2]}" if chain and _several(args) else ""
-        print(f"verify: FAILED{where} for {', '.join(failed)} (allowed "
-              f"{results[0].allowed_position:.2g} {unit} + declared deviations)", file=sys.stderr)
+        print(
+            f"verify: FAILED{where} for {', '.join(failed)} (allowed "
+            f"{results[0].allowed_position:.2g} {unit} + declared deviations)",
+            file=sys.stderr,
+        )
         return False
     return True
 
@@ -186,15 +179,23 @@ def _diff(args: argparse.Namespace) -> int:
     from .diff import diff_sources, render_diff
 
     info, changes, pairs = diff_sources(
-        args.nominal, args.actual, args.convention, _tolerances(args),
+        args.nominal,
+        args.actual,
+        args.convention,
+        tolerances(args),
         angle_threshold=math.radians(args.angle_threshold),
         length_threshold=args.length_threshold,
         parallel_within=math.radians(args.parallel_within),
-        base=args.base, tip=args.tip, ignore_mimic=args.ignore_mimic, style=args.style,
-        samples=args.check_samples, xacro=_xacro(args),
+        base=args.base,
+        tip=args.tip,
+        ignore_mimic=args.ignore_mimic,
+        style=args.style,
+        samples=args.check_samples,
+        xacro=xacro_options(args),
     )
-    write_output(render_diff(info, changes, pairs, args.format), args.output,
-                 [args.nominal, args.actual])
+    write_output(
+        render_diff(info, changes, pairs, args.format), args.output, [args.nominal, args.actual]
+    )
     return 0
 
 
@@ -215,13 +216,12 @@ def _export(args: argparse.Namespace) -> int:
     table_choices(args.to, args.convention, args.style)  # bad choices fail before any reading
     if _several(args) and args.output is None:
         raise UsageError("export with several tips writes one file per tip; give -o DIR")
-    tol = _tolerances(args)
+    tol = tolerances(args)
     source = _open(args, tol)
     opts = Options(args.units, tol)
     if not _several(args):
         model = source.model(args.base, _one_tip(args), args.ignore_mimic)
-        text = export(model, args.to, args.convention, args.style, opts,
-                      samples=args.check_samples)
+        text = export(model, args.to, args.convention, args.style, opts, samples=args.check_samples)
         write_output(text, args.output, [args.source])
         return 0
     from .tips import naming_tip
@@ -230,8 +230,19 @@ def _export(args: argparse.Namespace) -> int:
     texts = []
     for model in _chains(args, source, suffix):
         with naming_tip(model.tip_link):
-            texts.append((model, export(model, args.to, args.convention, args.style, opts,
-                                        samples=args.check_samples)))
+            texts.append(
+                (
+                    model,
+                    export(
+                        model,
+                        args.to,
+                        args.convention,
+                        args.style,
+                        opts,
+                        samples=args.check_samples,
+                    ),
+                )
+            )
     _write_tips(args, source, texts, suffix)
     return 0
 
@@ -243,7 +254,7 @@ def _plot(args: argparse.Namespace) -> int:
     from .plot import render
 
     fmt = Path(args.output).suffix.lower().lstrip(".") or "png"
-    tol = _tolerances(args)
+    tol = tolerances(args)
     model = _open(args, tol).model(args.base, args.tip, args.ignore_mimic)
     table = to_table(model, args.convention, tol, samples=args.check_samples, style=args.style)
     write_output(render(table, fmt), args.output, [args.source])

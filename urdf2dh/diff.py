@@ -63,8 +63,9 @@ def _angle_mod_pi(delta: float) -> float:
     return abs(math.remainder(delta, math.pi))
 
 
-def compare(nominal: Table, actual: Table, angle_threshold: float,
-            length_threshold: float) -> list[Change]:
+def compare(
+    nominal: Table, actual: Table, angle_threshold: float, length_threshold: float
+) -> list[Change]:
     """Row-by-row changes from ``nominal`` to ``actual`` (same convention, same unit)."""
     if nominal.convention != actual.convention:
         raise UsageError("diff compares tables of one convention")
@@ -100,16 +101,21 @@ def compare(nominal: Table, actual: Table, angle_threshold: float,
                 marked = abs(change) > length_threshold
             out.append(Change(label, param, va, vb, change, kind, marked))
         if ra is not None and rb is not None:
-            out.append(Change(label, "pitch", ra.pitch, rb.pitch, rb.pitch - ra.pitch, "pitch",
-                              False))
-            out.append(Change(label, "scale", ra.scale, rb.scale, rb.scale - ra.scale, "scale",
-                              False))
+            out.append(
+                Change(label, "pitch", ra.pitch, rb.pitch, rb.pitch - ra.pitch, "pitch", False)
+            )
+            out.append(
+                Change(label, "scale", ra.scale, rb.scale, rb.scale - ra.scale, "scale", False)
+            )
     return out
 
 
 def _lines(model: PoeModel) -> list[tuple[str, np.ndarray]]:
-    return ([("base z", np.array([0.0, 0.0, 1.0]))]
-            + [(j.name, j.axis) for j in model.joints] + [("tool z", model.home[:3, 2])])
+    return (
+        [("base z", np.array([0.0, 0.0, 1.0]))]
+        + [(j.name, j.axis) for j in model.joints]
+        + [("tool z", model.home[:3, 2])]
+    )
 
 
 def ill_conditioned(nominal: PoeModel, actual: PoeModel, within: float) -> list[IllPair]:
@@ -167,16 +173,24 @@ def diff_sources(
         names.append(source.name)
     nominal, actual = models
     if actual.length_unit != nominal.length_unit:
-        actual = actual.scaled(units.factor(actual.length_unit, nominal.length_unit),
-                               nominal.length_unit)
-    tables = [to_table(m, convention, tol, samples=samples, style=style)
-              for m in (nominal, actual)]
-    length = (default_length_threshold(nominal.length_unit) if length_threshold is None
-              else length_threshold)
-    info = {"convention": convention, "nominal": names[0], "actual": names[1],
-            "units": {"length": nominal.length_unit, "angle": "rad"}, "size": nominal.size(),
-            "thresholds": {"angle": angle_threshold, "length": length},
-            "warnings": [w for t in tables for w in t.warnings]}
+        actual = actual.scaled(
+            units.factor(actual.length_unit, nominal.length_unit), nominal.length_unit
+        )
+    tables = [to_table(m, convention, tol, samples=samples, style=style) for m in (nominal, actual)]
+    length = (
+        default_length_threshold(nominal.length_unit)
+        if length_threshold is None
+        else length_threshold
+    )
+    info = {
+        "convention": convention,
+        "nominal": names[0],
+        "actual": names[1],
+        "units": {"length": nominal.length_unit, "angle": "rad"},
+        "size": nominal.size(),
+        "thresholds": {"angle": angle_threshold, "length": length},
+        "warnings": [w for t in tables for w in t.warnings],
+    }
     changes = compare(tables[0], tables[1], angle_threshold, length)
     return info, changes, ill_conditioned(nominal, actual, parallel_within)
 
@@ -188,15 +202,18 @@ RECOMMENDATION = (
 )
 
 
-def render_diff(info: dict[str, Any], changes: list[Change], pairs: list[IllPair],
-                fmt: str) -> str:
+def render_diff(info: dict[str, Any], changes: list[Change], pairs: list[IllPair], fmt: str) -> str:
     """Text (angles in degrees) or JSON (radians) report."""
     if fmt == "json":
         import json
 
-        tree = {"schema": SCHEMA, **info, "parameters": [asdict(c) for c in changes],
-                "ill_conditioned": [asdict(p) for p in pairs],
-                "recommendation": RECOMMENDATION if pairs else None}
+        tree = {
+            "schema": SCHEMA,
+            **info,
+            "parameters": [asdict(c) for c in changes],
+            "ill_conditioned": [asdict(p) for p in pairs],
+            "recommendation": RECOMMENDATION if pairs else None,
+        }
         return json.dumps(tree, indent=2) + "\n"
     unit = info["units"]["length"]
     # lengths to a micrometre or finer, angles to 1e-4 deg; a change too small for that is
@@ -219,6 +236,7 @@ def render_diff(info: dict[str, Any], changes: list[Change], pairs: list[IllPair
         return f"{x:+.3g}" if float(text) == 0.0 and abs(x) > exact else text
 
     exact = DEFAULT.report  # rad, or x size: the exactness promised; below is round-off
+
     def delta(c: Change) -> str:
         if c.kind in ("angle", "direction"):
             return f"{signed(math.degrees(c.change), 4, math.degrees(exact))} deg"
@@ -241,14 +259,17 @@ def render_diff(info: dict[str, Any], changes: list[Change], pairs: list[IllPair
     for c, row in zip(changes, rows, strict=True):
         if c.kind in ("pitch", "scale") and c.change == 0.0:
             continue
-        out.append(f"{row:<{width}}  {c.param:<6} {show(c.nominal, c.kind):>28} "
-                   f"{show(c.actual, c.kind):>28}  {delta(c)}{'  *' if c.marked else ''}")
+        out.append(
+            f"{row:<{width}}  {c.param:<6} {show(c.nominal, c.kind):>28} "
+            f"{show(c.actual, c.kind):>28}  {delta(c)}{'  *' if c.marked else ''}"
+        )
     marked = sum(c.marked for c in changes)
     out.append(f"{marked} parameter{'' if marked == 1 else 's'} changed beyond the thresholds")
     if pairs:
         names = ", ".join(
             f"({visible(p.first)}, {visible(p.second)}) {math.degrees(p.nominal_angle):.3f} / "
-            f"{math.degrees(p.actual_angle):.3f} deg" for p in pairs
+            f"{math.degrees(p.actual_angle):.3f} deg"
+            for p in pairs
         )
         out.append(f"ill-conditioned axis pairs (nearly parallel; nominal / actual): {names}")
         out.append(RECOMMENDATION)

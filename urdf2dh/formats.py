@@ -53,8 +53,7 @@ def render(table: Table, fmt: str) -> str:
 
         from .poefile import poe_to_dict
 
-        return yaml.safe_dump(poe_to_dict(table.to_poe()), sort_keys=False,
-                              default_flow_style=None)
+        return yaml.safe_dump(poe_to_dict(table.to_poe()), sort_keys=False, default_flow_style=None)
     raise UsageError(f"unknown format '{fmt}'; valid: {choices(FORMATS)}")
 
 
@@ -104,8 +103,13 @@ def _csv(table: Table) -> str:
     cols = [name for name, _ in _columns(table)]
     lines = [",".join(["row", "joint", "type", "pitch", "scale", *cols])]
     for label, joint, kind, pitch, scale, params, _ in _records(table):
-        cells = [label, csv_cell(joint, "joint"), kind, "" if pitch is None else repr(pitch),
-                 "" if scale is None else repr(scale)]
+        cells = [
+            label,
+            csv_cell(joint, "joint"),
+            kind,
+            "" if pitch is None else repr(pitch),
+            "" if scale is None else repr(scale),
+        ]
         lines.append(",".join(cells + [repr(params[c]) if c in params else "" for c in cols]))
     return "\n".join(lines) + "\n"
 
@@ -180,9 +184,12 @@ def summary(table: Table) -> list[str]:
             f"check: FK against the source at {c.samples} configurations: max position error "
             f"{c.max_position_error:.2g} {table.length_unit}, max rotation error "
             f"{c.max_rotation_error:.2g} rad"
-            + (f"; declared bound {c.declared_position:.2g} {table.length_unit}, "
-               f"{c.declared_rotation:.2g} rad" if c.declared_position or c.declared_rotation
-               else "")
+            + (
+                f"; declared bound {c.declared_position:.2g} {table.length_unit}, "
+                f"{c.declared_rotation:.2g} rad"
+                if c.declared_position or c.declared_rotation
+                else ""
+            )
         )
     lines.extend(f"warning: {w}" for w in table.warnings)
     return lines
@@ -201,8 +208,10 @@ def _text(table: Table) -> str:
     numeric = [i >= texts for i in range(len(head))]
 
     def fmt(row: list[str]) -> str:
-        cells = [c.rjust(w) if num else c.ljust(w) for c, w, num in zip(row, widths, numeric,
-                                                                          strict=True)]
+        cells = [
+            c.rjust(w) if num else c.ljust(w)
+            for c, w, num in zip(row, widths, numeric, strict=True)
+        ]
         return "  ".join(cells).rstrip()
 
     out = [_title(table, visible), get(table.convention).title, "", fmt(head)]

@@ -26,10 +26,14 @@ def identifiability(model: PoeModel) -> dict[str, int]:
     h, r, t = kinds["helical"], kinds["revolute"], kinds["prismatic"]
     n = model.n
     return {
-        "helical": h, "revolute": r, "prismatic": t, "joints": n,
+        "helical": h,
+        "revolute": r,
+        "prismatic": t,
+        "joints": n,
         "maximum": 5 * h + 4 * r + 2 * t + n + 6,
         "conventional": 4 * (r + h) + 2 * t + 6,
-        "base": 4, "tool": 2,
+        "base": 4,
+        "tool": 2,
     }
 
 
@@ -70,7 +74,8 @@ def describe(source: Source, base: str | None, tip: str | None, ignore_mimic: bo
         lines.append(f"links: {len(tree.links)}; root: {v(tree.root)}")
         lines.append(
             f"joints: {len(tree.joints)} ("
-            + ", ".join(f"{n} {t}" for t, n in sorted(types.items())) + ")"
+            + ", ".join(f"{n} {t}" for t, n in sorted(types.items()))
+            + ")"
         )
         for j in tree.joints.values():
             extra = f", mimics {v(j.mimic)}" if j.mimic else ""

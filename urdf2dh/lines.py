@@ -58,8 +58,14 @@ class LinkParams:
         valid D-H links to the same line; conventions differ only in which they prefer."""
         theta = math.remainder(self.theta + math.pi, 2.0 * math.pi)
         alpha = math.pi if abs(self.alpha) == math.pi else -self.alpha + 0.0
-        return LinkParams(math.pi if theta == -math.pi else theta + 0.0, self.d, alpha,
-                          -self.a + 0.0, self.parallel, self.free)
+        return LinkParams(
+            math.pi if theta == -math.pi else theta + 0.0,
+            self.d,
+            alpha,
+            -self.a + 0.0,
+            self.parallel,
+            self.free,
+        )
 
 
 @dataclass(frozen=True, slots=True)
@@ -78,8 +84,14 @@ class Limits:
         """The thresholds of ``tol`` for a robot of ``size``."""
         parallel = max(tol.parallel_angle, tol.noise)  # round-off is never geometry
         sane = tol.sane_factor * size if tol.sane_factor > 0.0 else math.inf
-        return cls(parallel, max(parallel, tol.meet_angle), tol.distance(size),
-                   tol.far_factor * size, tol.noise, sane)
+        return cls(
+            parallel,
+            max(parallel, tol.meet_angle),
+            tol.distance(size),
+            tol.far_factor * size,
+            tol.noise,
+            sane,
+        )
 
 
 def _far(u: Vec3, p: Vec3, pivot_d: float, far: float) -> bool:
@@ -135,9 +147,7 @@ def link_to_line(
                 alpha = 0.0 if uz > 0.0 else math.pi
                 return LinkParams(0.0, d, alpha, 0.0, True, True), judgements
             return LinkParams(angle(ux, -uy), d, angle(rho, uz), 0.0, True), judgements
-        if off_parallel <= lim.noise or (
-            off_parallel <= lim.parallel and _far(u, p, d, lim.far)
-        ):
+        if off_parallel <= lim.noise or (off_parallel <= lim.parallel and _far(u, p, d, lim.far)):
             return _parallel(u, (x, y, d), off_parallel, names)
     px, py, pz = p
     # the line's moment p x u; the same for any point p on the line

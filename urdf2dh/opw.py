@@ -102,8 +102,7 @@ class _Judge:
         not a format string: the text holds names from the file, braces and all)."""
         if gap > self.distance:
             raise ExportError(
-                f"opw: {fault(f'{gap:.4g} {self.unit}')}; --intersect-distance "
-                f"{self.distance:.3g}"
+                f"opw: {fault(f'{gap:.4g} {self.unit}')}; --intersect-distance {self.distance:.3g}"
             )
         if gap > self.noise_length:
             self.made.append((f"opw: {treated} ({gap:.3g} {self.unit} off)", 0.0, gap))
@@ -156,8 +155,10 @@ def opw_from_poe(
     centre, gap = _meeting_point(p[3:], d[3:])
     judge.meet(
         gap,
-        lambda apart: f"wrist axes do not intersect: offset wrist (axes {judge.axes(3, 4, 5)} "
-        f"pass {apart} from one common point)",
+        lambda apart: (
+            f"wrist axes do not intersect: offset wrist (axes {judge.axes(3, 4, 5)} "
+            f"pass {apart} from one common point)"
+        ),
         "wrist axes treated as meeting in one point",
     )
     judge.relation(d, 0, 1, False, "not an ortho-parallel base")

@@ -58,17 +58,21 @@ def wu2019_table2(robot: str) -> list[Cell]:
         v = p.scalars()
         return [math.degrees(v["theta"]), v["d"], math.degrees(v["alpha"]), v["a"]]
 
-    cells = [Cell("B->0", c, v, s) for c, v, s in zip(("theta", "d", "alpha", "a"),
-                                                      dh(table.base), ref["base"], strict=True)]
+    cells = [
+        Cell("B->0", c, v, s)
+        for c, v, s in zip(("theta", "d", "alpha", "a"), dh(table.base), ref["base"], strict=True)
+    ]
     for i, (row, printed) in enumerate(zip(table.rows, ref["rows"], strict=True)):
         ours = [*dh(row.params), row.pitch * math.pi / 180.0, row.scale]
         cols = ("theta", "d", "alpha", "a", "h", "q_bar")
-        cells += [Cell(f"{i}->{i + 1}", c, v, s) for c, v, s in zip(cols, ours, printed,
-                                                                     strict=True)]
+        cells += [
+            Cell(f"{i}->{i + 1}", c, v, s) for c, v, s in zip(cols, ours, printed, strict=True)
+        ]
     t = table.tool.scalars()
     tool = [math.degrees(t["theta"]), t["d"]]
-    cells += [Cell("6->T", c, v, s) for c, v, s in zip(("theta", "d"), tool, ref["tool"],
-                                                       strict=True)]
+    cells += [
+        Cell("6->T", c, v, s) for c, v, s in zip(("theta", "d"), tool, ref["tool"], strict=True)
+    ]
     return cells
 
 
@@ -86,8 +90,9 @@ def sumenkov_table3(joint6_as_behind_rows_6_7: bool = False) -> list[Cell]:
         model = replace(model, joints=joints, warnings=())
     table = to_table(model, "cpc")
     cells = []
-    for k, (params, printed) in enumerate(zip([table.base, *(r.params for r in table.rows)],
-                                              ref["rows"], strict=True)):
+    for k, (params, printed) in enumerate(
+        zip([table.base, *(r.params for r in table.rows)], ref["rows"], strict=True)
+    ):
         v = params.vectors()
         ours = [*v["b"], *v["l"], params.scalars()["beta"]]
         text = [*printed["b"], *printed["l"], printed["beta"]]

@@ -21,7 +21,15 @@ from .export.escape import matplotlib_text
 from .table import Table
 
 __all__ = [
-    "FORMATS", "LABEL_GAP", "Label", "apart", "box", "dh_frames", "layout", "place", "render",
+    "FORMATS",
+    "LABEL_GAP",
+    "Label",
+    "apart",
+    "box",
+    "dh_frames",
+    "layout",
+    "place",
+    "render",
 ]
 
 FORMATS = ("png", "svg", "pdf")
@@ -126,14 +134,25 @@ def layout(table: Table, title: str | None = None) -> tuple[Any, list[tuple[Labe
     fig = figure_cls(figsize=(8, 8), dpi=100)
     canvas_cls(fig)
     ax = fig.add_subplot(projection="3d")
-    ax.plot(*points.T, color=COLOURS["link"], linewidth=3, marker="o", markersize=4,
-            label="links (frame origins)")
+    ax.plot(
+        *points.T,
+        color=COLOURS["link"],
+        linewidth=3,
+        marker="o",
+        markersize=4,
+        label="links (frame origins)",
+    )
     labels: list[Label] = []
     for i, (row, f) in enumerate(zip(table.rows, table.frames()[:-1], strict=True)):
         z, p = f[:3, 2], f[:3, 3]
         ends = np.column_stack([p - 0.25 * span * z, p + 0.25 * span * z])
-        ax.plot(*ends, color=COLOURS["joint"], linestyle="--", linewidth=1.2,
-                label="joint axes" if i == 0 else None)
+        ax.plot(
+            *ends,
+            color=COLOURS["joint"],
+            linestyle="--",
+            linewidth=1.2,
+            label="joint axes" if i == 0 else None,
+        )
         labels.append(Label(f"J{i + 1} {matplotlib_text(row.name)}", COLOURS["joint"],
                             p + 0.27 * span * z, z, 0.06 * span, 7))  # fmt: skip
     for k, f in enumerate(frames[:-1]):
@@ -141,14 +160,30 @@ def layout(table: Table, title: str | None = None) -> tuple[Any, list[tuple[Labe
         _arrow(ax, labels, f[:3, 3], f[:3, 2], arrow, COLOURS["z"], f"z{k}")
     tool = frames[-1]
     for axis, name in enumerate("xyz"):
-        _arrow(ax, labels, tool[:3, 3], tool[:3, axis], 0.7 * arrow, COLOURS[name],
-               f"{name}tool" if name != "y" else "", width=1.0)
+        _arrow(
+            ax,
+            labels,
+            tool[:3, 3],
+            tool[:3, axis],
+            0.7 * arrow,
+            COLOURS[name],
+            f"{name}tool" if name != "y" else "",
+            width=1.0,
+        )
     world = np.eye(3)
     for axis, name in enumerate("xyz"):
-        _arrow(ax, labels, np.zeros(3), world[axis], 0.7 * arrow, "#000000",
-               f"{name}_{matplotlib_text(table.base_link)}" if name == "x" and table.base_link
-               else name,
-               width=0.8)
+        _arrow(
+            ax,
+            labels,
+            np.zeros(3),
+            world[axis],
+            0.7 * arrow,
+            "#000000",
+            f"{name}_{matplotlib_text(table.base_link)}"
+            if name == "x" and table.base_link
+            else name,
+            width=0.8,
+        )
     centre = (points.max(axis=0) + points.min(axis=0)) / 2
     half = 0.6 * span + arrow
     ax.set_xlim(centre[0] - half, centre[0] + half)
@@ -162,8 +197,13 @@ def layout(table: Table, title: str | None = None) -> tuple[Any, list[tuple[Labe
     name = table.spec.label
     robot = matplotlib_text(table.robot or "robot")
     chain = f"{matplotlib_text(table.base_link)} -> {matplotlib_text(table.tip_link)}"
-    ax.set_title(title or f"{robot}: {name} frames at home\n{chain}" if table.base_link else
-                 f"{robot}: {name} frames at home", fontsize=10, usetex=False)
+    ax.set_title(
+        title or f"{robot}: {name} frames at home\n{chain}"
+        if table.base_link
+        else f"{robot}: {name} frames at home",
+        fontsize=10,
+        usetex=False,
+    )
     ax.legend(loc="upper left", fontsize=8)
     placed = place(ax, labels)
     for label, position, _ in placed:

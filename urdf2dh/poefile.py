@@ -147,7 +147,9 @@ def poe_to_dict(model: PoeModel) -> dict[str, Any]:
     joints = []
     for j in model.joints:
         entry: dict[str, Any] = {
-            "name": j.name, "type": j.kind, "twist": [float(x) for x in j.twist()],
+            "name": j.name,
+            "type": j.kind,
+            "twist": [float(x) for x in j.twist()],
         }
         if j.lower is not None and j.upper is not None:
             entry["limits"] = [float(j.lower), float(j.upper)]

@@ -120,8 +120,13 @@ def _within_budget(tree: Any, display: str) -> None:
             stack.extend(value)
 
 
-def _from_file(path: Path, display: str, tol: Tolerances, bundled: Bundled | None,
-               xacro: XacroOptions | None = None) -> Source:
+def _from_file(
+    path: Path,
+    display: str,
+    tol: Tolerances,
+    bundled: Bundled | None,
+    xacro: XacroOptions | None = None,
+) -> Source:
     data = read_file(path, display)
     check_text(data, display, "a URDF, POE or table file")
     suffix = path.suffix.lower()
@@ -131,8 +136,9 @@ def _from_file(path: Path, display: str, tol: Tolerances, bundled: Bundled | Non
         data = expand(path, display, xacro)
     if suffix in (".xacro", ".urdf", ".xml") or first_character(data) == "<":
         tree = parse_tree(data, display)
-        return Source("urdf", display, bundled.name if bundled else tree.name, tree, tree.xml,
-                      bundled=bundled)
+        return Source(
+            "urdf", display, bundled.name if bundled else tree.name, tree, tree.xml, bundled=bundled
+        )
     tree_data = read_mapping(path, display, data)
     if isinstance(tree_data, dict) and tree_data.get("format") == "poe":
         from .poefile import read_poe
@@ -144,16 +150,20 @@ def _from_file(path: Path, display: str, tol: Tolerances, bundled: Bundled | Non
         from .tablefile import read_table
 
         table = read_table(tree_data, display, tol)
-        return Source("table", display, table.robot or path.stem, poe=table.to_poe(),
-                      bundled=bundled)
+        return Source(
+            "table", display, table.robot or path.stem, poe=table.to_poe(), bundled=bundled
+        )
     raise InputError(
         f"{display}: not a URDF, POE model ('format: poe') or table ('schema: urdf2dh/1') file"
     )
 
 
-def open_source(source: str, tol: Tolerances = DEFAULT,
-                package_paths: Mapping[str, str] | None = None,
-                xacro: XacroOptions | None = None) -> Source:
+def open_source(
+    source: str,
+    tol: Tolerances = DEFAULT,
+    package_paths: Mapping[str, str] | None = None,
+    xacro: XacroOptions | None = None,
+) -> Source:
     """Resolve SOURCE: an existing file, else a bundled robot name (``urdf2dh robots``).
 
     ``package_paths`` maps ROS package names to directories, and ``xacro`` says how to expand

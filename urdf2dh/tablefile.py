@@ -112,10 +112,18 @@ def read_table(data: Any, display: str, tol: Tolerances = DEFAULT) -> Table:
     if not isinstance(warnings, list) or not all(isinstance(w, str) for w in warnings):
         raise TableFileError(f"{display}: warnings must be a list of strings")
     table = Table(
-        conv.name, sections["base"][0], tuple(rows), sections["tool"][0], 1.0,
-        _text(data, "robot", "", display), _text(data, "source", display, display),
-        _text(data, "base_link", "", display), _text(data, "tip_link", "", display),
-        length_unit, check, tuple(warnings),
+        conv.name,
+        sections["base"][0],
+        tuple(rows),
+        sections["tool"][0],
+        1.0,
+        _text(data, "robot", "", display),
+        _text(data, "source", display, display),
+        _text(data, "base_link", "", display),
+        _text(data, "tip_link", "", display),
+        length_unit,
+        check,
+        tuple(warnings),
     )
     table = replace(table, size=table.to_poe().size())
     scale = max(1.0, float(np.abs(table.base_matrix[:3, 3]).max()))

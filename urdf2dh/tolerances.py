@@ -163,8 +163,11 @@ class Tolerances:
 
     def distance(self, size: float) -> float:
         """The intersect distance for a robot of this size (never below float round-off)."""
-        chosen = self.intersect_relative * size if self.intersect_distance is None \
+        chosen = (
+            self.intersect_relative * size
+            if self.intersect_distance is None
             else self.intersect_distance
+        )
         return max(chosen, self.noise * size)
 
     def with_exact(self) -> Tolerances:

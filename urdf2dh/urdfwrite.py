@@ -98,8 +98,10 @@ def table_to_urdf(table: Table) -> tuple[str, list[str]]:
         elif row.kind == "helical" or row.name in coupled:
             jtype = "revolute"
             if not limit:
-                limit = (f'<limit lower="{_num(-math.pi)}" upper="{_num(math.pi)}" '
-                         'effort="0" velocity="0"/>')
+                limit = (
+                    f'<limit lower="{_num(-math.pi)}" upper="{_num(math.pi)}" '
+                    'effort="0" velocity="0"/>'
+                )
                 notes.append(
                     f"joint {shown(row.name)}: limits unknown, [-pi, pi] written (URDF revolute "
                     "joints need limits, and mimic joints cannot follow continuous ones)"
@@ -110,13 +112,17 @@ def table_to_urdf(table: Table) -> tuple[str, list[str]]:
         if row.mimic is not None:  # q = m q_leader + o, in each joint's URDF position
             leader = rows[row.mimic.joint]
             multiplier = urdf_position(row) * row.mimic.multiplier / urdf_position(leader)
-            mimic = (f"    <mimic joint={_joint(leader.name)} multiplier=\"{_num(multiplier)}\" "
-                     f'offset="{_num(urdf_position(row) * row.mimic.offset)}"/>\n')
+            mimic = (
+                f'    <mimic joint={_joint(leader.name)} multiplier="{_num(multiplier)}" '
+                f'offset="{_num(urdf_position(row) * row.mimic.offset)}"/>\n'
+            )
         joints.append(
             f'  <joint name={_joint(row.name)} type="{jtype}">\n'
             f"    <parent link={_link(parent)}/><child link={_link(child)}/>\n"
             f"    {_origin(se3.inv(prev) @ frame)}\n    {axis}\n"
-            + (f"    {limit}\n" if limit else "") + mimic + "  </joint>"
+            + (f"    {limit}\n" if limit else "")
+            + mimic
+            + "  </joint>"
         )
         links.append(child)
         parent, prev = child, frame

@@ -55,6 +55,7 @@ class XacroOptions:
         if not (self.timeout > 0.0 and self.memory > 0):
             raise ValueError("xacro limits must be positive")
 
+
 PACKAGE_URL = "package://"
 
 
@@ -99,7 +100,7 @@ def _packages(xacro: Any, display: str, paths: Mapping[str, str]) -> Iterator[No
 
     def filename_spec(spec: str) -> str:
         if spec.startswith(PACKAGE_URL):
-            package, _, rest = spec[len(PACKAGE_URL):].partition("/")
+            package, _, rest = spec[len(PACKAGE_URL) :].partition("/")
             return os.path.join(find(package), rest)
         return str(original_spec(spec))
 

@@ -32,29 +32,29 @@ MAX_MARKERS = 100  # markers on one tool (more add nothing a calibration could u
 
 def add_parsers(sub: Any) -> None:
     """Add ``measure`` and ``calibrate`` to the ``urdf2dh`` subparsers."""
-    from .. import cli as main  # its option helpers
+    from .. import options as main  # its option helpers
     from ..conventions import NAMES, STYLES
     from ..formats import FORMATS
 
     p = sub.add_parser("measure", help="synthetic measurements of a model (for calibrate)")
-    main._add_chain(p)
+    main.add_chain(p)
     p.add_argument(
         "--configs",
-        type=main._samples,
+        type=main.samples,
         required=True,
         metavar="N",
         help="number of configurations, drawn uniformly within the joint limits",
     )
     p.add_argument(
         "--noise-pos",
-        type=main._nonnegative_float,
+        type=main.nonnegative_float,
         default=0.0,
         metavar="SIGMA",
         help="position noise per coordinate, source length unit (default 0)",
     )
     p.add_argument(
         "--noise-rot",
-        type=main._nonnegative_float,
+        type=main.nonnegative_float,
         default=0.0,
         metavar="SIGMA",
         help="rotation noise per axis, rad (default 0)",
@@ -67,7 +67,7 @@ def add_parsers(sub: Any) -> None:
     )
     p.add_argument(
         "--markers",
-        type=lambda text: main._integer(text, 1, MAX_MARKERS),
+        type=lambda text: main.integer(text, 1, MAX_MARKERS),
         default=None,
         metavar="K",
         help="measure the positions of K markers at seeded points of the tool",
@@ -77,8 +77,7 @@ def add_parsers(sub: Any) -> None:
         metavar="FILE",
         help="also write the markers' positions on the tool (marker,x,y,z)",
     )
-    p.add_argument("--seed", type=main._seed, default=0, metavar="S",
-                   help="random seed (default 0)")
+    p.add_argument("--seed", type=main.seed, default=0, metavar="S", help="random seed (default 0)")
     p.add_argument("-o", "--output", metavar="FILE", help="CSV file (default stdout)")
 
     p = sub.add_parser("calibrate", help="identify a model's parameters from measurements")
@@ -88,7 +87,7 @@ def add_parsers(sub: Any) -> None:
         help="the nominal model: URDF, POE model, table file or bundled robot",
     )
     p.add_argument("measurements", metavar="MEASUREMENTS", help="CSV file of measurements")
-    main._add_chain_options(p)
+    main.add_chain_options(p)
     p.add_argument(
         "--measure",
         choices=("pose", "position"),
@@ -118,19 +117,22 @@ def add_parsers(sub: Any) -> None:
         help="hold this fraction of the measurements out of the fit, to judge it (default 0)",
     )
     p.add_argument(
-        "--seed", type=main._seed, default=0, metavar="S",
+        "--seed",
+        type=main.seed,
+        default=0,
+        metavar="S",
         help="seed of the held-out draw (default 0)",
     )
     p.add_argument(
         "--noise-pos",
-        type=main._nonnegative_float,
+        type=main.nonnegative_float,
         default=None,
         metavar="SIGMA",
         help="position noise per coordinate (weights; default: estimated)",
     )
     p.add_argument(
         "--noise-rot",
-        type=main._nonnegative_float,
+        type=main.nonnegative_float,
         default=None,
         metavar="SIGMA",
         help="rotation noise per axis, rad (weights; default: estimated)",
@@ -168,20 +170,20 @@ def add_parsers(sub: Any) -> None:
     )
     p.add_argument(
         "--max-iterations",
-        type=main._positive_int,
+        type=main.positive_int,
         default=100,
         metavar="N",
         help="Levenberg-Marquardt iterations at most (default %(default)s)",
     )
-    main._add_tolerances(p)
+    main.add_tolerances(p)
 
 
 def _model(args: argparse.Namespace, tol: Any = None) -> Any:
-    from ..commands import _xacro
+    from ..options import xacro_options
     from ..sources import open_source
     from ..tolerances import DEFAULT
 
-    source = open_source(args.source, tol or DEFAULT, xacro=_xacro(args))
+    source = open_source(args.source, tol or DEFAULT, xacro=xacro_options(args))
     model = source.model(args.base, args.tip, args.ignore_mimic)
     coupled = [f"{shown(j.name)} (mimics {shown(j.mimic.joint)})" for j in model.joints if j.mimic]
     if coupled:
@@ -234,11 +236,11 @@ def _helical(text: str, joints: tuple[str, ...]) -> tuple[str, ...]:
 
 def calibrate_command(args: argparse.Namespace) -> int:
     """``urdf2dh calibrate``: identify, convert, report (see README "Calibration")."""
-    from ..commands import _tolerances
+    from ..options import tolerances
     from .measurements import read_layout, read_measurements
     from .run import Request, run
 
-    tol = _tolerances(args)
+    tol = tolerances(args)
     nominal = _model(args, tol)
     joints = tuple(j.name for j in nominal.joints)
     m = read_measurements(args.measurements, joints)

@@ -210,9 +210,7 @@ def columns(conv: Convention) -> list[Column]:
     return [Column(k, v) for k, v in out.items()]
 
 
-def read_params(
-    conv: Convention, part: Part, raw: Any, where: str, tol: Tolerances
-) -> Params:
+def read_params(conv: Convention, part: Part, raw: Any, where: str, tol: Tolerances) -> Params:
     """A table file's ``params`` mapping as a record of ``conv`` for ``part``: its keys must be
     exactly one record's parameters; numbers finite; a direction a unit vector within
     ``tol.rotation_input`` (then normalised)."""

@@ -35,7 +35,14 @@ if TYPE_CHECKING:
     from ..tolerances import Tolerances
 
 __all__ = [
-    "DH", "STYLES", "DhLink", "RzTz", "StandardDH", "chain_lines", "far_rows", "links_from_poe",
+    "DH",
+    "STYLES",
+    "DhLink",
+    "RzTz",
+    "StandardDH",
+    "chain_lines",
+    "far_rows",
+    "links_from_poe",
 ]
 
 STYLES = ("wu", "ur", "zero")

@@ -129,8 +129,7 @@ class HayatiConvention:
             link, found = link_to_line(u, p, limits, (names[k], names[k + 1]), is_tool)
             record: Params = DhLink(link.theta, link.d, link.alpha, link.a)
             hayati = hayati_link(u, p, limits)
-            if hayati is not None and hayati[0].a + limits.distance < max(abs(link.d),
-                                                                           abs(link.a)):
+            if hayati is not None and hayati[0].a + limits.distance < max(abs(link.d), abs(link.a)):
                 record = hayati[0]
                 if hayati[1] > 0.0:  # round-off only: the limits are exact
                     found = [Judgement("coincident", names[k], names[k + 1], 0.0, hayati[1])]

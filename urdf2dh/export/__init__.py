@@ -75,20 +75,62 @@ class Target:
 TARGETS: dict[str, Target] = {
     t.name: t
     for t in [
-        Target("ur", "ur", "Universal Robots default_kinematics.yaml with calibration hash",
-               ("dh",), ("ur",), ".yaml"),
-        Target("linuxcnc", "linuxcnc", "LinuxCNC genserkins HAL parameters (Craig D-H)",
-               ("mdh",), ("zero", "ur", "wu"), ".hal"),
-        Target("rtb", "rtb", "roboticstoolbox-python DHRobot script (hayati: an ETS Robot)",
-               ("dh", "mdh", "hayati"), ("wu", "ur", "zero"), ".py"),
-        Target("matlab", "matlab", "MATLAB Robotics System Toolbox rigidBodyTree script",
-               ("dh", "mdh"), ("wu", "ur", "zero"), ".m"),
-        Target("kdl", "kdl", "PyKDL Chain script (Frame.DH / Frame.DH_Craig1989)",
-               ("dh", "mdh"), ("wu", "ur", "zero"), ".py"),
-        Target("corke-matlab", "corke_matlab", "Peter Corke's MATLAB Robotics Toolbox SerialLink"
-               " script", ("dh", "mdh"), ("wu", "ur", "zero"), ".m"),
-        Target("opw", "opw", "OPW kinematics parameters (opw_kinematics, rs-opw-kinematics YAML)",
-               (), (), ".yaml"),
+        Target(
+            "ur",
+            "ur",
+            "Universal Robots default_kinematics.yaml with calibration hash",
+            ("dh",),
+            ("ur",),
+            ".yaml",
+        ),
+        Target(
+            "linuxcnc",
+            "linuxcnc",
+            "LinuxCNC genserkins HAL parameters (Craig D-H)",
+            ("mdh",),
+            ("zero", "ur", "wu"),
+            ".hal",
+        ),
+        Target(
+            "rtb",
+            "rtb",
+            "roboticstoolbox-python DHRobot script (hayati: an ETS Robot)",
+            ("dh", "mdh", "hayati"),
+            ("wu", "ur", "zero"),
+            ".py",
+        ),
+        Target(
+            "matlab",
+            "matlab",
+            "MATLAB Robotics System Toolbox rigidBodyTree script",
+            ("dh", "mdh"),
+            ("wu", "ur", "zero"),
+            ".m",
+        ),
+        Target(
+            "kdl",
+            "kdl",
+            "PyKDL Chain script (Frame.DH / Frame.DH_Craig1989)",
+            ("dh", "mdh"),
+            ("wu", "ur", "zero"),
+            ".py",
+        ),
+        Target(
+            "corke-matlab",
+            "corke_matlab",
+            "Peter Corke's MATLAB Robotics Toolbox SerialLink script",
+            ("dh", "mdh"),
+            ("wu", "ur", "zero"),
+            ".m",
+        ),
+        Target(
+            "opw",
+            "opw",
+            "OPW kinematics parameters (opw_kinematics, rs-opw-kinematics YAML)",
+            (),
+            (),
+            ".yaml",
+        ),
     ]
 }
 
@@ -107,15 +149,14 @@ def table_choices(target: str, convention: str | None, style: str | None) -> tup
     t = _target(target)
     if t.reads_model:
         if convention or style:
-            raise UsageError(f"--to {target} is written from the POE model; it takes no "
-                             "--convention or --style")
+            raise UsageError(
+                f"--to {target} is written from the POE model; it takes no --convention or --style"
+            )
         return "", ""
     convention = convention or t.conventions[0]
     style = style or t.styles[0]
     if style not in t.styles:
-        raise UsageError(
-            f"--to {target} takes --style {' or '.join(t.styles)}, not {style}"
-        )
+        raise UsageError(f"--to {target} takes --style {' or '.join(t.styles)}, not {style}")
     return convention, style
 
 

@@ -119,8 +119,10 @@ class Numbers:
 
     def matrix(self, m: np.ndarray) -> list[list[float]]:
         """A 4x4 transform's entries: rotation as angles, translation as lengths."""
-        return [[self.length(m[i, j]) if j == 3 and i < 3 else self.angle(m[i, j])
-                 for j in range(4)] for i in range(4)]
+        return [
+            [self.length(m[i, j]) if j == 3 and i < 3 else self.angle(m[i, j]) for j in range(4)]
+            for i in range(4)
+        ]
 
 
 def matlab_matrix(m: np.ndarray, numbers: Numbers) -> str:
@@ -146,8 +148,12 @@ def header(table: Table, what: str) -> list[str]:
     return lines
 
 
-def require(table: Table, target: str, conventions: Iterable[str],
-            kinds: Iterable[str] = ("revolute", "prismatic")) -> None:
+def require(
+    table: Table,
+    target: str,
+    conventions: Iterable[str],
+    kinds: Iterable[str] = ("revolute", "prismatic"),
+) -> None:
     """What every target checks first: the table's convention, its joint kinds, unit scales,
     and no coupled (mimic) joints."""
     require_convention(table, target, conventions)

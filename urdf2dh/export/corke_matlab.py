@@ -34,8 +34,11 @@ def _link(index: int, row: Row, convention: str, numbers: Numbers) -> str:
     else:
         args = ["'prismatic'", f"'theta', {numbers.ang(p['theta'])}"]
         offset = numbers.lin(p["d"])
-    args += [f"'a', {numbers.lin(p['a'])}", f"'alpha', {numbers.ang(p['alpha'])}",
-             f"'offset', {offset}"]
+    args += [
+        f"'a', {numbers.lin(p['a'])}",
+        f"'alpha', {numbers.ang(p['alpha'])}",
+        f"'offset', {offset}",
+    ]
     if row.lower is not None and row.upper is not None:
         lim = numbers.position(row.kind)
         args.append(f"'qlim', [{lim(row.lower)} {lim(row.upper)}]")

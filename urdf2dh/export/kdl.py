@@ -57,8 +57,9 @@ def render(table: Table, opts: Options) -> str:
     if table.convention == "dh":
         lines.append(_segment(base_name, "Fixed", _frame("DH", floats(table.base), numbers)))
         for row in table.rows:
-            lines.append(_segment(row.name, JOINT_TYPES[row.kind],
-                                  _frame("DH", floats(row.params), numbers)))
+            lines.append(
+                _segment(row.name, JOINT_TYPES[row.kind], _frame("DH", floats(row.params), numbers))
+            )
         lines.append(_segment(tip_name, "Fixed", _frame("DH", floats(table.tool), numbers)))
     else:
         frames = [_frame("DH_Craig1989", floats(r.params), numbers) for r in table.rows]
@@ -73,8 +74,10 @@ def render(table: Table, opts: Options) -> str:
     doc.append(f"Joints in chain order: {', '.join(r.name for r in table.rows)}.")
     out = [python_docstring(doc, block=True), "", "import PyKDL as kdl", "", ""]
     out.append("def build_chain() -> kdl.Chain:")
-    out.append("    " + python_docstring([f"{base_name} -> {tip_name} as a KDL chain of "
-                                          f"{table.n} joints."]))
+    out.append(
+        "    "
+        + python_docstring([f"{base_name} -> {tip_name} as a KDL chain of {table.n} joints."])
+    )
     out.append("    chain = kdl.Chain()")
     out.extend(lines)
     out.append("    return chain")
@@ -83,7 +86,9 @@ def render(table: Table, opts: Options) -> str:
     out.append('if __name__ == "__main__":')
     out.append("    chain = build_chain()")
     out.append("    pose = kdl.Frame()")
-    out.append("    kdl.ChainFkSolverPos_recursive(chain).JntToCart("
-               "kdl.JntArray(chain.getNrOfJoints()), pose)")
+    out.append(
+        "    kdl.ChainFkSolverPos_recursive(chain).JntToCart("
+        "kdl.JntArray(chain.getNrOfJoints()), pose)"
+    )
     out.append("    print(pose)")
     return "\n".join(out) + "\n"

@@ -55,12 +55,18 @@ def _links(table: Table, opts: Options) -> list[tuple[float, float, float]]:
     """``(a, alpha, d)`` per genserkins link in the table's unit, base and tool folded in."""
     tol = opts.tol
     rows = [floats(r.params) for r in table.rows]
-    offsets = [f"{shown(r.name)} ({math.degrees(p['theta']):.6g} deg)"
-               for r, p in zip(table.rows, rows, strict=True)
-               if abs(p["theta"]) > tol.check_rotation]
+    offsets = [
+        f"{shown(r.name)} ({math.degrees(p['theta']):.6g} deg)"
+        for r, p in zip(table.rows, rows, strict=True)
+        if abs(p["theta"]) > tol.check_rotation
+    ]
     if offsets:
-        raise _refuse(table, "has no theta offsets, and joints " + ", ".join(offsets)
-                      + " need them at their zero position (try --style ur)")
+        raise _refuse(
+            table,
+            "has no theta offsets, and joints "
+            + ", ".join(offsets)
+            + " need them at their zero position (try --style ur)",
+        )
     links = [(p["a"], p["alpha"], p["d"]) for p in rows]
     base, tool = floats(table.base), floats(table.tool)
     base_d = base["d"]
@@ -71,17 +77,23 @@ def _links(table: Table, opts: Options) -> list[tuple[float, float, float]]:
     elif not base_moves and close_to(table, dh_matrix(0.0, 0.0, alpha1, a1), np.eye(4), tol):
         links[0] = (0.0, 0.0, d1 + base_d)  # Tz(d_B) slides along joint 1's axis into D-0
     else:
-        raise _refuse(table, f"has no base transform, and the base frame {shown(table.base_link)} "
-                      f"is turned {math.degrees(base['theta']):.6g} deg about joint 1's "
-                      "axis from its zero position (or offset off it); choose a base link whose "
-                      "x axis lies along joint 1's zero direction")
+        raise _refuse(
+            table,
+            f"has no base transform, and the base frame {shown(table.base_link)} "
+            f"is turned {math.degrees(base['theta']):.6g} deg about joint 1's "
+            "axis from its zero position (or offset off it); choose a base link whose "
+            "x axis lies along joint 1's zero direction",
+        )
     if not close_to(table, table.tool_matrix, dh_matrix(0.0, tool["d"], 0.0, 0.0), tol):
-        raise _refuse(table, f"has no tool transform beyond a length along the last axis, and "
-                      f"{shown(table.tip_link)} is turned or offset from it (tool alpha = "
-                      f"{math.degrees(tool['alpha']):.6g} deg, a = {tool['a']:.6g} "
-                      f"{visible(table.length_unit)}, theta = "
-                      f"{math.degrees(tool['theta']):.6g} deg); "
-                      "choose a tip link on the last joint's axis with the same x")
+        raise _refuse(
+            table,
+            f"has no tool transform beyond a length along the last axis, and "
+            f"{shown(table.tip_link)} is turned or offset from it (tool alpha = "
+            f"{math.degrees(tool['alpha']):.6g} deg, a = {tool['a']:.6g} "
+            f"{visible(table.length_unit)}, theta = "
+            f"{math.degrees(tool['theta']):.6g} deg); "
+            "choose a tip link on the last joint's axis with the same x",
+        )
     a, alpha, d = links[-1]
     links[-1] = (a, alpha, d + tool["d"])
     return links
@@ -99,15 +111,18 @@ def render(table: Table, opts: Options) -> str:
     links = _links(table, opts)
     numbers = Numbers.of(table, opts.tol, units.factor(table.length_unit, unit))
     notes = header(table, "LinuxCNC genserkins parameters")
-    notes.append(f"genserkins link i = Rx(ALPHA-i) Tx(A-i) Rz(joint i) Tz(D-i) (Craig); A and D "
-                 f"in {unit}, ALPHA in radians,")
-    notes.append("joint positions in degrees. The base height is in D-0, the tool length in "
-                 f"D-{len(links) - 1}.")
+    notes.append(
+        f"genserkins link i = Rx(ALPHA-i) Tx(A-i) Rz(joint i) Tz(D-i) (Craig); A and D "
+        f"in {unit}, ALPHA in radians,"
+    )
+    notes.append(
+        "joint positions in degrees. The base height is in D-0, the tool length in "
+        f"D-{len(links) - 1}."
+    )
     for i, row in enumerate(table.rows):
         lim = ""
         if row.lower is not None and row.upper is not None:
-            lim = (f", limits {math.degrees(row.lower):.6g} .. {math.degrees(row.upper):.6g} "
-                   "deg")
+            lim = f", limits {math.degrees(row.lower):.6g} .. {math.degrees(row.upper):.6g} deg"
         notes.append(f"joint {i}: {row.name}{lim}")
     for i in range(table.n, JOINTS):
         notes.append(f"joint {i}: none (a zero link; hold this joint at 0)")

@@ -92,10 +92,18 @@ def render(table: Table, opts: Options) -> str:
     require(table, "matlab", ("dh", "mdh"))
     numbers = Numbers.of(table, opts.tol)
     out = [matlab_comment(line) for line in header(table, "MATLAB rigidBodyTree")]
-    out.append(matlab_comment(f'setFixedTransform(..., "{table.convention}") ignores theta of '
-                              "revolute joints (d of prismatic ones): those"))
-    out.append(matlab_comment("offsets sit in fixed bodies of their own. Configuration: one "
-                              "value per joint, in chain order."))
+    out.append(
+        matlab_comment(
+            f'setFixedTransform(..., "{table.convention}") ignores theta of '
+            "revolute joints (d of prismatic ones): those"
+        )
+    )
+    out.append(
+        matlab_comment(
+            "offsets sit in fixed bodies of their own. Configuration: one "
+            "value per joint, in chain order."
+        )
+    )
     out.append('robot = rigidBodyTree("DataFormat", "row");')
     out.append(f"robot.BaseName = {matlab_string(table.base_link or 'base_link')};")
     out.append("parent = robot.BaseName;")

@@ -154,8 +154,10 @@ def _check(table: Table, opts: Options) -> None:
 
 def _params(p: Params) -> str:
     kinds = type(p).quantities()
-    return ", ".join(f"{k} = {math.degrees(v):.6g} deg" if kinds[k] == "angle"
-                     else f"{k} = {v:.6g}" for k, v in floats(p).items())
+    return ", ".join(
+        f"{k} = {math.degrees(v):.6g} deg" if kinds[k] == "angle" else f"{k} = {v:.6g}"
+        for k, v in floats(p).items()
+    )
 
 
 def joint_origins(table: Table) -> list[Mat]:
