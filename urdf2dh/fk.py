@@ -63,16 +63,20 @@ def chains_fk(chains: Sequence[Chain], q: Mat) -> list[Mat]:
     q = np.asarray(q, dtype=float)
     chains = [(np.asarray(g, dtype=float), np.asarray(m, dtype=float).reshape(-1, 2))
               for g, m in chains]  # fmt: skip
-    out = [np.empty((q.shape[0], 4, 4)) for _ in chains]
-    for poses in out:
-        poses[:, 3] = (0.0, 0.0, 0.0, 1.0)
+    # each chain's poses held row by row, (4, N, 4), as the blocks compute them; the poses
+    # (N, 4, 4) are a view of that (no copy to another layout)
+    rows = [np.empty((4, q.shape[0], 4)) for _ in chains]
+    for held in rows:
+        held[3] = (0.0, 0.0, 0.0, 1.0)
+    # two blocks' rows, written in turn by every step of every chain (fresh arrays at each step
+    # would cost more in page faults than the products themselves)
+    work = np.empty((2, 12 * min(q.shape[0], BLOCK)))
     for lo in range(0, q.shape[0], BLOCK):
         per_joint = np.ascontiguousarray(q[lo : lo + BLOCK].T)  # (n, m)
         turns: dict[tuple[int, float], NDArray[np.complex128]] = {}
-        for (links, motions), poses in zip(chains, out, strict=True):
-            rows = _block(links, motions, per_joint, turns)
-            poses[lo : lo + BLOCK, :3] = rows.transpose(1, 0, 2)
-    return out
+        for (links, motions), held in zip(chains, rows, strict=True):
+            held[:3, lo : lo + BLOCK] = _block(links, motions, per_joint, turns, work)
+    return [held.transpose(1, 0, 2) for held in rows]
 
 
 def _turn(i: int, rate: float, per_joint: Mat, turns: dict) -> NDArray[np.complex128]:
@@ -86,16 +90,17 @@ def _turn(i: int, rate: float, per_joint: Mat, turns: dict) -> NDArray[np.comple
     return turns[key]
 
 
-def _block(links: Mat, motions: Mat, per_joint: Mat, turns: dict) -> Mat:
+def _block(links: Mat, motions: Mat, per_joint: Mat, turns: dict, work: Mat) -> Mat:
     """The top three rows ``(3, m, 4)`` of the poses of ``m`` configurations (``per_joint``:
-    ``(n, m)``, each joint's positions side by side)."""
+    ``(n, m)``, each joint's positions side by side), computed in ``work`` ``(2, >= 12 m)``."""
     m = per_joint.shape[1]
-    f = np.empty((3, m, 4))
+    f, other = (w[: 12 * m].reshape(3, m, 4) for w in work)
     f[...] = links[0, :3, None, :]
     for i, (rotation, translation) in enumerate(motions.tolist()):
         if rotation:  # each row's x + i y, times e^{-i a}
             f.view(np.complex128)[:, :, 0] *= _turn(i, rotation, per_joint, turns)
         if translation:
             f[:, :, 3] += translation * per_joint[i] * f[:, :, 2]
-        f = (f.reshape(-1, 4) @ links[i + 1]).reshape(3, m, 4)
+        np.matmul(f.reshape(-1, 4), links[i + 1], out=other.reshape(-1, 4))
+        f, other = other, f
     return f

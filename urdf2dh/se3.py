@@ -180,10 +180,11 @@ def pose_errors(a: NDArray[np.float64], b: NDArray[np.float64]) -> tuple[float, 
     if a.shape[0] == 0:
         return 0.0, 0.0
     with np.errstate(invalid="ignore", over="ignore"):  # non-finite poses: NaN, no warning
-        d = a - b
-        position = np.sqrt(np.square(d[:, :3, 3]).sum(axis=1)).max()
-        chord = np.sqrt(np.square(d[:, :3, :3]).sum(axis=(1, 2))).max() / (2.0 * math.sqrt(2.0))
-    rotation = chord if math.isnan(chord) else 2.0 * math.asin(min(float(chord), 1.0))
+        d = a[:, :3] - b[:, :3]
+        moved, turned = d[:, :, 3], d[:, :, :3]
+        position = math.sqrt(np.einsum("ni,ni->n", moved, moved).max())
+        chord = math.sqrt(np.einsum("nij,nij->n", turned, turned).max()) / (2.0 * math.sqrt(2.0))
+    rotation = chord if math.isnan(chord) else 2.0 * math.asin(min(chord, 1.0))
     return float(position), float(rotation)
 
 
