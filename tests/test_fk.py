@@ -147,3 +147,34 @@ def test_pose_errors_measures_position_and_rotation():
     assert pos == pytest.approx(1e-6, rel=1e-12) and rot == pytest.approx(1e-9, rel=1e-6)
     b[0, 2, 3] = np.nan
     assert math.isnan(se3.pose_errors(a, b)[0])
+
+
+@pytest.mark.parametrize("block", [1, 3, 16384])
+def test_chains_errors_is_pose_errors_of_each_chain(monkeypatch, block):
+    """verify's block-by-block comparison gives what pose_errors gives on the whole stacks,
+    for every convention's table and the POE model, across block boundaries; the worst
+    configuration may lie in any block, and a NaN in any block makes that chain's error NaN."""
+    monkeypatch.setattr(fk, "BLOCK", block)
+    model = mixed_model(6)
+    q = sample_configurations(model, 10, 2)
+    chains = [model.link_form(), *(to_table(model, conv).link_form() for conv in NAMES)]
+    reference = model.fk_batch(q)
+    for k in (0, 4, 9):  # the worst configuration in the first, a middle and the last block
+        moved = reference.copy()
+        moved[k, :3, 3] += (1e-6, -2e-6, 0.5e-6)
+        moved[k, :3, :3] = moved[k, :3, :3] @ se3.rot_x(3e-7)[:3, :3]
+        poses = fk.chains_fk(chains, q)
+        expected = [se3.pose_errors(p, moved) for p in poses]
+        got = fk.chains_errors(chains, q, moved)
+        assert len(got) == len(chains)
+        for (pos, rot), (want_pos, want_rot) in zip(got, expected, strict=True):
+            assert pos == pytest.approx(want_pos, rel=1e-9, abs=1e-15)
+            assert rot == pytest.approx(want_rot, rel=1e-6, abs=1e-15)
+            assert pos == pytest.approx(math.sqrt(5.25) * 1e-6, rel=1e-6)
+    broken = reference.copy()
+    broken[7, 1, 1] = np.nan
+    errors = fk.chains_errors(chains, q, broken)
+    assert all(math.isnan(rot) and not math.isnan(pos) for pos, rot in errors)
+    assert fk.chains_errors(chains, q[:0], reference[:0]) == [(0.0, 0.0)] * len(chains)
+    with pytest.raises(ValueError, match="reference poses"):
+        fk.chains_errors(chains, q, reference[:5])

@@ -24,12 +24,14 @@ sines and cosines computed once.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["BLOCK", "chain_fk", "chains_fk"]
+from .se3 import errors_from_squares
+
+__all__ = ["BLOCK", "chain_fk", "chains_errors", "chains_fk"]
 
 BLOCK = 16384  # configurations evaluated together (their rows: 1.5 MiB)
 
@@ -61,38 +63,66 @@ def chains_fk(chains: Sequence[Chain], q: Mat) -> list[Mat]:
     """Poses ``(N, 4, 4)`` of each of several chains (each as in :func:`chain_fk`, all with
     ``n`` joints) at the same configurations ``q`` ``(N, n)``."""
     q = np.asarray(q, dtype=float)
-    chains = [(np.asarray(g, dtype=float), np.asarray(m, dtype=float).reshape(-1, 2))
-              for g, m in chains]  # fmt: skip
     # each chain's poses held row by row, (4, N, 4), as the blocks compute them; the poses
     # (N, 4, 4) are a view of that (no copy to another layout)
     rows = [np.empty((4, q.shape[0], 4)) for _ in chains]
     for held in rows:
         held[3] = (0.0, 0.0, 0.0, 1.0)
-    # two blocks' rows, written in turn by every step of every chain (fresh arrays at each step
-    # would cost more in page faults than the products themselves)
+    for lo, c, f, _ in _blocks(chains, q):
+        rows[c][:3, lo : lo + f.shape[1]] = f
+    return [held.transpose(1, 0, 2) for held in rows]
+
+
+def chains_errors(chains: Sequence[Chain], q: Mat, reference: Mat) -> list[tuple[float, float]]:
+    """Worst position and rotation error of each chain's poses at ``q`` ``(N, n)`` against
+    ``reference`` ``(N, 4, 4)``: ``pose_errors(chains_fk(chains, q)[c], reference)`` for each
+    chain ``c`` (:func:`urdf2dh.se3.pose_errors`), compared block by block as the poses are
+    computed instead of holding them all (``verify``'s 10,000 configurations)."""
+    q = np.asarray(q, dtype=float)
+    reference = np.asarray(reference, dtype=float)
+    if reference.shape != (q.shape[0], 4, 4):
+        raise ValueError(f"reference poses {reference.shape}, expected ({q.shape[0]}, 4, 4)")
+    moved, turned = np.zeros(len(chains)), np.zeros(len(chains))
+    block_of_reference = (-1, reference[:0])  # (first configuration, its top rows (3, m, 4))
+    with np.errstate(invalid="ignore", over="ignore"):  # non-finite poses: NaN, no warning
+        for lo, c, f, spare in _blocks(chains, q):
+            if block_of_reference[0] != lo:  # laid out as the blocks are, once for all chains
+                rows = reference[lo : lo + f.shape[1], :3].transpose(1, 0, 2)
+                block_of_reference = (lo, np.ascontiguousarray(rows))
+            squares = np.square(np.subtract(f, block_of_reference[1], out=spare), out=spare)
+            columns = squares[0] + squares[1] + squares[2]  # (m, 4): each column's difference
+            # np.maximum, not max(): a NaN must stay NaN
+            moved[c] = np.maximum(moved[c], columns[:, 3].max())
+            turned[c] = np.maximum(turned[c], (columns[:, 0] + columns[:, 1] + columns[:, 2]).max())
+    return [errors_from_squares(float(a), float(b)) for a, b in zip(moved, turned, strict=True)]
+
+
+def _blocks(chains: Sequence[Chain], q: Mat) -> Iterator[tuple[int, int, Mat, Mat]]:
+    """Each chain's poses, ``BLOCK`` configurations at a time: ``(first configuration, chain
+    index, rows (3, m, 4), spare (3, m, 4))``. Both arrays are scratch space that the next step
+    overwrites (fresh arrays at each step would cost more in page faults than the products)."""
+    chains = [(np.asarray(g, dtype=float), np.asarray(m, dtype=float).reshape(-1, 2))
+              for g, m in chains]  # fmt: skip
     work = np.empty((2, 12 * min(q.shape[0], BLOCK)))
     for lo in range(0, q.shape[0], BLOCK):
         per_joint = np.ascontiguousarray(q[lo : lo + BLOCK].T)  # (n, m)
         turns: dict[tuple[int, float], NDArray[np.complex128]] = {}
-        for (links, motions), held in zip(chains, rows, strict=True):
-            held[:3, lo : lo + BLOCK] = _block(links, motions, per_joint, turns, work)
-    return [held.transpose(1, 0, 2) for held in rows]
+        for c, (links, motions) in enumerate(chains):
+            yield (lo, c, *_block(links, motions, per_joint, turns, work))
 
 
 def _turn(i: int, rate: float, per_joint: Mat, turns: dict) -> NDArray[np.complex128]:
     """``e^{-i rate q_i}`` ``(m,)`` for the block, computed once per joint and rate."""
     key = (i, rate)
     if key not in turns:
-        angle = rate * per_joint[i]
-        turn = np.empty(angle.shape, dtype=np.complex128)
-        turn.real, turn.imag = np.cos(angle), -np.sin(angle)
-        turns[key] = turn
+        turns[key] = np.exp(-1j * rate * per_joint[i])  # cos - i sin, as exact as the two
     return turns[key]
 
 
-def _block(links: Mat, motions: Mat, per_joint: Mat, turns: dict, work: Mat) -> Mat:
+def _block(links: Mat, motions: Mat, per_joint: Mat, turns: dict, work: Mat) -> tuple[Mat, Mat]:
     """The top three rows ``(3, m, 4)`` of the poses of ``m`` configurations (``per_joint``:
-    ``(n, m)``, each joint's positions side by side), computed in ``work`` ``(2, >= 12 m)``."""
+    ``(n, m)``, each joint's positions side by side), computed in ``work`` ``(2, >= 12 m)``;
+    and the other half of ``work``, free."""
     m = per_joint.shape[1]
     f, other = (w[: 12 * m].reshape(3, m, 4) for w in work)
     f[...] = links[0, :3, None, :]
@@ -103,4 +133,4 @@ def _block(links: Mat, motions: Mat, per_joint: Mat, turns: dict, work: Mat) -> 
             f[:, :, 3] += translation * per_joint[i] * f[:, :, 2]
         np.matmul(f.reshape(-1, 4), links[i + 1], out=other.reshape(-1, 4))
         f, other = other, f
-    return f
+    return f, other

@@ -25,6 +25,7 @@ __all__ = [
     "adjoint",
     "as_configurations",
     "dh_matrix",
+    "errors_from_squares",
     "fk_of_stack",
     "from_rpy",
     "inv",
@@ -182,10 +183,18 @@ def pose_errors(a: NDArray[np.float64], b: NDArray[np.float64]) -> tuple[float, 
     with np.errstate(invalid="ignore", over="ignore"):  # non-finite poses: NaN, no warning
         d = a[:, :3] - b[:, :3]
         moved, turned = d[:, :, 3], d[:, :, :3]
-        position = math.sqrt(np.einsum("ni,ni->n", moved, moved).max())
-        chord = math.sqrt(np.einsum("nij,nij->n", turned, turned).max()) / (2.0 * math.sqrt(2.0))
+        return errors_from_squares(
+            float(np.einsum("ni,ni->n", moved, moved).max()),
+            float(np.einsum("nij,nij->n", turned, turned).max()),
+        )
+
+
+def errors_from_squares(moved: float, turned: float) -> tuple[float, float]:
+    """Position and rotation error (:func:`pose_errors`) from the largest squared distance of
+    the origins and the largest squared Frobenius distance ``|Ra - Rb|_F^2`` of the rotations."""
+    chord = math.sqrt(turned) / (2.0 * math.sqrt(2.0))
     rotation = chord if math.isnan(chord) else 2.0 * math.asin(min(chord, 1.0))
-    return float(position), float(rotation)
+    return math.sqrt(moved), rotation
 
 
 def matrix_of(f: Frame) -> Mat:

@@ -25,10 +25,9 @@ from numpy.typing import NDArray
 from .conventions import NAMES
 from .convert import sample_configurations, to_table
 from .errors import InputError
-from .fk import chains_fk
+from .fk import chains_errors
 from .mimic import Mimic, actuated
 from .screws import PoeModel
-from .se3 import pose_errors
 from .sources import Source
 from .table import Check, Table
 from .tolerances import DEFAULT, EPS, Tolerances
@@ -260,14 +259,15 @@ def verify(
     q = sample_configurations(poe, samples, (seed, VERIFY_STREAM))
     reference = pinocchio_fk(source, poe, q)
     tables = [to_table(poe, conv, tol, samples=check_samples) for conv in conventions]
-    poses = chains_fk([poe.link_form(), *(t.link_form() for t in tables)], poe.positions(q))
+    chains = [poe.link_form(), *(t.link_form() for t in tables)]
+    model_errors, *table_errors = chains_errors(chains, poe.positions(q), reference)
     base_pos = tol.check_position * poe.size() + _oracle_rounding(source, poe)
     base_rot = tol.check_rotation
-    results = [Result("POE model", *pose_errors(poses[0], reference), base_pos, base_rot, None)]
-    for table, ours in zip(tables, poses[1:], strict=True):
+    results = [Result("POE model", *model_errors, base_pos, base_rot, None)]
+    for table, errors in zip(tables, table_errors, strict=True):
         declared = table.check or Check(0, 0.0, 0.0)
         results.append(Result(
-            table.convention, *pose_errors(ours, reference),
+            table.convention, *errors,
             base_pos + declared.declared_position, base_rot + declared.declared_rotation, table,
         ))  # fmt: skip
     return results
