@@ -52,7 +52,8 @@ from urdf2dh.calibrate.start import Options  # noqa: E402
 from urdf2dh.catalog import ROBOTS, robot_path  # noqa: E402
 from urdf2dh.convert import sample_configurations, to_table  # noqa: E402
 from urdf2dh.formats import render  # noqa: E402
-from urdf2dh.screws import PoeModel, joint_from_twist  # noqa: E402
+from urdf2dh.poefile import joint_from_twist  # noqa: E402
+from urdf2dh.screws import PoeModel  # noqa: E402
 
 NOISE = 1e-5  # m and rad
 

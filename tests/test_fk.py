@@ -178,3 +178,22 @@ def test_chains_errors_is_pose_errors_of_each_chain(monkeypatch, block):
     assert fk.chains_errors(chains, q[:0], reference[:0]) == [(0.0, 0.0)] * len(chains)
     with pytest.raises(ValueError, match="reference poses"):
         fk.chains_errors(chains, q, reference[:5])
+
+
+def test_model_figures_are_computed_once_and_not_carried_into_a_changed_model():
+    """size(), extent() and limits() are remembered per model; a model made from it with
+    other fields (scaled, replaced) has its own, and the remembered limits cannot be edited."""
+    from dataclasses import replace
+
+    model = mixed_model(5)
+    size, limits = model.size(), model.limits()
+    assert model.limits() is limits and model.size() == size
+    with pytest.raises(ValueError, match="read-only"):
+        limits[0, 0] = 0.0
+    bigger = model.scaled(1000.0, "mm")
+    assert bigger.size() == pytest.approx(1000.0 * size, rel=1e-12)
+    assert bigger.extent() == pytest.approx(1000.0 * model.extent(), rel=1e-12)
+    moved = replace(model, home=model.home @ se3.trans(x=50.0))
+    assert moved.extent() >= 49.0 > model.extent()
+    tight = replace(model, joints=tuple(replace(j, lower=-0.5, upper=0.25) for j in model.joints))
+    assert np.array_equal(tight.limits(), np.tile([-0.5, 0.25], (tight.dof, 1)))

@@ -29,10 +29,10 @@ from numpy.typing import NDArray
 from . import se3, units
 from .checks import check_leaders, check_name, check_number, read_mimic
 from .errors import InputError, choices
-from .screws import KINDS, PoeModel, joint_from_twist
+from .screws import KINDS, Joint, PoeModel
 from .tolerances import DEFAULT, Tolerances
 
-__all__ = ["check_matrix", "poe_to_dict", "read_poe"]
+__all__ = ["check_matrix", "joint_from_twist", "poe_to_dict", "read_poe"]
 
 
 # A joint's scale (|w|, or |v| of a prismatic joint) is a gear ratio or a unit: within these.
@@ -164,3 +164,30 @@ def poe_to_dict(model: PoeModel) -> dict[str, Any]:
         "joints": joints,
         "tool": {"matrix": [[float(x) for x in row] for row in model.home]},
     }
+
+
+def joint_from_twist(
+    name: str,
+    xi: NDArray[np.float64],
+    noise: float,
+    lower: float | None = None,
+    upper: float | None = None,
+) -> Joint:
+    """Build a joint from a twist ``[w, v]`` of any scale (SPEC §4, Wu 2019 §II).
+
+    For ``|w| > 0`` the scale is ``|w|`` and the pitch ``w.v / |w|^2``; the joint is revolute
+    when the pitch is round-off (``|h| <= noise * |v| / |w|``), helical otherwise. For
+    ``|w| <= noise`` the joint is prismatic with scale ``|v|``. Callers validate the twist
+    (finite, not all zero) before calling.
+    """
+    xi = np.asarray(xi, dtype=float)
+    w, v = xi[:3], xi[3:]
+    nw, nv = float(np.linalg.norm(w)), float(np.linalg.norm(v))
+    if nw <= noise:
+        return Joint(name, "prismatic", v / nv, None, 0.0, nv, lower, upper)
+    u = w / nw
+    pitch = float(w @ v) / (nw * nw)
+    point = np.cross(w, v) / (nw * nw)
+    if abs(pitch) <= noise * nv / nw:
+        return Joint(name, "revolute", u, point, 0.0, nw, lower, upper)
+    return Joint(name, "helical", u, point, pitch, nw, lower, upper)

@@ -14,8 +14,9 @@ from __future__ import annotations
 
 import itertools
 import math
-from dataclasses import dataclass, replace
-from typing import Literal
+from collections.abc import Callable
+from dataclasses import dataclass, field, replace
+from typing import Literal, TypeVar, cast
 
 import numpy as np
 from numpy.typing import NDArray
@@ -24,12 +25,13 @@ from . import frames, se3
 from .fk import chain_fk
 from .mimic import Mimic, actuated, row_positions
 
-__all__ = ["KINDS", "Joint", "JointKind", "JointMotion", "PoeModel", "joint_from_twist"]
+__all__ = ["KINDS", "Joint", "JointKind", "JointMotion", "PoeModel"]
 
 JointKind = Literal["revolute", "prismatic", "helical"]
 KINDS: tuple[str, ...] = ("revolute", "prismatic", "helical")
 
 Vec = NDArray[np.float64]
+_T = TypeVar("_T")
 
 
 def _frozen(a: NDArray[np.float64] | None, shape: tuple[int, ...]) -> NDArray[np.float64] | None:
@@ -120,33 +122,6 @@ class Joint(JointMotion):
         return self.scale * self.normalized_twist()
 
 
-def joint_from_twist(
-    name: str,
-    xi: NDArray[np.float64],
-    noise: float,
-    lower: float | None = None,
-    upper: float | None = None,
-) -> Joint:
-    """Build a joint from a twist ``[w, v]`` of any scale (SPEC §4, Wu 2019 §II).
-
-    For ``|w| > 0`` the scale is ``|w|`` and the pitch ``w.v / |w|^2``; the joint is revolute
-    when the pitch is round-off (``|h| <= noise * |v| / |w|``), helical otherwise. For
-    ``|w| <= noise`` the joint is prismatic with scale ``|v|``. Callers validate the twist
-    (finite, not all zero) before calling.
-    """
-    xi = np.asarray(xi, dtype=float)
-    w, v = xi[:3], xi[3:]
-    nw, nv = float(np.linalg.norm(w)), float(np.linalg.norm(v))
-    if nw <= noise:
-        return Joint(name, "prismatic", v / nv, None, 0.0, nv, lower, upper)
-    u = w / nw
-    pitch = float(w @ v) / (nw * nw)
-    point = np.cross(w, v) / (nw * nw)
-    if abs(pitch) <= noise * nv / nw:
-        return Joint(name, "revolute", u, point, 0.0, nw, lower, upper)
-    return Joint(name, "helical", u, point, pitch, nw, lower, upper)
-
-
 @dataclass(frozen=True, slots=True)
 class PoeModel:
     """A serial chain as screws at the home pose plus the tip's home pose.
@@ -171,6 +146,9 @@ class PoeModel:
     tip_link: str = ""
     length_unit: str = "m"
     warnings: tuple[str, ...] = ()
+    # figures derived from the frozen fields, each computed once (size and limits are asked
+    # for by every table made from the model, its check and every export)
+    _derived: dict[str, object] = field(default_factory=dict, init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "joints", tuple(self.joints))
@@ -182,6 +160,12 @@ class PoeModel:
                 raise ValueError(
                     f"joint {j.name!r} mimics {j.mimic.joint!r}, not an actuated joint of the chain"
                 )
+
+    def _once(self, key: str, compute: Callable[[], _T]) -> _T:
+        """``compute()``, computed once for this model (its fields are frozen)."""
+        if key not in self._derived:
+            self._derived[key] = compute()
+        return cast(_T, self._derived[key])
 
     @property
     def n(self) -> int:
@@ -207,7 +191,7 @@ class PoeModel:
     def extent(self) -> float:
         """The largest distance from the base origin of any joint's axis point or of the tip at
         the home pose (0 for a chain that is all at the origin)."""
-        return max(math.hypot(*p) for p in self._points()[1:])
+        return self._once("extent", lambda: max(math.hypot(*p) for p in self._points()[1:]))
 
     def travel(self) -> float:
         """How far the joints can translate the tip along their axes: prismatic travel within
@@ -223,7 +207,7 @@ class PoeModel:
         """The robot's size, which errors are measured against (README, "robot size"): the
         extent at home plus the travel of the sliding joints (1 for a chain that is all at the
         origin and cannot slide)."""
-        e = self.extent() + self.travel()
+        e = self._once("size", lambda: self.extent() + self.travel())
         return e if e > 0.0 else 1.0
 
     def reach(self) -> float:
@@ -235,7 +219,10 @@ class PoeModel:
     def limits(self) -> NDArray[np.float64]:
         """``(dof, 2)`` sampling ranges for ``q``, one row per actuated joint: the joint limits
         where known, else ``[-pi, pi]`` for rotating joints and ``[-extent, extent]`` (in ``s``)
-        for prismatic ones (``[-1, 1]`` for a chain that is all at the origin)."""
+        for prismatic ones (``[-1, 1]`` for a chain that is all at the origin); read-only."""
+        return self._once("limits", self._limits)
+
+    def _limits(self) -> NDArray[np.float64]:
         drivers = [self.joints[i] for i in actuated(self.joints)]
         out = np.empty((len(drivers), 2))
         extent = self.extent() or 1.0
@@ -245,6 +232,7 @@ class PoeModel:
             else:
                 half = (extent if j.kind == "prismatic" else math.pi) / abs(j.scale)
                 out[i] = (-half, half)
+        out.setflags(write=False)
         return out
 
     def link_form(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:

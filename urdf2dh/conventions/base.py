@@ -84,22 +84,22 @@ class Params:
     """Its name where a convention's rows take several forms (``D-H``, ``Hayati``)."""
 
     def __post_init__(self) -> None:
-        for f in fields(self):
-            value = getattr(self, f.name)
-            if f.metadata["quantity"] in self.VECTOR:
+        for name, quantity in _layout(type(self)):
+            value = getattr(self, name)
+            if quantity in self.VECTOR:
                 x, y, z = value
-                object.__setattr__(self, f.name, (float(x), float(y), float(z)))
+                object.__setattr__(self, name, (float(x), float(y), float(z)))
             else:
-                object.__setattr__(self, f.name, float(value))
+                object.__setattr__(self, name, float(value))
 
     @classmethod
     def quantities(cls) -> dict[str, Quantity]:
         """Parameter name -> quantity, in declaration order."""
-        return {f.name: f.metadata["quantity"] for f in fields(cls)}
+        return dict(_layout(cls))
 
     def values(self) -> dict[str, Value]:
         """Parameter name -> value, in declaration order."""
-        return {f.name: getattr(self, f.name) for f in fields(self)}
+        return {name: getattr(self, name) for name, _ in _layout(type(self))}
 
     def scalars(self) -> dict[str, float]:
         """The parameters that are single numbers (angles and lengths), by name."""
@@ -118,7 +118,7 @@ class Params:
         within ``angle`` of a multiple of pi/2, a direction's component within ``angle`` of 0 or
         +-1) replaced by that, and no ``-0.0``."""
         values: dict[str, Value] = {}
-        for name, quantity in self.quantities().items():
+        for name, quantity in _layout(type(self)):
             value = getattr(self, name)
             if quantity == "angle":
                 values[name] = _snap_angle(value, angle)
@@ -138,6 +138,17 @@ class Params:
     def around_joint(self) -> tuple[Frame | None, Frame]:
         """A row's constant transforms ``(before Q_i, after Q_i)``; ``None``: nothing before."""
         return None, self.frame()
+
+
+_LAYOUTS: dict[type, tuple[tuple[str, Quantity], ...]] = {}
+
+
+def _layout(cls: type) -> tuple[tuple[str, Quantity], ...]:
+    """A record class's parameters and their quantities, in declaration order (looked up once
+    per class: every record made or written reads them)."""
+    if cls not in _LAYOUTS:
+        _LAYOUTS[cls] = tuple((f.name, f.metadata["quantity"]) for f in fields(cls))
+    return _LAYOUTS[cls]
 
 
 def _snap(value: float, targets: tuple[float, ...], within: float) -> float:

@@ -151,7 +151,7 @@ def _followed(
                     f"{tree.path}: joint {m.name!r} mimics {relation.joint!r} with multiplier 0; "
                     "pass --ignore-mimic to treat it as an independent joint"
                 )
-        out.append(replace(m, mimic=relation))
+        out.append(m if relation == m.mimic else replace(m, mimic=relation))
     return out
 
 
