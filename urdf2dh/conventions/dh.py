@@ -86,8 +86,8 @@ def far_rows(
     far, unit = tol.far_factor * model.size(), model.length_unit
     out = []
     for joint, params in zip(model.joints, rows, strict=True):
-        values = params.scalars()
-        big = [k for k in ("d", "a") if abs(values[k]) > far]
+        values = {k: getattr(params, k) for k in ("d", "a")}
+        big = [k for k in values if abs(values[k]) > far]
         if big:
             shown = ", ".join(f"|{k}| = {abs(values[k]):.3g} {unit}" for k in big)
             out.append(
