@@ -17,26 +17,37 @@ The poses of ``m`` configurations are computed together, as the top three rows o
   it becomes ``(x + i y) e^{-i a}`` (``x' = x cos a + y sin a``, ``y' = y cos a - x sin a``);
 * ``F Tz(t)`` moves the origin along z: ``p' = p + t z``.
 
-Several chains at the same configurations (the self-check's table and model, ``verify``'s four)
-are evaluated together so that a joint turning at the same rate in several of them has its
-sines and cosines computed once.
+Several chains at the same configurations (the self-check's table and model, ``verify``'s model
+and tables) are evaluated together so that a joint turning at the same rate in several of them
+has its sines and cosines computed once.
+
+The self-check, ``verify`` and the tests use this module as it is; the public batch FK
+(``Table.fk_batch``, ``PoeModel.fk_batch``) runs it with sines from a table for large batches
+(:mod:`urdf2dh._fastfk`, the one fast path).
 """
 
 from __future__ import annotations
 
-from collections.abc import Iterator, Sequence
+from collections.abc import Callable, Iterator, Sequence
 
 import numpy as np
 from numpy.typing import NDArray
 
 from .se3 import errors_from_squares
 
-__all__ = ["BLOCK", "chain_fk", "chains_errors", "chains_fk"]
+__all__ = ["BLOCK", "chain_fk", "chains_errors", "chains_fk", "numpy_expi"]
 
 BLOCK = 16384  # configurations evaluated together (their rows: 1.5 MiB)
 
 Mat = NDArray[np.float64]
 Chain = tuple[Mat, Mat]  # links (n + 1, 4, 4), motions (n, 2)
+Expi = Callable[[Mat], NDArray[np.complex128]]
+Turns = tuple[dict[tuple[int, float], NDArray[np.complex128]], Expi]
+
+
+def numpy_expi(x: Mat) -> NDArray[np.complex128]:
+    """``e^{ix}`` ``(m,)`` for angles ``(m,)``: ``cos x + i sin x``, by numpy."""
+    return np.exp(1j * x)
 
 
 def chain_fk(links: Mat, motions: Mat, q: Mat) -> Mat:
@@ -59,16 +70,17 @@ def chain_fk(links: Mat, motions: Mat, q: Mat) -> Mat:
     return chains_fk([(links, motions)], q)[0]
 
 
-def chains_fk(chains: Sequence[Chain], q: Mat) -> list[Mat]:
+def chains_fk(chains: Sequence[Chain], q: Mat, expi: Expi = numpy_expi) -> list[Mat]:
     """Poses ``(N, 4, 4)`` of each of several chains (each as in :func:`chain_fk`, all with
-    ``n`` joints) at the same configurations ``q`` ``(N, n)``."""
+    ``n`` joints) at the same configurations ``q`` ``(N, n)``; ``expi(x)`` gives ``e^{ix}``
+    (numpy's; the fast batch path, :mod:`urdf2dh._fastfk`, passes its own)."""
     q = np.asarray(q, dtype=float)
     # each chain's poses held row by row, (4, N, 4), as the blocks compute them; the poses
     # (N, 4, 4) are a view of that (no copy to another layout)
     rows = [np.empty((4, q.shape[0], 4)) for _ in chains]
     for held in rows:
         held[3] = (0.0, 0.0, 0.0, 1.0)
-    for lo, c, f, _ in _blocks(chains, q):
+    for lo, c, f, _ in _blocks(chains, q, expi):
         rows[c][:3, lo : lo + f.shape[1]] = f
     return [held.transpose(1, 0, 2) for held in rows]
 
@@ -85,7 +97,7 @@ def chains_errors(chains: Sequence[Chain], q: Mat, reference: Mat) -> list[tuple
     moved, turned = np.zeros(len(chains)), np.zeros(len(chains))
     block_of_reference = (-1, reference[:0])  # (first configuration, its top rows (3, m, 4))
     with np.errstate(invalid="ignore", over="ignore"):  # non-finite poses: NaN, no warning
-        for lo, c, f, spare in _blocks(chains, q):
+        for lo, c, f, spare in _blocks(chains, q, numpy_expi):
             if block_of_reference[0] != lo:  # laid out as the blocks are, once for all chains
                 rows = reference[lo : lo + f.shape[1], :3].transpose(1, 0, 2)
                 block_of_reference = (lo, np.ascontiguousarray(rows))
@@ -97,7 +109,7 @@ def chains_errors(chains: Sequence[Chain], q: Mat, reference: Mat) -> list[tuple
     return [errors_from_squares(float(a), float(b)) for a, b in zip(moved, turned, strict=True)]
 
 
-def _blocks(chains: Sequence[Chain], q: Mat) -> Iterator[tuple[int, int, Mat, Mat]]:
+def _blocks(chains: Sequence[Chain], q: Mat, expi: Expi) -> Iterator[tuple[int, int, Mat, Mat]]:
     """Each chain's poses, ``BLOCK`` configurations at a time: ``(first configuration, chain
     index, rows (3, m, 4), spare (3, m, 4))``. Both arrays are scratch space that the next step
     overwrites (fresh arrays at each step would cost more in page faults than the products)."""
@@ -106,20 +118,20 @@ def _blocks(chains: Sequence[Chain], q: Mat) -> Iterator[tuple[int, int, Mat, Ma
     work = np.empty((2, 12 * min(q.shape[0], BLOCK)))
     for lo in range(0, q.shape[0], BLOCK):
         per_joint = np.ascontiguousarray(q[lo : lo + BLOCK].T)  # (n, m)
-        turns: dict[tuple[int, float], NDArray[np.complex128]] = {}
+        turns: Turns = ({}, expi)  # the block's e^{-i rate q_i}, shared by the chains
         for c, (links, motions) in enumerate(chains):
             yield (lo, c, *_block(links, motions, per_joint, turns, work))
 
 
-def _turn(i: int, rate: float, per_joint: Mat, turns: dict) -> NDArray[np.complex128]:
+def _turn(i: int, rate: float, per_joint: Mat, turns: Turns) -> NDArray[np.complex128]:
     """``e^{-i rate q_i}`` ``(m,)`` for the block, computed once per joint and rate."""
-    key = (i, rate)
-    if key not in turns:
-        turns[key] = np.exp(-1j * rate * per_joint[i])  # cos - i sin, as exact as the two
-    return turns[key]
+    known, expi = turns
+    if (i, rate) not in known:
+        known[i, rate] = expi(-rate * per_joint[i])
+    return known[i, rate]
 
 
-def _block(links: Mat, motions: Mat, per_joint: Mat, turns: dict, work: Mat) -> tuple[Mat, Mat]:
+def _block(links: Mat, motions: Mat, per_joint: Mat, turns: Turns, work: Mat) -> tuple[Mat, Mat]:
     """The top three rows ``(3, m, 4)`` of the poses of ``m`` configurations (``per_joint``:
     ``(n, m)``, each joint's positions side by side), computed in ``work`` ``(2, >= 12 m)``;
     and the other half of ``work``, free."""

@@ -22,7 +22,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from . import frames, se3
-from .fk import chain_fk
+from ._fastfk import chain_fk
 from .mimic import Mimic, actuated, row_positions
 
 __all__ = ["KINDS", "Joint", "JointKind", "JointMotion", "PoeModel"]
@@ -262,7 +262,8 @@ class PoeModel:
         return row_positions(self.joints, se3.as_configurations(q, self.dof))
 
     def fk_batch(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
-        """Poses ``(N, 4, 4)`` of the tip for configurations ``q`` of shape ``(N, dof)``."""
+        """Poses ``(N, 4, 4)`` of the tip for configurations ``q`` of shape ``(N, dof)`` (large
+        batches by the fast path, :mod:`urdf2dh._fastfk`)."""
         return chain_fk(*self.link_form(), self.positions(q))
 
     def fk(self, q: NDArray[np.float64]) -> NDArray[np.float64]:

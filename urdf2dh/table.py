@@ -20,8 +20,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from . import frames, se3
+from ._fastfk import chain_fk
 from .conventions import Convention, Params, get
-from .fk import chain_fk
 from .mimic import Mimic, actuated, row_positions
 from .screws import Joint, JointKind, JointMotion, PoeModel
 from .tolerances import DEFAULT
@@ -155,7 +155,8 @@ class Table:
         return row_positions(self.rows, se3.as_configurations(q, self.dof))
 
     def fk_batch(self, q: NDArray[np.float64]) -> Mat:
-        """Poses ``(N, 4, 4)`` of the tool for configurations ``q`` of shape ``(N, dof)``."""
+        """Poses ``(N, 4, 4)`` of the tool for configurations ``q`` of shape ``(N, dof)`` (large
+        batches by the fast path, :mod:`urdf2dh._fastfk`)."""
         return chain_fk(*self.link_form(), self.positions(q))
 
     def fk(self, q: NDArray[np.float64]) -> Mat:
