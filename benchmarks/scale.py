@@ -95,8 +95,9 @@ def chain_lengths(sizes: list[int], accuracy_samples: int) -> tuple[list[Figure]
         "the POE model and each convention, and the worst rotation error (rad); Pinocchio's own "
         f"beside them (n/a beyond {PIN_FK_MAX} joints: its Data needs O(n^3) memory).",
         "",
-        "| joints | size | POE | dh | mdh | cpc | rotation | Pinocchio | Pinocchio rotation |",
-        "|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
+        f"| joints | size | POE | {' | '.join(CONVENTIONS)} | rotation | Pinocchio "
+        "| Pinocchio rotation |",
+        "|" + "---:|" * (len(CONVENTIONS) + 6),
     ]
     return rows, [*_fits(sizes, times, errors), *notes, *lines]
 
