@@ -22,13 +22,11 @@ from __future__ import annotations
 import argparse
 import contextlib
 import io
-import os
 import re
 import sys
 import tempfile
 import warnings
 from collections import Counter
-from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -41,6 +39,7 @@ from mutations import MUTATIONS, Original, mutate
 from urdf2dh.catalog import ERD, OURS, ROBOTS, robot_path
 from urdf2dh.cli import main as cli
 from urdf2dh.urdf import load_tree
+from urdf2dh.verify import native_stderr
 
 ROOT = Path(__file__).resolve().parents[1]
 PINOCCHIO_REFUSES = "Pinocchio cannot load it"
@@ -108,7 +107,7 @@ def _command(argv: list[str]) -> Run:
     descriptor 2 as well, after Python's), and every warning recorded."""
     out, err = io.StringIO(), io.StringIO()
     with (
-        _fd2() as native,
+        native_stderr() as native,
         contextlib.redirect_stdout(out),
         contextlib.redirect_stderr(err),
         warnings.catch_warnings(record=True) as caught,
@@ -121,26 +120,9 @@ def _command(argv: list[str]) -> Run:
     return Run(
         code,
         out.getvalue(),
-        err.getvalue() + "".join(native),
+        err.getvalue() + "".join(f"{line}\n" for line in native),
         tuple(f"{w.category.__name__}: {w.message}" for w in caught),
     )
-
-
-@contextlib.contextmanager
-def _fd2() -> Iterator[list[str]]:
-    """What is written to file descriptor 2 meanwhile (by C++ code: urdfdom logs there)."""
-    written: list[str] = []
-    sys.stderr.flush()
-    saved = os.dup(2)
-    with tempfile.TemporaryFile() as tmp:
-        os.dup2(tmp.fileno(), 2)
-        try:
-            yield written
-        finally:
-            os.dup2(saved, 2)
-            os.close(saved)
-            tmp.seek(0)
-            written.append(tmp.read().decode("utf-8", errors="replace"))
 
 
 def _problems(path: Path, convert: Run, verify: Run) -> list[str]:
@@ -193,7 +175,7 @@ def _pinocchio_loads(path: Path) -> bool:
     """Whether Pinocchio builds a model from the file as it stands (its complaints silenced)."""
     import pinocchio
 
-    with _fd2():
+    with native_stderr():
         try:
             pinocchio.buildModelFromUrdf(str(path))
         except Exception:  # RuntimeError, ValueError with urdfdom's text

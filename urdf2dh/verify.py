@@ -33,7 +33,7 @@ from .table import Check, Table
 from .tolerances import DEFAULT, EPS, Tolerances
 from .urdf.chain import final_leader
 
-__all__ = ["Result", "pinocchio_fk", "verify"]
+__all__ = ["Result", "native_stderr", "pinocchio_fk", "verify"]
 
 VERIFY_STREAM = 1  # verify's configurations: seeded by --seed, apart from the self-check's
 
@@ -86,8 +86,9 @@ def _model_from_poe(pin: Any, poe: PoeModel) -> tuple[Any, Mapping, int, int]:
 
 
 @contextlib.contextmanager
-def _c_stderr() -> Iterator[list[str]]:
-    """Collect what C++ code writes to file descriptor 2 meanwhile, instead of showing it."""
+def native_stderr() -> Iterator[list[str]]:
+    """Collect the lines C++ code (urdfdom) writes to file descriptor 2 meanwhile, instead of
+    showing them."""
     lines: list[str] = []
     sys.stderr.flush()
     saved = os.dup(2)
@@ -106,7 +107,7 @@ def _build(pin: Any, source: Source, mimic: bool) -> Any:
     """Pinocchio's model of the URDF text; an ``InputError`` with urdfdom's first reason."""
     assert source.urdf_text is not None
     error: Exception | None = None
-    with _c_stderr() as log:  # urdfdom writes its reasons there, several lines a fault
+    with native_stderr() as log:  # urdfdom writes its reasons there, several lines a fault
         try:
             return pin.buildModelFromXML(source.urdf_text.decode(), mimic=mimic)
         except Exception as e:  # Pinocchio raises RuntimeError/ValueError with C++ text
