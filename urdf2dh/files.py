@@ -72,9 +72,7 @@ def write_output(data: str | bytes, output: str | None, sources: Iterable[str] =
             raise InputError(f"stdout: cannot write ({e.strerror})") from e
         return
     target = Path(output)
-    for source in sources:
-        if _same_file(target, Path(source)):
-            raise InputError(f"{output}: is the SOURCE file; refusing to write over it")
+    _refuse_source(target, output, sources)
     try:
         mode = os.stat(target).st_mode
     except FileNotFoundError:
@@ -89,6 +87,13 @@ def write_output(data: str | bytes, output: str | None, sources: Iterable[str] =
         raise InputError(f"{output}: is not a regular file; refusing to replace it")
     else:
         _replace(target.resolve() if mode is not None else target, raw, output, mode)
+
+
+def _refuse_source(target: Path, shown: str, sources: Iterable[str]) -> None:
+    """An ``InputError`` if ``target`` is one of the command's input files."""
+    for source in sources:
+        if _same_file(target, Path(source)):
+            raise InputError(f"{shown}: is the SOURCE file; refusing to write over it")
 
 
 def _same_file(a: Path, b: Path) -> bool:
@@ -149,9 +154,7 @@ def _existing_modes(
     for name in names:
         target = directory / name
         shown = os.path.join(output, name)
-        for source in sources:
-            if _same_file(target, Path(source)):
-                raise InputError(f"{shown}: is the SOURCE file; refusing to write over it")
+        _refuse_source(target, shown, sources)
         try:
             mode = os.lstat(target).st_mode
         except FileNotFoundError:
