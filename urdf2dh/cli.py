@@ -21,6 +21,7 @@ from .conventions import NAMES, STYLES
 from .errors import Urdf2DhError
 from .export import TARGETS
 from .formats import FORMATS
+from .tolerances import DIFF_ANGLE_DEG, DIFF_LENGTH_M
 
 __all__ = ["get_argument_parser", "main"]
 
@@ -96,7 +97,7 @@ def get_argument_parser() -> argparse.ArgumentParser:
     p.add_argument(
         "--angle-threshold",
         type=options.nonnegative_float,
-        default=0.01,
+        default=DIFF_ANGLE_DEG,
         metavar="DEG",
         help="mark angle changes over this, modulo 180 (default %(default)g; Wu 2019 "
         "Table II's marks: 60)",
@@ -105,8 +106,8 @@ def get_argument_parser() -> argparse.ArgumentParser:
         "--length-threshold",
         type=options.nonnegative_float,
         metavar="LENGTH",
-        help="mark length changes over this, in the tables' unit (default 0.1 mm; Wu "
-        "2019 Table II's marks: 30 mm)",
+        help=f"mark length changes over this, in the tables' unit (default {DIFF_LENGTH_M * 1e3:g} "
+        "mm; Wu 2019 Table II's marks: 30 mm)",
     )
     p.add_argument(
         "--parallel-within",

@@ -27,7 +27,7 @@ from .errors import InputError, UsageError, visible
 from .formats import fixed
 from .screws import PoeModel
 from .table import Row, Table
-from .tolerances import DEFAULT, Tolerances
+from .tolerances import DEFAULT, DIFF_LENGTH_M, Tolerances
 from .xacro import XacroOptions
 
 __all__ = ["Change", "IllPair", "compare", "diff_sources", "ill_conditioned", "render_diff"]
@@ -132,15 +132,9 @@ def ill_conditioned(nominal: PoeModel, actual: PoeModel, within: float) -> list[
     return out
 
 
-# Default marks: changes a calibration makes beyond its measuring noise (0.1 mm, 0.01 deg at
-# typical accuracies of 10-50 um); Wu 2019 Table II marks jumps instead (60 deg, 30 mm).
-ANGLE_THRESHOLD_DEG = 0.01
-LENGTH_THRESHOLD_M = 1e-4
-
-
 def default_length_threshold(unit: str) -> float:
-    """:data:`LENGTH_THRESHOLD_M` in ``unit``."""
-    return LENGTH_THRESHOLD_M / units.metres_per(unit)
+    """:data:`~urdf2dh.tolerances.DIFF_LENGTH_M` in ``unit``."""
+    return DIFF_LENGTH_M / units.metres_per(unit)
 
 
 def diff_sources(
@@ -161,7 +155,8 @@ def diff_sources(
     """Both SOURCEs as tables of ``convention`` (ACTUAL in NOMINAL's length unit), compared.
 
     Returns the report's header fields, the parameter changes and the ill-conditioned pairs.
-    ``length_threshold`` ``None`` means :data:`LENGTH_THRESHOLD_M` in the nominal's unit.
+    ``length_threshold`` ``None`` means :data:`~urdf2dh.tolerances.DIFF_LENGTH_M` in the
+    nominal's unit.
     """
     from .convert import to_table
     from .sources import open_source

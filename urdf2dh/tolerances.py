@@ -14,6 +14,8 @@ __all__ = [
     "CALIBRATION_GRADIENT",
     "CALIBRATION_STEP",
     "DEFAULT",
+    "DIFF_ANGLE_DEG",
+    "DIFF_LENGTH_M",
     "EXACT",
     "HASH_DECIMALS",
     "NOISE_FLOOR",
@@ -29,6 +31,12 @@ EPS = sys.float_info.epsilon  # float64's; not numpy's, so that `urdf2dh --help`
 # one ulp off its decimal) that would change the hash's %g text; 1e-10 is far below the 6
 # significant digits the hash sees and far above round-off.
 HASH_DECIMALS = 10
+
+# `diff` (and the calibration report's diff) marks changes beyond these by default: what a
+# calibration corrects beyond its measuring noise (0.1 mm, 0.01 deg at typical accuracies of
+# 10-50 um); Wu 2019 Table II marks jumps instead (60 deg, 30 mm).
+DIFF_ANGLE_DEG = 0.01
+DIFF_LENGTH_M = 1e-4
 
 # ----------------------------------------------------------------------------- calibration
 

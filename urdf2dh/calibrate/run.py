@@ -20,7 +20,7 @@ from numpy.typing import NDArray
 
 from ..errors import InputError, Urdf2DhError, UsageError
 from ..screws import PoeModel
-from ..tolerances import Tolerances
+from ..tolerances import DIFF_ANGLE_DEG, Tolerances
 from .identify import Identified, identify
 from .measurements import Measurements
 from .report import holdout_split, report_tree, residuals_of, summary
@@ -123,7 +123,7 @@ def _diff(req: Request, model: PoeModel, table: Any, tol: Tolerances) -> dict[st
         length = default_length_threshold(model.length_unit)
     except UsageError:
         length = math.inf  # unknown unit: nothing is marked
-    angle = math.radians(60.0)
+    angle = math.radians(DIFF_ANGLE_DEG)  # as `urdf2dh diff` marks by default
     info = {
         "convention": convention,
         "nominal": req.nominal.name,
