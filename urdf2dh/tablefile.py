@@ -102,8 +102,13 @@ def read_table(data: Any, display: str, tol: Tolerances = DEFAULT) -> Table:
     check = None
     if isinstance(data.get("check"), dict):
         c = data["check"]
+        samples = check_number(c.get("samples", 0), f"{display}: check samples", TableFileError)
+        if samples < 0 or samples != int(samples):
+            raise TableFileError(
+                f"{display}: check samples must be a whole number, not {samples:g}"
+            )
         check = Check(
-            int(check_number(c.get("samples", 0), f"{display}: check samples", TableFileError)),
+            int(samples),
             *(check_number(c.get(k, 0.0), f"{display}: check {k}", TableFileError)
               for k in ("max_position_error", "max_rotation_error", "declared_position",
                         "declared_rotation")),
