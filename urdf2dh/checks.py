@@ -8,12 +8,21 @@ import re
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
-from .errors import InputError
+from .bounds import JOINTS
+from .errors import InputError, shown
 
 if TYPE_CHECKING:
     from .mimic import Followed, Mimic
 
-__all__ = ["LARGEST", "check_leaders", "check_name", "check_number", "check_vector", "read_mimic"]
+__all__ = [
+    "LARGEST",
+    "check_joint_count",
+    "check_leaders",
+    "check_name",
+    "check_number",
+    "check_vector",
+    "read_mimic",
+]
 
 # No number a kinematic file holds is larger: 1e12 of any length unit urdf2dh knows is over a
 # million kilometres, and angles, scales and limits are far smaller. Beyond it, products and
@@ -130,6 +139,12 @@ def read_mimic(raw: Any, where: str, error: type[InputError] = InputError) -> Mi
     )
 
 
+def check_joint_count(count: int, where: str, error: type[InputError] = InputError) -> None:
+    """At most :data:`~urdf2dh.bounds.JOINTS` joints in a POE or table file."""
+    if count > JOINTS:
+        raise error(f"{where}: {count:,} joints; urdf2dh reads chains of at most {JOINTS:,}")
+
+
 def check_leaders(joints: Sequence[Followed], where: str,
                   error: type[InputError] = InputError) -> None:  # fmt: skip
     """Every mimicking joint follows an actuated joint of the same chain."""
@@ -137,6 +152,6 @@ def check_leaders(joints: Sequence[Followed], where: str,
     for j in joints:
         if j.mimic is not None and j.mimic.joint not in leaders:
             raise error(
-                f"{where}: joint {j.name!r} mimics {j.mimic.joint!r}, which is not a joint of "
-                "the chain without mimic"
+                f"{where}: joint {shown(j.name)} mimics {shown(j.mimic.joint)}, which is not a "
+                "joint of the chain without mimic"
             )

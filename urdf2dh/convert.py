@@ -14,8 +14,9 @@ from dataclasses import replace
 import numpy as np
 from numpy.typing import NDArray
 
+from .bounds import JOINT_POSITIONS
 from .conventions import REGISTRY, STYLES, Conversion, get
-from .errors import ConversionError, UsageError, choices
+from .errors import ConversionError, InputError, UsageError, choices
 from .fk import chains_fk
 from .lines import Judgement
 from .screws import PoeModel
@@ -48,7 +49,14 @@ def sample_configurations(
 ) -> NDArray[np.float64]:
     """``(samples, dof)`` actuated joint positions drawn uniformly within the model's limits
     (:meth:`~urdf2dh.screws.PoeModel.limits`), seeded (a tuple seed names a separate stream, as
-    ``numpy.random.default_rng`` takes it)."""
+    ``numpy.random.default_rng`` takes it); at most :data:`~urdf2dh.bounds.JOINT_POSITIONS`
+    positions in all, or an ``InputError``."""
+    if samples * max(model.dof, 1) > JOINT_POSITIONS:
+        raise InputError(
+            f"{model.source or model.name}: {samples:,} configurations of {model.dof:,} joints "
+            f"are more than {JOINT_POSITIONS:,} joint positions, the most one run evaluates (at "
+            f"most {JOINT_POSITIONS // max(model.dof, 1):,} configurations of this chain)"
+        )
     lim = model.limits()
     rng = np.random.default_rng(seed)
     return rng.uniform(lim[:, 0], lim[:, 1], size=(samples, model.dof))

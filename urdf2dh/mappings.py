@@ -14,8 +14,8 @@ POE model files and table files are YAML or JSON. Their numbers are read as JSON
 
 A key that appears twice in one mapping, in YAML or JSON, is an error naming the key (and for
 YAML its line); YAML 1.1's merge key (``<<: *defaults``) still merges, its keys overridden by
-the mapping's own. A tree holds at most :data:`MAPPING_BUDGET` values, aliases counted each time
-they are used, and is nested at most as deep as Python's recursion allows.
+the mapping's own. A tree holds at most :data:`~urdf2dh.bounds.MAPPING_VALUES` values, aliases
+counted each time they are used, and is nested at most as deep as Python's recursion allows.
 """
 
 from __future__ import annotations
@@ -26,13 +26,10 @@ import re
 from pathlib import Path
 from typing import Any, ClassVar
 
+from .bounds import MAPPING_VALUES
 from .errors import InputError, shown
 
-__all__ = ["MAPPING_BUDGET", "read_mapping", "yaml_text"]
-
-# A parsed file holds at most this many values, aliases counted each time they are used: a
-# YAML file of a few hundred bytes can otherwise alias its way to billions ("billion laughs").
-MAPPING_BUDGET = 1_000_000
+__all__ = ["read_mapping", "yaml_text"]
 
 # The YAML 1.2 core schema (YAML 1.2.2, section 10.3.2), integers with a leading zero excepted
 # (a float has a point or an exponent here: digits alone are an integer or, with a leading
@@ -186,9 +183,9 @@ def _within_budget(tree: Any, display: str) -> None:
     while stack:
         value = stack.pop()
         count += 1
-        if count > MAPPING_BUDGET:
+        if count > MAPPING_VALUES:
             raise InputError(
-                f"{display}: more than {MAPPING_BUDGET:,} values (aliases counted as expanded)"
+                f"{display}: more than {MAPPING_VALUES:,} values (aliases counted as expanded)"
             )
         if isinstance(value, dict):
             stack.extend(value.values())

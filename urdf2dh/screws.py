@@ -23,6 +23,7 @@ from numpy.typing import NDArray
 
 from . import frames, se3
 from ._fastfk import chain_fk
+from .errors import shown
 from .mimic import Mimic, actuated, row_positions
 
 __all__ = ["KINDS", "Joint", "JointKind", "JointMotion", "PoeModel"]
@@ -104,9 +105,9 @@ class Joint(JointMotion):
 
     def __post_init__(self) -> None:
         if self.kind not in KINDS:
-            raise ValueError(f"joint {self.name!r}: unknown kind {self.kind!r}")
+            raise ValueError(f"joint {shown(self.name)}: unknown kind {shown(self.kind)}")
         if self.point is None and self.kind != "prismatic":
-            raise ValueError(f"joint {self.name!r}: a {self.kind} joint needs a point")
+            raise ValueError(f"joint {shown(self.name)}: a {self.kind} joint needs a point")
         object.__setattr__(self, "axis", _frozen(self.axis, (3,)))
         object.__setattr__(self, "point", _frozen(self.point, (3,)))
 
@@ -158,7 +159,8 @@ class PoeModel:
         for j in self.joints:
             if j.mimic is not None and j.mimic.joint not in leaders:
                 raise ValueError(
-                    f"joint {j.name!r} mimics {j.mimic.joint!r}, not an actuated joint of the chain"
+                    f"joint {shown(j.name)} mimics {shown(j.mimic.joint)}, not an actuated joint "
+                    "of the chain"
                 )
 
     def _once(self, key: str, compute: Callable[[], _T]) -> _T:

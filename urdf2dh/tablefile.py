@@ -12,9 +12,9 @@ from typing import Any
 
 import numpy as np
 
-from .checks import check_leaders, check_number, read_mimic
+from .checks import check_joint_count, check_leaders, check_number, read_mimic
 from .conventions import NAMES, get, read_params
-from .errors import InputError, TableFileError, choices
+from .errors import InputError, TableFileError, choices, shown
 from .screws import KINDS
 from .table import SCHEMA, Check, Row, Table
 from .tolerances import DEFAULT, Tolerances
@@ -67,12 +67,13 @@ def read_table(data: Any, display: str, tol: Tolerances = DEFAULT) -> Table:
     joints = data.get("joints")
     if not isinstance(joints, list):
         raise TableFileError(f"{display}: 'joints' must be a list")
+    check_joint_count(len(joints), display, TableFileError)
     rows = []
     for i, j in enumerate(joints, 1):
         if not isinstance(j, dict):
             raise TableFileError(f"{display}: joint {i} must be a mapping")
         name = _text(j, "name", f"joint{i}", f"{display}: joint {i}")
-        where = f"{display}: joint {name!r}"
+        where = f"{display}: joint {shown(name)}"
         kind = j.get("type", "revolute")
         if kind not in KINDS:
             raise TableFileError(f"{where} has unknown type '{kind}'; valid: {choices(KINDS)}")

@@ -32,7 +32,7 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import NDArray
 
-from ..errors import InputError, choices
+from ..errors import InputError, choices, shown
 from ..files import read_file
 from ..tolerances import QUATERNION_NORM
 
@@ -109,7 +109,7 @@ class Measurements:
 
 
 def _where(display: str, row: int, line: int, column: str | None = None) -> str:
-    col = f", column {column!r}" if column is not None else ""
+    col = f", column {shown(column)}" if column is not None else ""
     return f"{display}: row {row} (line {line}){col}"
 
 
@@ -117,24 +117,24 @@ def _header(fields: list[str], joints: tuple[str, ...], display: str) -> None:
     seen: set[str] = set()
     for name in fields:
         if name in seen:
-            raise InputError(f"{display}: column {name!r} appears twice in the header")
+            raise InputError(f"{display}: column {shown(name)} appears twice in the header")
         seen.add(name)
     known = set(joints) | set(POINT) | set(QUATERNION) | {MARKER}
     unknown = [f for f in fields if f not in known]
     if unknown:
         raise InputError(
-            f"{display}: column {unknown[0]!r} is neither a joint of the chain "
+            f"{display}: column {shown(unknown[0])} is neither a joint of the chain "
             f"{choices(joints, limit=20)} nor one of x, y, z, qx, qy, qz, qw, marker"
         )
     missing = [j for j in (*joints, *POINT) if j not in seen]
     if missing:
         what = "joint" if missing[0] in joints else "column"
-        raise InputError(f"{display}: the header has no column for {what} {missing[0]!r}")
+        raise InputError(f"{display}: the header has no column for {what} {shown(missing[0])}")
     quat = [c for c in QUATERNION if c in seen]
     if quat and len(quat) != 4:
         absent = next(c for c in QUATERNION if c not in seen)
         raise InputError(
-            f"{display}: the header has {', '.join(quat)} but no {absent!r}; a "
+            f"{display}: the header has {', '.join(quat)} but no {shown(absent)}; a "
             "pose needs all of qx, qy, qz, qw"
         )
 
@@ -175,11 +175,12 @@ def read_measurements(
                 value = float(text_value)
             except ValueError:
                 raise InputError(
-                    f"{_where(display, row, line, name)}: {text_value!r} is not a number"
+                    f"{_where(display, row, line, name)}: {shown(text_value)} is not a number"
                 ) from None
             if not math.isfinite(value):
                 raise InputError(
-                    f"{_where(display, row, line, name)}: {text_value!r} is not a finite number"
+                    f"{_where(display, row, line, name)}: {shown(text_value)} is not a finite "
+                    "number"
                 )
             values.append(value)
         if has_quat:
@@ -196,7 +197,7 @@ def read_measurements(
                 mark = int(text_value, 10)
             except ValueError:
                 raise InputError(
-                    f"{_where(display, row, line, MARKER)}: {text_value!r} is not an integer"
+                    f"{_where(display, row, line, MARKER)}: {shown(text_value)} is not an integer"
                 ) from None
             if mark < 0:
                 raise InputError(f"{_where(display, row, line, MARKER)}: {mark} is negative")
@@ -255,7 +256,7 @@ def read_layout(path: str | Path, display: str | None = None) -> dict[int, Mat]:
             mark = int(raw[0].strip(), 10)
         except ValueError:
             raise InputError(
-                f"{_where(display, row, line, MARKER)}: {raw[0].strip()!r} is not an integer"
+                f"{_where(display, row, line, MARKER)}: {shown(raw[0].strip())} is not an integer"
             ) from None
         if mark in out:
             raise InputError(f"{_where(display, row, line, MARKER)}: marker {mark} appears twice")

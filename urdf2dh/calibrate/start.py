@@ -14,7 +14,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 from numpy.typing import NDArray
 
-from ..errors import UsageError
+from ..errors import UsageError, shown
 from ..screws import Joint, PoeModel
 from ..tolerances import DEFAULT, Tolerances
 from .chart import Estimate, line_point
@@ -53,7 +53,7 @@ class Options:
 
     def __post_init__(self) -> None:
         if self.frame not in ("device", "nominal"):
-            raise UsageError(f"frame must be device or nominal, not {self.frame!r}")
+            raise UsageError(f"frame must be device or nominal, not {shown(self.frame)}")
         if self.pose and (self.noise_pos is None) != (self.noise_rot is None):
             raise UsageError("give both noise levels (position and rotation) or neither")
 
