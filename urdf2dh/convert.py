@@ -16,7 +16,7 @@ from numpy.typing import NDArray
 
 from .bounds import JOINT_POSITIONS
 from .conventions import REGISTRY, STYLES, Conversion, get
-from .errors import ConversionError, InputError, UsageError, choices
+from .errors import ConversionError, InputError, UsageError, choices, shown
 from .fk import chains_fk
 from .lines import Judgement
 from .screws import PoeModel
@@ -193,21 +193,22 @@ def to_table(
     for j in result.judgements:
         # a judgement is new only if the lines are apart both in the frames built so far and in
         # the source; otherwise it carries on (or undoes) an earlier judgement's deviation
-        shown = j.angle if j.source_angle is None else min(j.angle, j.source_angle)
-        pos, rot = deviation_bound((replace(j, angle=shown),), reach)
+        apart = j.angle if j.source_angle is None else min(j.angle, j.source_angle)
+        pos, rot = deviation_bound((replace(j, angle=apart),), reach)
         if pos <= max(tol.report * size, rounding) and rot <= tol.report:
             continue  # below the exactness promised or the table's own rounding, or a
             # consequence of an earlier judgement
         snapped = True
         if j.kind == "parallel":
             warnings.append(
-                f"{convention}: '{j.first}' and '{j.second}' are {shown:.3g} rad from parallel; "
-                f"treated as parallel (--parallel-angle {tol.parallel_angle:g}; the exact D-H "
-                "row is beyond reach or precision; --convention hayati is exact here)"
+                f"{convention}: {shown(j.first)} and {shown(j.second)} are {apart:.3g} rad from "
+                f"parallel; treated as parallel (--parallel-angle {tol.parallel_angle:g}; the "
+                "exact D-H row is beyond reach or precision; --convention hayati is exact here)"
             )
         else:
             warnings.append(
-                f"{convention}: '{j.first}' and '{j.second}' are {_length(j.gap, unit)} apart; "
+                f"{convention}: {shown(j.first)} and {shown(j.second)} are "
+                f"{_length(j.gap, unit)} apart; "
                 f"treated as {j.kind} (--intersect-distance {tol.distance(size):.3g})"
             )
     judged_pos = declared_pos

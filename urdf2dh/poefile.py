@@ -118,7 +118,9 @@ def read_poe(data: Any, display: str, tol: Tolerances = DEFAULT) -> PoeModel:
         declared = entry.get("type")
         if declared is not None:
             if declared not in KINDS:
-                raise InputError(f"{where} has unknown type '{declared}'; valid: {choices(KINDS)}")
+                raise InputError(
+                    f"{where} has unknown type {shown(declared)}; valid: {choices(KINDS)}"
+                )
             if declared != joint.kind:
                 detail = {
                     "prismatic": "w = 0 (a prismatic joint)",

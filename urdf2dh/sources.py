@@ -11,7 +11,7 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 
 from .catalog import ROBOTS, Bundled, robot_path
-from .errors import InputError, SourceError, UsageError, choices
+from .errors import InputError, SourceError, UsageError, choices, shown
 from .files import read_file
 from .mappings import read_mapping
 from .screws import PoeModel
@@ -120,6 +120,6 @@ def open_source(
     if looks_like_file:
         raise SourceError(f"{source}: no such file")
     raise SourceError(
-        f"'{source}' is neither a file nor a bundled robot; bundled robots are "
+        f"{shown(source)} is neither a file nor a bundled robot; bundled robots are "
         f"{choices(ROBOTS, limit=30)}"
     )

@@ -76,7 +76,7 @@ def read_table(data: Any, display: str, tol: Tolerances = DEFAULT) -> Table:
         where = f"{display}: joint {shown(name)}"
         kind = j.get("type", "revolute")
         if kind not in KINDS:
-            raise TableFileError(f"{where} has unknown type '{kind}'; valid: {choices(KINDS)}")
+            raise TableFileError(f"{where} has unknown type {shown(kind)}; valid: {choices(KINDS)}")
         pitch = check_number(j.get("pitch", 0.0), f"{where} pitch", TableFileError)
         if (kind == "helical") != (pitch != 0.0):
             raise TableFileError(f"{where}: type {kind} contradicts pitch {pitch:g}")

@@ -208,7 +208,7 @@ def _model_from_urdf(
     def frame(link: str) -> int:
         fid = model.getFrameId(link, pin.FrameType.BODY)
         if fid >= model.nframes:
-            raise InputError(f"{source.display}: Pinocchio has no frame for link '{link}'")
+            raise InputError(f"{source.display}: Pinocchio has no frame for link {shown(link)}")
         return int(fid)
 
     return model, mapping, frame(poe.base_link), frame(poe.tip_link), not mimic

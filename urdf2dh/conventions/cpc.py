@@ -48,6 +48,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from .. import frames
+from ..errors import shown
 from ..frames import Frame, Vec3
 from .base import Conversion, Params, angle, direction, offset, unit_direction
 
@@ -151,7 +152,7 @@ class CpcConvention:
             notes.append(_singular_note(prev, "tool z"))
         shapes.append(tool)
         notes.extend(
-            f"cpc: joint '{j.name}' points against the previous frame's z; its frame is "
+            f"cpc: joint {shown(j.name)} points against the previous frame's z; its frame is "
             "reversed (scale = -scale) to avoid R(b)'s singularity at b = -z"
             for j, sign in zip(model.joints, signs, strict=True)
             if sign < 0
@@ -221,7 +222,7 @@ def _tool_shape(g: Frame, clean: float) -> CpcShape:
 
 def _singular_note(first: str, second: str) -> str:
     return (
-        f"cpc: '{second}' points exactly against the z of the frame on '{first}' and no frame "
-        "reversal can avoid it; R(b) at b = -z is taken as Ry(pi), its limit from +x "
+        f"cpc: {shown(second)} points exactly against the z of the frame on {shown(first)} and "
+        "no frame reversal can avoid it; R(b) at b = -z is taken as Ry(pi), its limit from +x "
         "(Sumenkov eq. 4 is 0/0 there)"
     )
