@@ -145,3 +145,15 @@ def test_reading_is_the_same_for_yaml_and_json():
 def test_a_huge_integer_is_one_line(tmp_path):
     with pytest.raises(InputError, match=r"a\.yaml: malformed YAML \(Exceeds the limit"):
         read_mapping(Path("a.yaml"), "a.yaml", b"a: " + b"7" * 5000)
+
+
+def test_values_and_depth_are_bounded_before_anything_is_built():
+    """Counted from the parser's events: a list of a million and one values, or lists nested
+    1,001 deep (libyaml's composer would recurse on), are refused naming the bound."""
+    many = b"a: [" + b", ".join([b"0"] * 1_000_001) + b"]\n"
+    with pytest.raises(InputError, match=r"^many\.yaml: more than 1,000,000 values$"):
+        read_mapping(Path("many.yaml"), "many.yaml", many)
+    deep = b"a: " + b"[" * 1_001 + b"]" * 1_001 + b"\n"
+    with pytest.raises(InputError, match=r"^deep\.yaml: nested too deeply \(more than 1,000 "):
+        read_mapping(Path("deep.yaml"), "deep.yaml", deep)
+    assert read_mapping(Path("ok.yaml"), "ok.yaml", b"a: " + b"[" * 999 + b"]" * 999 + b"\n")

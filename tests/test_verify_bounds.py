@@ -124,3 +124,16 @@ def test_a_poe_chain_beyond_the_bound_is_refused_naming_it():
 
     with pytest.raises(InputError, match=r"^long\.yaml: the chain has 2,001 joints; verify "):
         verify(source, poe, samples=10)
+
+
+@pytest.mark.parametrize("robot", ["puma560-actual", "tiago-arm", "kinova"])
+def test_both_ways_to_pinocchio_s_poses_agree_on_poe_and_urdf_models(robot, monkeypatch):
+    """pinocchio_fk by Pinocchio's Data and joint by joint: helical joints of a POE model (its
+    own Pinocchio model), a prismatic one, continuous joints of a URDF."""
+    source = open_source(robot)
+    poe = source.model()
+    q = sample_configurations(poe, 25, 6)
+    by_data = pinocchio_fk(source, poe, q)
+    monkeypatch.setattr(verify_module, "DATA_JOINTS", 0)
+    by_joint = pinocchio_fk(source, poe, q)
+    assert np.abs(by_joint - by_data).max() <= 8 * EPS * max(1.0, np.abs(by_data).max())

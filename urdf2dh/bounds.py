@@ -15,6 +15,7 @@ __all__ = [
     "FILE_BYTES",
     "JOINTS",
     "JOINT_POSITIONS",
+    "MAPPING_DEPTH",
     "MAPPING_VALUES",
     "PINOCCHIO_STACK",
     "VERIFY_JOINTS",
@@ -28,6 +29,10 @@ FILE_BYTES = 16 * 2**20
 # of a few hundred bytes can otherwise alias its way to billions ("billion laughs").
 MAPPING_VALUES = 1_000_000
 
+# Levels of nesting of a POE or table file (lists and mappings in one another): a POE file has
+# four.
+MAPPING_DEPTH = 1_000
+
 # Joints of a URDF (all its joints, on the chain or not), of a POE or table file, and of a
 # xacro file's expansion.
 JOINTS = 10_000
@@ -35,6 +40,10 @@ JOINTS = 10_000
 # Values of a parsed POE or table file, aliases counted each time they are used: a YAML file
 # of a few hundred bytes can otherwise alias its way to billions ("billion laughs").
 MAPPING_VALUES = 1_000_000
+
+# Levels of nesting of a POE or table file (lists and mappings in one another): a POE file has
+# four.
+MAPPING_DEPTH = 1_000
 
 # Configurations x joints of one self-check, verify run or synthesized set of poses: 80 MB for
 # each array of joint positions (a check of 1,000 configurations of a JOINTS-joint chain).

@@ -14,8 +14,9 @@ POE model files and table files are YAML or JSON. Their numbers are read as JSON
 
 A key that appears twice in one mapping, in YAML or JSON, is an error naming the key (and for
 YAML its line); YAML 1.1's merge key (``<<: *defaults``) still merges, its keys overridden by
-the mapping's own. A tree holds at most :data:`~urdf2dh.bounds.MAPPING_VALUES` values, aliases
-counted each time they are used, and is nested at most as deep as Python's recursion allows.
+the mapping's own. A tree holds at most :data:`~urdf2dh.bounds.MAPPING_VALUES` values (nodes as
+written, and again with aliases counted each time they are used) and is nested at most
+:data:`~urdf2dh.bounds.MAPPING_DEPTH` levels deep.
 """
 
 from __future__ import annotations
@@ -26,7 +27,7 @@ import re
 from pathlib import Path
 from typing import Any, ClassVar
 
-from .bounds import MAPPING_VALUES
+from .bounds import MAPPING_DEPTH, MAPPING_VALUES
 from .errors import InputError, shown
 
 __all__ = ["read_mapping", "yaml_text"]
@@ -106,8 +107,10 @@ def yaml_text(text: str, display: str) -> Any:
     """YAML text as plain values (the module docstring's rules), or a one-line error."""
     import yaml
 
+    loader = _loader()
     try:
-        return yaml.load(text, Loader=_loader())  # a safe loader with our schema
+        _scan(yaml, text, display, loader)
+        return yaml.load(text, Loader=loader)  # a safe loader with our schema
     except yaml.YAMLError as e:
         mark = getattr(e, "problem_mark", None)
         where = f"line {mark.line + 1}: " if mark is not None else ""
@@ -115,6 +118,30 @@ def yaml_text(text: str, display: str) -> Any:
         raise InputError(f"{display}: malformed YAML ({where}{problem})") from e
     except ValueError as e:  # an integer of more digits than Python converts
         raise InputError(f"{display}: malformed YAML ({e})") from e
+
+
+def _scan(yaml: Any, text: str, display: str, loader: type) -> None:
+    """Refuse a document nested deeper than :data:`~urdf2dh.bounds.MAPPING_DEPTH` or of more than
+    :data:`~urdf2dh.bounds.MAPPING_VALUES` nodes, from its parser's events (a stream, in
+    constant memory), before the loader builds them: libyaml's composer recurses once per level
+    and holds every node."""
+    depth = nodes = 0
+    opening = (yaml.SequenceStartEvent, yaml.MappingStartEvent)
+    closing = (yaml.SequenceEndEvent, yaml.MappingEndEvent)
+    for event in yaml.parse(text, Loader=loader):
+        if isinstance(event, opening):
+            depth += 1
+            nodes += 1
+            if depth > MAPPING_DEPTH:
+                raise InputError(
+                    f"{display}: nested too deeply (more than {MAPPING_DEPTH:,} levels)"
+                )
+        elif isinstance(event, closing):
+            depth -= 1
+        elif isinstance(event, yaml.NodeEvent):  # a scalar or an alias
+            nodes += 1
+        if nodes > MAPPING_VALUES:
+            raise InputError(f"{display}: more than {MAPPING_VALUES:,} values")
 
 
 _LOADER: type | None = None
@@ -132,9 +159,11 @@ def _loader() -> type:
 def _make_loader() -> type:
     import yaml
 
-    # PyYAML's own parser, not libyaml's: the C one recurses without a bound on deeply nested
-    # input (a segmentation fault), where this one stops at Python's recursion limit
-    class Loader(yaml.SafeLoader):
+    # libyaml's parser where PyYAML has it (four times as fast); its composer recurses once per
+    # level without a bound (a segmentation fault at ~50,000), which _scan rules out first
+    base = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
+
+    class Loader(base):  # type: ignore[misc, valid-type]
         yaml_implicit_resolvers: ClassVar[dict[str, list[tuple[str, re.Pattern[str]]]]] = {}
 
         def construct_mapping(self, node: Any, deep: bool = False) -> Any:
