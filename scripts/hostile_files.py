@@ -441,8 +441,8 @@ def report(outcomes: list[Outcome]) -> str:
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--count", type=int, default=240, help="cases (default %(default)s)")
-    parser.add_argument("--seed", type=int, default=0, help="seed (default %(default)s)")
+    for flag, default, what in (("--count", 240, "cases"), ("--seed", 0, "seed of the cases")):
+        parser.add_argument(flag, type=int, default=default, help=f"{what} (default {default})")
     args = parser.parse_args(argv)
     outcomes = run_corpus(args.count, args.seed)
     print(report(outcomes))
