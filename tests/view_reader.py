@@ -8,6 +8,7 @@ with ``json`` (so it is data: JSON holds no code).
 
 from __future__ import annotations
 
+import base64
 import json
 from dataclasses import dataclass
 from html.parser import HTMLParser
@@ -42,7 +43,17 @@ class Page:
     def points(self, name: str) -> np.ndarray:
         """The ``(k, 3)`` points of trace ``name`` (``None`` gaps as NaN rows)."""
         t = self.trace(name)
-        return np.array([t["x"], t["y"], t["z"]], dtype=float).T
+        return np.array([array(t[c]) for c in "xyz"], dtype=float).T
+
+
+def array(value: Any) -> np.ndarray:
+    """A figure's array as plotly.js reads it: a JSON list, or a typed array written as
+    ``{"dtype": ..., "bdata": base64, "shape": ...}`` (plotly.py's encoding of numpy arrays)."""
+    if isinstance(value, dict):
+        data = np.frombuffer(base64.b64decode(value["bdata"]), dtype=np.dtype(value["dtype"]))
+        shape = value.get("shape")
+        return data.reshape([int(n) for n in str(shape).split(",")] if shape else -1)
+    return np.array([np.nan if v is None else v for v in value], dtype=float)
 
 
 class _Reader(HTMLParser):

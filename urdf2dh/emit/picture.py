@@ -99,20 +99,43 @@ def _box(xy: Mat, size: tuple[float, float], align: tuple[str, str]) -> Box:
     return (x0, y0, x0 + w, y0 + h)
 
 
-def _covered(box: Box, boxes: Mat, lines: Mat, frame: Box) -> tuple[float, int]:
-    """What ``box`` (grown by :data:`LABEL_SPACE`) covers: the pixels of the ``(k, 4)`` label
-    ``boxes`` it overlaps and of it outside the ``frame`` (the figure), then the points of the
-    drawn ``lines`` ``(m, 2)`` (pixels, :data:`LINE_STEP` apart) inside it."""
-    s = LABEL_SPACE
-    x0, y0, x1, y1 = box[0] - s, box[1] - s, box[2] + s, box[3] + s
-    w = np.minimum(x1, boxes[:, 2]) - np.maximum(x0, boxes[:, 0])
-    h = np.minimum(y1, boxes[:, 3]) - np.maximum(y0, boxes[:, 1])
-    inside = (max(0.0, min(x1, frame[2]) - max(x0, frame[0]))
-              * max(0.0, min(y1, frame[3]) - max(y0, frame[1])))  # fmt: skip
-    outside = (x1 - x0) * (y1 - y0) - inside
-    points = ((lines[:, 0] >= x0) & (lines[:, 0] <= x1)
-              & (lines[:, 1] >= y0) & (lines[:, 1] <= y1))  # fmt: skip
-    return float((np.clip(w, 0, None) * np.clip(h, 0, None)).sum()) + outside, int(points.sum())
+class _Crowd:
+    """What is already on the picture, in pixels: the labels placed so far (boxes) and the
+    drawn lines (as a summed-area table of their points, :data:`LINE_STEP` apart, so that
+    counting the points in a box takes four look-ups)."""
+
+    def __init__(self, lines: Mat, width: float, height: float) -> None:
+        self.frame = (0.0, 0.0, width, height)
+        shape = (int(height) + 2, int(width) + 2)
+        ij = np.floor(lines[:, ::-1]).astype(int) + 1
+        keep = (ij >= 1).all(axis=1) & (ij[:, 0] < shape[0]) & (ij[:, 1] < shape[1])
+        grid = np.zeros(shape)
+        np.add.at(grid, (ij[keep, 0], ij[keep, 1]), 1.0)
+        self.table = grid.cumsum(axis=0).cumsum(axis=1)
+        self.boxes = np.zeros((0, 4))
+
+    def _points(self, x0: float, y0: float, x1: float, y1: float) -> int:
+        rows, cols = self.table.shape
+        i0, i1 = (min(max(int(v), 0), rows - 1) for v in (y0, y1 + 1))
+        j0, j1 = (min(max(int(v), 0), cols - 1) for v in (x0, x1 + 1))
+        t = self.table
+        return round(t[i1, j1] - t[i0, j1] - t[i1, j0] + t[i0, j0])
+
+    def cost(self, box: Box) -> tuple[float, int]:
+        """What ``box`` (grown by :data:`LABEL_SPACE`) covers: the pixels of placed labels and
+        of the figure's outside, then the points of drawn lines."""
+        s = LABEL_SPACE
+        x0, y0, x1, y1 = box[0] - s, box[1] - s, box[2] + s, box[3] + s
+        b = self.boxes
+        w = np.clip(np.minimum(x1, b[:, 2]) - np.maximum(x0, b[:, 0]), 0.0, None)
+        h = np.clip(np.minimum(y1, b[:, 3]) - np.maximum(y0, b[:, 1]), 0.0, None)
+        f = self.frame
+        inside = max(0.0, min(x1, f[2]) - max(x0, f[0])) * max(0.0, min(y1, f[3]) - max(y0, f[1]))
+        outside = (x1 - x0) * (y1 - y0) - inside
+        return float((w * h).sum()) + outside, self._points(x0, y0, x1, y1)
+
+    def add(self, box: Box) -> None:
+        self.boxes = np.vstack([self.boxes, box])
 
 
 def _segments(scene: Scene) -> list[tuple[Mat, Mat]]:
@@ -139,10 +162,8 @@ def _place(ax: Any, fig: Any, scene: Scene) -> list[Placed]:
         pa, pb = pixels(a), pixels(b)
         steps = int(min(np.linalg.norm(pb - pa) // LINE_STEP, 1000)) + 2
         points.append(pa + np.linspace(0.0, 1.0, steps)[:, None] * (pb - pa))
-    lines = np.vstack(points)
-    frame = (0.0, 0.0, fig.bbox.width, fig.bbox.height)
+    crowd = _Crowd(np.vstack(points), fig.bbox.width, fig.bbox.height)
     placed: list[Placed] = []
-    boxes = np.zeros((0, 4))
     for label in scene.labels:
         text = ax.text(*label.anchor, matplotlib_text(label.text), color=COLOURS[label.kind],
                        fontsize=FONT_SIZE[label.kind], usetex=False, zorder=5)  # fmt: skip
@@ -156,7 +177,7 @@ def _place(ax: Any, fig: Any, scene: Scene) -> list[Placed]:
             xy = pixels(position)
             for align in _candidates(screen):
                 box = _box(xy, size, align)
-                tried.append((_covered(box, boxes, lines, frame), position, align, box))
+                tried.append((crowd.cost(box), position, align, box))
                 if tried[-1][0] == (0.0, 0):
                     break
             if tried[-1][0] == (0.0, 0):
@@ -166,7 +187,7 @@ def _place(ax: Any, fig: Any, scene: Scene) -> list[Placed]:
         text.set_horizontalalignment(align[0])
         text.set_verticalalignment(align[1])
         placed.append((label, text, box))
-        boxes = np.vstack([boxes, box])
+        crowd.add(box)
     return placed
 
 

@@ -34,8 +34,9 @@ from numpy.typing import NDArray
 
 from .. import se3
 from ..errors import InputError
-from ..formats import parameter_lines
+from ..formats import fixed, parameter_lines
 from ..table import Table
+from ..units import DECIMALS
 
 __all__ = [
     "ARROW",
@@ -203,8 +204,8 @@ def _hover(table: Table, frames: list[Mat]) -> list[tuple[str, ...]]:
         else:
             head, params = ["tool frame: the tool record"], table.tool
         lines = parameter_lines(params, unit) or ["(no parameters: the last row's frame)"]
-        x, y, z = f[:3, 3]
-        out.append((*head, *lines, f"origin [{unit}] = ({x:.6g}, {y:.6g}, {z:.6g})"))
+        origin = ", ".join(fixed(float(c), DECIMALS.get(table.length_unit, 6)) for c in f[:3, 3])
+        out.append((*head, *lines, f"origin [{unit}] = ({origin})"))
     return out
 
 
@@ -318,8 +319,9 @@ def choose_view(anchors: Mat, drawn: Mat) -> tuple[float, float]:
         box = drawn @ screen
         size = float(np.ptp(box, axis=0).max()) or 1.0
         p = anchors @ screen / size
-        d = np.sqrt(((p[:, None, :] - p[None, :, :]) ** 2).sum(axis=2))
-        close = np.triu(np.clip(1.0 - d / CROWDED, 0.0, None), 1)
+        d2 = ((p[:, None, :] - p[None, :, :]) ** 2).sum(axis=2)
+        i, j = np.nonzero(np.triu(d2 < CROWDED**2, 1))
+        close = 1.0 - np.sqrt(d2[i, j]) / CROWDED
         far = abs(view[0] - DEFAULT_VIEW[0]) + abs((view[1] - DEFAULT_VIEW[1] + 180) % 360 - 180)
         score = float((close**2).sum()) + 1e-4 * far
         if score < best:
