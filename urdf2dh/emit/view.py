@@ -38,7 +38,7 @@ ARROWS = (  # trace name, which arrows, colour
     ("tool y", lambda a: a.frame >= 0 and a.axis == "y", COLOURS["y"]),
     ("base axes", lambda a: a.frame < 0, COLOURS["world"]),
 )
-CAMERA_DISTANCE = 2.0  # plotly's camera eye, in units of the scene's half size
+CAMERA_DISTANCE = 2.6  # plotly's camera eye, in units of the scene's half size
 
 
 def _hover(lines: tuple[str, ...]) -> str:
