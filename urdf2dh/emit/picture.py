@@ -6,7 +6,7 @@ anchor or slid along its own arrow (never elsewhere, :attr:`~.scene.Label.reach`
 on the side its arrow points to on the picture or else around it. Labels are placed one by one,
 each at the first of these places where its text covers no label placed before it and no
 line, or else where it covers the fewest pixels of other labels and of the figure's edge,
-then the fewest lines. matplotlib is an optional dependency, imported here only, with the Agg
+then the fewest lines; labels are drawn over the lines, on a light backing. matplotlib is an optional dependency, imported here only, with the Agg
 canvas (no display needed).
 """
 
@@ -40,8 +40,9 @@ LINE_STEP = 3.0  # pixels between the points of a drawn line that labels keep of
 PNG_DPI = 150
 ZOOM = 1.1  # of the 3-D box in its axes (matplotlib leaves room for ticks around it)
 TICKS = 5  # at most, on each axis
+BACKING = {"facecolor": "white", "alpha": 0.75, "edgecolor": "none", "pad": 0.3}  # under a label
 HEIGHT = 8.0  # inches
-WIDTHS = (5.5, 11.0)  # inches
+WIDTHS = (6.0, 12.0)  # inches
 
 Mat = NDArray[np.float64]
 Box = tuple[float, float, float, float]
@@ -74,7 +75,7 @@ def _size(lower: Mat, upper: Mat, scene: Scene) -> tuple[float, float]:
     looks from the scene's view (within :data:`WIDTHS`), with room for the title and legend."""
     corners = np.array([[(lower, upper)[(k >> i) & 1][i] for i in range(3)] for k in range(8)])
     seen = np.ptp(corners @ screen_axes(scene.elevation, scene.azimuth), axis=0)
-    width = HEIGHT * 0.84 * seen[0] / seen[1] + 0.8
+    width = HEIGHT * 0.84 * seen[0] / seen[1] + 1.6
     return float(np.clip(width, *WIDTHS)), HEIGHT
 
 
@@ -166,7 +167,7 @@ def _place(ax: Any, fig: Any, scene: Scene) -> list[Placed]:
     placed: list[Placed] = []
     for label in scene.labels:
         text = ax.text(*label.anchor, matplotlib_text(label.text), color=COLOURS[label.kind],
-                       fontsize=FONT_SIZE[label.kind], usetex=False, zorder=5)  # fmt: skip
+                       fontsize=FONT_SIZE[label.kind], usetex=False, zorder=5, bbox=BACKING)  # fmt: skip
         extent = text.get_window_extent(renderer)
         size = (extent.width, extent.height)
         start = pixels(label.anchor)
@@ -199,7 +200,7 @@ def draw(scene: Scene) -> tuple[Any, Any, list[Placed]]:
     lower, upper = _limits(scene)
     fig = figure_cls(figsize=_size(lower, upper, scene), dpi=100)
     canvas_cls(fig)
-    ax = fig.add_axes((0.0, 0.06, 1.0, 0.86), projection="3d")
+    ax = fig.add_axes((0.0, 0.06, 1.0, 0.86), projection="3d", computed_zorder=False)
     ax.set_proj_type("ortho")
 
     ax.plot(*scene.links.T, color=COLOURS["link"], linewidth=2.5, marker="o", markersize=3.5,
