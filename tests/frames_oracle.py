@@ -9,6 +9,7 @@ import re
 
 import numpy as np
 
+from urdf2dh.emit.scene import ARROW, JOINT_AXIS, LABEL_GAP, TOOL_ARROW
 from urdf2dh.table import Table
 
 
@@ -45,3 +46,20 @@ def on_ray(p: np.ndarray, start: np.ndarray, direction: np.ndarray) -> tuple[flo
     distance from the ray's line."""
     along = float((p - start) @ direction)
     return along, float(np.linalg.norm(p - start - along * direction))
+
+
+def anchor(table: Table, frames: dict[str, np.ndarray], what: str, which: str):
+    """Where the label naming ``what`` (``x``, ``z``, ``J``) of ``which`` (a frame name, or a
+    joint number) starts: ``(point, direction, distance)``, the anchor being ``point +
+    distance * direction`` (a drawing may slide it further along ``direction``). An axis label
+    starts beyond its arrow's tip (the arrow from the frame's origin along that axis); a
+    joint's beyond the end of its axis line through the frame whose z axis it is, away from
+    that z arrow."""
+    size = span(frames) or table.size
+    arrow = ARROW * size
+    if what == "J":
+        f = table.frames()[int(which) - 1]
+        return f[:3, 3], -f[:3, 2], JOINT_AXIS * size + LABEL_GAP * arrow
+    f = frames[which]
+    length = (TOOL_ARROW if which == "tool" else 1.0) * arrow
+    return f[:3, 3], f[:3, "xyz".index(what)], length + LABEL_GAP * arrow

@@ -12,13 +12,13 @@ import sys
 
 import numpy as np
 import pytest
-from frames_oracle import fk_frames, named, on_ray, span
+from frames_oracle import anchor, fk_frames, named, on_ray, span
 
 from urdf2dh.catalog import ROBOTS
 from urdf2dh.cli import main
 from urdf2dh.convert import to_table
 from urdf2dh.emit.picture import COLOURS, draw
-from urdf2dh.emit.scene import ARROW, JOINT_AXIS, LABEL_GAP, SLIDE, dh_frames, scene
+from urdf2dh.emit.scene import ARROW, SLIDE, frames_at_home, scene
 from urdf2dh.sources import open_source
 
 STYLE = {"ur3": "ur", "ur5": "ur", "ur10": "ur"}
@@ -61,7 +61,7 @@ def test_svg_labels_every_frame(tmp_path):
 
 def test_frames_follow_the_table():
     table = _table("ur5")
-    frames = dh_frames(table)
+    frames = frames_at_home(table)
     assert len(frames) == table.n + 2
     for got, want in zip(frames, fk_frames(table).values(), strict=True):
         np.testing.assert_allclose(got, want, atol=1e-15)
@@ -90,32 +90,20 @@ def test_prismatic_and_mm_sources_plot(tmp_path, robot):
 
 
 def _check_labels_at_their_arrows(table, texts) -> set[tuple[str, str]]:
-    """Each text naming axes or joints sits on each one's line, beyond its end by the label
-    gap and at most the slide; returns what the texts name."""
+    """Each text naming axes or joints sits on each one's line, at its anchor or slid further
+    along it by at most the slide; returns what the texts name."""
     frames = fk_frames(table)
     size = span(frames) or table.size
-    arrow, tol = ARROW * size, 1e-9 * size
-
-    def reach(end: float) -> float:
-        return end + (LABEL_GAP + SLIDE) * arrow
-
+    tol = 1e-9 * size
     seen = set()
     for text in texts:
         position = np.asarray(text.get_position_3d(), float)
         for what, which in named(text.get_text()):
             seen.add((what, which))
-            if what == "J":  # on the joint's axis, beyond the line drawn through its frame
-                joint = table.frames()[int(which) - 1]
-                along, off = on_ray(position, joint[:3, 3], joint[:3, 2])
-                low, high = JOINT_AXIS * size + LABEL_GAP * arrow, reach(JOINT_AXIS * size)
-                assert off <= tol and low - tol <= abs(along) <= high + tol, (text, along)
-                continue
-            f = frames[which]
-            direction = f[:3, "xyz".index(what)]
-            length = 0.7 * arrow if which == "tool" else arrow
-            along, off = on_ray(position, f[:3, 3], direction)
-            low, high = length + LABEL_GAP * arrow, reach(length)
-            assert off <= tol and low - tol <= along <= high + tol, (text, off, along)
+            start, direction, distance = anchor(table, frames, what, which)
+            along, off = on_ray(position, start, direction)
+            slid = along - distance
+            assert off <= tol and -tol <= slid <= SLIDE * ARROW * size + tol, (text, off, slid)
     return seen
 
 

@@ -19,12 +19,12 @@ import time
 import numpy as np
 import pytest
 from chains import random_chain_urdf
-from frames_oracle import fk_frames, named, span
+from frames_oracle import anchor, fk_frames, named, span
 from view_reader import read_page
 
 from urdf2dh.cli import main
 from urdf2dh.convert import to_table
-from urdf2dh.emit.scene import ARROW, JOINT_AXIS, LABEL_GAP, MAX_JOINTS, NAME_CHARS
+from urdf2dh.emit.scene import ARROW, MAX_JOINTS, NAME_CHARS, TOOL_ARROW
 from urdf2dh.sources import open_source
 
 CASES = (
@@ -61,7 +61,7 @@ def test_every_label_is_at_its_frame(tmp_path, robot, convention, style):
 
     for axis in "xz":  # each arrow from its frame's origin along its axis
         c = "xyz".index(axis)
-        want = [(f[:3, 3], f[:3, 3] + (0.7 if k == "tool" else 1.0) * arrow * f[:3, c])
+        want = [(f[:3, 3], f[:3, 3] + (TOOL_ARROW if k == "tool" else 1.0) * arrow * f[:3, c])
                 for k, f in frames.items()]  # fmt: skip
         np.testing.assert_allclose(_segments(page.points(f"{axis} axes")), want, atol=tol)
 
@@ -70,13 +70,8 @@ def test_every_label_is_at_its_frame(tmp_path, robot, convention, style):
     for text, at in zip(labels["text"], page.points("labels"), strict=True):
         for what, which in named(html.unescape(text)):
             seen.add((what, which))
-            if what == "J":  # beyond the end of the joint's axis line, away from its z arrow
-                f = table.frames()[int(which) - 1]
-                want = f[:3, 3] - (JOINT_AXIS * size + LABEL_GAP * arrow) * f[:3, 2]
-            else:
-                f = frames[which]
-                length = 0.7 * arrow if which == "tool" else arrow
-                want = f[:3, 3] + (length + LABEL_GAP * arrow) * f[:3, "xyz".index(what)]
+            start, direction, distance = anchor(table, frames, what, which)
+            want = start + distance * direction
             np.testing.assert_allclose(at, want, atol=tol, err_msg=f"{text} {what}{which}")
     names = [str(k) for k in range(table.n + 1)] + ["tool"]
     everything = {(a, k) for a in "xz" for k in names} | {

@@ -26,12 +26,11 @@ import threading
 import numpy as np
 import pytest
 from cdp import Browser
-from frames_oracle import fk_frames, named, span
+from frames_oracle import anchor, fk_frames, named, span
 
 from urdf2dh.cli import main
 from urdf2dh.convert import to_table
 from urdf2dh.emit.picture import COLOURS
-from urdf2dh.emit.scene import ARROW, JOINT_AXIS, LABEL_GAP
 from urdf2dh.sources import open_source
 
 FLAGS = [
@@ -136,7 +135,6 @@ def test_chromium_draws_the_view_offline(tmp_path, browser):
     traces = {t["name"]: t for t in browser.evaluate(tab, TRACES)}
     frames = fk_frames(table)
     size = span(frames)
-    arrow = ARROW * size
     shown = traces["frames"]
     assert shown["text"] == list(frames)
     origins = np.array([shown["x"], shown["y"], shown["z"]]).T
@@ -146,12 +144,8 @@ def test_chromium_draws_the_view_offline(tmp_path, browser):
     for text, *at in zip(labels["text"], labels["x"], labels["y"], labels["z"], strict=True):
         for what, which in named(text):
             seen.add(what + which)
-            if what == "J":
-                f = table.frames()[int(which) - 1]
-                want = f[:3, 3] - (JOINT_AXIS * size + LABEL_GAP * arrow) * f[:3, 2]
-            else:
-                f, length = frames[which], (0.7 if which == "tool" else 1.0) * arrow
-                want = f[:3, 3] + (length + LABEL_GAP * arrow) * f[:3, "xyz".index(what)]
+            start, direction, distance = anchor(table, frames, what, which)
+            want = start + distance * direction
             np.testing.assert_allclose(at, want, atol=1e-12 * size, err_msg=text)
     assert {f"{a}{k}" for a in "xz" for k in frames} <= seen
 

@@ -6,8 +6,8 @@ anchor or slid along its own arrow (never elsewhere, :attr:`~.scene.Label.reach`
 on the side its arrow points to on the picture or else around it. Labels are placed one by one,
 each at the first of these places where its text covers no label placed before it and no
 line, or else where it covers the fewest pixels of other labels and of the figure's edge,
-then the fewest lines; labels are drawn over the lines, on a light backing. matplotlib is an optional dependency, imported here only, with the Agg
-canvas (no display needed).
+then the fewest lines. Labels are drawn over the lines, on a light backing. matplotlib is an
+optional dependency, imported here only, with the Agg canvas (no display needed).
 """
 
 from __future__ import annotations
@@ -167,7 +167,8 @@ def _place(ax: Any, fig: Any, scene: Scene) -> list[Placed]:
     placed: list[Placed] = []
     for label in scene.labels:
         text = ax.text(*label.anchor, matplotlib_text(label.text), color=COLOURS[label.kind],
-                       fontsize=FONT_SIZE[label.kind], usetex=False, zorder=5, bbox=BACKING)  # fmt: skip
+                       fontsize=FONT_SIZE[label.kind], usetex=False, zorder=5,
+                       bbox=BACKING)  # fmt: skip
         extent = text.get_window_extent(renderer)
         size = (extent.width, extent.height)
         start = pixels(label.anchor)

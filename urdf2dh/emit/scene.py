@@ -43,6 +43,7 @@ __all__ = [
     "LABEL_GAP",
     "MAX_JOINTS",
     "NAME_CHARS",
+    "TOOL_ARROW",
     "Arrow",
     "JointAxis",
     "Label",
@@ -50,7 +51,7 @@ __all__ = [
     "SceneFrame",
     "check_size",
     "choose_view",
-    "dh_frames",
+    "frames_at_home",
     "scene",
     "screen_axes",
     "short",
@@ -61,6 +62,7 @@ Mat = NDArray[np.float64]
 MAX_JOINTS = 200  # joints a picture shows; a longer chain is refused
 NAME_CHARS = 40  # characters of a name a picture shows
 ARROW = 0.12  # an axis arrow's length, per the span of the frame origins
+TOOL_ARROW = 0.7  # the tool frame's arrows, per arrow length
 JOINT_AXIS = 0.18  # a joint axis line's half length, per that span
 WORLD_ARROW = 0.6  # the base link's axes, per arrow length
 LABEL_GAP = 0.15  # from an arrow's tip to its label's anchor, per arrow length
@@ -173,7 +175,7 @@ class Scene:
     azimuth: float
 
 
-def dh_frames(table: Table) -> list[Mat]:
+def frames_at_home(table: Table) -> list[Mat]:
     """The table's frames ``0 .. n`` at home (frame 0 is the base transform ``B``, frame ``k``
     ends row ``k``), then the tool frame, each ``(4, 4)``."""
     f = table.base_matrix
@@ -223,59 +225,72 @@ def _merge(labels: list[Label], tolerance: float) -> list[Label]:
     return out
 
 
-def scene(table: Table) -> Scene:
-    """The picture of ``table``'s frames at home (see the module's description); a chain of
-    more than :data:`MAX_JOINTS` joints is refused (:class:`InputError`)."""
-    check_size(table.n)
-    frames = dh_frames(table)
-    names = [str(k) for k in range(table.n + 1)] + ["tool"]
-    hovers = _hover(table, frames)
-    shown = tuple(SceneFrame(n, f, h) for n, f, h in zip(names, frames, hovers, strict=True))
-    links = np.array([np.zeros(3)] + [f[:3, 3] for f in frames])
-    span = float(np.ptp(links, axis=0).max())
-    if not span > 0.0:
-        span = table.size
-    length = ARROW * span
-
+def _axes(frames: list[Mat], hovers: list[tuple[str, ...]], length: float,
+          names: list[str]) -> tuple[list[Arrow], list[Label]]:  # fmt: skip
+    """Every frame's x and z arrows (the tool's y too) and their labels, then the base
+    link's axes."""
     arrows, labels = [], []
     for k, f in enumerate(frames):
         tool = k == len(frames) - 1
         for a, axis in enumerate("xyz"):
             if axis == "y" and not tool:
                 continue
-            arrow = Arrow(k, axis, f[:3, 3], f[:3, a], 0.7 * length if tool else length)
+            arrow = Arrow(k, axis, f[:3, 3], f[:3, a], (TOOL_ARROW if tool else 1.0) * length)
             arrows.append(arrow)
             if axis != "y":
                 labels.append(_label(f"{axis}{names[k]}", axis, arrow.tip, f[:3, a], length,
                                      hovers[k]))  # fmt: skip
     for a, axis in enumerate("xyz"):
         arrows.append(Arrow(-1, axis, np.zeros(3), np.eye(3)[a], WORLD_ARROW * length))
-    base = short(table.base_link) if table.base_link else "world"
-    labels.append(_label(base, "world", arrows[-3].tip, np.eye(3)[0], length,
-                         (f"the base link's frame: {base}",)))  # fmt: skip
+    return arrows, labels
 
-    joints = []
+
+def _joints(table: Table, span: float, length: float) -> tuple[list[JointAxis], list[Label]]:
+    """Each joint's axis through the frame whose z axis it is, labelled at its far end from
+    that frame's z arrow."""
+    joints, labels = [], []
     for i, (row, f) in enumerate(zip(table.rows, table.frames()[:-1], strict=True), 1):
         p, z = f[:3, 3], f[:3, 2]
         ends = np.array([p - JOINT_AXIS * span * z, p + JOINT_AXIS * span * z])
         joints.append(JointAxis(i, short(row.name), row.kind, ends))
         labels.append(_label(f"J{i}", "joint", ends[0], -z, length,
                              (f"joint {i}: {short(row.name)} ({row.kind})",)))  # fmt: skip
+    return joints, labels
 
-    labels = _merge(labels, SAME_POINT * span)
-    reach = np.array([lb.anchor + lb.reach * lb.direction for lb in labels])
+
+def scene(table: Table) -> Scene:
+    """The picture of ``table``'s frames at home (see the module's description); a chain of
+    more than :data:`MAX_JOINTS` joints is refused (:class:`InputError`)."""
+    check_size(table.n)
+    frames = frames_at_home(table)
+    names = [str(k) for k in range(table.n + 1)] + ["tool"]
+    hovers = _hover(table, frames)
+    links = np.array([np.zeros(3)] + [f[:3, 3] for f in frames])
+    span = float(np.ptp(links, axis=0).max())
+    if not span > 0.0:
+        span = table.size
+    length = ARROW * span
+
+    arrows, labels = _axes(frames, hovers, length, names)
+    base = short(table.base_link) if table.base_link else "world"
+    labels.append(_label(base, "world", arrows[-3].tip, np.eye(3)[0], length,
+                         (f"the base link's frame: {base}",)))  # fmt: skip
+    joints, joint_labels = _joints(table, span, length)
+    labels = _merge(labels + joint_labels, SAME_POINT * span)
+
+    anchors = np.array([lb.anchor for lb in labels])
     drawn = np.vstack(
         [links, *(np.array([a.origin, a.tip]) for a in arrows), *(j.ends for j in joints),
-         np.array([lb.anchor for lb in labels]), reach]
+         anchors, [lb.anchor + lb.reach * lb.direction for lb in labels]]
     )  # fmt: skip
-    elevation, azimuth = choose_view(np.array([lb.anchor for lb in labels]), drawn)
+    elevation, azimuth = choose_view(anchors, drawn)
     robot = short(table.robot or "robot")
     chain = f"{short(table.base_link)} -> {short(table.tip_link)}" if table.base_link else ""
     return Scene(
         title=f"{robot}: {table.spec.label} frames at home",
         subtitle=chain,
         unit=short(table.length_unit),
-        frames=shown,
+        frames=tuple(SceneFrame(n, f, h) for n, f, h in zip(names, frames, hovers, strict=True)),
         links=links,
         joints=tuple(joints),
         arrows=tuple(arrows),
