@@ -45,34 +45,34 @@ def _hover(lines: tuple[str, ...]) -> str:
     return "<br>".join(html_text(line) for line in lines)
 
 
-def _polylines(segments: list[Mat]) -> tuple[list[float | None], ...]:
-    """x, y, z lists of several polylines, ``None`` between them (plotly's gaps)."""
-    xyz: tuple[list[float | None], ...] = ([], [], [])
+def _xyz(points: Mat) -> dict[str, Mat]:
+    """A trace's ``x``, ``y``, ``z`` from ``(k, 3)`` points."""
+    return dict(zip("xyz", np.asarray(points, dtype=float).T, strict=True))
+
+
+def _polylines(segments: list[Mat]) -> dict[str, list[float | None]]:
+    """A trace's ``x``, ``y``, ``z`` for several polylines, ``None`` between them (plotly's
+    gaps)."""
+    xyz: dict[str, list[float | None]] = {"x": [], "y": [], "z": []}
     for segment in segments:
-        for c in range(3):
-            xyz[c].extend([*map(float, segment[:, c]), None])
+        for c, values in enumerate(xyz.values()):
+            values.extend([*map(float, segment[:, c]), None])
     return xyz
 
 
 def _arrows(go: Any, name: str, arrows: list[Arrow], colour: str) -> list[Any]:
-    shafts = [np.array([a.origin, a.tip]) for a in arrows]
-    x, y, z = _polylines(shafts)
+    """A line from each arrow's origin to its tip, and a cone ending at the tip."""
     line = go.Scatter3d(
-        x=x,
-        y=y,
-        z=z,
+        **_polylines([np.array([a.origin, a.tip]) for a in arrows]),
         mode="lines",
         name=name,
         legendgroup=name,
-        line={"color": colour, "width": 5},
         hoverinfo="skip",
+        line={"color": colour, "width": 5},
     )
-    tips = np.array([a.tip for a in arrows])
     heads = np.array([HEAD * a.length * a.direction for a in arrows])
     cone = go.Cone(
-        x=tips[:, 0],
-        y=tips[:, 1],
-        z=tips[:, 2],
+        **_xyz(np.array([a.tip for a in arrows])),
         u=heads[:, 0],
         v=heads[:, 1],
         w=heads[:, 2],
@@ -89,14 +89,10 @@ def _arrows(go: Any, name: str, arrows: list[Arrow], colour: str) -> list[Any]:
     return [line, cone]
 
 
-def figure(scene: Scene) -> Any:
-    """The plotly figure of ``scene``."""
-    go = plotly_objects("the interactive view")
+def _traces(go: Any, scene: Scene) -> list[Any]:
     traces = [
         go.Scatter3d(
-            x=scene.links[:, 0],
-            y=scene.links[:, 1],
-            z=scene.links[:, 2],
+            **_xyz(scene.links),
             mode="lines+markers",
             name="links",
             hoverinfo="skip",
@@ -105,20 +101,13 @@ def figure(scene: Scene) -> Any:
         )
     ]
     if scene.joints:
-        x, y, z = _polylines([j.ends for j in scene.joints])
-        hover = [
-            t
-            for j in scene.joints
-            for t in 2 * [_hover((f"joint {j.number}: {j.name} ({j.kind})",))] + [None]
-        ]
+        hover = [_hover((f"joint {j.number}: {j.name} ({j.kind})",)) for j in scene.joints]
         traces.append(
             go.Scatter3d(
-                x=x,
-                y=y,
-                z=z,
+                **_polylines([j.ends for j in scene.joints]),
                 mode="lines",
                 name="joint axes",
-                hovertext=hover,
+                hovertext=[t for h in hover for t in (h, h, None)],
                 hoverinfo="text",
                 line={"color": COLOURS["joint"], "width": 3, "dash": "dash"},
             )
@@ -127,12 +116,9 @@ def figure(scene: Scene) -> Any:
         arrows = [a for a in scene.arrows if chosen(a)]
         if arrows:
             traces.extend(_arrows(go, name, arrows, colour))
-    origins = np.array([f.pose[:3, 3] for f in scene.frames])
     traces.append(
         go.Scatter3d(
-            x=origins[:, 0],
-            y=origins[:, 1],
-            z=origins[:, 2],
+            **_xyz(np.array([f.pose[:3, 3] for f in scene.frames])),
             mode="markers",
             name="frames",
             text=[f.name for f in scene.frames],
@@ -141,12 +127,9 @@ def figure(scene: Scene) -> Any:
             marker={"size": 5, "color": "#222222", "symbol": "diamond"},
         )
     )
-    anchors = np.array([lb.anchor for lb in scene.labels])
     traces.append(
         go.Scatter3d(
-            x=anchors[:, 0],
-            y=anchors[:, 1],
-            z=anchors[:, 2],
+            **_xyz(np.array([lb.anchor for lb in scene.labels])),
             mode="text",
             name="labels",
             text=[html_text(lb.text) for lb in scene.labels],
@@ -156,31 +139,32 @@ def figure(scene: Scene) -> Any:
             hoverinfo="text",
         )
     )
+    return traces
+
+
+def figure(scene: Scene) -> Any:
+    """The plotly figure of ``scene``."""
+    go = plotly_objects("the interactive view")
     unit = html_text(scene.unit)
     title = html_text(scene.title)
     if scene.subtitle:
         title += "<br><sub>" + html_text(scene.subtitle) + "</sub>"
-    back = screen_axes(scene.elevation, scene.azimuth)
-    eye = CAMERA_DISTANCE * np.cross(back[:, 0], back[:, 1])  # towards the viewer
-    axis = {"showspikes": False}
+    screen = screen_axes(scene.elevation, scene.azimuth)
+    eye = CAMERA_DISTANCE * np.cross(screen[:, 0], screen[:, 1])  # right x up: to the viewer
+    axes = {f"{c}axis": {"title": {"text": f"{c} [{unit}]"}, "showspikes": False} for c in "xyz"}
+    camera = {
+        "eye": dict(zip("xyz", map(float, eye), strict=True)),
+        "up": {"x": 0, "y": 0, "z": 1},
+        "projection": {"type": "orthographic"},
+    }
     layout = go.Layout(
         title={"text": title, "x": 0.5},
-        scene={
-            "aspectmode": "data",
-            "xaxis": {"title": {"text": f"x [{unit}]"}, **axis},
-            "yaxis": {"title": {"text": f"y [{unit}]"}, **axis},
-            "zaxis": {"title": {"text": f"z [{unit}]"}, **axis},
-            "camera": {
-                "eye": dict(zip("xyz", map(float, eye), strict=True)),
-                "up": {"x": 0, "y": 0, "z": 1},
-                "projection": {"type": "orthographic"},
-            },
-        },
+        scene={"aspectmode": "data", "camera": camera, **axes},
         hoverlabel={"font": {"family": "monospace"}, "align": "left"},
         legend={"itemsizing": "constant"},
         margin={"l": 0, "r": 0, "t": 60, "b": 0},
     )
-    return go.Figure(data=traces, layout=layout)
+    return go.Figure(data=_traces(go, scene), layout=layout)
 
 
 def page(scene: Scene) -> str:
