@@ -21,8 +21,8 @@ CALL = "Plotly.newPlot("
 
 @dataclass(frozen=True)
 class Page:
-    """A page as read: its start tags with their attributes, its text (outside scripts and
-    styles), its scripts, and the figure: the plot call's arguments and the script's text
+    """A page as read: its start tags with their attributes, its text nodes (outside scripts
+    and styles, but for those of white space only), its scripts, and the figure: the plot call's arguments and the script's text
     around them."""
 
     tags: list[tuple[str, list[tuple[str, str | None]]]]
@@ -79,7 +79,7 @@ class _Reader(HTMLParser):
         if self._in == "script":
             self.scripts[-1] += data
         elif self._in is None and data.strip():
-            self.texts.append(data.strip())
+            self.texts.append(data)
 
 
 def _arguments(script: str) -> tuple[str, list[Any], tuple[str, str]]:
