@@ -22,8 +22,8 @@ CALL = "Plotly.newPlot("
 @dataclass(frozen=True)
 class Page:
     """A page as read: its start tags with their attributes, its text nodes (outside scripts
-    and styles, but for those of white space only), its scripts, and the figure: the plot call's arguments and the script's text
-    around them."""
+    and styles, but for those of white space only), its scripts, and the figure: the plot
+    call's arguments and the script's text around them."""
 
     tags: list[tuple[str, list[tuple[str, str | None]]]]
     texts: list[str]

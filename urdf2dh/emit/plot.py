@@ -1,7 +1,6 @@
 """``urdf2dh plot``: a table's frames as a picture (png, svg, pdf) or an interactive view (html).
 
->>> from urdf2dh import load, to_table
->>> from urdf2dh.emit.plot import plot
+>>> from urdf2dh import load, plot, to_table
 >>> html = plot(to_table(load("panda"), "mdh"), "html")   # one self-contained page
 """
 
