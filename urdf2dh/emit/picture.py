@@ -38,7 +38,7 @@ LABEL_SPACE = 2.0  # pixels kept between two labels' texts
 SLIDES = (0.0, 0.2, 0.4, 0.6, 0.8, 1.0)  # where along its arrow a label tries, per its reach
 LINE_STEP = 3.0  # pixels between the points of a drawn line that labels keep off
 PNG_DPI = 150
-ZOOM = 1.1  # of the 3-D box in its axes (matplotlib leaves room for ticks around it)
+ZOOM = 1.0  # of the 3-D box in its axes (matplotlib leaves room for ticks around it)
 TICKS = 5  # at most, on each axis
 BACKING = {"facecolor": "white", "alpha": 0.75, "edgecolor": "none", "pad": 0.3}  # under a label
 HEIGHT = 8.0  # inches
@@ -201,7 +201,7 @@ def draw(scene: Scene) -> tuple[Any, Any, list[Placed]]:
     lower, upper = _limits(scene)
     fig = figure_cls(figsize=_size(lower, upper, scene), dpi=100)
     canvas_cls(fig)
-    ax = fig.add_axes((0.0, 0.06, 1.0, 0.86), projection="3d", computed_zorder=False)
+    ax = fig.add_axes((0.0, 0.08, 1.0, 0.84), projection="3d", computed_zorder=False)
     ax.set_proj_type("ortho")
 
     ax.plot(*scene.links.T, color=COLOURS["link"], linewidth=2.5, marker="o", markersize=3.5,
