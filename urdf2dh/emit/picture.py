@@ -161,7 +161,7 @@ def _place(ax: Any, fig: Any, scene: Scene) -> list[Placed]:
     points = []
     for a, b in _segments(scene):
         pa, pb = pixels(a), pixels(b)
-        steps = int(min(np.linalg.norm(pb - pa) // LINE_STEP, 1000)) + 2
+        steps = min(int(float(np.linalg.norm(pb - pa)) // LINE_STEP), 1000) + 2
         points.append(pa + np.linspace(0.0, 1.0, steps)[:, None] * (pb - pa))
     crowd = _Crowd(np.vstack(points), fig.bbox.width, fig.bbox.height)
     placed: list[Placed] = []
