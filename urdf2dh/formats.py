@@ -4,8 +4,9 @@
 ``csv`` the same numbers flat; ``text`` and ``markdown`` are for people: angles in degrees,
 helix pitch in length per degree (the units of Wu 2019 Table II), units in the headers.
 Names from the source go through :mod:`urdf2dh.export.escape`: JSON and YAML escape them
-themselves, CSV quotes them, text shows them as :func:`~urdf2dh.errors.visible` text (one line,
-no terminal control characters) and Markdown escapes its markup too.
+themselves, CSV writes them as :func:`~urdf2dh.export.escape.csv_cell` does (visible text, no
+formula), text shows them as :func:`~urdf2dh.errors.visible` text (one line, no terminal control
+characters) and Markdown escapes its markup too.
 ``urdf`` and ``poe`` write the table's kinematics as a model instead: a URDF in metres
 (:mod:`urdf2dh.urdfwrite`) or a POE model file (SPEC §4, YAML).
 """
@@ -105,7 +106,7 @@ def _csv(table: Table) -> str:
     for label, joint, kind, pitch, scale, params, _ in _records(table):
         cells = [
             label,
-            csv_cell(joint, "joint"),
+            csv_cell(joint),
             kind,
             "" if pitch is None else repr(pitch),
             "" if scale is None else repr(scale),
