@@ -32,7 +32,21 @@ FORMATS = ("text", "json", "yaml", "csv", "markdown", "urdf", "poe")
 
 
 def render(table: Table, fmt: str) -> str:
-    """The table in format ``fmt`` (one of :data:`FORMATS`), ending with a newline."""
+    """The table in format ``fmt`` (one of :data:`FORMATS`), ending with a newline.
+
+    Raises ``TypeError`` for a ``table`` that is not a :class:`~urdf2dh.table.Table` (a POE
+    model is converted first: :func:`urdf2dh.to_table`), :class:`~urdf2dh.errors.UsageError`
+    for an unknown format (a ``ValueError`` too), :class:`~urdf2dh.errors.ExportError` for a
+    name the format cannot carry (``urdf``: a character XML 1.0 has no way to write).
+    """
+    from .checks import check_instance
+    from .table import Table
+
+    hint = "convert it first: urdf2dh.to_table(model, 'dh')"
+    check_instance(
+        table, Table, "render: table", hint if type(table).__name__ == "PoeModel" else ""
+    )
+    check_instance(fmt, str, "render: fmt")
     if fmt == "json":
         return json.dumps(table.to_dict(), indent=2) + "\n"
     if fmt == "yaml":
