@@ -253,7 +253,7 @@ def _finite(a: NDArray[np.float64], where: str) -> NDArray[np.float64]:
 
     if not np.isfinite(a).all():
         bad = tuple(int(i) for i in np.argwhere(~np.isfinite(a))[0])
-        raise ValueError(f"{where} must be finite; entry {bad} is {a[bad]!r}")
+        raise ValueError(f"{where} must be finite; entry {bad} is {float(a[bad])!r}")
     return a
 
 
