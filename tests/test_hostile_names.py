@@ -16,6 +16,7 @@ import csv
 import html
 import io
 import re
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -41,6 +42,7 @@ from lxml import etree
 from matlab_reader import read_matlab
 from safety import FORMULA, judge
 
+from urdf2dh import cli
 from urdf2dh.convert import to_table
 from urdf2dh.errors import ExportError, shown, visible
 from urdf2dh.export import escape as esc
@@ -308,3 +310,19 @@ def test_messages_show_names_on_one_line(text):
     assert visible(text).isprintable() and ast.literal_eval(repr(text)) == text
     if len(text) <= 120:
         assert shown(text) == repr(text)
+
+
+def test_measure_writes_names_as_csv_text_and_calibrate_reads_them_back(tmp_path, monkeypatch):
+    """``measure``'s header: each joint name as ``csv_cell`` writes it (visible text, a leading
+    ``'`` before a formula start), and ``calibrate`` finds the joints by those cells."""
+    hostile = ("=SUM(A1)", "\u202eevil\u202c", "a,b\"c", "\u200bzero\u00adsoft", "@x",
+               "\uff1dcmd\U000e0041")  # fmt: skip
+    names = replace(clean_names("ur5"), joints=hostile)
+    source = write_source(tmp_path, "ur5", names, "poe-json")
+    monkeypatch.chdir(tmp_path)
+    assert cli.main(["measure", source, "--configs", "40", "-o", "m.csv"]) == 0
+    header = next(csv.reader(io.StringIO((tmp_path / "m.csv").read_text(), newline="")))
+    assert header[:6] == ["'=SUM(A1)", "\\u202eevil\\u202c", 'a,b"c', "\\u200bzero\\xadsoft",
+                          "'@x", "'\uff1dcmd\\U000e0041"]  # fmt: skip
+    assert all(c.isprintable() and not c.startswith(FORMULA) for c in header)
+    assert cli.main(["calibrate", source, "m.csv", "-o", "back.yaml"]) == 0
