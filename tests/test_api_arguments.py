@@ -276,3 +276,14 @@ def test_every_public_callable_is_tried_here():
     public = {n for n in urdf2dh.__all__ if callable(getattr(urdf2dh, n))}
     assert public - {"Urdf2DhError"} <= tried, public - tried
     assert Row is urdf2dh.Row
+
+
+def test_export_checks_its_arguments():
+    from urdf2dh.export import export
+
+    refuses(lambda: export("ur5", "rtb"), TypeError, "export: model", "str 'ur5'")
+    refuses(lambda: export(MODEL, None), TypeError, "export: target must be a str, not None")
+    refuses(lambda: export(MODEL, "vrml"), UsageError, "unknown export target 'vrml'")
+    opw = urdf2dh.load("fanuc-m20ia")
+    refuses(lambda: export(opw, "opw", samples=0), ValueError, "export: samples", "not 0")
+    refuses(lambda: export(MODEL, "rtb", opts="mm"), TypeError, "export: opts must be a Options")

@@ -179,9 +179,10 @@ def check_count(value: Any, where: str, least: int = 1, most: int = MAX_SAMPLES)
     """``value`` as an int from ``least`` to ``most`` (not a bool, not a float)."""
     if isinstance(value, bool) or not isinstance(value, numbers.Integral):
         raise TypeError(f"{where} must be an integer, not {_got(value)}")
-    if not least <= value <= most:
-        raise ValueError(f"{where} must be from {least} to {most:,}, not {value}")
-    return int(value)
+    count = int(value)
+    if not least <= count <= most:
+        raise ValueError(f"{where} must be from {least} to {most:,}, not {count}")
+    return count
 
 
 def check_seed(value: Any, where: str) -> int:
