@@ -155,8 +155,12 @@ class RigidBodyTree:
                 "addBody", (Ref("robot"), Ref("body"), Ref("parent"))
             ):
                 assert body is not None and parent is not None and "joint" in body
+                # addBody refuses a body named as one in the tree (the base included), and a
+                # body whose joint is named as a joint in the tree
                 if body["name"] in self.bodies or body["name"] == self.base:
                     raise AssertionError(f"duplicate body name {body['name']}")
+                if body["joint"]["name"] in {b["joint"]["name"] for b in self.bodies.values()}:
+                    raise AssertionError(f"duplicate joint name {body['joint']['name']}")
                 body["parent"] = parent
                 self.bodies[body["name"]] = body
                 if body["joint"]["type"] != "fixed":

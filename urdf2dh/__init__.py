@@ -22,6 +22,7 @@ Twists are ``[w, v]`` (angular first); angles are radians; lengths are in the so
 
 from __future__ import annotations
 
+import os
 from typing import TYPE_CHECKING
 
 __version__ = "0.1.0"
@@ -82,7 +83,7 @@ def __getattr__(name: str) -> object:
 
 
 def load(
-    source: str,
+    source: str | os.PathLike[str],
     base: str | None = None,
     tip: str | None = None,
     ignore_mimic: bool = False,
@@ -108,8 +109,17 @@ def load(
     Raises
     ------
     Urdf2DhError
-        A one-line message naming the file, link or joint at fault.
+        A one-line message naming the file, link or joint at fault (:class:`SourceError` for
+        a SOURCE that is empty or names neither a file nor a bundled robot).
+    TypeError
+        An argument of the wrong type (``source`` neither text nor a path, ``ignore_mimic``
+        not a bool).
     """
+    from .checks import check_flag, check_optional_name, check_source
     from .sources import open_source
 
+    source = check_source(source, "load: source")
+    base = check_optional_name(base, "load: base")
+    tip = check_optional_name(tip, "load: tip")
+    ignore_mimic = check_flag(ignore_mimic, "load: ignore_mimic")
     return open_source(source).model(base, tip, ignore_mimic)

@@ -14,21 +14,40 @@ import os
 import signal
 import sys
 import warnings
+from typing import Any
 
 from . import __version__, options
 from .commands import COMMANDS
 from .conventions import NAMES, STYLES
 from .errors import Urdf2DhError
 from .export import TARGETS
+from .files import drop_stdout, flush_stdout, write_stdout
 from .formats import FORMATS
 from .tolerances import DIFF_ANGLE_DEG, DIFF_LENGTH_M
 
 __all__ = ["get_argument_parser", "main"]
 
 
+class ArgumentParser(argparse.ArgumentParser):
+    """argparse's parser, except that help, usage and version text that cannot be written to
+    stdout (a full disk, ``> /dev/full``) is an error, as any other failed write
+    (:func:`urdf2dh.files.write_stdout`); argparse itself ignores it. Every command's parser is
+    one (``add_subparsers`` makes its parsers of the parent's class)."""
+
+    def _print_message(self, message: str, file: Any = None) -> None:
+        # the one place argparse writes: help, usage, --version and its error messages
+        if not message or file is not sys.stdout:
+            super()._print_message(message, file)
+            return
+        try:
+            write_stdout(message)
+        except BrokenPipeError:  # the reader went away (`| head`): not an error
+            drop_stdout()
+
+
 def get_argument_parser() -> argparse.ArgumentParser:
     """The argument parser of the ``urdf2dh`` command."""
-    parser = argparse.ArgumentParser(
+    parser = ArgumentParser(
         prog="urdf2dh",
         description="Turn a robot's URDF (or POE model) into exact Denavit-Hartenberg, "
         "modified D-H and CPC tables, checked against the source and against Pinocchio.",
@@ -199,6 +218,15 @@ def _one_line(text: str) -> str:
     return "".join(c if c.isprintable() or c == " " else repr(c)[1:-1] for c in text)
 
 
+def _report(e: Urdf2DhError) -> int:
+    """Print ``e`` on one line of stderr; its exit code."""
+    try:
+        print(f"urdf2dh: error: {_one_line(str(e))}", file=sys.stderr)
+    except OSError:  # stderr too cannot be written: the exit code still says it
+        pass
+    return e.exit_code
+
+
 def _terminate(signum: int, frame: object) -> None:
     raise SystemExit(128 + signum)  # unwinds like Ctrl-C: temporary files are removed
 
@@ -206,10 +234,13 @@ def _terminate(signum: int, frame: object) -> None:
 def main(argv: list[str] | None = None) -> int:
     """Run the command line; returns the exit code."""
     parser = get_argument_parser()
-    args = parser.parse_args(argv)
-    if args.command is None:
-        parser.print_help()
-        return 2
+    try:
+        args = parser.parse_args(argv)  # --help, --version and bad usage exit here
+        if args.command is None:
+            parser.print_help()
+            return 2
+    except Urdf2DhError as e:  # help or usage that could not be written
+        return _report(e)
     try:
         previous = signal.signal(signal.SIGTERM, _terminate)
     except ValueError:  # not the main thread: the caller handles its signals
@@ -219,15 +250,16 @@ def main(argv: list[str] | None = None) -> int:
             # numerical trouble is reported by the checks (a one-line error), never as a
             # library's warning text
             warnings.simplefilter("ignore")
-            return COMMANDS[args.command](args)
+            code = COMMANDS[args.command](args)
+        flush_stdout()  # what the command printed is written, or the run fails
+        return code
     except Urdf2DhError as e:
-        print(f"urdf2dh: error: {_one_line(str(e))}", file=sys.stderr)
-        return e.exit_code
+        return _report(e)
     except KeyboardInterrupt:
         return 130
     except BrokenPipeError:
         # the reader went away (`| head`); keep Python from complaining at exit
-        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        drop_stdout()
         return 0
     except RecursionError:
         print("urdf2dh: error: input nested too deeply", file=sys.stderr)

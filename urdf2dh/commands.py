@@ -11,7 +11,7 @@ import sys
 from typing import Any
 
 from .calibrate.cli import COMMANDS as calibration_commands
-from .files import write_output
+from .files import write_output, write_stdout
 from .options import tolerances, xacro_options
 
 __all__ = ["COMMANDS"]
@@ -22,6 +22,11 @@ def _open(args: argparse.Namespace, tol: Any = None) -> Any:
     from .tolerances import DEFAULT
 
     return open_source(args.source, tol or DEFAULT, xacro=xacro_options(args))
+
+
+def _say(line: str = "") -> None:
+    """A line of a command's report on stdout, written now (a failed write is an error)."""
+    write_stdout(line + "\n")
 
 
 # --------------------------------------------------------------------------- commands
@@ -107,7 +112,7 @@ def _verify(args: argparse.Namespace) -> int:
     if not _several(args):
         model = source.model(args.base, _one_tip(args), args.ignore_mimic)
         if _verify_chain(args, source, model, tol):
-            print("verify: all conventions agree with Pinocchio")
+            _say("verify: all conventions agree with Pinocchio")
             return 0
         return 1
     from .tips import TipError, naming_tip
@@ -116,7 +121,7 @@ def _verify(args: argparse.Namespace) -> int:
     failed = []
     for i, model in enumerate(models):
         if i:
-            print()
+            _say()
         try:
             with naming_tip(model.tip_link):
                 ok = _verify_chain(args, source, model, tol)
@@ -136,7 +141,7 @@ def _verify(args: argparse.Namespace) -> int:
             file=sys.stderr,
         )
         return 1
-    print(f"verify: all conventions agree with Pinocchio on all {len(models)} chains")
+    _say(f"verify: all conventions agree with Pinocchio on all {len(models)} chains")
     return 0
 
 
@@ -148,19 +153,19 @@ def _verify_chain(args: argparse.Namespace, source: Any, model: Any, tol: Any) -
     results = verify(source, model, args.samples, args.seed, tol, check_samples=args.check_samples)
     unit, size = v(model.length_unit), model.size()
     chain = f"{v(model.base_link)} -> {v(model.tip_link)}, " if model.base_link else ""
-    print(
+    _say(
         f"{v(source.name)}: {chain}{model.n} joints; against Pinocchio at {args.samples} "
         f"configurations (seed {args.seed}); robot size {size:.4g} {unit}"
     )
-    print(f"  {'model':<10} {'position error':>16} {'relative':>10} {'rotation error':>16}  result")
+    _say(f"  {'model':<10} {'position error':>16} {'relative':>10} {'rotation error':>16}  result")
     for r in results:
-        print(
+        _say(
             f"  {r.label:<10} {r.position:>13.2e} {unit:<2} {r.position / size:>10.2e} "
             f"{r.rotation:>12.2e} rad  {'ok' if r.ok else 'FAILED'}"
         )
     for r in results:
         for w in r.table.warnings if r.table is not None else ():
-            print(f"  warning: {v(w)}")
+            _say(f"  warning: {v(w)}")
     failed = [r.label for r in results if not r.ok]
     if failed:
         where = f" on {chain[:-2]}" if chain and _several(args) else ""
@@ -203,7 +208,7 @@ def _info(args: argparse.Namespace) -> int:
     from .info import describe
 
     source = _open(args)
-    sys.stdout.write(describe(source, args.base, args.tip, args.ignore_mimic))
+    write_stdout(describe(source, args.base, args.tip, args.ignore_mimic))
     return 0
 
 
@@ -277,9 +282,11 @@ def _robots(args: argparse.Namespace) -> int:
     from .catalog import ROBOTS
 
     width = max(len(n) for n in ROBOTS)
+    lines = []
     for r in ROBOTS.values():
         chain = f"{r.base} -> {r.tip}" if r.base else "POE model"
-        print(f"{r.name:<{width}}  {r.description}  [{chain}]")
+        lines.append(f"{r.name:<{width}}  {r.description}  [{chain}]\n")
+    write_stdout("".join(lines))
     return 0
 
 

@@ -21,6 +21,7 @@ __all__ = [
     "NOISE_FLOOR",
     "QUATERNION_NORM",
     "RANK_RELATIVE",
+    "RIGID_INPUT",
     "Tolerances",
 ]
 
@@ -60,6 +61,14 @@ RANK_RELATIVE = 1e-10
 # Noise levels estimated from residuals (or given as 0) are raised to this x robot size
 # (position) and this (rad, rotation), so that noise-free data keeps finite weights.
 NOISE_FLOOR = 1e-14
+
+# ----------------------------------------------------------------------------- the Python API
+
+# A joint axis given to the Python API (urdf2dh.screws.Joint) is a unit vector, and a pose
+# (PoeModel.home) a rigid transform, within this: what float arithmetic leaves of one (1e-15),
+# far below any typed-in rounding (0.7071 is 1e-5 off), which the files' readers orthonormalise
+# with a warning instead (Tolerances.rotation_input).
+RIGID_INPUT = 1e-9
 
 
 @dataclass(frozen=True, slots=True)
@@ -155,6 +164,8 @@ class Tolerances:
             value = getattr(self, f.name)
             if f.name == "intersect_distance" and value is None:
                 continue
+            if isinstance(value, bool) or not isinstance(value, int | float):
+                raise TypeError(f"tolerance {f.name} must be a number, not {value!r}")
             if f.name == "cpc_reverse_below":  # a cosine
                 if not -1.0 <= value <= 0.0:
                     raise ValueError(f"cpc_reverse_below must lie in [-1, 0], not {value!r}")

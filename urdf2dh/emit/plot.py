@@ -18,7 +18,16 @@ FORMATS = ("png", "svg", "pdf", "html")
 def plot(table: Table, fmt: str = "png") -> bytes:
     """``table``'s frames at home drawn as ``fmt`` (one of :data:`FORMATS`): a picture by
     :mod:`.picture` (matplotlib) or an HTML page by :mod:`.view` (plotly). A chain of more
-    than :data:`~.scene.MAX_JOINTS` joints is refused (:class:`~urdf2dh.errors.InputError`)."""
+    than :data:`~.scene.MAX_JOINTS` joints is refused (:class:`~urdf2dh.errors.InputError`).
+
+    Raises ``TypeError`` for a ``table`` that is not a :class:`~urdf2dh.table.Table` (a POE model
+    is converted first: :func:`urdf2dh.to_table`) or a ``fmt`` that is not a string.
+    """
+    from ..checks import check_instance
+
+    hint = "convert it first: urdf2dh.to_table(model, 'dh')"
+    check_instance(table, Table, "plot: table", hint if type(table).__name__ == "PoeModel" else "")
+    check_instance(fmt, str, "plot: fmt")
     if fmt not in FORMATS:
         raise UsageError(f"unknown plot format '{fmt}'; valid: {choices(FORMATS)}")
     shown = scene(table)
