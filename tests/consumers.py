@@ -36,6 +36,26 @@ import numpy as np
 from hal_reader import read_hal
 from matlab_reader import Call, Chars, Ref, Str, read_matlab
 
+# --------------------------------------------------------------------------- the report
+
+REPORT_ENV = "URDF2DH_CONSUMER_REPORT"
+
+
+def report(target: str, consumer: str, errors: tuple[float, float], size: float) -> None:
+    """Record a target's worst FK error against Pinocchio in its consumer (position relative
+    to the robot's size, rotation in radians) in the file ``$URDF2DH_CONSUMER_REPORT`` names,
+    one JSON line each, for scripts/check-consumers' summary; nothing when it is unset."""
+    import os
+
+    path = os.environ.get(REPORT_ENV)
+    if not path:
+        return
+    record = {"target": target, "consumer": consumer, "position": errors[0] / size}
+    record["rotation"] = errors[1]
+    with open(path, "a") as f:
+        f.write(json.dumps(record) + "\n")
+
+
 # --------------------------------------------------------------------------- elementary transforms
 
 
@@ -270,6 +290,17 @@ class GenserHal:
     links: list[tuple[float, float, float]]
     feedback: dict[int, tuple[float, float]]
     command: dict[int, tuple[float, float]]
+    world: np.ndarray  # the base link's pose of LinuxCNC's world frame, as the file states it
+    tool: np.ndarray  # the tip in the frame whose pose LinuxCNC reports, as the file states it
+
+    def tip_poses(self, reported: np.ndarray, metres: float = 1.0) -> np.ndarray:
+        """The tip's poses in the base link from the poses LinuxCNC reports (lengths times
+        ``metres``)."""
+        world, tool = self.world.copy(), self.tool.copy()
+        world[:3, 3] *= metres
+        out = np.array(reported, dtype=float)
+        out[..., :3, 3] *= metres
+        return world @ out @ tool
 
     def angles(self, q_deg: np.ndarray) -> np.ndarray:
         """genserkins' joints for drive positions ``q`` (degrees): HAL's ``scale`` is
@@ -322,7 +353,16 @@ def genserkins_hal(hal: str) -> GenserHal:
         way, i = re.fullmatch(r"urdf2dh-(fb|cmd)-([0-5])", name).groups()  # type: ignore[union-attr]
         maps[way][int(i)] = (values[f"{name}.gain"], values[f"{name}.offset"])
     assert maps["fb"].keys() == maps["cmd"].keys(), loaded
-    return GenserHal(links, maps["fb"], maps["cmd"])  # type: ignore[arg-type]
+    notes = "".join(c[1:] if c.startswith(" ") else c for c in read_hal(hal).comments)
+    world, tool = np.eye(4), np.eye(4)
+    number = r"(-?[0-9.]+(?:e[-+][0-9]+)?)"
+    m = re.search(rf"= Rz\({number} deg\) Tz\({number} (?:mm|inch)\) \. pose LinuxCNC", notes)
+    if m:
+        world = rz(math.radians(float(m[1]))) @ tr(z=float(m[2]))
+    m = re.search(rf"pose LinuxCNC reports \. Rx\({number} deg\) Rz\({number} deg\)", notes)
+    if m:
+        tool = rx(math.radians(float(m[1]))) @ rz(math.radians(float(m[2])))
+    return GenserHal(links, maps["fb"], maps["cmd"], world, tool)  # type: ignore[arg-type]
 
 
 def genserkins_links(hal: str) -> list[tuple[float, float, float]]:
