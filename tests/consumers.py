@@ -439,6 +439,60 @@ def _xyzabc(x: float, y: float, z: float, a: float, b: float, c: float) -> np.nd
     return out
 
 
+# --------------------------------------------------------------------------- Octave
+
+OCTAVE_DIR = Path(__file__).with_name("octave")  # corke/, rst/: our classes, from the docs
+
+
+def octave_version() -> str | None:
+    """GNU Octave's version where ``octave`` is on PATH (Debian's package), else ``None``."""
+    if shutil.which("octave") is None:
+        return None
+    proc = subprocess.run(
+        ["octave", "--no-gui", "--no-window-system", "--quiet", "--eval", "disp(version())"],
+        capture_output=True, text=True, timeout=120,
+    )  # fmt: skip
+    return proc.stdout.strip() if proc.returncode == 0 else None
+
+
+def run_octave(jobs: list[tuple[str, str, str, np.ndarray]]) -> list[np.ndarray]:
+    """Run generated MATLAB scripts in GNU Octave, one session for all: each job is ``(kind,
+    script, tip, q (N, n))`` with kind ``corke`` (``robot.fkine(q)``, Corke's ``SerialLink``)
+    or ``rst`` (``getTransform(robot, q, tip)``, a ``rigidBodyTree``); the classes are ours,
+    written from the published definitions (tests/octave/). Returns each job's poses
+    ``(N, 4, 4)``, printed by Octave with 17 significant digits."""
+    with tempfile.TemporaryDirectory() as work:
+        driver = [f"addpath('{OCTAVE_DIR / 'corke'}'); addpath('{OCTAVE_DIR / 'rst'}');"]
+        for k, (kind, script, tip, q) in enumerate(jobs):
+            Path(work, f"job{k}.m").write_text(script)
+            np.savetxt(Path(work, f"q{k}.txt"), np.atleast_2d(q), fmt="%.17g")
+            fk = (
+                "robot.fkine(Q(i, :))"
+                if kind == "corke"
+                else f"getTransform(robot, Q(i, :), '{tip}')"
+            )
+            driver.append(
+                f"clear robot L; source('{work}/job{k}.m'); Q = dlmread('{work}/q{k}.txt');"
+                f"f = fopen('{work}/pose{k}.txt', 'w');"
+                f"for i = 1:rows(Q), T = {fk}; fprintf(f, '%.17g ', T(1:3, :)'); "
+                "fprintf(f, '\\n'); end; fclose(f);"
+            )
+        Path(work, "driver.m").write_text("\n".join(driver) + "\nexit(0);\n")
+        proc = subprocess.run(
+            ["octave", "--no-gui", "--no-window-system", "--quiet", f"{work}/driver.m"],
+            capture_output=True, text=True, timeout=900, cwd=work,
+        )  # fmt: skip
+        if proc.returncode != 0:
+            raise AssertionError(f"octave failed:\n{proc.stdout[-3000:]}\n{proc.stderr[-3000:]}")
+        out = []
+        for k in range(len(jobs)):
+            rows = np.loadtxt(Path(work, f"pose{k}.txt"), ndmin=2).reshape(-1, 3, 4)
+            poses = np.zeros((rows.shape[0], 4, 4))
+            poses[:, :3], poses[:, 3, 3] = rows, 1.0
+            out.append(poses)
+    return out
+
+
 # --------------------------------------------------------------------------- KDL
 
 
