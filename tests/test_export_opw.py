@@ -12,10 +12,12 @@ import math
 import re
 import sys
 from dataclasses import replace
+from importlib.metadata import version as metadata_version
 
 import numpy as np
 import pytest
 import yaml
+from consumers import report
 from oracle import EXACT, assert_fk_matches, pin_reference
 
 from urdf2dh.catalog import ROBOTS, our_robots_dir
@@ -117,7 +119,7 @@ def test_consumer_fk_and_ik_match_pinocchio(robot):
         rot=EXACT + 1.5 * rot,
     )
     miss = ik_misses(opw, base, tool, reference, q)
-    print(f"{robot}: FK {err[0] / size:.2g} x size, {err[1]:.2g} rad; IK {miss:.2g} rad")
+    report("opw", f"py-opw-kinematics {metadata_version('py-opw-kinematics')}", err, size)
     assert miss <= IK_ANGLE, f"{robot}: IK misses a sampled configuration by {miss:.3g} rad"
 
 

@@ -7,6 +7,7 @@ from __future__ import annotations
 import math
 import subprocess
 import sys
+from importlib.metadata import version as metadata_version
 from pathlib import Path
 
 import numpy as np
@@ -21,6 +22,7 @@ from consumers import (
     genserkins_links,
     kdl_fk,
     real_pykdl,
+    report,
 )
 from oracle import assert_fk_matches, pin_reference
 
@@ -34,6 +36,7 @@ DATA = Path(__file__).parent / "data"
 AGREE = 1e-9  # the bound: every target matches Pinocchio to this
 ROBOTS = ["ur5", "panda", "kinova", "stanford", "scara", "tiago-arm", "puma560-nominal"]
 PYKDL = real_pykdl()
+PYKDL_VERSION = getattr(PYKDL, "__version__", "?") + " (Debian's python3-pykdl)"
 
 
 def _random_source(seed: int) -> tuple[Source, object]:
@@ -82,8 +85,11 @@ def test_toolbox_targets_move_like_pinocchio(case, convention):
     size = model.size()
     label = f"{case} {convention}"
     scripts = {t: export(model, t, convention) for t in ("rtb", "kdl", "matlab", "corke-matlab")}
-    assert_fk_matches(
+    errors = assert_fk_matches(
         f"rtb {label}", _rtb_fk(scripts["rtb"], q), reference, size, q, rel=AGREE, rot=AGREE
+    )
+    report(
+        "rtb", f"roboticstoolbox-python {metadata_version('roboticstoolbox-python')}", errors, size
     )
     assert_fk_matches(
         f"kdl (as documented) {label}",
@@ -95,7 +101,7 @@ def test_toolbox_targets_move_like_pinocchio(case, convention):
         rot=AGREE,
     )
     if PYKDL is not None:
-        assert_fk_matches(
+        errors = assert_fk_matches(
             f"PyKDL {label}",
             kdl_fk(PYKDL, scripts["kdl"], q),
             reference,
@@ -104,6 +110,7 @@ def test_toolbox_targets_move_like_pinocchio(case, convention):
             rel=AGREE,
             rot=AGREE,
         )
+        report("kdl", f"PyKDL {PYKDL_VERSION}", errors, size)
     tip = model.tip_link or "tool"
     assert_fk_matches(
         f"matlab {label}",
