@@ -19,7 +19,7 @@ from ..formats import summary
 from ..mimic import Followed
 from ..se3 import pose_errors
 from ..table import Table
-from ..tolerances import DEFAULT, Tolerances
+from ..tolerances import DECIMAL_ROUND_OFF, DEFAULT, Tolerances
 
 __all__ = [
     "Numbers",
@@ -96,11 +96,12 @@ class Numbers:
     """How a target writes a table's numbers: round-off snapped as the table files snap it
     (:func:`~urdf2dh.conventions.base.written_angle`, :func:`~.written_length`: a length within
     ``written x size`` of 0, an angle within ``written`` of a multiple of pi/2, as that); then
-    a length as the shortest decimal within that same round-off and an angle to 15 significant
+    a length as the shortest decimal within the arithmetic's round-off
+    (:data:`~urdf2dh.tolerances.DECIMAL_ROUND_OFF` x size) and an angle to 15 significant
     digits. So files carry ``0``, ``0.39225`` and ``-0.035`` where the arithmetic left
     ``1.2e-16``, ``0.39225000000000004`` and ``-0.03500000000000005``, and read the same on
     every platform; genuine values (a rounded pi/2 leaving 4.9e-12 rad, a length 2.8e-13 m off
-    its decimal) are kept. A length moves by at most ``written x size`` (5.7e-14 x size)."""
+    its decimal, 600 mm as 23.6220472440945 inch) are kept."""
 
     size: float
     written: float
@@ -115,8 +116,8 @@ class Numbers:
 
     def length(self, x: float) -> float:
         """A length of the table, in the target's unit (times ``length_scale``)."""
-        within = self.written * self.size
-        return _shortest(written_length(x * self.length_scale, within), within)
+        x = written_length(x * self.length_scale, self.written * self.size)
+        return _shortest(x, DECIMAL_ROUND_OFF * self.size)
 
     def ang(self, x: float) -> str:
         """An angle's text."""
