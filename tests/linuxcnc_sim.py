@@ -69,6 +69,7 @@ class Session:
         self.log = open(os.path.join(workdir, "hal.log"), "w+")
         os.environ.update(self.env)  # the hal module and genserkins attach with the same
         self.genserkins: ctypes.CDLL | None = None
+        self.started = False  # only a realtime this session started is stopped
 
     def run(self, *argv: str) -> None:
         # rtapi_app stays running after `realtime start`: it must not hold a pipe of ours
@@ -82,7 +83,17 @@ class Session:
             raise RuntimeError(f"{' '.join(argv)} exited {proc.returncode}:\n{tail}")
 
     def start(self) -> None:
+        status = subprocess.run(
+            [REALTIME, "status"], env=self.env, stdin=subprocess.DEVNULL, stdout=self.log,
+            stderr=self.log, timeout=60,
+        )  # fmt: skip
+        if status.returncode == 0:  # never touch a LinuxCNC that is not ours
+            raise RuntimeError(
+                "LinuxCNC's realtime is already running on this machine (another LinuxCNC, or "
+                "a session left over); stop it with `halrun -U` and run again"
+            )
         self.run(REALTIME, "start")
+        self.started = True
         self.run("halcmd", "loadrt", "threads", "name1=servo-thread", "period1=1000000")
         ctypes.CDLL("liblinuxcnchal.so.0", mode=ctypes.RTLD_GLOBAL)
         self.genserkins = ctypes.CDLL(f"{MODULES}/genserkins.so", mode=ctypes.RTLD_GLOBAL)
@@ -93,6 +104,9 @@ class Session:
     def stop(self) -> None:
         if self.genserkins is not None:
             self.genserkins.rtapi_app_exit()
+        if not self.started:
+            self.log.close()
+            return
         for argv in (("halcmd", "stop"), ("halcmd", "unload", "all"), (REALTIME, "stop")):
             try:
                 self.run(*argv)
