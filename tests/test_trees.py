@@ -453,15 +453,20 @@ def test_verify_reports_each_chain(capsys, tree):
 def test_verify_exits_1_when_one_chain_disagrees(capsys, tree, monkeypatch):
     """Pinocchio's answer is shifted by 1 mm for the left chain only: that chain fails, the
     other is still reported."""
-    real = verify.pinocchio_fk
+    real = verify.pinocchio_evaluator
 
-    def shifted(source, model, q):
-        poses = real(source, model, q)
-        if model.tip_link == "left_tip":
-            poses[:, 0, 3] += 1e-3
-        return poses
+    def shifted(source, model):
+        evaluate = real(source, model)
 
-    monkeypatch.setattr(verify, "pinocchio_fk", shifted)
+        def moved(q):
+            poses = evaluate(q)
+            if model.tip_link == "left_tip":
+                poses[:, 0, 3] += 1e-3
+            return poses
+
+        return moved
+
+    monkeypatch.setattr(verify, "pinocchio_evaluator", shifted)
     code, out, err = run(capsys, "verify", tree, "--all-tips", "--samples", "5")
     assert code == 1
     assert "-> left_tip" in out and "-> right_tip" in out
