@@ -87,11 +87,11 @@ def get_argument_parser() -> argparse.ArgumentParser:
     p.add_argument(
         "-o",
         "--output",
-        metavar="FILE|DIR",
-        help="write to FILE instead of stdout; with several tips a directory, one "
-        "file per tip (DIR/<tip>.txt, .json, .yaml, .csv, .md, .urdf, "
-        ".poe.yaml), all or nothing; to stdout several tables go in text, "
-        "markdown, json (an object keyed by tip) or yaml (a document per tip)",
+        metavar="FILE|DIR/",
+        help="write to FILE instead of stdout; with several tips, FILE gets what stdout would "
+        "(text, markdown, json: an object keyed by tip, yaml: a document per tip) and DIR/ (a "
+        "trailing slash, or an existing directory) one file per tip (DIR/<tip>.txt, .json, "
+        ".yaml, .csv, .md, .urdf, .poe.yaml), all or nothing",
     )
     options.add_tolerances(p)
 
@@ -187,9 +187,10 @@ def get_argument_parser() -> argparse.ArgumentParser:
     p.add_argument(
         "-o",
         "--output",
-        metavar="FILE|DIR",
-        help="write to FILE instead of stdout; with several tips (required) a "
-        "directory: DIR/<tip> plus the target's suffix, all or nothing",
+        metavar="FILE|DIR/",
+        help="write to FILE instead of stdout; with several tips (required) a directory, "
+        "DIR/ (a trailing slash, or an existing directory): DIR/<tip> plus the target's "
+        "suffix, all or nothing",
     )
     options.add_tolerances(p)
 
