@@ -278,14 +278,14 @@ def verify(
         block = q[lo : lo + BLOCK]
         errors = chains_errors(chains, poe.positions(block), pinocchio(block))
         worst = np.maximum(worst, errors)  # NaN (a non-finite pose) stays NaN: a failure
-    model_errors, *table_errors = (tuple(float(e) for e in row) for row in worst)
+    (model_pos, model_rot), *table_errors = ((float(p), float(r)) for p, r in worst)
     base_pos = tol.check_position * poe.size() + _oracle_rounding(source, poe)
     base_rot = tol.check_rotation
-    results = [Result("POE model", *model_errors, base_pos, base_rot, None)]
-    for table, errors in zip(tables, table_errors, strict=True):
+    results = [Result("POE model", model_pos, model_rot, base_pos, base_rot, None)]
+    for table, (pos, rot) in zip(tables, table_errors, strict=True):
         declared = table.check or Check(0, 0.0, 0.0)
         results.append(Result(
-            table.convention, *errors,
+            table.convention, pos, rot,
             base_pos + declared.declared_position, base_rot + declared.declared_rotation, table,
         ))  # fmt: skip
     return results
