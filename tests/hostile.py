@@ -40,7 +40,7 @@ GEOMETRIES = {  # URDF file, base link, tip link
     "ur5": (robot_path(ROBOTS["ur5"]), "base_link", "tool0"),
 }
 KINDS = ("urdf", "poe-json", "poe-yaml")
-RUNS = [("export", t) for t in TARGETS] + [("convert", f) for f in FORMATS]
+RUNS = [("export", t) for t in TARGETS] + [("convert", f) for f in FORMATS] + [("plot", "html")]
 
 FRAGMENTS = (
     "'",

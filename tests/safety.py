@@ -23,8 +23,11 @@ import yaml
 from hal_reader import HalSyntaxError, read_hal
 from lxml import etree
 from matlab_reader import Call, Chars, MatlabSyntaxError, Str, read_matlab
+from view_reader import read_page
 
+from urdf2dh.emit.scene import short
 from urdf2dh.errors import visible
+from urdf2dh.export.escape import html_text
 
 LANGUAGE = {
     "rtb": "python",
@@ -41,6 +44,7 @@ LANGUAGE = {
     "text": "text",
     "markdown": "markdown",
     "opw": "yaml-comments",  # main's OPW target: YAML, names in comments only
+    "html": "html",  # plot's interactive view
 }
 FORMULA = ("=", "+", "-", "@", "\t", "\r")  # CSV: cells a spreadsheet reads as formulas
 # the self-check's measured errors (round-off of this machine; the unit may hold line breaks)
@@ -280,6 +284,31 @@ def _markdown(text: str, clean: str, names: dict[str, str]) -> None:
             raise Unsafe(f"Markdown element {g!r}, expected {w!r}")
 
 
+def _html(text: str, clean: str, names: dict[str, str]) -> None:
+    """An HTML view: the same elements and attributes, the same scripts but for the figure's
+    JSON, the page's text with the names as a picture shows them (:func:`short`, then
+    :func:`visible`), and every string of the figure with the names as :func:`html_text` writes
+    them (plotly reads those strings as HTML): no name adds a tag, an attribute, a script or
+    a line of code."""
+    try:
+        got, want = read_page(text), read_page(clean)
+    except (AssertionError, ValueError) as e:
+        raise Unsafe(f"the page does not read as a view: {e}") from e
+    if got.tags != want.tags:
+        raise Unsafe("the page's elements or attributes differ from the clean page's")
+    others = [s for s in got.scripts if "Plotly.newPlot(" not in s]
+    if others != [s for s in want.scripts if "Plotly.newPlot(" not in s]:
+        raise Unsafe("a script other than the figure's differs from the clean page's")
+    if got.around != want.around or got.div != want.div:
+        raise Unsafe("the figure's script differs from the clean page's around its data")
+    shown = {k: visible(short(v)) for k, v in names.items()}
+    if got.texts != [substitute(t, shown) for t in want.texts]:
+        raise Unsafe(f"page text {got.texts!r}, expected {want.texts!r} with the names")
+    written = {k: html_text(short(v)) for k, v in names.items()}
+    _same([got.data, got.layout, got.config], [want.data, want.layout, want.config], written,
+          "figure")  # fmt: skip
+
+
 JUDGES: dict[str, Callable[[str, str, dict[str, str]], None]] = {
     "python": _python,
     "matlab": _matlab,
@@ -291,6 +320,7 @@ JUDGES: dict[str, Callable[[str, str, dict[str, str]], None]] = {
     "csv": _csv,
     "text": _text,
     "markdown": _markdown,
+    "html": _html,
 }
 
 

@@ -42,6 +42,7 @@ from matlab_reader import read_matlab
 from safety import FORMULA, judge
 
 from urdf2dh.convert import to_table
+from urdf2dh.emit.scene import short
 from urdf2dh.errors import ExportError, shown, visible
 from urdf2dh.export import escape as esc
 from urdf2dh.export import export_table, table_choices
@@ -170,15 +171,18 @@ def test_the_classic_attacks_run_nothing_and_keep_their_names(tmp_path, monkeypa
 
 
 def test_plot_labels_take_any_name(tmp_path):
+    """The picture's title names the robot and its chain: as drawn, visible text (no
+    mathtext from ``$``), shortened; no name becomes SVG markup."""
     names = names_with("$\\evil{$\n--><script>x</script>", "genser6")
     source = write_source(tmp_path, "genser6", names, "urdf")
     got = run(tmp_path, source, "plot", "svg", names, "urdf")
     assert (got.code, got.stderr, got.crashed) == (0, "", None)
     svg = etree.fromstring(got.output)
     assert not [e for e in svg.iter() if "script" in str(e.tag)]
-    comments = [c.text for c in svg.iter(etree.Comment)]
-    label = "J1 " + visible(names.joints[0])  # as drawn: visible text, $ not math
-    assert label in [html.unescape(c).strip().replace("- -", "--") for c in comments]
+    comments = [html.unescape(c.text).strip().replace("- -", "--") for c in svg.iter(etree.Comment)]
+    title = f"{visible(short(names.robot))}: standard D-H frames at home"
+    chain = f"{visible(short(names.base))} -> {visible(short(names.tip))}"
+    assert title in comments and chain in comments  # (a comment per line)
 
 
 def test_a_hostile_length_unit_stays_in_its_place(tmp_path):

@@ -11,8 +11,9 @@ The pipeline, in the public names of this package:
 :func:`load` reads any SOURCE (URDF, xacro, POE file, table file, bundled robot) into a
 :class:`PoeModel`; :func:`to_table` converts it to a :class:`Table` in one of
 :data:`CONVENTIONS` and checks its forward kinematics against the model's; :func:`render`
-writes it. :meth:`Table.to_poe` goes back. Pinocchio cross-checks live in
-:mod:`urdf2dh.verify`, controller files in :mod:`urdf2dh.export`, the conventions themselves in
+writes it; :func:`plot` draws its frames (a picture, or an interactive view as an HTML page).
+:meth:`Table.to_poe` goes back. Pinocchio cross-checks live in :mod:`urdf2dh.verify`,
+controller files in :mod:`urdf2dh.export`, the conventions themselves in
 :mod:`urdf2dh.conventions`.
 
 Twists are ``[w, v]`` (angular first); angles are radians; lengths are in the source's unit
@@ -38,6 +39,7 @@ __all__ = [
     "Urdf2DhError",
     "__version__",
     "load",
+    "plot",
     "render",
     "to_table",
 ]
@@ -45,6 +47,7 @@ __all__ = [
 if TYPE_CHECKING:
     from .conventions import NAMES as CONVENTIONS
     from .convert import to_table
+    from .emit.plot import plot
     from .errors import Urdf2DhError
     from .formats import render
     from .screws import Joint, PoeModel
@@ -55,6 +58,7 @@ _LAZY = {
     "CONVENTIONS": ("conventions", "NAMES"),
     "to_table": ("convert", "to_table"),
     "render": ("formats", "render"),
+    "plot": ("emit.plot", "plot"),
     "Urdf2DhError": ("errors", "Urdf2DhError"),
     "Joint": ("screws", "Joint"),
     "PoeModel": ("screws", "PoeModel"),

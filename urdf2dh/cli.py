@@ -194,14 +194,17 @@ def get_argument_parser() -> argparse.ArgumentParser:
     )
     options.add_tolerances(p)
 
-    p = sub.add_parser("plot", help="draw the arm at home with its D-H frames (png, svg, pdf)")
+    p = sub.add_parser(
+        "plot", help="draw the arm at home with its frames (png, svg, pdf; html: interactive 3-D)"
+    )
     options.add_chain(p)
     p.add_argument(
         "-o",
         "--output",
         required=True,
         metavar="FILE",
-        help="image file; its suffix picks the format (.png, .svg, .pdf)",
+        help="output file; its suffix picks the format: .png, .svg, .pdf (a picture) or .html "
+        "(an interactive 3-D view in one self-contained page)",
     )
     p.add_argument(
         "--convention",

@@ -269,13 +269,25 @@ def _plot(args: argparse.Namespace) -> int:
     from pathlib import Path
 
     from .convert import to_table
-    from .plot import render
+    from .emit.plot import FORMATS, plot
+    from .emit.scene import check_size
+    from .errors import InputError, UsageError, choices, shown
 
     fmt = Path(args.output).suffix.lower().lstrip(".") or "png"
+    if fmt not in FORMATS:
+        raise UsageError(
+            f"plot: unknown format '.{fmt}' of -o {shown(args.output)}: its suffix picks the "
+            f"format, one of {choices(FORMATS)}"
+        )
     tol = tolerances(args)
-    model = _open(args, tol).model(args.base, args.tip, args.ignore_mimic)
+    source = _open(args, tol)
+    model = source.model(args.base, args.tip, args.ignore_mimic)
+    try:
+        check_size(len(model.joints))
+    except InputError as e:
+        raise InputError(f"{source.display}: {e} (pick a shorter chain with --base/--tip)") from e
     table = to_table(model, args.convention, tol, samples=args.check_samples, style=args.style)
-    write_output(render(table, fmt), args.output, [args.source])
+    write_output(plot(table, fmt), args.output, [args.source])
     return 0
 
 

@@ -25,7 +25,7 @@ from .units import DECIMALS
 if TYPE_CHECKING:
     from .table import Table
 
-__all__ = ["FORMATS", "fixed", "render", "summary"]
+__all__ = ["FORMATS", "fixed", "parameter_lines", "render", "summary"]
 
 FORMATS = ("text", "json", "yaml", "csv", "markdown", "urdf", "poe")
 
@@ -139,6 +139,19 @@ def _header(name: str, quantity: str, unit: str) -> str:
     if quantity == "direction":
         return name
     return f"{name} [{unit}]"
+
+
+def parameter_lines(params: Params, unit: str) -> list[str]:
+    """A record's parameters for people, one ``name [unit] = value`` line each, with the
+    headers, units and decimals of the text table (angles in degrees; a 3-vector in
+    parentheses)."""
+    out = []
+    for name, quantity in params.quantities().items():
+        value = getattr(params, name)
+        cells = [_cell(quantity, v, unit) for v in (value if isinstance(value, tuple) else [value])]
+        shown = cells[0] if len(cells) == 1 else "(" + ", ".join(cells) + ")"
+        out.append(f"{_header(name, quantity, unit)} = {shown}")
+    return out
 
 
 def _grid(table: Table, show: Callable[[str], str]) -> tuple[list[str], list[list[str]]]:

@@ -22,6 +22,12 @@ XML (URDF)          attributes with XML's escapes (:func:`xml_attribute`), refus
 Markdown            :func:`visible` text with its markup characters backslash-escaped
                     (:func:`markdown_text`)
 matplotlib          :func:`visible` text with ``$`` escaped (:func:`matplotlib_text`)
+HTML                :func:`visible` text with ``& < > " '`` as character references
+                    (:func:`html_text`): text and attribute values of a page, and the text of
+                    a plotly figure (titles, labels, hover), which plotly reads as HTML
+JavaScript          a page's only data is its plotly figure, which ``plotly.io.to_html``
+                    writes as JSON with ``< > /`` (and U+2028, U+2029) as ``\\u`` escapes, so
+                    no string ends the script or a line; its text is :func:`html_text`
 CSV                 RFC 4180 quoting (:func:`csv_cell`); a cell a spreadsheet would read as
                     a formula gets a leading ``'``
 ==================  =========================================================================
@@ -33,6 +39,7 @@ text of Python's ``repr`` without the quotes, so it stays on one line, shows wha
 
 from __future__ import annotations
 
+import html
 import re
 from collections.abc import Iterable
 
@@ -42,6 +49,7 @@ __all__ = [
     "HAL_LINE_BYTES",
     "csv_cell",
     "hal_comment",
+    "html_text",
     "markdown_text",
     "matlab_comment",
     "matlab_string",
@@ -204,6 +212,17 @@ def matplotlib_text(text: str) -> str:
     """``text`` as a matplotlib label (drawn with ``usetex=False``): :func:`visible` text with
     ``$`` as ``\\$``, so no name opens mathtext (whose parser fails on unknown commands)."""
     return visible(text).replace("$", "\\$")
+
+
+# --------------------------------------------------------------------------- HTML, JavaScript
+
+
+def html_text(text: str) -> str:
+    """``text`` as HTML text or a quoted attribute value: :func:`visible` text (one line, no
+    control characters) with ``& < > " '`` as character references, so no name opens a tag,
+    an entity or ends an attribute. plotly draws its titles, labels and hover text as HTML
+    (a few tags and the entities), so a figure's text is written with it too."""
+    return html.escape(visible(text), quote=True)
 
 
 # --------------------------------------------------------------------------- Markdown, CSV
