@@ -223,10 +223,10 @@ def test_ur_yaml_keeps_its_keys(tmp_path):
 
 def test_refusals_name_the_joint_on_one_line(tmp_path):
     source = write_source(tmp_path, "genser6", CLASSIC, "urdf")
-    got = run(tmp_path, source, "export", "linuxcnc", CLASSIC, "urdf", ["--style", "wu"])
+    got = run(tmp_path, source, "export", "linuxcnc", CLASSIC, "urdf", ["--convention", "dh"])
     assert got.code == 2 and got.output is None and got.stderr.count("\n") == 1
-    assert "genserkins has no theta offsets" in got.stderr
-    assert shown(CLASSIC.joints[4]) in got.stderr  # "j5\u2028x", U+2028 escaped
+    assert "linuxcnc takes mdh tables, not dh" in got.stderr
+    assert shown(CLASSIC.joints[0]) in got.stderr  # 'j1"\nsystem(...)%', its line break escaped
     # the chain the other way round (--base and --tip swapped): a chain error naming both
     swapped = [f"--base={CLASSIC.tip}", f"--tip={CLASSIC.base}"]
     got = run(tmp_path, source, "export", "ur", CLASSIC, "table", swapped)

@@ -25,7 +25,37 @@ from .files import drop_stdout, flush_stdout, write_stdout
 from .formats import FORMATS
 from .tolerances import DIFF_ANGLE_DEG, DIFF_LENGTH_M
 
-__all__ = ["get_argument_parser", "main"]
+__all__ = ["get_argument_parser", "main", "version_text"]
+
+#: What ``--version`` names besides urdf2dh: the distributions it runs on (PyPI names; the
+#: Pinocchio wheel is ``pin``).
+RUNS_ON = (("yourdfpy", "yourdfpy"), ("Pinocchio", "pin"), ("numpy", "numpy"), ("xacro", "xacro"))
+
+
+def version_text() -> str:
+    """``urdf2dh X (yourdfpy Y, Pinocchio Z, numpy W, xacro V; Python U)``, from the installed
+    distributions' metadata (nothing is imported)."""
+    from importlib.metadata import PackageNotFoundError, version
+
+    parts = []
+    for label, dist in RUNS_ON:
+        try:
+            parts.append(f"{label} {version(dist)}")
+        except PackageNotFoundError:
+            parts.append(f"{label} not installed")
+    python = ".".join(map(str, sys.version_info[:3]))
+    return f"urdf2dh {__version__} ({', '.join(parts)}; Python {python})"
+
+
+class _Version(argparse.Action):
+    """``--version``: the text is made only when asked for (metadata look-ups cost time)."""
+
+    def __init__(self, option_strings: list[str], dest: str, **kwargs: object) -> None:
+        super().__init__(option_strings, dest, nargs=0, help="show the versions and exit")
+
+    def __call__(self, parser: argparse.ArgumentParser, *args: object) -> None:
+        print(version_text())
+        parser.exit()
 
 
 class ArgumentParser(argparse.ArgumentParser):
@@ -52,7 +82,7 @@ def get_argument_parser() -> argparse.ArgumentParser:
         description="Turn a robot's URDF (or POE model) into exact Denavit-Hartenberg, "
         "modified D-H and CPC tables, checked against the source and against Pinocchio.",
     )
-    parser.add_argument("--version", action="version", version=f"urdf2dh {__version__}")
+    parser.add_argument("--version", action=_Version)
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
 
     p = sub.add_parser("convert", help="print or write the parameter table of a chain")
@@ -76,11 +106,11 @@ def get_argument_parser() -> argparse.ArgumentParser:
     p.add_argument(
         "-o",
         "--output",
-        metavar="FILE|DIR",
-        help="write to FILE instead of stdout; with several tips a directory, one "
-        "file per tip (DIR/<tip>.txt, .json, .yaml, .csv, .md, .urdf, "
-        ".poe.yaml), all or nothing; to stdout several tables go in text, "
-        "markdown, json (an object keyed by tip) or yaml (a document per tip)",
+        metavar="FILE|DIR/",
+        help="write to FILE instead of stdout; with several tips, FILE gets what stdout would "
+        "(text, markdown, json: an object keyed by tip, yaml: a document per tip) and DIR/ (a "
+        "trailing slash, or an existing directory) one file per tip (DIR/<tip>.txt, .json, "
+        ".yaml, .csv, .md, .urdf, .poe.yaml), all or nothing",
     )
     options.add_tolerances(p)
 
@@ -176,9 +206,10 @@ def get_argument_parser() -> argparse.ArgumentParser:
     p.add_argument(
         "-o",
         "--output",
-        metavar="FILE|DIR",
-        help="write to FILE instead of stdout; with several tips (required) a "
-        "directory: DIR/<tip> plus the target's suffix, all or nothing",
+        metavar="FILE|DIR/",
+        help="write to FILE instead of stdout; with several tips (required) a directory, "
+        "DIR/ (a trailing slash, or an existing directory): DIR/<tip> plus the target's "
+        "suffix, all or nothing",
     )
     options.add_tolerances(p)
 

@@ -44,7 +44,7 @@ def _several(args: argparse.Namespace) -> bool:
 
 
 def _chains(args: argparse.Namespace, source: Any, suffix: str | None = None) -> list[Any]:
-    """The models of a run over several chains; ``suffix``: of the files of ``-o DIR``, whose
+    """The models of a run over several chains; ``suffix``: of the files of ``-o DIR/``, whose
     names are checked before any conversion."""
     from .tips import chain_models, chain_tips, file_names
 
@@ -52,6 +52,20 @@ def _chains(args: argparse.Namespace, source: Any, suffix: str | None = None) ->
     if suffix is not None:
         file_names(source.display, tips, suffix)
     return chain_models(source, base, tips, args.ignore_mimic)
+
+
+def _per_chain(models: list[Any], what: str) -> Any:
+    """The chains of a run, with a progress bar on a terminal."""
+    from .progress import progress
+
+    return progress(models, len(models), what)
+
+
+def _to_directory(args: argparse.Namespace) -> bool:
+    """Whether a run over several chains writes one file per chain (``-o DIR/``)."""
+    from .tips import names_directory
+
+    return args.output is not None and names_directory(args.output)
 
 
 def _write_tips(
@@ -84,19 +98,20 @@ def _convert_tips(args: argparse.Namespace, tol: Any) -> int:
     from .formats import render
     from .tips import FORMAT_SUFFIXES, check_stdout_format, join_tables, naming_tip
 
-    if args.output is None:
+    directory = _to_directory(args)
+    if not directory:
         check_stdout_format(args.format)  # before any reading
     source = _open(args, tol)
     suffix = FORMAT_SUFFIXES[args.format]
-    models = _chains(args, source, suffix if args.output is not None else None)
+    models = _chains(args, source, suffix if directory else None)
     tables = []
-    for model in models:
+    for model in _per_chain(models, "convert"):
         with naming_tip(model.tip_link):
             tables.append(
                 to_table(model, args.convention, tol, samples=args.check_samples, style=args.style)
             )
-    if args.output is None:
-        write_output(join_tables(tables, args.format), None)
+    if not directory:  # stdout, or -o FILE: the one document
+        write_output(join_tables(tables, args.format), args.output, [args.source])
         return 0
     texts = []
     for model, table in zip(models, tables, strict=True):
@@ -119,7 +134,7 @@ def _verify(args: argparse.Namespace) -> int:
 
     models = _chains(args, source)
     failed = []
-    for i, model in enumerate(models):
+    for i, model in enumerate(_per_chain(models, "verify")):
         if i:
             _say()
         try:
@@ -219,8 +234,10 @@ def _export(args: argparse.Namespace) -> int:
     if args.units is not None and args.to != "linuxcnc":
         raise UsageError(f"--units applies to --to linuxcnc, not --to {args.to}")
     table_choices(args.to, args.convention, args.style)  # bad choices fail before any reading
-    if _several(args) and args.output is None:
-        raise UsageError("export with several tips writes one file per tip; give -o DIR")
+    if _several(args) and not _to_directory(args):
+        from .tips import DIRECTORY_HINT
+
+        raise UsageError(f"export with several tips writes one file per tip; give {DIRECTORY_HINT}")
     tol = tolerances(args)
     source = _open(args, tol)
     opts = Options(args.units, tol)
@@ -233,7 +250,8 @@ def _export(args: argparse.Namespace) -> int:
 
     suffix = TARGETS[args.to].suffix
     texts = []
-    for model in _chains(args, source, suffix):
+    models = _chains(args, source, suffix)
+    for model in _per_chain(models, "export"):
         with naming_tip(model.tip_link):
             texts.append(
                 (

@@ -32,6 +32,10 @@ EPS = sys.float_info.epsilon  # float64's; not numpy's, so that `urdf2dh --help`
 # one ulp off its decimal) that would change the hash's %g text; 1e-10 is far below the 6
 # significant digits the hash sees and far above round-off.
 HASH_DECIMALS = 10
+# Exported files write a length as the shortest decimal within this x robot size of it: the
+# arithmetic's last few ulps (0.03500000000000003 -> 0.035), far below every tolerance, so that a
+# whole file's lengths move its forward kinematics by less than about 1e-14 x size.
+DECIMAL_ROUND_OFF = 4 * EPS
 
 # `diff` (and the calibration report's diff) marks changes beyond these by default: what a
 # calibration corrects beyond its measuring noise (0.1 mm, 0.01 deg at typical accuracies of
