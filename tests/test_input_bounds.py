@@ -184,12 +184,12 @@ def test_all_tips_is_bounded_by_the_joints_of_every_chain(tmp_path, capsys):
     path = tmp_path / "comb.urdf"
     path.write_text(comb_urdf(150))
     out = tmp_path / "out"
-    line = one_line_error(capsys, ["convert", str(path), "--all-tips", "-o", str(out)])
+    line = one_line_error(capsys, ["convert", str(path), "--all-tips", "-o", f"{out}/"])
     assert line == (
         f"urdf2dh: error: {path}: the 150 chains have 11,475 joints in all; one run converts "
         f"at most {JOINTS:,} (name fewer tips with --tip)"
     )
     assert not out.exists()
     path.write_text(comb_urdf(100))
-    assert main(["convert", str(path), "--all-tips", "-o", str(out)]) == 0
+    assert main(["convert", str(path), "--all-tips", "-o", f"{out}/"]) == 0
     assert len(os.listdir(out)) == 100

@@ -21,7 +21,7 @@ from urdf2dh.convert import sample_configurations
 from urdf2dh.poefile import read_poe
 from urdf2dh.sources import Source, open_source
 from urdf2dh.tolerances import EPS
-from urdf2dh.verify import _frame_poses, pinocchio_fk
+from urdf2dh.verify import _frame_poser, pinocchio_fk
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -38,7 +38,7 @@ def test_forward_kinematics_joint_by_joint_is_pinocchio_s_own(robot, monkeypatch
     configs = np.array([pin.randomConfiguration(model) for _ in range(20)])
     frames = [f for f in range(model.nframes) if model.frames[f].type == pin.FrameType.BODY]
     for frame in frames[:: max(1, len(frames) // 6)]:
-        ours = _frame_poses(pin, model, frame, configs)
+        ours = _frame_poser(pin, model)(frame, configs)
         for k, config in enumerate(configs):
             pin.forwardKinematics(model, data, config)
             theirs = pin.updateFramePlacement(model, data, frame).homogeneous

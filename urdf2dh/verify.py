@@ -28,15 +28,23 @@ from .bounds import PINOCCHIO_STACK, VERIFY_JOINTS
 from .conventions import NAMES
 from .convert import sample_configurations, to_table
 from .errors import InputError, shown
-from .fk import chains_errors
+from .fk import BLOCK, chains_errors
 from .mimic import Mimic, actuated
+from .progress import progress
 from .screws import PoeModel
 from .sources import Source
 from .table import Check, Table
 from .tolerances import DEFAULT, EPS, Tolerances
 from .urdf.chain import final_leader
 
-__all__ = ["Result", "check_verifiable", "native_stderr", "pinocchio_fk", "verify"]
+__all__ = [
+    "Result",
+    "check_verifiable",
+    "native_stderr",
+    "pinocchio_evaluator",
+    "pinocchio_fk",
+    "verify",
+]
 
 VERIFY_STREAM = 1  # verify's configurations: seeded by --seed, apart from the self-check's
 
@@ -227,27 +235,39 @@ def pinocchio_fk(source: Source, poe: PoeModel, q: Mat) -> Mat:
     """Pinocchio's pose ``(N, 4, 4)`` of the tip in the base link for configurations ``q``
     ``(N, dof)`` of the chain's actuated joints (mimic joints following them, other joints at
     their neutral position)."""
+    return pinocchio_evaluator(source, poe)(q)
+
+
+def pinocchio_evaluator(source: Source, poe: PoeModel) -> Callable[[Mat], Mat]:
+    """:func:`pinocchio_fk` of one chain as a function of the configurations, its Pinocchio
+    model built once for every block of configurations it is asked (``verify``'s blocks)."""
     pin = _pin()
     if source.kind == "urdf":
         model, mapping, base_f, tip_f, rows = _model_from_urdf(pin, source, poe)
     else:  # our own model of Pinocchio joints, one per row, driven with the mimic coupling
         model, mapping, base_f, tip_f = _model_from_poe(pin, poe)
         rows = True
-    if rows:
-        q = poe.positions(q)
-    configs = np.repeat(pin.neutral(model)[None], q.shape[0], axis=0)
-    for column, (idx, nq, scale, shift) in zip(q.T, mapping, strict=True):
-        value = scale * column + shift
-        if nq == 2:  # a continuous joint: (cos q, sin q)
-            configs[:, idx], configs[:, idx + 1] = np.cos(value), np.sin(value)
-        else:
-            configs[:, idx] = value
+    poses = _frame_poser(pin, model)
     # the base link lies above the chain, so its pose moves with none of the sampled joints
-    base = _frame_poses(pin, model, base_f, pin.neutral(model)[None])[0]
-    tip = _frame_poses(pin, model, tip_f, configs)
-    if np.array_equal(base, np.eye(4)):  # the base link is Pinocchio's root
-        return tip
-    return np.linalg.inv(base) @ tip
+    base = poses(base_f, pin.neutral(model)[None])[0]
+    base_inverse = pin.SE3(base).inverse().homogeneous
+
+    def evaluate(q: Mat) -> Mat:
+        if rows:
+            q = poe.positions(q)
+        configs = np.repeat(pin.neutral(model)[None], q.shape[0], axis=0)
+        for column, (idx, nq, scale, shift) in zip(q.T, mapping, strict=True):
+            value = scale * column + shift
+            if nq == 2:  # a continuous joint: (cos q, sin q)
+                configs[:, idx], configs[:, idx + 1] = np.cos(value), np.sin(value)
+            else:
+                configs[:, idx] = value
+        tip = poses(tip_f, configs)
+        if np.array_equal(base_inverse, np.eye(4)):  # the base link is Pinocchio's root
+            return tip
+        return base_inverse @ tip
+
+    return evaluate
 
 
 # Pinocchio's Data holds derivative tensors of nv^3 doubles: 58 MB at 100 joints, 8 GB at 500.
@@ -255,32 +275,42 @@ def pinocchio_fk(source: Source, poe: PoeModel, q: Mat) -> Mat:
 DATA_JOINTS = 100
 
 
-def _frame_poses(pin: Any, model: Any, frame: int, configs: Mat) -> Mat:
-    """Pinocchio's pose ``(N, 4, 4)`` of a frame at each configuration ``(N, nq)``.
+def _frame_poser(pin: Any, model: Any) -> Callable[[int, Mat], Mat]:
+    """A function of a frame and configurations ``(N, nq)`` giving Pinocchio's pose
+    ``(N, 4, 4)`` of the frame at each.
 
     Up to :data:`DATA_JOINTS` degrees of freedom, by ``forwardKinematics`` and
-    ``updateFramePlacement``; beyond, the same recursion along the frame's support with each
-    joint's own ``calc`` and one ``JointData`` per joint, ``oMi = oMi_parent . (jointPlacements[i]
-    . M_i(q))``, so that memory stays linear in the joints."""
-    out = np.empty((configs.shape[0], 4, 4))
+    ``updateFramePlacement`` on one ``Data``; beyond, the same recursion along the frame's
+    support with each joint's own ``calc`` and one ``JointData`` per joint, ``oMi = oMi_parent
+    . (jointPlacements[i] . M_i(q))``, so that memory stays linear in the joints."""
     if model.nv <= DATA_JOINTS:
         data = model.createData()
+
+        def by_data(frame: int, configs: Mat) -> Mat:
+            out = np.empty((configs.shape[0], 4, 4))
+            for k, config in enumerate(configs):
+                pin.forwardKinematics(model, data, config)
+                out[k] = pin.updateFramePlacement(model, data, frame).homogeneous
+            return out
+
+        return by_data
+
+    def joint_by_joint(frame: int, configs: Mat) -> Mat:
+        placement = model.frames[frame].placement
+        support = list(model.supports[model.frames[frame].parentJoint])[1:]  # 0: the universe
+        joints = [model.joints[i] for i in support]
+        steps = [model.jointPlacements[i] for i in support]
+        datas = [j.createData() for j in joints]
+        out = np.empty((configs.shape[0], 4, 4))
         for k, config in enumerate(configs):
-            pin.forwardKinematics(model, data, config)
-            out[k] = pin.updateFramePlacement(model, data, frame).homogeneous
+            pose = pin.SE3.Identity()
+            for joint, step, data in zip(joints, steps, datas, strict=True):
+                joint.calc(data, config)
+                pose = pose * (step * data.M)  # as Pinocchio: oMi = oMi_parent * liMi
+            out[k] = (pose * placement).homogeneous
         return out
-    placement = model.frames[frame].placement
-    support = list(model.supports[model.frames[frame].parentJoint])[1:]  # 0: the universe
-    joints = [model.joints[i] for i in support]
-    steps = [model.jointPlacements[i] for i in support]
-    datas = [j.createData() for j in joints]
-    for k, config in enumerate(configs):
-        pose = pin.SE3.Identity()
-        for joint, step, data in zip(joints, steps, datas, strict=True):
-            joint.calc(data, config)
-            pose = pose * (step * data.M)  # as Pinocchio: oMi = oMi_parent * liMi
-        out[k] = (pose * placement).homogeneous
-    return out
+
+    return joint_by_joint
 
 
 def _oracle_rounding(source: Source, poe: PoeModel) -> float:
@@ -338,17 +368,23 @@ def verify(
     """
     check_verifiable(source, poe)
     q = sample_configurations(poe, samples, (seed, VERIFY_STREAM))
-    reference = pinocchio_fk(source, poe, q)
     tables = [to_table(poe, conv, tol, samples=check_samples) for conv in conventions]
     chains = [poe.link_form(), *(t.link_form() for t in tables)]
-    model_errors, *table_errors = chains_errors(chains, poe.positions(q), reference)
+    worst = np.zeros((len(chains), 2))
+    pinocchio = pinocchio_evaluator(source, poe)
+    starts = range(0, q.shape[0], BLOCK)
+    for lo in progress(starts, len(starts), "verify"):  # a bar on a terminal
+        block = q[lo : lo + BLOCK]
+        errors = chains_errors(chains, poe.positions(block), pinocchio(block))
+        worst = np.maximum(worst, errors)  # NaN (a non-finite pose) stays NaN: a failure
+    (model_pos, model_rot), *table_errors = ((float(p), float(r)) for p, r in worst)
     base_pos = tol.check_position * poe.size() + _oracle_rounding(source, poe)
     base_rot = tol.check_rotation
-    results = [Result("POE model", *model_errors, base_pos, base_rot, None)]
-    for table, errors in zip(tables, table_errors, strict=True):
+    results = [Result("POE model", model_pos, model_rot, base_pos, base_rot, None)]
+    for table, (pos, rot) in zip(tables, table_errors, strict=True):
         declared = table.check or Check(0, 0.0, 0.0)
         results.append(Result(
-            table.convention, *errors,
+            table.convention, pos, rot,
             base_pos + declared.declared_position, base_rot + declared.declared_rotation, table,
         ))  # fmt: skip
     return results

@@ -33,6 +33,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import InputError, choices, shown
+from ..export.escape import csv_cell, csv_names
 from ..files import read_file
 from ..tolerances import QUATERNION_NORM
 
@@ -153,7 +154,7 @@ def read_measurements(
     header = next((r for r in reader if any(f.strip() for f in r)), None)
     if header is None:
         raise InputError(f"{display}: empty file (expected a header row and measurements)")
-    fields = [f.strip() for f in header]
+    fields = csv_names([f.strip() for f in header], joints)  # as written, or as csv_cell writes
     _header(fields, joints, display)
     col = {name: k for k, name in enumerate(fields)}
     has_quat, has_marker = "qw" in col, MARKER in col
@@ -218,15 +219,16 @@ def read_measurements(
 
 
 def write_measurements(m: Measurements) -> str:
-    """The CSV text of ``m`` (every number as the shortest text that reads back exactly)."""
+    """The CSV text of ``m`` (every number as the shortest text that reads back exactly, joint
+    names as :func:`~urdf2dh.export.escape.csv_cell` writes them)."""
     out = io.StringIO()
     writer = csv.writer(out, lineterminator="\n")
-    header = [*m.joints, *POINT]
+    header = [*(csv_cell(j) for j in m.joints), *POINT]
     if m.quaternions is not None:
         header += QUATERNION
     if m.markers is not None:
         header.append(MARKER)
-    writer.writerow(header)
+    out.write(",".join(header) + "\n")  # names as csv_cell writes them
     for k in range(len(m)):
         row = [repr(float(v) + 0.0) for v in (*m.q[k], *m.points[k])]
         if m.quaternions is not None:

@@ -44,6 +44,8 @@ __all__ = [
     "offset",
     "read_params",
     "unit_direction",
+    "written_angle",
+    "written_length",
 ]
 
 Quantity = Literal["angle", "length", "direction", "offset"]
@@ -123,11 +125,11 @@ class Params:
         for name, quantity in _layout(type(self)):
             value = getattr(self, name)
             if quantity == "angle":
-                values[name] = _snap_angle(value, angle)
+                values[name] = written_angle(value, angle)
             elif quantity == "length":
-                values[name] = _snap(value, (0.0,), length)
+                values[name] = written_length(value, length)
             elif quantity == "direction":
-                x, y, z = (_snap(c, (0.0,), angle) for c in value)
+                x, y, z = (written_length(c, angle) for c in value)
                 values[name] = unit_direction((x, y, z))
             else:
                 x, y, z = (_snap(c, (0.0,), length) for c in value)
@@ -173,7 +175,14 @@ def _snap(value: float, targets: tuple[float, ...], within: float) -> float:
     return value + 0.0  # -0.0 -> 0.0
 
 
-def _snap_angle(value: float, within: float) -> float:
+def written_length(value: float, within: float) -> float:
+    """A length as files write it: 0 when within ``within`` of 0, never ``-0.0``."""
+    return _snap(value, (0.0,), within)
+
+
+def written_angle(value: float, within: float) -> float:
+    """An angle as files write it: the multiple of pi/2 (in [-pi, pi], pi for -pi) when within
+    ``within`` of one, never ``-0.0``; other values are kept."""
     quarter = round(value / (0.5 * math.pi))
     if abs(value - quarter * 0.5 * math.pi) > within:
         return value + 0.0
