@@ -11,11 +11,10 @@ from __future__ import annotations
 
 import argparse
 import os
-import signal
 import sys
 import warnings
 
-from . import __version__, options
+from . import __version__, files, interrupts, options
 from .commands import COMMANDS
 from .conventions import NAMES, STYLES
 from .errors import Urdf2DhError
@@ -196,51 +195,66 @@ def _one_line(text: str) -> str:
     return "".join(c if c.isprintable() or c == " " else repr(c)[1:-1] for c in text)
 
 
-def _terminate(signum: int, frame: object) -> None:
-    raise SystemExit(128 + signum)  # unwinds like Ctrl-C: temporary files are removed
-
-
 def main(argv: list[str] | None = None) -> int:
-    """Run the command line; returns the exit code."""
+    """Run the command line; returns the exit code.
+
+    Ctrl-C and ``SIGTERM`` end the run with 130 and 143 and leave every output as it was
+    (:mod:`urdf2dh.interrupts`); no output replaces a file the run read (:mod:`urdf2dh.files`).
+    """
     parser = get_argument_parser()
     args = parser.parse_args(argv)
     if args.command is None:
         parser.print_help()
         return 2
-    try:
-        previous = signal.signal(signal.SIGTERM, _terminate)
-    except ValueError:  # not the main thread: the caller handles its signals
-        previous = None
+    with interrupts.handled(), files.one_run():
+        try:
+            code = _run(args)
+        except SystemExit as e:  # SIGTERM (interrupts.handled)
+            code = e.code if isinstance(e.code, int) else 2
+        return interrupts.exit_code(code)
+
+
+def _run(args: argparse.Namespace) -> int:
+    """The command, its errors turned into exit codes and one-line messages."""
     try:
         with warnings.catch_warnings():
             # numerical trouble is reported by the checks (a one-line error), never as a
             # library's warning text
             warnings.simplefilter("ignore")
-            return COMMANDS[args.command](args)
-    except Urdf2DhError as e:
-        print(f"urdf2dh: error: {_one_line(str(e))}", file=sys.stderr)
-        return e.exit_code
+            code: int = COMMANDS[args.command](args)
+        interrupts.check()  # a signal some library swallowed still ends the run
+        return code
     except KeyboardInterrupt:
         return 130
-    except BrokenPipeError:
+    except Exception as e:
+        if interrupts.pending():  # the aftermath of a signal some library swallowed
+            return 2  # main turns it into the signal's exit code
+        if os.environ.get("URDF2DH_DEBUG") and not isinstance(
+            e, Urdf2DhError | BrokenPipeError | RecursionError
+        ):
+            raise
+        return _report(e)
+
+
+def _report(e: Exception) -> int:
+    """The exit code of a run that raised ``e``; its message on stderr."""
+    if isinstance(e, Urdf2DhError):
+        print(f"urdf2dh: error: {_one_line(str(e))}", file=sys.stderr)
+        return e.exit_code
+    if isinstance(e, BrokenPipeError):
         # the reader went away (`| head`); keep Python from complaining at exit
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 0
-    except RecursionError:
+    if isinstance(e, RecursionError):
         print("urdf2dh: error: input nested too deeply", file=sys.stderr)
         return 2
-    except Exception as e:  # a bug, or bad input we failed to foresee: still no traceback
-        if os.environ.get("URDF2DH_DEBUG"):
-            raise
-        print(
-            f"urdf2dh: internal error: {type(e).__name__}: {_one_line(str(e))} (set "
-            "URDF2DH_DEBUG=1 for the traceback, and please report it)",
-            file=sys.stderr,
-        )
-        return 2
-    finally:
-        if previous is not None:
-            signal.signal(signal.SIGTERM, previous)
+    # a bug, or bad input we failed to foresee: still no traceback
+    print(
+        f"urdf2dh: internal error: {type(e).__name__}: {_one_line(str(e))} (set "
+        "URDF2DH_DEBUG=1 for the traceback, and please report it)",
+        file=sys.stderr,
+    )
+    return 2
 
 
 if __name__ == "__main__":  # pragma: no cover

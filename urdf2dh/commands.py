@@ -57,7 +57,7 @@ def _write_tips(
     from .tips import file_names
 
     names = file_names(source.display, [m.tip_link for m, _ in texts], suffix)
-    write_directory({names[m.tip_link]: text for m, text in texts}, args.output, [args.source])
+    write_directory({names[m.tip_link]: text for m, text in texts}, args.output)
 
 
 def _convert(args: argparse.Namespace) -> int:
@@ -70,7 +70,7 @@ def _convert(args: argparse.Namespace) -> int:
     source = _open(args, tol)
     model = source.model(args.base, _one_tip(args), args.ignore_mimic)
     table = to_table(model, args.convention, tol, samples=args.check_samples, style=args.style)
-    write_output(render(table, args.format), args.output, [args.source])
+    write_output(render(table, args.format), args.output)
     return 0
 
 
@@ -193,9 +193,7 @@ def _diff(args: argparse.Namespace) -> int:
         samples=args.check_samples,
         xacro=xacro_options(args),
     )
-    write_output(
-        render_diff(info, changes, pairs, args.format), args.output, [args.nominal, args.actual]
-    )
+    write_output(render_diff(info, changes, pairs, args.format), args.output)
     return 0
 
 
@@ -222,7 +220,7 @@ def _export(args: argparse.Namespace) -> int:
     if not _several(args):
         model = source.model(args.base, _one_tip(args), args.ignore_mimic)
         text = export(model, args.to, args.convention, args.style, opts, samples=args.check_samples)
-        write_output(text, args.output, [args.source])
+        write_output(text, args.output)
         return 0
     from .tips import naming_tip
 
@@ -257,7 +255,7 @@ def _plot(args: argparse.Namespace) -> int:
     tol = tolerances(args)
     model = _open(args, tol).model(args.base, args.tip, args.ignore_mimic)
     table = to_table(model, args.convention, tol, samples=args.check_samples, style=args.style)
-    write_output(render(table, fmt), args.output, [args.source])
+    write_output(render(table, fmt), args.output)
     return 0
 
 

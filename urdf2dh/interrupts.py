@@ -1,0 +1,102 @@
+"""Ctrl-C (``SIGINT``) and ``SIGTERM`` end a run, whatever a library does with the exception.
+
+Within :func:`handled` (the command line's run), a signal raises ``KeyboardInterrupt`` (Ctrl-C)
+or ``SystemExit(128 + signal)`` (``SIGTERM``) where the program is, as Python does, and is also
+recorded: a library that catches ``BaseException`` (trimesh does, around its optional imports,
+which yourdfpy runs) cannot make it go away. :func:`check` raises it again before any output is
+written, and :func:`exit_code` turns the run's exit code into ``128 + signal``.
+
+Outputs are put in place inside :func:`committing`: a signal recorded before it raises there,
+before anything is replaced; during it, a signal is recorded and waits (the renames are short;
+should one fail, the run ends with the signal's code); after it, the run has done its work, and
+a signal no longer changes the exit code: an exit of 130 always means that no output was
+changed.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import signal
+import threading
+from collections.abc import Iterator
+from types import FrameType
+
+__all__ = ["check", "committing", "exit_code", "handled", "pending"]
+
+SIGNALS = (signal.SIGINT, signal.SIGTERM)
+
+
+class _State:
+    active = False
+    received: int | None = None  # the first signal of the run
+    holding = False  # outputs are being put in place: a signal waits
+    committed = False  # they are
+
+
+_state = _State()
+
+
+def _raise(signum: int) -> None:
+    if signum == signal.SIGINT:
+        raise KeyboardInterrupt
+    raise SystemExit(128 + signum)
+
+
+def _handler(signum: int, frame: FrameType | None) -> None:
+    if _state.received is None:
+        _state.received = signum
+    if not (_state.committed or _state.holding):
+        _raise(signum)
+
+
+@contextlib.contextmanager
+def handled() -> Iterator[None]:
+    """Handle ``SIGINT`` and ``SIGTERM`` as the module docstring says, for the block (in the main
+    thread only; elsewhere the block runs as it is and the caller handles its signals)."""
+    if threading.current_thread() is not threading.main_thread() or _state.active:
+        yield
+        return
+    previous = {s: signal.signal(s, _handler) for s in SIGNALS}
+    _state.active, _state.received, _state.committed = True, None, False
+    try:
+        yield
+    finally:
+        for s, handler in previous.items():
+            signal.signal(s, handler)
+        _state.active = False
+
+
+def pending() -> bool:
+    """Whether a signal came during the run, before its outputs were written."""
+    return _state.active and _state.received is not None and not _state.committed
+
+
+def check() -> None:
+    """Raise the signal received during the run, if any (before writing an output)."""
+    if pending() and _state.received is not None:
+        _raise(_state.received)
+
+
+@contextlib.contextmanager
+def committing() -> Iterator[None]:
+    """The block that puts the run's outputs in place: a signal received before it raises here;
+    one received while it runs is recorded and raises nothing (the renames are short); once it
+    is done, the run's outputs are written."""
+    if not _state.active:
+        yield
+        return
+    check()
+    _state.holding = True
+    try:
+        yield
+        _state.committed = True
+    finally:
+        _state.holding = False
+
+
+def exit_code(code: int) -> int:
+    """The exit code of a run that would end with ``code``: ``128 + signal`` if a signal came
+    before its outputs were written."""
+    if pending() and _state.received is not None:
+        return 128 + _state.received
+    return code
