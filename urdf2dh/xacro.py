@@ -19,7 +19,7 @@ expansion read are inputs of the run (:func:`urdf2dh.files.note_input`): no outp
 
 from __future__ import annotations
 
-import importlib.util
+import importlib.machinery
 import json
 import math
 import os
@@ -87,24 +87,23 @@ READ_ROLE = "a file the xacro SOURCE read"
 
 def _module_dirs(display: str) -> list[str]:
     """The directories the child imports ``xacro`` and ``yaml`` from: where this interpreter
-    finds them, never the working directory."""
+    finds them on its ``sys.path``, the working directory left out (a module there is not
+    installed: it may be anybody's)."""
+    path = [p for p in sys.path if p and os.path.isabs(p) and not _is_cwd(p)]
     dirs = []
     for name in ("xacro", "yaml"):
-        try:
-            spec = importlib.util.find_spec(name)
-        except (ImportError, ValueError):
-            spec = None
-        origin = spec.origin if spec is not None else None
-        if origin is None or not os.path.isabs(origin):
+        blocked = name in sys.modules and sys.modules[name] is None  # `import` refuses it here
+        spec = None if blocked else importlib.machinery.PathFinder.find_spec(name, path)
+        if spec is None or spec.origin is None:
             if name == "xacro":
                 raise InputError(
                     f"{display}: reading .xacro files needs the xacro package; install it with: "
                     + INSTALL_HINT
                 )
             continue
-        top = Path(origin).parent if Path(origin).name == "__init__.py" else Path(origin)
-        directory = str(top.parent)
-        if not _is_cwd(directory):
+        top = Path(spec.origin).parent if Path(spec.origin).name == "__init__.py" else None
+        directory = str((top or Path(spec.origin)).parent)
+        if directory not in dirs:
             dirs.append(directory)
     return dirs
 

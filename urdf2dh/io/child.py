@@ -22,6 +22,8 @@ from dataclasses import dataclass
 __all__ = ["Finished", "Overflow", "TimedOut", "run"]
 
 CHUNK = 65536
+POLL = 0.02  # seconds between looks at whether the child has ended
+DRAIN = 0.05  # seconds to wait for more output once the child's group is dead
 
 
 @dataclass(frozen=True, slots=True)
@@ -82,8 +84,6 @@ def run(
         except BrokenPipeError:  # it ended without reading: its status says why
             pass
         out, err = _read(proc, deadline, stdout_limit, stderr_limit, tail)
-        _wait_unreaped(proc, deadline)
-        _kill_group(proc)
         return Finished(proc.wait(), out, err)
     finally:
         if proc.returncode is None:  # not reaped yet: its pid is still the group's id
@@ -94,57 +94,82 @@ def run(
                 stream.close()
 
 
+class _Outputs:
+    """What the child wrote, within the limits."""
+
+    def __init__(self, stdout_limit: int, stderr_limit: int, tail: int) -> None:
+        self.out, self.err, self.err_total = bytearray(), bytearray(), 0
+        self.stdout_limit, self.stderr_limit, self.tail = stdout_limit, stderr_limit, tail
+
+    def add(self, stream: str, chunk: bytes) -> None:
+        if stream == "stdout":
+            self.out += chunk
+            if len(self.out) > self.stdout_limit:
+                raise Overflow("stdout", self.stdout_limit)
+        else:
+            self.err_total += len(chunk)
+            self.err += chunk
+            del self.err[: -self.tail]
+            if self.err_total > self.stderr_limit:
+                raise Overflow("stderr", self.stderr_limit)
+
+
 def _read(
     proc: subprocess.Popen[bytes], deadline: float, stdout_limit: int, stderr_limit: int, tail: int
 ) -> tuple[bytes, bytes]:
-    """Both outputs, read as they come until both are closed."""
+    """Both outputs, read as they come until the child ends; then its group is killed (before
+    the child is reaped) and what is left in the pipes read."""
     assert proc.stdout is not None and proc.stderr is not None
-    out = bytearray()
-    err = bytearray()
-    err_total = 0
+    outputs = _Outputs(stdout_limit, stderr_limit, tail)
+    ended = False
     with selectors.DefaultSelector() as selector:
         selector.register(proc.stdout, selectors.EVENT_READ, "stdout")
         selector.register(proc.stderr, selectors.EVENT_READ, "stderr")
-        while selector.get_map():
+        while len(selector.get_map()) > 0:
+            if not ended and _ended(proc):
+                _kill_group(proc)  # whatever it started dies now, holding the pipes or not
+                ended = True
             remaining = deadline - time.monotonic()
             if remaining <= 0:
                 raise TimedOut()
-            for key, _ in selector.select(remaining):
+            ready = selector.select(min(remaining, POLL) if not ended else DRAIN)
+            if ended and not ready:  # its group is dead: all it wrote has been read
+                break
+            for key, _ in ready:
                 chunk = os.read(key.fd, CHUNK)
-                if not chunk:
-                    selector.unregister(key.fileobj)
-                elif key.data == "stdout":
-                    out += chunk
-                    if len(out) > stdout_limit:
-                        raise Overflow("stdout", stdout_limit)
+                if chunk:
+                    outputs.add(key.data, chunk)
                 else:
-                    err_total += len(chunk)
-                    err += chunk
-                    del err[:-tail]
-                    if err_total > stderr_limit:
-                        raise Overflow("stderr", stderr_limit)
-    return bytes(out), bytes(err)
+                    selector.unregister(key.fileobj)
+    if not ended:  # both pipes closed before it ended
+        _wait_unreaped(proc, deadline)
+        _kill_group(proc)
+    return bytes(outputs.out), bytes(outputs.err)
+
+
+def _ended(proc: subprocess.Popen[bytes]) -> bool:
+    """Whether the child has ended, without reaping it (its pid stays the group's id)."""
+    waitid = getattr(os, "waitid", None)
+    if waitid is None:  # no waitid (macOS): the pipes' end tells
+        return False
+    try:
+        return waitid(os.P_PID, proc.pid, os.WEXITED | os.WNOWAIT | os.WNOHANG) is not None
+    except ChildProcessError:  # reaped already (SIGCHLD ignored)
+        return True
 
 
 def _wait_unreaped(proc: subprocess.Popen[bytes], deadline: float) -> None:
-    """Wait for the child's end without reaping it, so that its process group id cannot be
-    taken by another process before the group is killed."""
-    waitid = getattr(os, "waitid", None)
-    while True:
-        if waitid is None:  # no waitid (macOS): reap, then kill what is left of the group
+    """Wait for the child's end (without reaping it where the system allows)."""
+    while not _ended(proc):
+        if getattr(os, "waitid", None) is None:
             try:
                 proc.wait(max(0.0, deadline - time.monotonic()))
             except subprocess.TimeoutExpired:
                 raise TimedOut() from None
             return
-        try:
-            if waitid(os.P_PID, proc.pid, os.WEXITED | os.WNOWAIT | os.WNOHANG) is not None:
-                return
-        except ChildProcessError:  # reaped already (SIGCHLD ignored): nothing to wait for
-            return
         if time.monotonic() >= deadline:
             raise TimedOut()
-        time.sleep(0.005)
+        time.sleep(POLL)
 
 
 def _kill_group(proc: subprocess.Popen[bytes]) -> None:
