@@ -14,19 +14,21 @@ import os
 import sys
 import warnings
 
-from . import __version__, files, interrupts, options
-from .commands import COMMANDS
-from .conventions import NAMES, STYLES
+from . import __version__, files, interrupts
 from .errors import Urdf2DhError
-from .export import TARGETS
-from .formats import FORMATS
-from .tolerances import DIFF_ANGLE_DEG, DIFF_LENGTH_M
 
-__all__ = ["get_argument_parser", "main"]
+__all__ = ["console", "get_argument_parser", "main"]
 
 
 def get_argument_parser() -> argparse.ArgumentParser:
     """The argument parser of the ``urdf2dh`` command."""
+    # imported here, not with this module: main() handles Ctrl-C from its first line on
+    from . import options
+    from .conventions import NAMES, STYLES
+    from .export import TARGETS
+    from .formats import FORMATS
+    from .tolerances import DIFF_ANGLE_DEG, DIFF_LENGTH_M
+
     parser = argparse.ArgumentParser(
         prog="urdf2dh",
         description="Turn a robot's URDF (or POE model) into exact Denavit-Hartenberg, "
@@ -201,15 +203,29 @@ def main(argv: list[str] | None = None) -> int:
     Ctrl-C and ``SIGTERM`` end the run with 130 and 143 and leave every output as it was
     (:mod:`urdf2dh.interrupts`); no output replaces a file the run read (:mod:`urdf2dh.files`).
     """
-    parser = get_argument_parser()
-    args = parser.parse_args(argv)
-    if args.command is None:
-        parser.print_help()
-        return 2
-    with interrupts.handled(), files.one_run():
+    return _main(argv, restore=True)
+
+
+def console() -> None:
+    """The ``urdf2dh`` program: :func:`main` on ``sys.argv``, then exit with its code; a signal
+    after the run changes nothing."""
+    sys.exit(_main(None, restore=False))
+
+
+def _main(argv: list[str] | None, restore: bool) -> int:
+    with interrupts.handled(restore), files.one_run():
         try:
+            parser = get_argument_parser()
+            args = parser.parse_args(argv)
+            if args.command is None:
+                parser.print_help()
+                return 2
             code = _run(args)
-        except SystemExit as e:  # SIGTERM (interrupts.handled)
+        except KeyboardInterrupt:  # while the parser was built
+            code = 130
+        except SystemExit as e:  # SIGTERM (interrupts.handled), or argparse's --help and errors
+            if not interrupts.pending():
+                raise
             code = e.code if isinstance(e.code, int) else 2
         return interrupts.exit_code(code)
 
@@ -221,6 +237,8 @@ def _run(args: argparse.Namespace) -> int:
             # numerical trouble is reported by the checks (a one-line error), never as a
             # library's warning text
             warnings.simplefilter("ignore")
+            from .commands import COMMANDS
+
             code: int = COMMANDS[args.command](args)
         interrupts.check()  # a signal some library swallowed still ends the run
         return code
@@ -258,4 +276,4 @@ def _report(e: Exception) -> int:
 
 
 if __name__ == "__main__":  # pragma: no cover
-    sys.exit(main())
+    console()

@@ -28,6 +28,7 @@ SIGNALS = (signal.SIGINT, signal.SIGTERM)
 
 class _State:
     active = False
+    over = False  # the run has ended (and the program is ending): signals change nothing
     received: int | None = None  # the first signal of the run
     holding = False  # outputs are being put in place: a signal waits
     committed = False  # they are
@@ -43,6 +44,8 @@ def _raise(signum: int) -> None:
 
 
 def _handler(signum: int, frame: FrameType | None) -> None:
+    if _state.over:
+        return
     if _state.received is None:
         _state.received = signum
     if not (_state.committed or _state.holding):
@@ -50,19 +53,29 @@ def _handler(signum: int, frame: FrameType | None) -> None:
 
 
 @contextlib.contextmanager
-def handled() -> Iterator[None]:
+def handled(restore: bool = True) -> Iterator[None]:
     """Handle ``SIGINT`` and ``SIGTERM`` as the module docstring says, for the block (in the main
-    thread only; elsewhere the block runs as it is and the caller handles its signals)."""
+    thread only; elsewhere the block runs as it is and the caller handles its signals).
+
+    ``restore``: put the previous handlers back after the block; a program that ends with the
+    block keeps them instead, so that a signal between the run's end and the program's exit
+    changes nothing (the run's outputs are complete).
+    """
     if threading.current_thread() is not threading.main_thread() or _state.active:
         yield
         return
     previous = {s: signal.signal(s, _handler) for s in SIGNALS}
-    _state.active, _state.received, _state.committed = True, None, False
+    _state.active, _state.received, _state.committed, _state.over = True, None, False, False
     try:
         yield
     finally:
-        for s, handler in previous.items():
-            signal.signal(s, handler)
+        if restore:
+            for s, handler in previous.items():
+                signal.signal(s, handler)
+        else:  # ignored, not handled: Python's finalization would reset a handler to the default
+            _state.over = True
+            for s in SIGNALS:
+                signal.signal(s, signal.SIG_IGN)
         _state.active = False
 
 
