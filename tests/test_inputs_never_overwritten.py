@@ -210,3 +210,13 @@ def test_measure_writes_both_files_or_neither(inputs, capsys, monkeypatch):
     assert main([*argv, "-o", "m.csv", "--marker-layout", "lay.csv"]) == 0
     assert (inputs / "m.csv").read_text().startswith("joint1,")
     assert (inputs / "lay.csv").read_text().startswith("marker,x,y,z")
+
+
+def test_a_sample_of_the_overwrite_corpus(tmp_path):
+    """A seeded sample of tests/overwrite_corpus.py (scripts/overwrite_corpus.py runs it all)."""
+    from overwrite_corpus import Workspace, run_case, sample
+
+    ws = Workspace(tmp_path)
+    verdicts = [run_case(ws, case) for case in sample(ws, 24, seed=18)]
+    assert [v for v in verdicts if v.result != "refused"] == []
+    assert {v.case.kind for v in verdicts} >= {"input as output", "same file"}
