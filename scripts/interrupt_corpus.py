@@ -71,8 +71,9 @@ def main(argv: list[str] | None = None) -> int:
                     failures.append(f"{name} at {delay:.2f} s: {e}")
                 results[name, outcome] += 1
             print(f"{name:<14} {duration:5.2f} s: {results[name, 'interrupted']:>3} interrupted "
-                  f"(130, outputs as they were), {results[name, 'completed']:>3} completed "
-                  f"before the signal, {results[name, 'FAILED']} failed")  # fmt: skip
+                  f"(130, outputs as they were), {results[name, 'before urdf2dh']:>2} while "
+                  f"Python started, {results[name, 'completed']:>3} completed before the "
+                  f"signal, {results[name, 'FAILED']} failed")  # fmt: skip
     if failures:
         print("\nFAILURES:")
         for f in failures:

@@ -1,8 +1,9 @@
 """Ctrl-C at a moment of a run of the urdf2dh program, judged: exit 130 with every output as it
 was, or a completed run (exit 0) whose outputs were all written before the signal came.
 
-A signal before ``urdf2dh.cli.main`` runs (Python starting, ``import urdf2dh.cli``) is Python's
-own Ctrl-C: a traceback of the import, death by SIGINT, no output touched; it counts as 130.
+A signal before ``urdf2dh.cli.main`` runs is Python's own Ctrl-C, no output touched: while Python
+starts (its ``site`` import: "Fatal Python error", exit 1) or imports ``urdf2dh.cli`` (a
+traceback, death by SIGINT). It is judged ``before urdf2dh``.
 """
 
 from __future__ import annotations
@@ -25,6 +26,7 @@ CLOCK_TICK = 0.02  # seconds file times may lag the real time
 class Interrupted:
     code: int  # 130 (interrupted) or 0 (completed)
     sent: float | None  # when SIGINT was sent (None: the run had ended)
+    before_main: bool = False  # Python's own Ctrl-C, before urdf2dh's code ran
 
 
 def interrupted_run(argv: list[str], cwd: Path, delay: float | None) -> Interrupted:
@@ -44,17 +46,21 @@ def interrupted_run(argv: list[str], cwd: Path, delay: float | None) -> Interrup
         sent = time.time()
         proc.send_signal(signal.SIGINT)
     _, err = proc.communicate(timeout=300)
-    if proc.returncode == -signal.SIGINT:  # before main: no frame of main's in the traceback
+    starting = proc.returncode == 1 and err.startswith(b"Fatal Python error: init_import_site")
+    if proc.returncode == -signal.SIGINT or starting:  # before main: no frame of main's
         if b", in main\n" in err or b", in _main\n" in err or b", in _run\n" in err:
             raise AssertionError(err.decode(errors="replace"))
-        return Interrupted(130, sent)
+        if not err.rstrip().endswith(b"KeyboardInterrupt"):
+            raise AssertionError(err.decode(errors="replace"))
+        return Interrupted(130, sent, before_main=True)
     if b"Traceback" in err or b"internal error" in err:
         raise AssertionError(err.decode(errors="replace"))
     return Interrupted(proc.returncode, sent)
 
 
 def judge(run: Interrupted, outputs: list[Path]) -> str:
-    """``interrupted`` or ``completed``; an ``AssertionError`` saying what is wrong otherwise."""
+    """``interrupted``, ``before urdf2dh`` or ``completed``; an ``AssertionError`` saying what is
+    wrong otherwise."""
     directory = outputs[0].parent
     left = sorted(p.name for p in directory.iterdir() if p.name.startswith("."))
     assert left == [], f"temporary files left: {left}"
@@ -62,7 +68,7 @@ def judge(run: Interrupted, outputs: list[Path]) -> str:
         assert run.sent is not None
         changed = [p.name for p in outputs if p.read_text() != OLD]
         assert changed == [], f"exit 130 but {changed} changed"
-        return "interrupted"
+        return "before urdf2dh" if run.before_main else "interrupted"
     assert run.code == 0, f"exit {run.code}"
     for p in outputs:
         assert p.read_text() not in (OLD, ""), f"exit 0, but {p.name} was not written"

@@ -220,3 +220,9 @@ def test_a_sample_of_the_overwrite_corpus(tmp_path):
     verdicts = [run_case(ws, case) for case in sample(ws, 24, seed=18)]
     assert [v for v in verdicts if v.result != "refused"] == []
     assert {v.case.kind for v in verdicts} >= {"input as output", "same file"}
+
+
+def test_a_device_may_take_two_outputs(inputs):
+    """Two outputs to /dev/null are not one file replaced twice: a device is written into."""
+    argv = ["measure", "arm.urdf", "--configs", "5", "--markers", "2"]
+    assert main([*argv, "-o", os.devnull, "--marker-layout", os.devnull]) == 0

@@ -14,7 +14,7 @@ Outputs go to stdout or to files, all of a run's together (:func:`write_outputs`
 * a character device or a FIFO (``/dev/null``, ``/dev/stdout``, a pipe) is written straight
   into: it cannot be replaced, only written (before any file is put in place);
 * anything else (a directory, a socket, a dangling link), an input of the run, and two outputs
-  that are the same file are refused, before anything is written.
+  that are the same file (but for a device or FIFO) are refused, before anything is written.
 
 All or nothing: every file is written to its temporary file first; only then are they renamed
 into place, with Ctrl-C and ``SIGTERM`` held off (:func:`urdf2dh.interrupts.committing`); should
@@ -160,7 +160,7 @@ def _plan_all(outputs: Iterable[str], in_directory: bool = False) -> list[_Plan]
     for output in outputs:
         plan = _plan(output, in_directory)
         for other in plans:
-            if other.identity == plan.identity:
+            if other.identity == plan.identity and not plan.stream:  # /dev/null twice is fine
                 raise InputError(
                     f"{plan.shown}: is the same file as {other.shown}; two outputs of one run "
                     "cannot go to one file"
