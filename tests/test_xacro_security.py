@@ -16,6 +16,7 @@ from pathlib import Path
 from xml.sax.saxutils import quoteattr
 
 import pytest
+from xacro_corpus import survivors as _processes_with
 
 from urdf2dh.cli import main
 from urdf2dh.io import child
@@ -43,18 +44,6 @@ def processes_with(token: str, settle: float = 1.0) -> list[int]:
     deadline = time.monotonic() + settle
     while (found := _processes_with(token)) and time.monotonic() < deadline:
         time.sleep(0.02)
-    return found
-
-
-def _processes_with(token: str) -> list[int]:
-    found = []
-    for entry in Path("/proc").iterdir():
-        if entry.name.isdigit() and entry.name != str(os.getpid()):
-            try:
-                if token.encode() in (entry / "cmdline").read_bytes():
-                    found.append(int(entry.name))
-            except OSError:
-                pass
     return found
 
 
