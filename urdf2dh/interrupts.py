@@ -6,6 +6,11 @@ recorded: a library that catches ``BaseException`` (trimesh does, around its opt
 which yourdfpy runs) cannot make it go away. :func:`check` raises it again before any output is
 written, and :func:`exit_code` turns the run's exit code into ``128 + signal``.
 
+A signal that comes while a module is being imported is not raised there: an import cut short
+can leave a compiled extension half set up (and a later use of it crashing the interpreter),
+and the library importing it may swallow the exception. It is delivered again every
+:data:`RETRY` seconds until no import is under way, and raised then.
+
 Outputs are put in place inside :func:`committing`: a signal recorded before it raises there,
 before anything is replaced; during it, a signal is recorded and waits (the renames are short;
 should one fail, the run ends with the signal's code); after it, the run has done its work, and
@@ -16,6 +21,7 @@ changed.
 from __future__ import annotations
 
 import contextlib
+import os
 import signal
 import threading
 from collections.abc import Iterator
@@ -24,6 +30,8 @@ from types import FrameType
 __all__ = ["check", "committing", "exit_code", "handled", "pending"]
 
 SIGNALS = (signal.SIGINT, signal.SIGTERM)
+RETRY = 0.05  # seconds between deliveries of a signal held off by an import
+IMPORTING = ("<frozen importlib._bootstrap>", "<frozen importlib._bootstrap_external>")
 
 
 class _State:
@@ -32,6 +40,7 @@ class _State:
     received: int | None = None  # the first signal of the run
     holding = False  # outputs are being put in place: a signal waits
     committed = False  # they are
+    retrying = False  # a signal held off by an import will be delivered again
 
 
 _state = _State()
@@ -43,13 +52,36 @@ def _raise(signum: int) -> None:
     raise SystemExit(128 + signum)
 
 
+def _importing(frame: FrameType | None) -> bool:
+    """Whether ``frame`` (the one a signal interrupted) runs inside an import."""
+    while frame is not None:
+        if frame.f_code.co_filename in IMPORTING:
+            return True
+        frame = frame.f_back
+    return False
+
+
+def _deliver_again(signum: int) -> None:
+    _state.retrying = False
+    if _state.active and not _state.over:
+        os.kill(os.getpid(), signum)
+
+
 def _handler(signum: int, frame: FrameType | None) -> None:
     if _state.over:
         return
     if _state.received is None:
         _state.received = signum
-    if not (_state.committed or _state.holding):
-        _raise(signum)
+    if _state.committed or _state.holding:
+        return
+    if _importing(frame):
+        if not _state.retrying:
+            _state.retrying = True
+            timer = threading.Timer(RETRY, _deliver_again, (signum,))
+            timer.daemon = True
+            timer.start()
+        return
+    _raise(signum)
 
 
 @contextlib.contextmanager
@@ -66,6 +98,7 @@ def handled(restore: bool = True) -> Iterator[None]:
         return
     previous = {s: signal.signal(s, _handler) for s in SIGNALS}
     _state.active, _state.received, _state.committed, _state.over = True, None, False, False
+    _state.retrying = False
     try:
         yield
     finally:
