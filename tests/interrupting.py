@@ -3,7 +3,8 @@ was, or a completed run (exit 0) whose outputs were all written before the signa
 
 A signal before ``urdf2dh.cli.main`` runs is Python's own Ctrl-C, no output touched: before
 Python handles signals (death by SIGINT, nothing printed), while it imports ``site`` ("Fatal
-Python error: init_import_site", exit 1) or ``urdf2dh.cli`` (a traceback, death by SIGINT). It is judged ``before urdf2dh``.
+Python error: init_import_site", exit 1) or ``urdf2dh.cli`` (a traceback, death by SIGINT). It
+is judged ``before urdf2dh``.
 """
 
 from __future__ import annotations
