@@ -10,6 +10,7 @@ is judged ``before urdf2dh``.
 from __future__ import annotations
 
 import os
+import re
 import signal
 import subprocess
 import sys
@@ -49,8 +50,8 @@ def interrupted_run(argv: list[str], cwd: Path, delay: float | None) -> Interrup
     _, err = proc.communicate(timeout=300)
     site = err.startswith(b"Fatal Python error: init_import_site")
     if proc.returncode == -signal.SIGINT or (proc.returncode == 1 and site):
-        mains = (b", in main\n", b", in _main\n", b", in _run\n")
-        if any(m in err for m in mains) or not (err == b"" or b"KeyboardInterrupt" in err):
+        in_main = re.search(rb'urdf2dh[/\\]cli\.py", line \d+, in (?!<module>)', err)
+        if in_main or not (err == b"" or b"KeyboardInterrupt" in err):
             raise AssertionError(f"exit {proc.returncode}: " + err.decode(errors="replace"))
         return Interrupted(130, sent, before_main=True)
     if b"Traceback" in err or b"internal error" in err:

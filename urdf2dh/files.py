@@ -206,9 +206,10 @@ def _write(
     plans = _plan_all((o for o, _ in files), in_directory)
     staged: list[tuple[_Plan, Path]] = []
     try:
-        for plan, (_, raw) in zip(plans, files, strict=True):
-            if not plan.stream:
-                staged.append((plan, _stage(plan, raw)))
+        with interrupts.held():  # each temporary file is noted as soon as it exists
+            for plan, (_, raw) in zip(plans, files, strict=True):
+                if not plan.stream:
+                    staged.append((plan, _stage(plan, raw)))
         interrupts.check()
         for plan, (_, raw) in zip(plans, files, strict=True):
             if plan.stream:
@@ -351,20 +352,19 @@ def write_directory(files: Mapping[str, str | bytes], output: str) -> None:
     parent = directory.absolute().parent
     if not parent.is_dir():
         raise InputError(f"{output}: directory '{parent}' does not exist")
+    tmp: Path | None = None
     try:
-        tmp = Path(tempfile.mkdtemp(prefix=f".{directory.name or 'output'}.", dir=parent))
-    except OSError as e:
-        raise InputError(f"{output}: cannot write ({e.strerror})") from e
-    try:
-        for name, data in files.items():
-            fd = os.open(tmp / name, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666)
-            with os.fdopen(fd, "wb") as f:
-                f.write(_bytes(data))
-        os.chmod(tmp, 0o777 & ~_umask())  # mkdtemp makes 0700; mkdir would give this
-        interrupts.check()
+        with interrupts.held():  # the temporary directory is noted as soon as it exists
+            tmp = Path(tempfile.mkdtemp(prefix=f".{directory.name or 'output'}.", dir=parent))
+            for name, data in files.items():
+                fd = os.open(tmp / name, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666)
+                with os.fdopen(fd, "wb") as f:
+                    f.write(_bytes(data))
+            os.chmod(tmp, 0o777 & ~_umask())  # mkdtemp makes 0700; mkdir would give this
         with interrupts.committing():
             os.rename(tmp, directory)  # DIR appears now, complete
     except OSError as e:
         raise InputError(f"{output}: cannot write ({e.strerror})") from e
     finally:  # an error, KeyboardInterrupt or SystemExit (SIGTERM) alike
-        shutil.rmtree(tmp, ignore_errors=True)
+        if tmp is not None:
+            shutil.rmtree(tmp, ignore_errors=True)

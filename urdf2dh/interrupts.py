@@ -27,7 +27,7 @@ import threading
 from collections.abc import Iterator
 from types import FrameType
 
-__all__ = ["check", "committing", "exit_code", "handled", "pending"]
+__all__ = ["check", "committing", "exit_code", "handled", "held", "pending"]
 
 SIGNALS = (signal.SIGINT, signal.SIGTERM)
 RETRY = 0.05  # seconds between deliveries of a signal held off by an import
@@ -124,6 +124,22 @@ def check() -> None:
 
 
 @contextlib.contextmanager
+def held() -> Iterator[None]:
+    """A block no signal cuts short: one that comes is recorded, and :func:`check` (or the next
+    one after the block) raises it. For steps that must not be cut between two statements, such
+    as creating a temporary file and taking note of it."""
+    if not _state.active:
+        yield
+        return
+    previous = _state.holding
+    _state.holding = True
+    try:
+        yield
+    finally:
+        _state.holding = previous
+
+
+@contextlib.contextmanager
 def committing() -> Iterator[None]:
     """The block that puts the run's outputs in place: a signal received before it raises here;
     one received while it runs is recorded and raises nothing (the renames are short); once it
@@ -132,12 +148,9 @@ def committing() -> Iterator[None]:
         yield
         return
     check()
-    _state.holding = True
-    try:
+    with held():
         yield
         _state.committed = True
-    finally:
-        _state.holding = False
 
 
 def exit_code(code: int) -> int:

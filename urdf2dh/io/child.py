@@ -19,6 +19,8 @@ import time
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
+from ..interrupts import check, held
+
 __all__ = ["Finished", "Overflow", "TimedOut", "run"]
 
 CHUNK = 65536
@@ -68,15 +70,17 @@ def run(
         its standard error (of which only the last ``tail`` bytes are kept).
     """
     deadline = time.monotonic() + timeout
-    proc = subprocess.Popen(
-        list(argv),
-        stdin=subprocess.PIPE,
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        env=dict(env),
-        start_new_session=True,
-    )
+    with held():  # Ctrl-C now would leave the child unknown to the clean-up below
+        proc = subprocess.Popen(
+            list(argv),
+            stdin=subprocess.PIPE,
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
+            env=dict(env),
+            start_new_session=True,
+        )
     try:
+        check()
         assert proc.stdin is not None and proc.stdout is not None and proc.stderr is not None
         try:
             proc.stdin.write(stdin)
