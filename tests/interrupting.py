@@ -2,9 +2,9 @@
 was, or a completed run (exit 0) whose outputs were all written before the signal came.
 
 A signal before ``urdf2dh.cli.main`` runs is Python's own Ctrl-C, no output touched: before
-Python handles signals (death by SIGINT, nothing printed), while it imports ``site`` ("Fatal
-Python error: init_import_site", exit 1) or ``urdf2dh.cli`` (a traceback, death by SIGINT). It
-is judged ``before urdf2dh``.
+Python handles signals (death by SIGINT, nothing printed), while it sets itself up ("Fatal
+Python error: init_import_site" or "init_sys_streams", exit 1) or imports ``urdf2dh.cli`` (a
+traceback, death by SIGINT). It is judged ``before urdf2dh``.
 """
 
 from __future__ import annotations
@@ -48,8 +48,8 @@ def interrupted_run(argv: list[str], cwd: Path, delay: float | None) -> Interrup
         sent = time.time()
         proc.send_signal(signal.SIGINT)
     _, err = proc.communicate(timeout=300)
-    site = err.startswith(b"Fatal Python error: init_import_site")
-    if proc.returncode == -signal.SIGINT or (proc.returncode == 1 and site):
+    starting = err.startswith(b"Fatal Python error: init_")  # init_import_site, init_sys_streams
+    if proc.returncode == -signal.SIGINT or (proc.returncode == 1 and starting):
         in_main = re.search(rb'urdf2dh[/\\]cli\.py", line \d+, in (?!<module>)', err)
         if in_main or not (err == b"" or b"KeyboardInterrupt" in err):
             raise AssertionError(f"exit {proc.returncode}: " + err.decode(errors="replace"))
