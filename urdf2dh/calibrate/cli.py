@@ -8,11 +8,10 @@ from __future__ import annotations
 
 import argparse
 import sys
-from pathlib import Path
 from typing import Any
 
 from ..errors import InputError, UsageError, choices, shown
-from ..files import write_output
+from ..files import check_outputs, write_outputs
 
 __all__ = ["COMMANDS", "add_parsers", "calibrate_command", "measure_command"]
 
@@ -208,17 +207,11 @@ def measure_command(args: argparse.Namespace) -> int:
         raise UsageError("--marker-layout writes the layout of --markers K")
     layout = marker_layout(model, args.markers, args.seed) if args.markers else None
     m = synthesize(model, args.configs, args.noise_pos, args.noise_rot, args.seed, layout, pose)
-    if args.marker_layout:
-        _check_directory(args.marker_layout)
-    write_output(write_measurements(m), args.output)
+    outputs = [(args.output, write_measurements(m))]
     if args.marker_layout and layout is not None:
-        write_output(write_layout(layout), args.marker_layout)
+        outputs.append((args.marker_layout, write_layout(layout)))
+    write_outputs(outputs)
     return 0
-
-
-def _check_directory(path: str | None) -> None:
-    if path is not None and not Path(path).parent.is_dir():
-        raise InputError(f"{path}: directory '{Path(path).parent}' does not exist")
 
 
 def _helical(text: str, joints: tuple[str, ...]) -> tuple[str, ...]:
@@ -253,8 +246,7 @@ def calibrate_command(args: argparse.Namespace) -> int:
             "measurements (--measure position)"
         )
     layout = read_layout(args.marker_layout) if args.marker_layout else None
-    for path in (args.output, args.report):
-        _check_directory(path)
+    check_outputs([args.output, args.report])  # before the fit, which may take long
     request = Request(
         nominal=nominal,
         measurements=m,
@@ -276,9 +268,10 @@ def calibrate_command(args: argparse.Namespace) -> int:
         max_iterations=args.max_iterations,
     )
     outcome = run(request)
-    write_output(outcome.text, args.output)
+    outputs = [(args.output, outcome.text)]
     if args.report:
-        write_output(outcome.report, args.report)
+        outputs.append((args.report, outcome.report))
+    write_outputs(outputs)
     print(outcome.summary, end="", file=sys.stdout if args.output else sys.stderr)
     return 0
 
