@@ -36,7 +36,7 @@ from urdf2dh.conventions import NAMES  # noqa: E402
 from urdf2dh.convert import sample_configurations, to_table  # noqa: E402
 from urdf2dh.errors import Urdf2DhError  # noqa: E402
 from urdf2dh.formats import render  # noqa: E402
-from urdf2dh.mappings import read_mapping  # noqa: E402
+from urdf2dh.io.mappings import read_mapping  # noqa: E402
 from urdf2dh.screws import PoeModel  # noqa: E402
 from urdf2dh.se3 import pose_errors  # noqa: E402
 from urdf2dh.sources import open_source  # noqa: E402

@@ -77,7 +77,7 @@ def check_number(value: Any, where: str, error: type[InputError] = InputError) -
 
 
 # Text that YAML 1.1 readers (PyYAML's default loader, ROS 1's rosparam) take for a number or a
-# boolean, and YAML 1.2 and JSON, which urdf2dh reads, for text (urdf2dh.mappings); an integer
+# boolean, and YAML 1.2 and JSON, which urdf2dh reads, for text (urdf2dh.io.mappings); an integer
 # with a leading zero is octal to the one and decimal to the other, and text to urdf2dh
 _YAML11_BOOL = re.compile(r"yes|Yes|YES|no|No|NO|on|On|ON|off|Off|OFF")
 _YAML11_INT = re.compile(

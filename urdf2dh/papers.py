@@ -44,7 +44,7 @@ def agrees(value: float, printed: str) -> bool:
 
 
 def _reference(name: str) -> Any:
-    from .mappings import read_mapping
+    from .io.mappings import read_mapping
 
     path = our_robots_dir() / name
     return read_mapping(path, name, path.read_bytes())

@@ -13,7 +13,7 @@ from pathlib import Path
 from .catalog import ROBOTS, Bundled, robot_path
 from .errors import SHOWN_LENGTH, InputError, SourceError, UsageError, choices, shown
 from .files import SOURCE_ROLE, read_file
-from .mappings import read_mapping
+from .io.mappings import read_mapping
 from .screws import PoeModel
 from .text import check_text, first_character
 from .tolerances import DEFAULT, Tolerances

@@ -27,8 +27,8 @@ import re
 from pathlib import Path
 from typing import Any, ClassVar
 
-from .bounds import MAPPING_DEPTH, MAPPING_VALUES
-from .errors import InputError, shown
+from ..bounds import MAPPING_DEPTH, MAPPING_VALUES
+from ..errors import InputError, shown
 
 __all__ = ["read_mapping", "yaml_text"]
 
