@@ -178,7 +178,7 @@ def _diff(args: argparse.Namespace) -> int:
 
     from .diff import diff_sources, render_diff
 
-    info, changes, pairs = diff_sources(
+    info, changes, pairs, forms = diff_sources(
         args.nominal,
         args.actual,
         args.convention,
@@ -194,7 +194,9 @@ def _diff(args: argparse.Namespace) -> int:
         xacro=xacro_options(args),
     )
     write_output(
-        render_diff(info, changes, pairs, args.format), args.output, [args.nominal, args.actual]
+        render_diff(info, changes, pairs, args.format, forms),
+        args.output,
+        [args.nominal, args.actual],
     )
     return 0
 
