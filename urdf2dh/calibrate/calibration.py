@@ -58,6 +58,8 @@ __all__ = [
     "Parameter",
     "Residuals",
     "calibrate",
+    "check_measurements",
+    "check_noise",
     "holdout_split",
 ]
 
@@ -323,7 +325,9 @@ def check_measurements(nominal: PoeModel, m: Measurements, what: str = "") -> No
             )
 
 
-def _check_noise(noise_pos: float | None, noise_rot: float | None, size: float, unit: str) -> None:
+def check_noise(noise_pos: float | None, noise_rot: float | None, size: float, unit: str) -> None:
+    """Refuse a noise level that is not a number > 0, or that is as large as the robot (or a
+    radian): no measurement is exact, and one that noisy tells nothing."""
     for what, value, bound, bound_text in (
         ("position", noise_pos, size, f"the robot's size ({size:.3g} {unit})"),
         ("rotation", noise_rot, 1.0, "1 rad"),
@@ -371,6 +375,7 @@ def calibrate(
     validation: Measurements | None = None,
     seed: int = 0,
     folds: int = FOLDS,
+    rule: str = "simplest",
     noise_pos: float | None = None,
     noise_rot: float | None = None,
     helical: tuple[str, ...] = (),
@@ -404,8 +409,9 @@ def calibrate(
     holdout, validation, seed
         A fraction of the configurations held out of the fit (drawn with ``seed``), and a
         separate set, both judged.
-    folds
-        Folds of the cross-validation (:mod:`.select`).
+    folds, rule
+        Folds of the cross-validation and its rule (:mod:`.select`): the ``simplest`` level
+        within its uncertainty of the best, or the ``best``.
     noise_pos, noise_rot
         Noise levels that weigh the residuals (default: estimated).
     helical
@@ -464,7 +470,7 @@ def calibrate(
     if validation is not None:
         check_measurements(nominal, validation, "the validation set")
         _check_markers(validation, pose, layout)
-    _check_noise(noise_pos, noise_rot if pose else None, size, nominal.length_unit)
+    check_noise(noise_pos, noise_rot if pose else None, size, nominal.length_unit)
     _check_markers(m, pose, layout)
     if not 0.0 <= holdout < 1.0:
         raise UsageError(f"the held-out fraction must be in [0, 1), not {holdout}")
@@ -485,7 +491,7 @@ def calibrate(
     )
     with threadpool_limits(1, "blas"):  # small matrices: BLAS threads only cost wake-ups
         return _calibrate(
-            nominal, m, opts, identify_level, holdout, validation, seed, folds, reject,
+            nominal, m, opts, identify_level, holdout, validation, seed, folds, rule, reject,
             convention, style, tol, check_samples,
         )  # fmt: skip
 
@@ -508,6 +514,7 @@ def _calibrate(
     validation: Measurements | None,
     seed: int,
     folds: int,
+    rule: str,
     reject: bool,
     convention: str | None,
     style: str,
@@ -535,7 +542,7 @@ def _calibrate(
             for lv in levels
         ]
         check_patterns(opts.fixed, probes, ids)
-    selection, fits = cross_validate(nominal, fit, opts, ids, before, levels, folds, seed)
+    selection, fits = cross_validate(nominal, fit, opts, ids, before, levels, folds, seed, rule)
     if identify_level == AUTO and selection.chosen is None:
         why = selection.score("base-tool").failure or ""
         if "converge" in why:
@@ -557,7 +564,7 @@ def _calibrate(
         fit_rows = np.setdiff1d(fit_rows, [s.row for s in found])
         fit = m.subset(fit_rows)
         start, before = fit_before(nominal, fit, opts, ids)
-        selection, fits = cross_validate(nominal, fit, opts, ids, before, levels, folds, seed)
+        selection, fits = cross_validate(nominal, fit, opts, ids, before, levels, folds, seed, rule)
         level = selection.chosen if identify_level == AUTO else identify_level
     result = identify(nominal, fit, replace(opts, level=level), ids, (start, before), fits[level])
     if not result.solution.converged:

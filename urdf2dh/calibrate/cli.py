@@ -237,6 +237,13 @@ def add_parsers(sub: Any) -> None:
         help="folds of the cross-validation over configurations (default %(default)s)",
     )
     p.add_argument(
+        "--choose",
+        choices=("simplest", "best"),
+        default="simplest",
+        help="with --identify auto: the simplest level whose cross-validated error is within "
+        "its uncertainty of the best (default), or the best",
+    )
+    p.add_argument(
         "--reject-outliers",
         action="store_true",
         help="reject the measurements the fit cannot explain (a chance below 1e-6 of so large "
@@ -244,17 +251,17 @@ def add_parsers(sub: Any) -> None:
     )
     p.add_argument(
         "--noise-pos",
-        type=main.positive_float,
+        type=float,
         default=None,
         metavar="SIGMA",
-        help="position noise per coordinate (weights; default: estimated)",
+        help="position noise per coordinate, > 0 (weights; default: estimated)",
     )
     p.add_argument(
         "--noise-rot",
-        type=main.positive_float,
+        type=float,
         default=None,
         metavar="SIGMA",
-        help="rotation noise per axis, rad (weights; default: estimated)",
+        help="rotation noise per axis, rad, > 0 (weights; default: estimated)",
     )
     p.add_argument(
         "--helical",
@@ -433,7 +440,7 @@ def _reading(args: argparse.Namespace) -> Any:
 def calibrate_command(args: argparse.Namespace) -> int:
     """``urdf2dh calibrate``: identify, convert, report (docs/calibration.md)."""
     from ..options import tolerances
-    from .calibration import calibrate
+    from .calibration import calibrate, check_noise
     from .measurements import read_layout, read_measurements
     from .prior import Prior
     from .report import summary, to_dict
@@ -476,6 +483,16 @@ def calibrate_command(args: argparse.Namespace) -> int:
         raise UsageError(
             f"--convention poe writes a POE model file: --format yaml or json, not {args.format}"
         )
+    for flag, value in (("--noise-pos", args.noise_pos), ("--noise-rot", args.noise_rot)):
+        try:
+            check_noise(
+                value if flag == "--noise-pos" else None,
+                value if flag == "--noise-rot" else None,
+                nominal.size(),
+                nominal.length_unit,
+            )
+        except InputError as e:
+            raise UsageError(f"{flag} {value:g}: {e}") from e
     cal = calibrate(
         nominal,
         m,
@@ -487,6 +504,7 @@ def calibrate_command(args: argparse.Namespace) -> int:
         validation=validation,
         seed=args.seed,
         folds=args.folds,
+        rule=args.choose,
         noise_pos=args.noise_pos,
         noise_rot=args.noise_rot,
         helical=_helical(args.helical, joints),

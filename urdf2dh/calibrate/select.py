@@ -18,11 +18,14 @@ judged on configurations it was not fitted to:
   configuration's squared position error over ``sigma_p^2`` plus, for poses, its squared
   rotation error over ``sigma_r^2``, with the noise levels of the richest level judged (the
   nearest to the measuring noise), so that a level that predicts orientations better counts;
-* the choice is the simplest level whose error is within its uncertainty of the best level's:
+* the choice (rule ``simplest``, the default) is the simplest level whose error is within its
+  uncertainty of the best level's:
   the mean of its per-configuration differences from the best is within one standard error of
   those differences (the one-standard-error rule of Hastie, Tibshirani & Friedman, *The
   Elements of Statistical Learning*, 2009, §7.10, on paired errors): a more complex level must
-  predict better by more than the configurations' scatter to be chosen.
+  predict better by more than the configurations' scatter to be chosen. Rule ``best`` takes the
+  level of the smallest error (with few configurations, the simplest rule keeps to simple
+  levels more often than a held-out set may show was needed).
 
 A level that a fold leaves with fewer equations than parameters, or that does not converge
 there, is not chosen, and the report says why.
@@ -36,6 +39,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 from numpy.typing import NDArray
 
+from ..errors import UsageError
 from ..progress import progress
 from ..screws import PoeModel
 from .chart import Estimate, absorbed, count
@@ -47,6 +51,7 @@ from .start import Options, to_data
 
 __all__ = [
     "FOLDS",
+    "RULES",
     "Score",
     "Selection",
     "cross_validate",
@@ -60,6 +65,7 @@ __all__ = [
 Mat = NDArray[np.float64]
 
 FOLDS = 5  # folds of the cross-validation (fewer when there are fewer configurations)
+RULES = ("simplest", "best")  # the simplest level within its uncertainty of the best, or the best
 
 
 @dataclass(frozen=True, slots=True)
@@ -267,12 +273,16 @@ def cross_validate(
     levels: tuple[str, ...],
     folds: int = FOLDS,
     seed: int = 0,
+    rule: str = "simplest",
 ) -> tuple[Selection, dict[str, Fit]]:
     """Judge ``levels`` on ``fit`` by cross-validation and choose one (module docstring).
 
-    ``before`` is the base-tool level's fit to all of ``fit``. Returns the selection and every
-    level's fit to all the measurements.
+    ``before`` is the base-tool level's fit to all of ``fit``; ``rule`` is ``simplest`` (the
+    simplest level within its uncertainty of the best) or ``best`` (the best). Returns the
+    selection and every level's fit to all the measurements.
     """
+    if rule not in RULES:
+        raise UsageError(f"unknown rule {rule!r}; valid: {', '.join(RULES)}")
     index, configurations = fit.configurations()
     fold_of = fold_of_configurations(configurations, folds, seed)
     still = barely_moved(fit.q, before.solution.estimate, nominal.size())
@@ -316,7 +326,11 @@ def cross_validate(
     if not judged:
         return Selection(k, seed, configurations, tuple(scores), None, None, ""), fits
     best = min(judged, key=lambda lv: float(np.mean(combined[lv])))
-    chosen = next(lv for lv in judged if _within(combined[lv], combined[best]))
+    chosen = (
+        best
+        if rule == "best"
+        else next(lv for lv in judged if _within(combined[lv], combined[best]))
+    )
     by_level = {s.level: s for s in scores}
     reason = _reason(by_level[chosen], by_level[best], opts.pose)
     return Selection(k, seed, configurations, tuple(scores), best, chosen, reason), fits
