@@ -408,12 +408,17 @@ def _moved_all(est: Estimate, g: Mat) -> Estimate:
 def _joint_columns(est: Estimate) -> tuple[NDArray[np.int64], ...]:
     """Where each joint coordinate sits in the level's coordinates: ``(line (n, 5), offset,
     scale)`` indices, -1 where a joint has none (line: turn1, turn2, shift1, shift2, pitch)."""
-    level, n = est.level, est.n
+    return _columns_of(est.level, est.chain.kinds)
+
+
+@lru_cache(maxsize=256)
+def _columns_of(level: Level, kinds: tuple[str, ...]) -> tuple[NDArray[np.int64], ...]:
+    n = len(kinds)
     line = np.full((n, 5), -1, dtype=np.int64)
     offset = np.full(n, -1, dtype=np.int64)
     scale = np.full(n, -1, dtype=np.int64)
     k = 6 if level.base else 0
-    for i, kind in enumerate(est.chain.kinds):
+    for i, kind in enumerate(kinds):
         if level.lines:
             width = 2 if kind == "prismatic" else 4
             line[i, :width] = np.arange(k, k + width)
@@ -427,6 +432,8 @@ def _joint_columns(est: Estimate) -> tuple[NDArray[np.int64], ...]:
         if level.scales:
             scale[i] = k
             k += 1
+    for a in (line, offset, scale):
+        a.setflags(write=False)
     return line, offset, scale
 
 

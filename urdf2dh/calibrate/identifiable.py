@@ -8,7 +8,8 @@ are found once per level, from the Jacobian of the level's model at seeded confi
 spread over the joint limits (what *any* measurement could see, not what these happened to):
 columns are taken in order, the base's and the tool's first, then the joints' along the chain,
 and one whose unit column lies within :data:`~urdf2dh.tolerances.RANK_RELATIVE` of the span of
-those before is carried by them and held fixed. What the measurements at hand leave undetermined
+those before (the diagonal of the QR factorisation in that order) is carried by them and held
+fixed. What the measurements at hand leave undetermined
 (a joint that never moved) is another matter, found at the solution (:mod:`.solver`).
 """
 
@@ -99,21 +100,13 @@ def redundant(est: Estimate, limits: NDArray[np.float64], size: float) -> NDArra
     _, jac = evaluate(probe, data, size, 1.0)
     assert jac is not None
     norms = np.linalg.norm(jac, axis=0)
+    order = _order(est)
+    unit = jac[:, order] / np.where(norms[order] > 0.0, norms[order], 1.0)
+    # QR in the test's order: a column's part outside the span of those before is |R_kk|
+    outside = np.abs(np.diag(np.linalg.qr(unit, mode="r")))
     out = np.zeros(jac.shape[1], dtype=bool)
-    basis: list[NDArray[np.float64]] = []
-    for k in _order(est):
-        if norms[k] <= RANK_RELATIVE * float(norms.max(initial=1.0)):
-            out[k] = True  # moves nothing at all
-            continue
-        c = jac[:, k] / norms[k]
-        for _ in range(2):  # Gram-Schmidt twice: orthogonal to round-off
-            for b in basis:
-                c = c - float(b @ c) * b
-        rest = float(np.linalg.norm(c))
-        if rest <= RANK_RELATIVE:
-            out[k] = True
-        else:
-            basis.append(c / rest)
+    seen = norms[order] <= RANK_RELATIVE * float(norms.max(initial=1.0))
+    out[order] = seen | (outside <= RANK_RELATIVE)
     return out
 
 
@@ -140,12 +133,15 @@ def free_coordinates(
     size: float,
     marker_ids: list[int] | None = None,
     still: tuple[str, ...] = (),
+    carried: NDArray[np.bool_] | None = None,
 ) -> tuple[NDArray[np.bool_], list[str]]:
     """The level's free coordinates: not fixed by ``patterns``, not of the lines and scales of
-    the joints that barely moved (``still``), not carried by the others. Also the names of the
-    coordinates the others carry."""
+    the joints that barely moved (``still``), not carried by the others (``carried``, when the
+    caller found them already for this level and chain). Also the names of the coordinates the
+    others carry."""
     fixed = fixed_by_name(est, patterns, marker_ids) | held_for_motion(est, still)
-    carried = redundant(est, limits, size)
+    if carried is None:
+        carried = redundant(est, limits, size)
     names = all_names(est, marker_ids)
     return ~(fixed | carried), [
         n for n, c, f in zip(names, carried, fixed, strict=True) if c and not f

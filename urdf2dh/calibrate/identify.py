@@ -209,14 +209,16 @@ def level_start(
     opts: Options,
     ids: list[int],
     still: tuple[str, ...] = (),
+    structure: NDArray[np.bool_] | None = None,
 ) -> tuple[Estimate, list[str], list[str]]:
     """The start of ``opts.level`` (the base-tool solution) with its free coordinates, the
     coordinates the others carry and those held fixed (by name, or because their joint, in
-    ``still``, barely moved)."""
+    ``still``, barely moved). ``structure``: the coordinates the others carry, when found
+    already (:func:`.identifiable.redundant`)."""
     level = LEVELS[opts.level]
     est = before.with_level(level)  # helical joints are so from the start on
     free, carried = free_coordinates(
-        est, opts.fixed_patterns, nominal.limits(), nominal.size(), ids, still
+        est, opts.fixed_patterns, nominal.limits(), nominal.size(), ids, still, structure
     )
     every = names(est, ids)
     fixed = [n for n, f in zip(every, free, strict=True) if not f and n not in carried]

@@ -132,29 +132,26 @@ def _skews(u: Mat) -> Mat:
 def _prefix(js: _Joints, q: Mat) -> tuple[Mat, Mat]:
     """Rotations ``(n + 1, N, 3, 3)`` and translations ``(n + 1, N, 3)`` of ``P_0 .. P_n``.
 
-    Each joint's ``exp([xi] s)`` by Rodrigues (``1 - cos = 2 sin^2(t/2)``), all at once."""
+    Each joint's ``exp([xi] s)`` by Rodrigues (``1 - cos = 2 sin^2(t/2)``), all at once, as
+    ``(N, n, 4, 4)`` transforms; their running products one joint at a time."""
     s = js.scale * (q + js.offset)  # (N, n)
     k = _skews(js.axis)
     angle = s * js.turning
     half = np.sin(0.5 * angle)
-    r = (
-        np.eye(3)
-        + np.sin(angle)[:, :, None, None] * k
-        + (2.0 * half * half)[:, :, None, None] * (k @ k)
-    )  # (N, n, 3, 3)
-    t = (
-        js.point - np.einsum("nijk,ik->nij", r, js.point) + (js.lead * s)[:, :, None] * js.axis
-    )  # (N, n, 3)
     count, n = q.shape
-    rots = np.empty((n + 1, count, 3, 3))
-    trans = np.empty((n + 1, count, 3))
-    rots[0] = np.eye(3)
-    trans[0] = 0.0
+    e = np.zeros((count, n, 4, 4))
+    r = e[:, :, :3, :3]
+    r[:] = np.eye(3)
+    r += np.sin(angle)[:, :, None, None] * k
+    r += (2.0 * half * half)[:, :, None, None] * (k @ k)
+    e[:, :, :3, 3] = js.point - (r @ js.point[:, :, None])[..., 0]
+    e[:, :, :3, 3] += (js.lead * s)[:, :, None] * js.axis
+    e[:, :, 3, 3] = 1.0
+    out = np.empty((n + 1, count, 4, 4))
+    out[0] = np.eye(4)
     for i in range(n):
-        np.matmul(rots[i], r[:, i], out=rots[i + 1])
-        np.matmul(rots[i], t[:, i, :, None], out=trans[i + 1, :, :, None])
-        trans[i + 1] += trans[i]
-    return rots, trans
+        np.matmul(out[i], e[:, i], out=out[i + 1])
+    return out[:, :, :3, :3], out[:, :, :3, 3]
 
 
 def prefix_products(est: Estimate, q: Mat) -> list[Mat]:

@@ -42,8 +42,8 @@ from numpy.typing import NDArray
 from ..errors import UsageError
 from ..progress import progress
 from ..screws import PoeModel
-from .chart import Estimate, absorbed, count
-from .identifiable import barely_moved
+from .chart import LEVELS, Estimate, absorbed, count
+from .identifiable import barely_moved, redundant
 from .identify import Fit, level_start, solve_level
 from .measurements import Measurements
 from .residuals import Data, evaluate
@@ -181,26 +181,33 @@ def level_fits(
     before: Fit,
     levels: tuple[str, ...],
     still: tuple[str, ...],
-) -> tuple[dict[str, Fit], dict[str, str]]:
-    """Each level fitted to all of ``fit`` (from ``before``, the base-tool fit), and why the
-    levels that could not be fitted were not."""
+) -> tuple[dict[str, Fit], dict[str, str], dict[str, NDArray[np.bool_]]]:
+    """Each level fitted to all of ``fit`` (from ``before``, the base-tool fit), why the levels
+    that could not be fitted were not, and each level's coordinates that the others carry (found
+    once: every fold's chain differs from this one by its fit, not in structure)."""
     size = nominal.size()
     data = to_data(fit, opts.pose, ids)
     fits: dict[str, Fit] = {}
     failures: dict[str, str] = {}
+    structures = {
+        level: redundant(before.solution.estimate.with_level(LEVELS[level]), nominal.limits(), size)
+        for level in levels
+    }
     for level in levels:
         if level == "base-tool" and not opts.fixed_patterns:
             fits[level] = before
             continue
         lopts = replace(opts, level=level)
-        est, _, _ = level_start(nominal, before.solution.estimate, lopts, ids, still)
+        est, _, _ = level_start(
+            nominal, before.solution.estimate, lopts, ids, still, structures[level]
+        )
         if count(est) > len(data) * data.rows:
             failures[level] = (
                 f"{count(est)} parameters, more than the {len(data) * data.rows} equations"
             )
             continue
         fits[level] = solve_level(est, data, lopts, size, est, (before.sigma_pos, before.sigma_rot))
-    return fits, failures
+    return fits, failures, structures
 
 
 def fold_errors(
@@ -212,6 +219,7 @@ def fold_errors(
     fits: dict[str, Fit],
     fold_of_row: NDArray[np.int64],
     still: tuple[str, ...],
+    structures: dict[str, NDArray[np.bool_]] | None = None,
     trained: NDArray[np.bool_] | None = None,
 ) -> tuple[dict[str, Mat], dict[str, str]]:
     """Each row's squared position (and rotation) error when its fold is predicted by each level
@@ -246,7 +254,14 @@ def fold_errors(
                 fold_fit = fold_before
             else:
                 lopts = replace(opts, level=level)
-                est, _, _ = level_start(nominal, fold_before.solution.estimate, lopts, ids, still)
+                est, _, _ = level_start(
+                    nominal,
+                    fold_before.solution.estimate,
+                    lopts,
+                    ids,
+                    still,
+                    None if structures is None else structures.get(level),
+                )
                 if count(est) > len(train_data) * train_data.rows:
                     failures[level] = (
                         f"a fold leaves {len(train_data) * train_data.rows} equations for its "
@@ -286,9 +301,9 @@ def cross_validate(
     index, configurations = fit.configurations()
     fold_of = fold_of_configurations(configurations, folds, seed)
     still = barely_moved(fit.q, before.solution.estimate, nominal.size())
-    fits, failures = level_fits(nominal, fit, opts, ids, before, levels, still)
+    fits, failures, structures = level_fits(nominal, fit, opts, ids, before, levels, still)
     errors, fold_failures = fold_errors(
-        nominal, fit, opts, ids, before, fits, fold_of[index], still
+        nominal, fit, opts, ids, before, fits, fold_of[index], still, structures
     )
     failures |= fold_failures
     judged = [lv for lv in levels if lv in errors]
