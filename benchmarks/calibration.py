@@ -42,6 +42,7 @@ import sys
 import tempfile
 import time
 import warnings
+from functools import partial
 from pathlib import Path
 from typing import Any
 
@@ -331,7 +332,13 @@ def _tool_points(model: PoeModel, m: Measurements) -> np.ndarray:
 
 
 def figaroh_real(
-    urdf: str, tool: str, fit: Measurements, test: Measurements, level: str, work: Path
+    urdf: str,
+    tool: str,
+    fit: Measurements,
+    test: Measurements,
+    level: str,
+    work: Path,
+    repeats: int = 1,
 ) -> tuple[float, float]:
     """FIGAROH at ``level`` on ``fit``, judged on ``test``: (time, held-out RMS position)."""
     import pandas as pd
@@ -375,7 +382,7 @@ def figaroh_real(
         cal.solve(enable_logging=False)
         return cal
 
-    elapsed, cal = best_time(run, 1)
+    elapsed, cal = best_time(run, repeats)
     q = np.zeros((len(test), robot.model.nq))
     for i, n in enumerate(test.joints):
         q[:, robot.model.joints[robot.model.getJointId(n)].idx_q] = test.q[:, i]
@@ -387,7 +394,7 @@ def figaroh_real(
 
 
 def robotkinecal_real(
-    nominal: PoeModel, fit: Measurements, test: Measurements, work: Path
+    nominal: PoeModel, fit: Measurements, test: Measurements, work: Path, repeats: int = 1
 ) -> tuple[float, float]:
     """robotkinecal on ``fit`` brought into the nominal's base frame (module docstring)."""
     import roboticstoolbox as rtb
@@ -401,12 +408,14 @@ def robotkinecal_real(
     rotations = g[:3, :3] @ rotation_of(fit.quaternions)
     points = fit.points @ g[:3, :3].T + g[:3, 3]
     observations = [SE3.Rt(r, t, check=False) for r, t in zip(rotations, points, strict=True)]
-    np.random.seed(0)  # noqa: NPY002 -- its joint bases come from numpy's global generator
-    start = time.perf_counter()
-    cal = SerialRobotKineCal(robot, ee_name=robot.links[-1].name, verbose=False)
-    cal.set_observations(list(fit.q), observations)
-    result = cal.solve()
-    elapsed = time.perf_counter() - start
+
+    def run() -> Any:
+        np.random.seed(0)  # noqa: NPY002 -- its joint bases come from numpy's global generator
+        cal = SerialRobotKineCal(robot, ee_name=robot.links[-1].name, verbose=False)
+        cal.set_observations(list(fit.q), observations)
+        return cal.solve()
+
+    elapsed, result = best_time(run, repeats)
     screws = result.get_screw_axes()  # [v, w] (spatialmath's order)
     joints = tuple(
         joint_from_twist(j.name, np.r_[s[3:], s[:3]], 1e-12)
@@ -420,59 +429,54 @@ def robotkinecal_real(
 def real_sets(repeats: int) -> int:
     """The side-by-side table on the real data sets (module docstring)."""
     print("### Calibration on real measurements: held-out RMS position, 30% of the configurations")
-    print("held out (the data's README split), and identification time (best of "
-          f"{repeats}, wall clock)\n")  # fmt: skip
+    print(
+        "held out (the data's README split), and identification time (best of "
+        f"{repeats}, wall clock)\n"
+    )
     print("| set | tool | held-out RMS | vs best anchor | time | time / urdf2dh's |")
     print("|---|---|---|---|---|---|")
     with tempfile.TemporaryDirectory(prefix="urdf2dh-bench-") as tmp:
-        work = Path(tmp)
-        for name, (robot, tool, stem, anchor) in REAL.items():
-            urdf = _urdf(name)
-            nominal = urdf2dh.load(
-                robot if name == "panda" else urdf, tip=None if name == "panda" else tool
-            )
-            joints = tuple(j.name for j in nominal.joints)
-            fit = read_measurements(DATA / f"{stem}_fit.csv", joints)
-            test = read_measurements(DATA / f"{stem}_test.csv", joints)
-            rows: list[tuple[str, float, float]] = []
-            base, cal = best_time(lambda: calibrate(nominal, fit, convention="poe"), repeats)
-            after = _held_out(cal.device_model, cal, test)
-            rows.append(
-                (f"urdf2dh default (chose {cal.level}, {cal.iterations} iterations)", after, base)
-            )
-            for level in ("base-tool", "offsets", "geometry", "full"):
-                elapsed, other = best_time(
-                    lambda level=level: calibrate(
-                        nominal, fit, identify_level=level, convention="poe"
-                    ),
-                    1,
-                )
-                rows.append(
-                    (
-                        f"urdf2dh --identify {level}",
-                        _held_out(other.device_model, other, test),
-                        elapsed,
-                    )
-                )
-            for level in ("full_params", "joint_offset"):
-                try:
-                    elapsed, rms = figaroh_real(urdf, tool, fit, test, level, work)
-                except Exception as e:  # report why a tool could not run, and go on
-                    print(f"FIGAROH {level} on {name}: could not run: {type(e).__name__}: {e}")
-                    continue
-                rows.append((f"FIGAROH {level}", rms, elapsed))
-            if fit.quaternions is not None:
-                try:
-                    elapsed, rms = robotkinecal_real(nominal, fit, test, work)
-                    rows.append(("robotkinecal", rms, elapsed))
-                except Exception as e:
-                    print(f"robotkinecal on {name}: could not run: {type(e).__name__}: {e}")
-            for label, rms, elapsed in rows:
+        for name in REAL:
+            for label, rms, elapsed, base in one_set(name, repeats, Path(tmp)):
                 print(
-                    f"| {name} | {label} | {rms * 1e3:.2f} mm | {rms / anchor:.3f}x | "
+                    f"| {name} | {label} | {rms * 1e3:.2f} mm | {rms / REAL[name][3]:.3f}x | "
                     f"{elapsed:.3f} s | {elapsed / base:.2f}x |"
                 )
     return 0
+
+
+def one_set(name: str, repeats: int, work: Path) -> list[tuple[str, float, float, float]]:
+    """Every tool on one real set: (label, held-out RMS, time, urdf2dh's default time)."""
+    robot, tool, stem, _ = REAL[name]
+    urdf = _urdf(name)
+    nominal = urdf2dh.load(robot) if name == "panda" else urdf2dh.load(urdf, tip=tool)
+    joints = tuple(j.name for j in nominal.joints)
+    fit = read_measurements(DATA / f"{stem}_fit.csv", joints)
+    test = read_measurements(DATA / f"{stem}_test.csv", joints)
+    rows: list[tuple[str, float, float]] = []
+    base, cal = best_time(partial(calibrate, nominal, fit, convention="poe"), repeats)
+    label = f"urdf2dh default (chose {cal.level}, {cal.iterations} iterations)"
+    rows.append((label, _held_out(cal.device_model, cal, test), base))
+    for level in ("base-tool", "offsets", "geometry", "full"):
+        run = partial(calibrate, nominal, fit, identify_level=level, convention="poe")
+        elapsed, other = best_time(run, repeats)
+        rows.append(
+            (f"urdf2dh --identify {level}", _held_out(other.device_model, other, test), elapsed)
+        )
+    for level in ("full_params", "joint_offset"):
+        try:
+            elapsed, rms = figaroh_real(urdf, tool, fit, test, level, work, repeats)
+        except Exception as e:  # report why a tool could not run, and go on
+            print(f"FIGAROH {level} on {name}: could not run: {type(e).__name__}: {e}")
+            continue
+        rows.append((f"FIGAROH {level}", rms, elapsed))
+    if fit.quaternions is not None:
+        try:
+            elapsed, rms = robotkinecal_real(nominal, fit, test, work, repeats)
+            rows.append(("robotkinecal", rms, elapsed))
+        except Exception as e:  # report why a tool could not run, and go on
+            print(f"robotkinecal on {name}: could not run: {type(e).__name__}: {e}")
+    return [(label, rms, elapsed, base) for label, rms, elapsed in rows]
 
 
 def _held_out(device_model: PoeModel, cal: Any, test: Measurements) -> float:
