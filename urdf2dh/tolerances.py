@@ -74,8 +74,9 @@ NOISE_FLOOR = 1e-14
 
 # A joint whose measured positions span less than BARELY_MOVED (rad; for a sliding joint, x the
 # robot's size) barely moved: how its line lies and how far it scales can hardly be seen (a
-# line's tilt shows at the tool in proportion to the joint's motion), so calibration keeps them
-# as in the nominal and says so; its offset is still identified.
+# line's tilt shows at the tool in proportion to the joint's motion), and what is identified of
+# them holds near the measured positions only. Calibration names the joint and flags those
+# parameters.
 BARELY_MOVED = 0.1
 
 # An identified parameter is flagged as poorly identified when one standard deviation of it moves

@@ -30,7 +30,6 @@ __all__ = [
     "check_patterns",
     "fixed_by_name",
     "free_coordinates",
-    "held_for_motion",
     "redundant",
 ]
 
@@ -118,28 +117,18 @@ def barely_moved(q: NDArray[np.float64], est: Estimate, size: float) -> tuple[st
     return tuple(n for n, s, lim in zip(est.chain.names, span, limit, strict=True) if s < lim)
 
 
-def held_for_motion(est: Estimate, joints: tuple[str, ...]) -> NDArray[np.bool_]:
-    """The coordinates of ``joints``' lines, pitches and scales (not their offsets)."""
-    return np.array(
-        [n.rsplit(".", 1)[0] in joints and not n.endswith(".offset") for n in all_names(est)],
-        dtype=bool,
-    )
-
-
 def free_coordinates(
     est: Estimate,
     patterns: tuple[str, ...],
     limits: NDArray[np.float64],
     size: float,
     marker_ids: list[int] | None = None,
-    still: tuple[str, ...] = (),
     carried: NDArray[np.bool_] | None = None,
 ) -> tuple[NDArray[np.bool_], list[str]]:
-    """The level's free coordinates: not fixed by ``patterns``, not of the lines and scales of
-    the joints that barely moved (``still``), not carried by the others (``carried``, when the
-    caller found them already for this level and chain). Also the names of the coordinates the
-    others carry."""
-    fixed = fixed_by_name(est, patterns, marker_ids) | held_for_motion(est, still)
+    """The level's free coordinates: not fixed by ``patterns``, not carried by the others
+    (``carried``, when the caller found them already for this level and chain). Also the names
+    of the coordinates the others carry."""
+    fixed = fixed_by_name(est, patterns, marker_ids)
     if carried is None:
         carried = redundant(est, limits, size)
     names = all_names(est, marker_ids)

@@ -44,7 +44,7 @@ from ..se3 import inv
 from ..tolerances import NOISE_FLOOR, NOISE_RATIO, Tolerances
 from .chart import LEVELS, Estimate, absorbed, count, names
 from .frames import anchor_base, fit_rigid, pose_points, tool_on_last_axis
-from .identifiable import barely_moved, free_coordinates
+from .identifiable import free_coordinates
 from .measurements import Measurements
 from .residuals import Data, model_poses, prefix_products
 from .solver import Problem, Solution, Statistics, solve, statistics
@@ -208,17 +208,15 @@ def level_start(
     before: Estimate,
     opts: Options,
     ids: list[int],
-    still: tuple[str, ...] = (),
     structure: NDArray[np.bool_] | None = None,
 ) -> tuple[Estimate, list[str], list[str]]:
     """The start of ``opts.level`` (the base-tool solution) with its free coordinates, the
-    coordinates the others carry and those held fixed (by name, or because their joint, in
-    ``still``, barely moved). ``structure``: the coordinates the others carry, when found
-    already (:func:`.identifiable.redundant`)."""
+    coordinates the others carry and those fixed by name. ``structure``: the coordinates the
+    others carry, when found already (:func:`.identifiable.redundant`)."""
     level = LEVELS[opts.level]
     est = before.with_level(level)  # helical joints are so from the start on
     free, carried = free_coordinates(
-        est, opts.fixed_patterns, nominal.limits(), nominal.size(), ids, still, structure
+        est, opts.fixed_patterns, nominal.limits(), nominal.size(), ids, structure
     )
     every = names(est, ids)
     fixed = [n for n, f in zip(every, free, strict=True) if not f and n not in carried]
@@ -250,8 +248,7 @@ def identify(
     start, base_fit = before if before is not None else fit_before(nominal, fit, opts, ids)
     before_est = base_fit.solution.estimate
     data = to_data(fit, opts.pose, ids)
-    still = barely_moved(fit.q, before_est, size)
-    est0, carried, fixed = level_start(nominal, before_est, opts, ids, still)
+    est0, carried, fixed = level_start(nominal, before_est, opts, ids)
     check_equations(count(est0), data, fit.source, opts.pose)
     if solved is not None:
         result = solved

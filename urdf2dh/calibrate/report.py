@@ -164,10 +164,14 @@ def _reach(est: Estimate, m: Measurements, pose: bool, ids: list[int], size: flo
 
 
 def _parameters(
-    result: Identified, fit: Measurements, opts: Options, ids: list[int], still: tuple[str, ...]
+    result: Identified,
+    fit: Measurements,
+    opts: Options,
+    ids: list[int],
+    still: dict[str, str],
 ) -> tuple[list[Any], list[str], list[str]]:
     """The parameters with their values, changes and flags; the poorly identified ones' names;
-    the undetermined ones' names."""
+    the undetermined ones' names. ``still``: the joints that barely moved, with their span."""
     from .calibration import Parameter
 
     est = result.estimate
@@ -196,9 +200,15 @@ def _parameters(
                 value = float(est.joint_offsets()[i])
         std = float(result.stats.std[k])
         flag = None
+        moved = owner in still and leaf != "offset"
         if not math.isfinite(std):
             lost.append(name)
-            flag = "not determined by the measurements"
+            flag = "not determined by the measurements" + (
+                f": its joint barely moved ({still[owner]})" if moved else ""
+            )
+        elif moved:
+            poor.append(name)
+            flag = f"its joint barely moved ({still[owner]}): it holds near those positions only"
         elif std * reach[k] > POORLY_IDENTIFIED * result.sigma_pos:
             poor.append(name)
             flag = (
@@ -363,16 +373,14 @@ def assemble(
     still = barely_moved(fit.q, before_est, size)
     span_of = np.ptp(fit.q, axis=0)
     spans = {j.name: float(s) for j, s in zip(nominal.joints, span_of, strict=True)}
-    kinds = {j.name: j.kind for j in nominal.joints}
-    parameters, poor, lost = _parameters(result, fit, opts, ids, still)
+    spans_text = {
+        j.name: f"{spans[j.name]:.3g} {unit if j.kind == 'prismatic' else 'rad'}"
+        for j in nominal.joints
+        if j.name in still
+    }
+    parameters, poor, lost = _parameters(result, fit, opts, ids, spans_text)
     held_list = [Held(n, "the level's other parameters carry it") for n in result.carried]
-    for n in result.fixed:
-        owner = n.rsplit(".", 1)[0]
-        reason = "fixed as asked"
-        if owner in still:
-            span_unit = unit if kinds[owner] == "prismatic" else "rad"
-            reason = f"its joint barely moved ({spans[owner]:.3g} {span_unit})"
-        held_list.append(Held(n, reason))
+    held_list += [Held(n, "fixed as asked") for n in result.fixed]
     warnings = list(result.notes)
     stats = result.stats
     p = len(result.names)
@@ -394,15 +402,22 @@ def assemble(
             )
     if still:
         warnings.append(
-            "barely moved (span under the threshold): "
-            + ", ".join(f"{visible(n)} {spans[n]:.3g}" for n in still)
-            + "; their lines and scales are kept from the nominal (their offsets are identified)"
+            "barely moved: "
+            + ", ".join(f"{visible(n)} ({spans_text[n]})" for n in still)
+            + "; how their lines lie and how far they scale is identified near these positions "
+            "only (measure configurations that move them)"
         )
     if lost:
+        causes = {n.rsplit(".", 1)[0] for n in lost} & set(still)
+        why = (
+            f"their joints barely moved ({', '.join(sorted(causes))})"
+            if causes
+            else "the configurations measured do not tell them apart from the others"
+        )
         warnings.append(
             f"the measurements determine {stats.rank} of the {p} parameters; not determined: "
-            f"{', '.join(lost)} (the configurations measured do not tell them apart from the "
-            "others; measure configurations that move these joints differently)"
+            f"{', '.join(lost)} ({why}; measure configurations that move these joints "
+            "differently)"
         )
     if poor:
         warnings.append(

@@ -43,7 +43,7 @@ from ..errors import UsageError
 from ..progress import progress
 from ..screws import PoeModel
 from .chart import LEVELS, Estimate, absorbed, count
-from .identifiable import barely_moved, redundant
+from .identifiable import redundant
 from .identify import Fit, level_start, solve_level
 from .measurements import Measurements
 from .residuals import Data, evaluate
@@ -180,7 +180,6 @@ def level_fits(
     ids: list[int],
     before: Fit,
     levels: tuple[str, ...],
-    still: tuple[str, ...],
 ) -> tuple[dict[str, Fit], dict[str, str], dict[str, NDArray[np.bool_]]]:
     """Each level fitted to all of ``fit`` (from ``before``, the base-tool fit), why the levels
     that could not be fitted were not, and each level's coordinates that the others carry (found
@@ -198,9 +197,7 @@ def level_fits(
             fits[level] = before
             continue
         lopts = replace(opts, level=level)
-        est, _, _ = level_start(
-            nominal, before.solution.estimate, lopts, ids, still, structures[level]
-        )
+        est, _, _ = level_start(nominal, before.solution.estimate, lopts, ids, structures[level])
         if count(est) > len(data) * data.rows:
             failures[level] = (
                 f"{count(est)} parameters, more than the {len(data) * data.rows} equations"
@@ -218,7 +215,6 @@ def fold_errors(
     before: Fit,
     fits: dict[str, Fit],
     fold_of_row: NDArray[np.int64],
-    still: tuple[str, ...],
     structures: dict[str, NDArray[np.bool_]] | None = None,
     trained: NDArray[np.bool_] | None = None,
 ) -> tuple[dict[str, Mat], dict[str, str]]:
@@ -259,7 +255,6 @@ def fold_errors(
                     fold_before.solution.estimate,
                     lopts,
                     ids,
-                    still,
                     None if structures is None else structures.get(level),
                 )
                 if count(est) > len(train_data) * train_data.rows:
@@ -300,10 +295,9 @@ def cross_validate(
         raise UsageError(f"unknown rule {rule!r}; valid: {', '.join(RULES)}")
     index, configurations = fit.configurations()
     fold_of = fold_of_configurations(configurations, folds, seed)
-    still = barely_moved(fit.q, before.solution.estimate, nominal.size())
-    fits, failures, structures = level_fits(nominal, fit, opts, ids, before, levels, still)
+    fits, failures, structures = level_fits(nominal, fit, opts, ids, before, levels)
     errors, fold_failures = fold_errors(
-        nominal, fit, opts, ids, before, fits, fold_of[index], still, structures
+        nominal, fit, opts, ids, before, fits, fold_of[index], structures
     )
     failures |= fold_failures
     judged = [lv for lv in levels if lv in errors]
