@@ -5,7 +5,11 @@
 Robot ``seed`` (tests/corpus.py) is a real chain whose robot, link, joint and file names are
 drawn, seeded, from characters and snippets that end strings, comments and lines (quotes,
 ``\"\"\"``, backslash, LF, CR, U+2028, ``%``, ``#``, ``;``, ``--``, ``]]>``, ``${}``, HAL and
-MATLAB payloads, control characters in POE files). Every run of ``urdf2dh export``/``convert``
+MATLAB payloads, control characters in POE files, invisible characters: bidi controls,
+zero-width characters, BOM, soft hyphen, tag characters; spreadsheet formula starts). Then the
+robots named as the writers name what they make up (tests/hostile.py's ``COLLIDING``: MATLAB's
+``body2``, ``dh_base_fixed``, ``tool_fixed``, KDL's segments, the URDF writer's links), each as
+a URDF and as POE files. Every run of ``urdf2dh export``/``convert``
 is written and safe (its file reads, in its language, as its clean twin's with the names put
 in), or refused (exit 2, one line); anything else is a failure, listed, and the exit status is
 1. The test suite runs a sample of the same robots (tests/test_hostile_names.py).
@@ -23,6 +27,7 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 
 from corpus import FAILURES, Corpus, Verdict
+from hostile import COLLIDING, KINDS
 
 
 def _reason(v: Verdict) -> str:
@@ -47,14 +52,21 @@ def main(argv: list[str] | None = None) -> int:
             verdicts += got
             if args.verbose:
                 print(f"robot {seed} ({got[0].kind}): {dict(Counter(v.result for v in got))}")
+        for i, names in enumerate(COLLIDING):
+            for kind in KINDS:
+                got = corpus.check(names, "genser6", kind, seed=-1 - i)
+                verdicts += got
+                if args.verbose:
+                    print(f"colliding {i} ({kind}): {dict(Counter(v.result for v in got))}")
     finally:
         corpus.close()
     seconds = time.perf_counter() - started
     results = Counter(v.result for v in verdicts)
-    kinds = Counter(v.kind for v in verdicts[:: max(1, len(verdicts) // args.robots)])
+    kinds = Counter(v.kind for v in {v.seed: v for v in verdicts if v.seed >= 0}.values())
     print(
-        f"{args.robots} hostile robots ({', '.join(f'{n} {k}' for k, n in kinds.items())}), "
-        f"{len(verdicts)} runs in {seconds:.0f} s"
+        f"{args.robots} hostile robots ({', '.join(f'{n} {k}' for k, n in kinds.items())}) and "
+        f"{len(COLLIDING)} colliding ones x {len(KINDS)} kinds, {len(verdicts)} runs in "
+        f"{seconds:.0f} s"
     )
     for result in ("written", "refused", *FAILURES):
         print(f"  {result:<15} {results[result]}")

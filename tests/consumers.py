@@ -20,15 +20,41 @@ from __future__ import annotations
 
 import glob
 import importlib.util
+import json
 import math
 import re
+import shutil
+import subprocess
 import sys
+import tempfile
 import types
+from dataclasses import dataclass
+from pathlib import Path
 from typing import Any
 
 import numpy as np
 from hal_reader import read_hal
 from matlab_reader import Call, Chars, Ref, Str, read_matlab
+
+# --------------------------------------------------------------------------- the report
+
+REPORT_ENV = "URDF2DH_CONSUMER_REPORT"
+
+
+def report(target: str, consumer: str, errors: tuple[float, float], size: float) -> None:
+    """Record a target's worst FK error against Pinocchio in its consumer (position relative
+    to the robot's size, rotation in radians) in the file ``$URDF2DH_CONSUMER_REPORT`` names,
+    one JSON line each, for scripts/check-consumers' summary; nothing when it is unset."""
+    import os
+
+    path = os.environ.get(REPORT_ENV)
+    if not path:
+        return
+    record = {"target": target, "consumer": consumer, "position": errors[0] / size}
+    record["rotation"] = errors[1]
+    with open(path, "a") as f:
+        f.write(json.dumps(record) + "\n")
+
 
 # --------------------------------------------------------------------------- elementary transforms
 
@@ -36,6 +62,11 @@ from matlab_reader import Call, Chars, Ref, Str, read_matlab
 def rz(t: float) -> np.ndarray:
     c, s = math.cos(t), math.sin(t)
     return np.array([[c, -s, 0, 0], [s, c, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1.0]])
+
+
+def ry(t: float) -> np.ndarray:
+    c, s = math.cos(t), math.sin(t)
+    return np.array([[c, 0, s, 0], [0, 1.0, 0, 0], [-s, 0, c, 0], [0, 0, 0, 1.0]])
 
 
 def rx(t: float) -> np.ndarray:
@@ -155,8 +186,12 @@ class RigidBodyTree:
                 "addBody", (Ref("robot"), Ref("body"), Ref("parent"))
             ):
                 assert body is not None and parent is not None and "joint" in body
+                # addBody refuses a body named as one in the tree (the base included), and a
+                # body whose joint is named as a joint in the tree
                 if body["name"] in self.bodies or body["name"] == self.base:
                     raise AssertionError(f"duplicate body name {body['name']}")
+                if body["joint"]["name"] in {b["joint"]["name"] for b in self.bodies.values()}:
+                    raise AssertionError(f"duplicate joint name {body['joint']['name']}")
                 body["parent"] = parent
                 self.bodies[body["name"]] = body
                 if body["joint"]["type"] != "fixed":
@@ -250,23 +285,93 @@ class SerialLink:
 # --------------------------------------------------------------------------- LinuxCNC genserkins
 
 
-def genserkins_links(hal: str) -> list[tuple[float, float, float]]:
-    """``(A-i, ALPHA-i, D-i)`` for i = 0..5 from the file's commands, read as halcmd reads them
-    (:mod:`hal_reader`); every live line must be a ``setp genserkins.*`` of ours."""
+@dataclass(frozen=True)
+class GenserHal:
+    """What a HAL file of ours sets: genserkins' six links ``(A-i, ALPHA-i, D-i)`` and, per
+    joint with joint-zero components, the ``(gain, offset)`` of ``urdf2dh-fb-i`` (drive
+    feedback -> genserkins' angle) and ``urdf2dh-cmd-i`` (motion's command -> drive)."""
+
+    links: list[tuple[float, float, float]]
+    feedback: dict[int, tuple[float, float]]
+    command: dict[int, tuple[float, float]]
+    world: np.ndarray  # the base link's pose of LinuxCNC's world frame, as the file states it
+    tool: np.ndarray  # the tip in the frame whose pose LinuxCNC reports, as the file states it
+
+    def tip_poses(self, reported: np.ndarray, metres: float = 1.0) -> np.ndarray:
+        """The tip's poses in the base link from the poses LinuxCNC reports (lengths times
+        ``metres``)."""
+        world, tool = self.world.copy(), self.tool.copy()
+        world[:3, 3] *= metres
+        out = np.array(reported, dtype=float)
+        out[..., :3, 3] *= metres
+        return world @ out @ tool
+
+    def angles(self, q_deg: np.ndarray) -> np.ndarray:
+        """genserkins' joints for drive positions ``q`` (degrees): HAL's ``scale`` is
+        ``out = in * gain + offset``; joints without components pass ``q`` as it is."""
+        out = np.array(q_deg, dtype=float)
+        for i, (gain, offset) in self.feedback.items():
+            out[..., i] = q_deg[..., i] * gain + offset
+        return out
+
+    def commands(self, angles_deg: np.ndarray) -> np.ndarray:
+        out = np.array(angles_deg, dtype=float)
+        for i, (gain, offset) in self.command.items():
+            out[..., i] = angles_deg[..., i] * gain + offset
+        return out
+
+
+def genserkins_hal(hal: str) -> GenserHal:
+    """The file's commands, read as halcmd reads them (:mod:`hal_reader`): ``setp`` of the 18
+    genserkins pins, and for the joint zeros one ``loadrt scale names=...``, one ``addf NAME
+    servo-thread`` per instance and ``setp NAME.gain|offset``. Anything else fails."""
     values: dict[str, float] = {}
+    loaded: list[str] = []
+    added: list[str] = []
     for tokens in read_hal(hal).commands:
+        if tokens[:2] == ["loadrt", "scale"] and len(tokens) == 3 and not loaded:
+            key, _, names = tokens[2].partition("=")
+            assert key == "names", tokens
+            loaded = names.split(",")
+            continue
+        if tokens[0] == "addf" and len(tokens) == 3 and tokens[2] == "servo-thread":
+            added.append(tokens[1])
+            continue
         m = (
-            re.fullmatch(r"genserkins\.(A|ALPHA|D)-([0-5])", tokens[1])
+            re.fullmatch(r"genserkins\.(A|ALPHA|D)-([0-5])|urdf2dh-(fb|cmd)-([0-5])\.(gain|offset)",
+                         tokens[1])
             if len(tokens) == 3 and tokens[0] == "setp"
             else None
-        )
+        )  # fmt: skip
         if not m:
             raise AssertionError(f"HAL command not understood: {tokens!r}")
-        key = f"{m[1]}-{m[2]}"
-        if key in values:
-            raise AssertionError(f"HAL parameter {key} set twice")
-        values[key] = float(tokens[2])
-    return [(values[f"A-{i}"], values[f"ALPHA-{i}"], values[f"D-{i}"]) for i in range(6)]
+        if m[1] is None and f"urdf2dh-{m[3]}-{m[4]}" not in loaded:
+            raise AssertionError(f"HAL pin {tokens[1]} of a component not loaded")
+        if tokens[1] in values:
+            raise AssertionError(f"HAL pin {tokens[1]} set twice")
+        values[tokens[1]] = float(tokens[2])
+    assert sorted(added) == sorted(loaded), (added, loaded)
+    links = [tuple(values[f"genserkins.{k}-{i}"] for k in ("A", "ALPHA", "D")) for i in range(6)]
+    maps: dict[str, dict[int, tuple[float, float]]] = {"fb": {}, "cmd": {}}
+    for name in loaded:
+        way, i = re.fullmatch(r"urdf2dh-(fb|cmd)-([0-5])", name).groups()  # type: ignore[union-attr]
+        maps[way][int(i)] = (values[f"{name}.gain"], values[f"{name}.offset"])
+    assert maps["fb"].keys() == maps["cmd"].keys(), loaded
+    notes = "".join(c[1:] if c.startswith(" ") else c for c in read_hal(hal).comments)
+    world, tool = np.eye(4), np.eye(4)
+    number = r"(-?[0-9.]+(?:e[-+][0-9]+)?)"
+    m = re.search(rf"= Rz\({number} deg\) Tz\({number} (?:mm|inch)\) \. pose LinuxCNC", notes)
+    if m:
+        world = rz(math.radians(float(m[1]))) @ tr(z=float(m[2]))
+    m = re.search(rf"pose LinuxCNC reports \. Rx\({number} deg\) Rz\({number} deg\)", notes)
+    if m:
+        tool = rx(math.radians(float(m[1]))) @ rz(math.radians(float(m[2])))
+    return GenserHal(links, maps["fb"], maps["cmd"], world, tool)  # type: ignore[arg-type]
+
+
+def genserkins_links(hal: str) -> list[tuple[float, float, float]]:
+    """``(A-i, ALPHA-i, D-i)`` for i = 0..5 (:func:`genserkins_hal`)."""
+    return genserkins_hal(hal).links
 
 
 def genserkins_fk(links: list[tuple[float, float, float]], joints_deg: np.ndarray) -> np.ndarray:
@@ -275,6 +380,120 @@ def genserkins_fk(links: list[tuple[float, float, float]], joints_deg: np.ndarra
     out = np.eye(4)
     for (a, alpha, d), joint in zip(links, joints_deg, strict=True):
         out = out @ craig_dh(a, alpha, d, math.radians(joint))
+    return out
+
+
+SIM = Path(__file__).with_name("linuxcnc_sim.py")
+DEBIAN_PYTHON = "/usr/bin/python3"
+
+
+def real_linuxcnc() -> bool:
+    """Whether Debian's LinuxCNC (``linuxcnc-uspace``: genserkins, halcmd, its ``hal`` module
+    for Debian's Python) is installed, so :mod:`linuxcnc_sim` can run."""
+    return (
+        Path("/usr/lib/linuxcnc/modules/genserkins.so").exists()
+        and shutil.which("halcmd") is not None
+        and Path("/usr/lib/python3/dist-packages/hal.py").exists()
+        and Path(DEBIAN_PYTHON).exists()
+    )
+
+
+def run_linuxcnc(files: list[tuple[str, np.ndarray]]) -> tuple[str, list[dict[str, np.ndarray]]]:
+    """Each ``(HAL text, drive positions in degrees (N, 6))`` run in LinuxCNC by
+    :mod:`linuxcnc_sim`: its version, and per file genserkins' joints, the command path's drive
+    positions and the poses (4x4, lengths in the file's unit) LinuxCNC reports, with ``a b c``
+    read as genserkins writes them (``go_quat_rpy_convert``: roll about x, pitch about y, yaw
+    about z, ``R = Rz(c) Ry(b) Rx(a)``, degrees)."""
+    request = {"files": [{"hal": text, "q": np.asarray(q).tolist()} for text, q in files]}
+    with tempfile.TemporaryDirectory() as work:
+        ask, answer = Path(work, "request.json"), Path(work, "answer.json")
+        ask.write_text(json.dumps(request))
+        proc = subprocess.run(
+            [DEBIAN_PYTHON, str(SIM), str(ask), str(answer)],
+            capture_output=True, text=True, timeout=600, env=_debian_env(),
+        )  # fmt: skip
+        if proc.returncode != 0:
+            raise AssertionError(f"linuxcnc_sim failed:\n{proc.stdout}\n{proc.stderr}")
+        reply = json.loads(answer.read_text())
+    out = []
+    for item in reply["files"]:
+        poses = np.array([_xyzabc(*p) for p in item["poses"]])
+        out.append(
+            {
+                "joints": np.array(item["joints"]),
+                "commands": np.array(item["commands"]),
+                "poses": poses,
+            }
+        )
+    return reply["linuxcnc"], out
+
+
+def _debian_env() -> dict[str, str]:
+    """The environment without this virtual environment's Python settings."""
+    import os
+
+    env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "PYTHONHOME")}
+    env.pop("VIRTUAL_ENV", None)
+    return env
+
+
+def _xyzabc(x: float, y: float, z: float, a: float, b: float, c: float) -> np.ndarray:
+    out = rz(math.radians(c)) @ ry(math.radians(b)) @ rx(math.radians(a))
+    out[:3, 3] = (x, y, z)
+    return out
+
+
+# --------------------------------------------------------------------------- Octave
+
+OCTAVE_DIR = Path(__file__).with_name("octave")  # corke/, rst/: our classes, from the docs
+
+
+def octave_version() -> str | None:
+    """GNU Octave's version where ``octave`` is on PATH (Debian's package), else ``None``."""
+    if shutil.which("octave") is None:
+        return None
+    proc = subprocess.run(
+        ["octave", "--no-gui", "--no-window-system", "--quiet", "--eval", "disp(version())"],
+        capture_output=True, text=True, timeout=120,
+    )  # fmt: skip
+    return proc.stdout.strip() if proc.returncode == 0 else None
+
+
+def run_octave(jobs: list[tuple[str, str, str, np.ndarray]]) -> list[np.ndarray]:
+    """Run generated MATLAB scripts in GNU Octave, one session for all: each job is ``(kind,
+    script, tip, q (N, n))`` with kind ``corke`` (``robot.fkine(q)``, Corke's ``SerialLink``)
+    or ``rst`` (``getTransform(robot, q, tip)``, a ``rigidBodyTree``); the classes are ours,
+    written from the published definitions (tests/octave/). Returns each job's poses
+    ``(N, 4, 4)``, printed by Octave with 17 significant digits."""
+    with tempfile.TemporaryDirectory() as work:
+        driver = [f"addpath('{OCTAVE_DIR / 'corke'}'); addpath('{OCTAVE_DIR / 'rst'}');"]
+        for k, (kind, script, tip, q) in enumerate(jobs):
+            Path(work, f"job{k}.m").write_text(script)
+            np.savetxt(Path(work, f"q{k}.txt"), np.atleast_2d(q), fmt="%.17g")
+            fk = (
+                "robot.fkine(Q(i, :))"
+                if kind == "corke"
+                else f"getTransform(robot, Q(i, :), '{tip}')"
+            )
+            driver.append(
+                f"clear robot L; source('{work}/job{k}.m'); Q = dlmread('{work}/q{k}.txt');"
+                f"f = fopen('{work}/pose{k}.txt', 'w');"
+                f"for i = 1:rows(Q), T = {fk}; fprintf(f, '%.17g ', T(1:3, :)'); "
+                "fprintf(f, '\\n'); end; fclose(f);"
+            )
+        Path(work, "driver.m").write_text("\n".join(driver) + "\nexit(0);\n")
+        proc = subprocess.run(
+            ["octave", "--no-gui", "--no-window-system", "--quiet", f"{work}/driver.m"],
+            capture_output=True, text=True, timeout=900, cwd=work,
+        )  # fmt: skip
+        if proc.returncode != 0:
+            raise AssertionError(f"octave failed:\n{proc.stdout[-3000:]}\n{proc.stderr[-3000:]}")
+        out = []
+        for k in range(len(jobs)):
+            rows = np.loadtxt(Path(work, f"pose{k}.txt"), ndmin=2).reshape(-1, 3, 4)
+            poses = np.zeros((rows.shape[0], 4, 4))
+            poses[:, :3], poses[:, 3, 3] = rows, 1.0
+            out.append(poses)
     return out
 
 

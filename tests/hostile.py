@@ -40,7 +40,7 @@ GEOMETRIES = {  # URDF file, base link, tip link
     "ur5": (robot_path(ROBOTS["ur5"]), "base_link", "tool0"),
 }
 KINDS = ("urdf", "poe-json", "poe-yaml")
-RUNS = [("export", t) for t in TARGETS] + [("convert", f) for f in FORMATS]
+RUNS = [("export", t) for t in TARGETS] + [("convert", f) for f in FORMATS] + [("plot", "html")]
 
 FRAGMENTS = (
     "'",
@@ -95,6 +95,22 @@ FRAGMENTS = (
     "\x9b",
     "\u202e",
     "\ufeff",
+    # invisible: zero-width space and joiner, bidi isolates and marks, soft hyphen, tag
+    # characters, Mongolian vowel separator; and the full-width formula starts
+    "\u200b",
+    "\u200d",
+    "\u2066",
+    "\u2069",
+    "\u200e",
+    "\u061c",
+    "\u00ad",
+    "\U000e0041",
+    "\U000e0001",
+    "\u180e",
+    "\uff1d",
+    "\uff1dcmd|' /C calc'!A0",
+    "\uff0b1",
+    "\t=1",
     "é",
     "名",
     "\U0001f600",
@@ -134,7 +150,11 @@ PAYLOADS = (
     "\n%}\nsystem('touch PWNED')\n%{\n",
     "x" * 1030 + "loadusr -w sh -c 'touch PWNED'",
 )
-WORDS = ("joint", "link", "arm", "base", "tool0", "j", "A", "wrist_1", "x")
+WORDS = (
+    *("joint", "link", "arm", "base", "tool0", "j", "A", "wrist_1", "x"),
+    # names the writers make up, and their parts
+    *("body2", "dh_base", "tool_fixed", "_fixed", "_link", "_lead", "_joint", "_offset", "_2"),
+)
 # characters XML 1.0 cannot carry (so only POE files hold them): C0 controls, terminal escape
 # sequences, a lone surrogate, a non-character
 CONTROLS = (
@@ -263,6 +283,67 @@ CLASSIC = Names(  # the issue's own examples
     ("l0", "l1", "l2", "l3", "l4", "l5", "l6"),  # genser6: floor, 7 links, tool
     ("f0", "f1"),
     'x"""\nimport os\n',
+)
+
+
+def _colliding(base: str, tip: str, joints: tuple[str, ...], robot: str = "r") -> Names:
+    """genser6 with these base, tip and joint names (plain names elsewhere)."""
+    return Names(robot, base, tip, joints, tuple(f"l{i}" for i in range(7)), ("f0", "f1"), "c")
+
+
+# robots named as the writers name what they make up (:mod:`urdf2dh.export.names`): MATLAB's
+# bodies and joints (dh_base, body<i>, body<i>_offset, <body>_fixed; genser6's fifth row has a
+# theta offset), KDL's segments and fixed joints, the URDF writer's links and joints
+# (<joint>_link, <tip>_joint), roboticstoolbox's link names (link<i>), and the suffixes the
+# writers add (_2)
+COLLIDING = (
+    _colliding("body1", "body2", ("joint1", "joint2", "joint3", "joint4", "joint5", "joint6")),
+    _colliding(
+        "floor",
+        "tool",
+        (
+            "dh_base_fixed",
+            "tool_fixed",
+            "body5_offset_fixed",
+            "body1_offset_fixed",
+            "tool_joint",
+            "j6",
+        ),
+    ),
+    _colliding(
+        "dh_base",
+        "body5_offset",
+        (
+            "body5_offset_fixed",
+            "dh_base_fixed",
+            "dh_base_2_fixed",
+            "body5_offset_2_fixed",
+            "body5",
+            "j6",
+        ),
+    ),
+    _colliding("joint1", "joint6", ("joint1", "joint2", "joint3", "joint4", "joint5", "joint6")),
+    _colliding(
+        "joint1_link",
+        "joint2_link",
+        ("joint1", "joint2", "joint3", "joint4", "joint5", "joint2_link_joint"),
+    ),
+    _colliding(
+        "body1",
+        "body1_2",
+        ("dh_base_fixed", "dh_base_fixed_2", "body1", "body1_2", "body1_2_fixed", "body2_fixed"),
+    ),
+    _colliding(
+        "base",
+        "tool",
+        ("link1", "link0", "link-0", "base_link", "tool", "tool_joint"),
+        robot="link1",
+    ),
+    _colliding(
+        "body6",
+        "body3",
+        ("body6_fixed", "body3_fixed", "body6", "body3", "dh_base", "body3_fixed_2"),
+    ),
 )
 
 

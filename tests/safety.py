@@ -23,8 +23,12 @@ import yaml
 from hal_reader import HalSyntaxError, read_hal
 from lxml import etree
 from matlab_reader import Call, Chars, MatlabSyntaxError, Str, read_matlab
+from view_reader import read_page
 
+from urdf2dh.emit.scene import short
 from urdf2dh.errors import visible
+from urdf2dh.export.escape import html_text
+from urdf2dh.export.names import RENAMED
 
 LANGUAGE = {
     "rtb": "python",
@@ -41,8 +45,10 @@ LANGUAGE = {
     "text": "text",
     "markdown": "markdown",
     "opw": "yaml-comments",  # main's OPW target: YAML, names in comments only
+    "html": "html",  # plot's interactive view
 }
-FORMULA = ("=", "+", "-", "@", "\t", "\r")  # CSV: cells a spreadsheet reads as formulas
+# CSV: cells a spreadsheet reads as formulas (OWASP), with the full-width forms
+FORMULA = ("=", "+", "-", "@", "\t", "\r", "\uff1d", "\uff0b", "\uff0d", "\uff20")
 # the self-check's measured errors (round-off of this machine; the unit may hold line breaks)
 CHECK = re.compile(r"(check: FK against the source at \d+ configurations:).*?error \S+ rad", re.S)
 
@@ -59,8 +65,42 @@ def substitute(text: str, names: dict[str, str], show: Callable[[str], str] = st
     return re.sub(pattern, lambda m: show(names[m[0]]), text)
 
 
-def _same(got: Any, clean: Any, names: dict[str, str], where: str) -> None:
-    """Trees equal but for the names in string leaves."""
+class Renames:
+    """The made-up names a file says it changed (its notes, :mod:`urdf2dh.export.names`): a
+    string may differ from the clean twin's only as ``name`` -> ``name_<k>``, and only where a
+    note states that change (shown as ``show`` writes names in the file's notes); every note
+    must account for a change."""
+
+    def __init__(self, notes: list[str], show: Callable[[str], str] = str) -> None:
+        self.notes, self.show, self.used = notes, show, set()
+
+    def allow(self, got: str, want: str) -> bool:
+        if not re.fullmatch(re.escape(want) + r"_(?:[2-9]|[1-9]\d+)", got, re.S):
+            return False
+        said = f" {self.show(want)} to {self.show(got)}: "
+        hits = [i for i, note in enumerate(self.notes) if said in note]
+        self.used.update(hits)
+        return bool(hits)
+
+    def check(self, where: str) -> None:
+        unused = [n for i, n in enumerate(self.notes) if i not in self.used]
+        if unused:
+            raise Unsafe(f"{where}: a renaming note with no renamed name: {unused[0]!r}")
+
+
+NO_RENAMES = Renames([])
+
+
+def _notes(lines: list[str], prefix: str = "") -> tuple[list[str], list[str]]:
+    """``lines`` without the renaming notes, and the notes."""
+    notes = [x for x in lines if x.startswith(prefix + RENAMED)]
+    return [x for x in lines if not x.startswith(prefix + RENAMED)], notes
+
+
+def _same(
+    got: Any, clean: Any, names: dict[str, str], where: str, renames: Renames = NO_RENAMES
+) -> None:
+    """Trees equal but for the names in string leaves (and the renamings the file states)."""
     if isinstance(clean, dict):
         if not isinstance(got, dict) or list(got) != [substitute(k, names) for k in clean]:
             raise Unsafe(
@@ -68,14 +108,15 @@ def _same(got: Any, clean: Any, names: dict[str, str], where: str) -> None:
                 f"clean {list(clean)!r}"
             )
         for (k, v), g in zip(clean.items(), got.values(), strict=True):
-            _same(g, v, names, f"{where}.{k}")
+            _same(g, v, names, f"{where}.{k}", renames)
     elif isinstance(clean, list | tuple):
         if not isinstance(got, list | tuple) or len(got) != len(clean):
             raise Unsafe(f"{where}: {got!r} is not a list like {clean!r}")
         for i, (g, c) in enumerate(zip(got, clean, strict=True)):
-            _same(g, c, names, f"{where}[{i}]")
+            _same(g, c, names, f"{where}[{i}]", renames)
     elif isinstance(clean, str):
-        if got != substitute(clean, names):
+        want = substitute(clean, names)
+        if got != want and not (isinstance(got, str) and renames.allow(got, want)):
             raise Unsafe(f"{where}: {got!r}, expected {substitute(clean, names)!r}")
     elif got != clean or type(got) is not type(clean):
         raise Unsafe(f"{where}: {got!r} != clean {clean!r}")
@@ -105,6 +146,24 @@ def _comments(
 # --------------------------------------------------------------------------- per language
 
 
+def _unique(names: list[Any], what: str) -> None:
+    dup = next((n for i, n in enumerate(names) if n in names[:i]), None)
+    if dup is not None:
+        raise Unsafe(f"two {what}s named {dup!r}")
+
+
+def _kdl_names(tree: ast.AST) -> None:
+    """A KDL chain's segment names are each used once (a ``KDL::Tree`` refuses a second), and so
+    are its joint names."""
+    calls: dict[str, list[Any]] = {"Segment": [], "Joint": []}
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute):
+            if node.func.attr in calls and node.args and isinstance(node.args[0], ast.Constant):
+                calls[node.func.attr].append(node.args[0].value)
+    for kind, seen in calls.items():
+        _unique(seen, f"KDL {kind.lower()}")
+
+
 def _python(text: str, clean: str, names: dict[str, str]) -> None:
     trees = []
     for t in (text, clean):
@@ -112,21 +171,27 @@ def _python(text: str, clean: str, names: dict[str, str]) -> None:
             tree = ast.parse(t)
         except SyntaxError as e:
             raise Unsafe(f"Python does not parse: {e}") from e
-        strings = []
+        _kdl_names(tree)
+        strings, notes = [], []
         for node in ast.walk(tree):
             if isinstance(node, ast.Constant) and isinstance(node.value, str):
-                strings.append(node.value)
+                kept, said = _notes(node.value.split("\n"))
+                strings.append("\n".join(kept))
+                notes += said
                 node.value = "S"
-        trees.append((ast.dump(tree), strings))
-    (shape, strings), (clean_shape, clean_strings) = trees
+        trees.append((ast.dump(tree), strings, notes))
+    (shape, strings, notes), (clean_shape, clean_strings, _) = trees
     if shape != clean_shape:
         raise Unsafe("Python statements differ from the clean file's")
+    renames = Renames(notes)
     _same(
         [CHECK.sub(r"\1", s) for s in strings],
         [CHECK.sub(r"\1", s) for s in clean_strings],
         names,
         "python strings",
+        renames,
     )
+    renames.check("python")
 
 
 def _matlab_values(value: Any, strings: list[str]) -> Any:
@@ -142,6 +207,16 @@ def _matlab_values(value: Any, strings: list[str]) -> Any:
 
 def _matlab(text: str, clean: str, names: dict[str, str]) -> None:
     got, want = read_matlab(text), read_matlab(clean)
+    built = [
+        s.value.name for s in got.statements if s.target == "robot" and isinstance(s.value, Call)
+    ]
+    if built == ["rigidBodyTree"]:  # as addBody builds it: every body and joint named once
+        from consumers import RigidBodyTree
+
+        try:
+            RigidBodyTree(text)
+        except AssertionError as e:
+            raise Unsafe(f"MATLAB rigidBodyTree: {e}") from e
     for script, shapes, strings in (
         (got, g_shapes := [], g_strings := []),
         (want, w_shapes := [], w_strings := []),
@@ -150,8 +225,11 @@ def _matlab(text: str, clean: str, names: dict[str, str]) -> None:
             shapes.append((s.target, _matlab_values(s.value, strings)))
     if g_shapes != w_shapes:
         raise Unsafe("MATLAB statements differ from the clean file's")
-    _same(g_strings, w_strings, names, "MATLAB strings")
-    _comments(got.comments, want.comments, names, "MATLAB")
+    comments, notes = _notes(got.comments, " ")
+    renames = Renames(notes, visible)
+    _same(g_strings, w_strings, names, "MATLAB strings", renames)
+    renames.check("MATLAB")
+    _comments(comments, want.comments, names, "MATLAB")
 
 
 def _hal(text: str, clean: str, names: dict[str, str]) -> None:
@@ -204,7 +282,13 @@ def _xml(text: str, clean: str, names: dict[str, str]) -> None:
     except etree.XMLSyntaxError as e:
         raise Unsafe(f"XML does not parse: {e}") from e
     clean_root = etree.fromstring(clean.encode("utf-8"))
+    for tag in ("link", "joint"):  # a URDF names each link once and each joint once
+        _unique([e.get("name") for e in root.iter(tag)], f"URDF {tag}")
     got_nodes = list(root.itersiblings(preceding=True))[::-1] + list(root.iter())
+    notes = [g.text for g in got_nodes if isinstance(g, etree._Comment)]
+    notes = _notes(notes, " ")[1]
+    got_nodes = [g for g in got_nodes if not (isinstance(g, etree._Comment) and g.text in notes)]
+    renames = Renames(notes, lambda n: re.sub("-(?=-)", "- ", visible(n)))
     want_nodes = list(clean_root.itersiblings(preceding=True))[::-1] + list(clean_root.iter())
     if len(got_nodes) != len(want_nodes):
         raise Unsafe("XML has other nodes than the clean file")
@@ -216,11 +300,12 @@ def _xml(text: str, clean: str, names: dict[str, str]) -> None:
             continue
         if g.tag != w.tag or list(g.attrib) != list(w.attrib):
             raise Unsafe(f"XML element {g.tag} {dict(g.attrib)} unlike {w.tag} {dict(w.attrib)}")
-        _same(dict(g.attrib), dict(w.attrib), names, f"<{g.tag}>")
+        _same(dict(g.attrib), dict(w.attrib), names, f"<{g.tag}>", renames)
+    renames.check("XML")
     import pinocchio as pin
 
     model, clean_model = pin.buildModelFromXML(text), pin.buildModelFromXML(clean)
-    _same(list(model.names), list(clean_model.names), names, "Pinocchio joint names")
+    _same(list(model.names), list(clean_model.names), names, "Pinocchio joint names", renames)
     _same(model.name, clean_model.name, names, "Pinocchio model name")
 
 
@@ -231,9 +316,11 @@ def _csv(text: str, clean: str, names: dict[str, str]) -> None:
         raise Unsafe("CSV rows or cells differ from the clean file's")
     for row, clean_row in zip(rows, clean_rows, strict=True):
         for cell, want in zip(row, clean_row, strict=True):
-            if want in names:
-                name = names[want]
+            if want in names:  # a name: as visible() shows it, never starting a formula
+                name = visible(names[want])
                 want = "'" + name if name.startswith(FORMULA) else name
+                if not cell.isprintable() or cell.startswith(FORMULA):
+                    raise Unsafe(f"CSV cell {cell!r} holds an invisible character or a formula")
             if cell != want:
                 raise Unsafe(f"CSV cell {cell!r}, expected {want!r}")
 
@@ -280,6 +367,31 @@ def _markdown(text: str, clean: str, names: dict[str, str]) -> None:
             raise Unsafe(f"Markdown element {g!r}, expected {w!r}")
 
 
+def _html(text: str, clean: str, names: dict[str, str]) -> None:
+    """An HTML view: the same elements and attributes, the same scripts but for the figure's
+    JSON, the page's text with the names as a picture shows them (:func:`short`, then
+    :func:`visible`), and every string of the figure with the names as :func:`html_text` writes
+    them (plotly reads those strings as HTML): no name adds a tag, an attribute, a script or
+    a line of code."""
+    try:
+        got, want = read_page(text), read_page(clean)
+    except (AssertionError, ValueError) as e:
+        raise Unsafe(f"the page does not read as a view: {e}") from e
+    if got.tags != want.tags:
+        raise Unsafe("the page's elements or attributes differ from the clean page's")
+    others = [s for s in got.scripts if "Plotly.newPlot(" not in s]
+    if others != [s for s in want.scripts if "Plotly.newPlot(" not in s]:
+        raise Unsafe("a script other than the figure's differs from the clean page's")
+    if got.around != want.around or got.div != want.div:
+        raise Unsafe("the figure's script differs from the clean page's around its data")
+    shown = {k: visible(short(v)) for k, v in names.items()}
+    if got.texts != [substitute(t, shown) for t in want.texts]:
+        raise Unsafe(f"page text {got.texts!r}, expected {want.texts!r} with the names")
+    written = {k: html_text(short(v)) for k, v in names.items()}
+    _same([got.data, got.layout, got.config], [want.data, want.layout, want.config], written,
+          "figure")  # fmt: skip
+
+
 JUDGES: dict[str, Callable[[str, str, dict[str, str]], None]] = {
     "python": _python,
     "matlab": _matlab,
@@ -291,6 +403,7 @@ JUDGES: dict[str, Callable[[str, str, dict[str, str]], None]] = {
     "csv": _csv,
     "text": _text,
     "markdown": _markdown,
+    "html": _html,
 }
 
 

@@ -248,7 +248,8 @@ def test_plots_are_a_png_and_one_self_contained_page(ur5):
     png = plot_calibration(cal, "png")
     assert png[:8] == b"\x89PNG\r\n\x1a\n" and len(png) > 20_000
     html = plot_calibration(cal, "html").decode()
-    assert "<html>" in html and "plotly" in html and "held out" in html
+    assert "<html" in html and "plotly" in html and "held out" in html
+    assert "Content-Security-Policy" in html  # the shared offline page
     # plotly.js is in the page (megabytes of it), and no script is fetched from anywhere
     assert len(html) > 1_000_000 and not re.findall(r"<script[^>]*\bsrc\s*=", html)
     with pytest.raises(UsageError):

@@ -117,6 +117,22 @@ def test_verify_info_robots_version(capsys):
     assert e.value.code == 0
 
 
+def test_version_names_what_it_runs_on(capsys):
+    from importlib.metadata import version
+
+    import numpy
+
+    from urdf2dh import __version__
+
+    with pytest.raises(SystemExit) as e:
+        main(["--version"])
+    assert e.value.code == 0
+    out = capsys.readouterr().out
+    assert out.startswith(f"urdf2dh {__version__} (yourdfpy {version('yourdfpy')}, ")
+    assert f"Pinocchio {version('pin')}, numpy {numpy.__version__}, " in out
+    assert f"xacro {version('xacro')}; Python {sys.version.split()[0]})" in out
+
+
 def test_console_script_runs_without_traceback(tmp_path):
     bad = tmp_path / "bad.urdf"
     bad.write_text("<robot name='x'><link name='a'/><joint name='j' type='revolute'>")

@@ -12,10 +12,12 @@ import math
 import re
 import sys
 from dataclasses import replace
+from importlib.metadata import version as metadata_version
 
 import numpy as np
 import pytest
 import yaml
+from consumers import report
 from oracle import EXACT, assert_fk_matches, pin_reference
 
 from urdf2dh.catalog import ROBOTS, our_robots_dir
@@ -117,7 +119,7 @@ def test_consumer_fk_and_ik_match_pinocchio(robot):
         rot=EXACT + 1.5 * rot,
     )
     miss = ik_misses(opw, base, tool, reference, q)
-    print(f"{robot}: FK {err[0] / size:.2g} x size, {err[1]:.2g} rad; IK {miss:.2g} rad")
+    report("opw", f"py-opw-kinematics {metadata_version('py-opw-kinematics')}", err, size)
     assert miss <= IK_ANGLE, f"{robot}: IK misses a sampled configuration by {miss:.3g} rad"
 
 
@@ -422,3 +424,24 @@ def test_a_table_exports_the_same_parameters_as_its_source():
             a, b = got[key], want[key]
             values = (list(a.values()), list(b.values())) if isinstance(a, dict) else (a, b)
             np.testing.assert_allclose(*values, rtol=0, atol=1e-14)
+
+
+@pytest.mark.parametrize("robot", ["kuka-kr6-r700-sixx", "fanuc-m20ia"])
+@pytest.mark.parametrize("convention", ["dh", "mdh", "cpc", "hayati"])
+def test_opw_files_carry_no_round_off(tmp_path, robot, convention):
+    """From a table file (whose exact parameters carry round-off: 0.03500000000000003), the
+    OPW file's parameters are written as the tables snap round-off, so they read as the
+    published ones: the same text as from the URDF."""
+    from urdf2dh.cli import main
+
+    table = tmp_path / f"{robot}.json"
+    assert (
+        main(["convert", robot, "--convention", convention, "--format", "json", "-o", str(table)])
+        == 0
+    )
+    direct = yaml.safe_load(export(open_source(robot).model(), "opw"))
+    via = yaml.safe_load(export(open_source(str(table)).model(), "opw"))
+    key = "opw_kinematics_geometric_parameters"
+    assert via[key] == direct[key]
+    assert all(len(repr(v)) <= 6 for v in via[key].values()), via[key]  # 0.835, -0.035
+    assert via["opw_kinematics_joint_offsets"] == direct["opw_kinematics_joint_offsets"]

@@ -7,7 +7,7 @@ import numpy as np
 import pinocchio as pin
 import pytest
 import yaml
-from consumers import ur_description_urdf
+from consumers import report, ur_description_urdf
 from oracle import assert_fk_matches, pin_reference
 
 import urdf2dh
@@ -90,6 +90,8 @@ def test_yaml_through_the_macro_moves_like_the_source(robot):
         f"{robot} via ur_macro", poses, reference, model.size(), q, rel=1e-9, rot=1e-9
     )
     assert pos < 1e-9 and rot < 1e-9
+    consumer = f"ur_macro.xacro's placement (our reader), Pinocchio {pin_version()}"
+    report("ur", consumer, (pos, rot), model.size())
 
 
 def test_yaml_values_are_clean():
@@ -135,3 +137,9 @@ def test_rpy_reads_back_through_the_urdf_convention():
         m = rot_z(y) @ rot_y(p) @ rot_x(r)  # URDF: fixed axes x, then y, then z
         back = from_rpy((0.0, 0.0, 0.0), rpy(m))
         np.testing.assert_allclose(back, m, atol=1e-12)
+
+
+def pin_version() -> str:
+    import pinocchio
+
+    return str(pinocchio.__version__)

@@ -7,22 +7,26 @@ from __future__ import annotations
 import math
 import subprocess
 import sys
+from importlib.metadata import version as metadata_version
 from pathlib import Path
 
 import numpy as np
 import pytest
-from chains import random_chain_urdf
+from chains import RELATIONS, random_chain_urdf
 from consumers import (
     FakeKdl,
     RigidBodyTree,
     SerialLink,
     genserkins_fk,
+    genserkins_hal,
     genserkins_links,
     kdl_fk,
     real_pykdl,
+    report,
 )
 from oracle import assert_fk_matches, pin_reference
 
+from urdf2dh import units
 from urdf2dh.errors import ExportError, UsageError
 from urdf2dh.export import TARGETS, Options, export
 from urdf2dh.sources import Source, open_source
@@ -32,6 +36,7 @@ DATA = Path(__file__).parent / "data"
 AGREE = 1e-9  # the issue's bound: every target matches Pinocchio to this
 ROBOTS = ["ur5", "panda", "kinova", "stanford", "scara", "tiago-arm", "puma560-nominal"]
 PYKDL = real_pykdl()
+PYKDL_VERSION = getattr(PYKDL, "__version__", "?") + " (Debian's python3-pykdl)"
 
 
 def _random_source(seed: int) -> tuple[Source, object]:
@@ -80,8 +85,11 @@ def test_toolbox_targets_move_like_pinocchio(case, convention):
     size = model.size()
     label = f"{case} {convention}"
     scripts = {t: export(model, t, convention) for t in ("rtb", "kdl", "matlab", "corke-matlab")}
-    assert_fk_matches(
+    errors = assert_fk_matches(
         f"rtb {label}", _rtb_fk(scripts["rtb"], q), reference, size, q, rel=AGREE, rot=AGREE
+    )
+    report(
+        "rtb", f"roboticstoolbox-python {metadata_version('roboticstoolbox-python')}", errors, size
     )
     assert_fk_matches(
         f"kdl (as documented) {label}",
@@ -93,7 +101,7 @@ def test_toolbox_targets_move_like_pinocchio(case, convention):
         rot=AGREE,
     )
     if PYKDL is not None:
-        assert_fk_matches(
+        errors = assert_fk_matches(
             f"PyKDL {label}",
             kdl_fk(PYKDL, scripts["kdl"], q),
             reference,
@@ -102,6 +110,7 @@ def test_toolbox_targets_move_like_pinocchio(case, convention):
             rel=AGREE,
             rot=AGREE,
         )
+        report("kdl", f"PyKDL {PYKDL_VERSION}", errors, size)
     tip = model.tip_link or "tool"
     assert_fk_matches(
         f"matlab {label}",
@@ -173,12 +182,17 @@ def test_rtb_script_runs_standalone(tmp_path):
 # --------------------------------------------------------------------------- linuxcnc
 
 
-def _genser_check(text: str, source: Source, model, unit_in_m: float) -> tuple[float, float]:
-    links = genserkins_links(text)
-    links_m = [(a * unit_in_m, alpha, d * unit_in_m) for a, alpha, d in links]
+def _genser_check(text: str, source: Source, model, metres: float) -> tuple[float, float]:
+    """The file read back as halcmd reads it and evaluated as genserkins and HAL's scale
+    document (consumers.py), against Pinocchio; the command path gives the drives' positions
+    back."""
+    hal = genserkins_hal(text)
     q, reference = pin_reference(source, model, samples=60, seed=2)
     q_deg = np.degrees(np.pad(q, ((0, 0), (0, 6 - model.n))))
-    poses = np.array([genserkins_fk(links_m, row) for row in q_deg])
+    angles = hal.angles(q_deg)
+    np.testing.assert_allclose(hal.commands(angles), q_deg, rtol=0, atol=1e-12)
+    reported = np.array([genserkins_fk(hal.links, row) for row in angles])
+    poses = hal.tip_poses(reported, metres)
     return assert_fk_matches("genserkins", poses, reference, model.size(), q, rel=AGREE, rot=AGREE)
 
 
@@ -190,6 +204,7 @@ def test_genserkins_parameters_move_like_pinocchio(units, metres):
     links = genserkins_links(text)
     assert math.isclose(links[0][2] * metres, 0.6, rel_tol=1e-12)  # pedestal 0.25 + 0.35
     assert math.isclose(links[5][2] * metres, 0.1, rel_tol=1e-12)  # tool length in D-5
+    assert "loadrt" not in text  # zero offsets: genserkins' joints are the arm's
     _genser_check(text, source, model, metres)
 
 
@@ -202,29 +217,76 @@ def test_genserkins_pads_short_chains_with_zero_links():
     _genser_check(text, source, model, 0.001)
 
 
+GENSER_ROBOTS = [
+    "ur3", "ur5", "ur10", "kuka-kr6-r700-sixx", "fanuc-m20ia", "puma560-nominal", "kinova", "z1",
+    "double-pendulum",
+]  # fmt: skip
+
+
+def genser_cases():
+    """Bundled arms genserkins takes, and random 6R chains (skew, parallel, intersecting...
+    axes, their tips on the last axis)."""
+    for robot in GENSER_ROBOTS:
+        source = open_source(robot)
+        yield robot, source, source.model()
+    revolute = tuple(r for r in RELATIONS if r != "prismatic")
+    for seed in range(6):
+        text, _ = random_chain_urdf(seed, 6, revolute, tool=False)
+        tree = parse_tree(text.encode(), f"random6r{seed}.urdf")
+        source = Source("urdf", f"random6r{seed}.urdf", tree.name, tree, text.encode())
+        yield f"random6r{seed}", source, tree_to_poe(tree, "base", "link6")
+
+
+@pytest.mark.parametrize("case", list(genser_cases()), ids=lambda case: case[0])
+def test_genserkins_takes_arms_with_joint_zeros(case):
+    """Theta offsets, a base turned about joint 1, a tip turned about or against the last axis
+    are written for genserkins (scale components, folded links), and what it cannot hold is
+    stated in the file; the file moves like the source."""
+    _, source, model = case
+    text = export(model, "linuxcnc")
+    _genser_check(text, source, model, units.factor("mm", model.length_unit))
+
+
+def test_genserkins_reverses_a_last_joint_whose_tip_faces_against_it():
+    """KUKA's and FANUC's flanges face against joint 6's axis: joint 5 turns the other way
+    (gain -1 both ways), joint 2's (FANUC: 1's) zero is 90 degrees from the D-H zero."""
+    kuka = genserkins_hal(export(open_source("kuka-kr6-r700-sixx").model(), "linuxcnc"))
+    assert kuka.feedback == {2: (1.0, 90.0), 5: (-1.0, 0.0)}
+    assert kuka.command == {2: (1.0, -90.0), 5: (-1.0, 0.0)}
+    fanuc = genserkins_hal(export(open_source("fanuc-m20ia").model(), "linuxcnc"))
+    assert fanuc.feedback == {1: (1.0, 90.0), 5: (-1.0, 180.0)}
+    ur5 = export(open_source("ur5").model(), "linuxcnc")
+    assert genserkins_hal(ur5).feedback[5] == (1.0, 180.0)  # tool0's half turn about joint 6
+    assert "# joint 5: wrist_3_joint, genserkins angle q + 180.0 deg, limits -180 .. 540" in ur5
+
+
+def test_genserkins_states_the_frames_it_cannot_hold():
+    text = export(open_source("so100").model(), "linuxcnc")
+    assert "pose in base = Rz(90.0 deg) Tz(0.0 mm) . pose LinuxCNC reports." in text
+    assert "pose of gripper = pose LinuxCNC reports . Rx(90.0 deg) Rz(0.0 deg)." in text
+    turned = _turn_tool(open_source(str(DATA / "genser6.urdf")).model(tip="link5"))
+    assert "pose of link5 = pose LinuxCNC reports . Rx(90.0 deg) Rz(0.0 deg)." in export(
+        turned, "linuxcnc"
+    )
+
+
 @pytest.mark.parametrize(
-    ("robot", "style", "message"),
+    ("robot", "message"),
     [
-        ("ur5", "zero", "has no tool transform"),  # UR5's base_link -> tool0 needs a half turn
-        ("ur5", "ur", "has no base transform"),  # ... which UR's own style puts in the base
-        ("genser6-turned-tool", "zero", "has no tool transform"),
-        ("panda", "zero", "evaluates 6 joints, and this chain has 7"),
-        ("stanford", "zero", "linuxcnc has revolute joints only"),
-        ("kinova", "zero", "has no theta offsets"),
-        ("puma560-actual", "zero", "linuxcnc has revolute joints only"),
+        ("finger-edu", "the tip 'finger_tip_link' lies 0.16 m off the last joint's axis"),
+        ("twodof", "the tip 'Tip' lies 0.122 m off the last joint's axis"),
+        ("panda", "evaluates 6 joints, and this chain has 7"),
+        ("stanford", "linuxcnc has revolute joints only"),
+        ("puma560-actual", "linuxcnc has revolute joints only"),
     ],
 )
-def test_genserkins_refuses_what_it_cannot_carry(robot, style, message):
-    if robot == "genser6-turned-tool":
-        model = _turn_tool(open_source(str(DATA / "genser6.urdf")).model(tip="link5"))
-    else:
-        model = open_source(robot).model()
+def test_genserkins_refuses_what_it_cannot_carry(robot, message):
     with pytest.raises(ExportError, match=message):
-        export(model, "linuxcnc", style=style)
+        export(open_source(robot).model(), "linuxcnc")
 
 
 def _turn_tool(model):
-    """The same chain with its tool turned 90 degrees about x: no length along z fits it."""
+    """The same chain with its tool turned 90 degrees about x (its origin stays on the axis)."""
     from dataclasses import replace
 
     from urdf2dh.se3 import rot_x
@@ -274,10 +336,10 @@ def test_cli_export_writes_the_file_and_refusals_leave_none(tmp_path, capsys):
     target = tmp_path / "ur10.yaml"
     assert main(["export", "ur10", "--to", "ur", "-o", str(target)]) == 0
     assert target.read_text().rstrip().endswith("hash: calib_17227329492635474227")
-    hal = tmp_path / "ur5.hal"
-    assert main(["export", "ur5", "--to", "linuxcnc", "-o", str(hal)]) == 2
+    hal = tmp_path / "twodof.hal"
+    assert main(["export", "twodof", "--to", "linuxcnc", "-o", str(hal)]) == 2
     err = capsys.readouterr().err
-    assert err.count("\n") == 1 and "genserkins has no tool transform" in err
+    assert err.count("\n") == 1 and "lies 0.122 m off the last joint's axis" in err
     assert "Traceback" not in err and not hal.exists()
     assert sorted(p.name for p in tmp_path.iterdir()) == ["ur10.yaml"]
     assert main(["export", "ur5", "--to", "rtb", "--units", "inch"]) == 2

@@ -133,7 +133,7 @@ def test_fk_takes_one_configuration_or_a_stack():
         assert fk_one(q[0, 0]).shape == (4, 4)
         assert np.array_equal(fk_one(q[0, 0]), batch(q[0, :1])[0])
         assert np.array_equal(fk_one(q), batch(q.reshape(-1, 4)).reshape(2, 3, 4, 4))
-        with pytest.raises(ValueError, match=r"expected \(\.\.\., 4\)"):
+        with pytest.raises(ValueError, match=r"q must have shape \(4,\) or \(\.\.\., 4\)"):
             fk_one(q[0, 0, :3])
 
 

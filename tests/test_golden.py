@@ -34,6 +34,8 @@ CASES = [
         None,
         Options(units="inch"),
     ),
+    ("linuxcnc-kuka-kr6-r700-sixx.hal", "kuka-kr6-r700-sixx", "linuxcnc", None, Options()),
+    ("linuxcnc-so100.hal", "so100", "linuxcnc", None, Options()),
     ("rtb-ur5.py", "ur5", "rtb", None, Options()),
     ("rtb-stanford-mdh.py", "stanford", "rtb", "mdh", Options()),
     ("matlab-ur5.m", "ur5", "matlab", None, Options()),

@@ -16,6 +16,7 @@ import csv
 import html
 import io
 import re
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -41,7 +42,9 @@ from lxml import etree
 from matlab_reader import read_matlab
 from safety import FORMULA, judge
 
+from urdf2dh import cli
 from urdf2dh.convert import to_table
+from urdf2dh.emit.scene import short
 from urdf2dh.errors import ExportError, shown, visible
 from urdf2dh.export import escape as esc
 from urdf2dh.export import export_table, table_choices
@@ -68,6 +71,8 @@ DANGEROUS = {
     "bidi": "\u202e",
     "pipe": "|",
     "formula": "=1+1",
+    "fullwidth-formula": "\uff1dcmd|' /C calc'!A0",
+    "invisible": "\u200b\u200d\u2066\u202e\u2069\u200e\u00ad\ufeff\U000e0041\U000e007f\u180e",
     "all": "\"\"\"'''\\\n\r\u2028%#;--]]>${x}|",
 }
 SAMPLE = sorted({0, *np.random.default_rng(12).choice(200, size=20, replace=False).tolist()})
@@ -121,9 +126,7 @@ def test_names_xml_cannot_carry_are_refused_by_urdf_only(corpus, control):
     refusal = verdicts.pop("convert urdf")
     assert refusal.result == "refused"
     assert "XML 1.0 cannot carry" in refusal.detail and shown(names.joints[0]) in refusal.detail
-    csv_verdict = verdicts.pop("convert csv")
-    assert csv_verdict.result == ("refused" if control == "\ud800" else "written")
-    assert _failures(verdicts.values()) == []
+    assert _failures(verdicts.values()) == []  # CSV included: visible text holds any name
 
 
 @pytest.mark.parametrize("seed", SAMPLE)
@@ -170,15 +173,18 @@ def test_the_classic_attacks_run_nothing_and_keep_their_names(tmp_path, monkeypa
 
 
 def test_plot_labels_take_any_name(tmp_path):
+    """The picture's title names the robot and its chain: as drawn, visible text (no
+    mathtext from ``$``), shortened; no name becomes SVG markup."""
     names = names_with("$\\evil{$\n--><script>x</script>", "genser6")
     source = write_source(tmp_path, "genser6", names, "urdf")
     got = run(tmp_path, source, "plot", "svg", names, "urdf")
     assert (got.code, got.stderr, got.crashed) == (0, "", None)
     svg = etree.fromstring(got.output)
     assert not [e for e in svg.iter() if "script" in str(e.tag)]
-    comments = [c.text for c in svg.iter(etree.Comment)]
-    label = "J1 " + visible(names.joints[0])  # as drawn: visible text, $ not math
-    assert label in [html.unescape(c).strip().replace("- -", "--") for c in comments]
+    comments = [html.unescape(c.text).strip().replace("- -", "--") for c in svg.iter(etree.Comment)]
+    title = f"{visible(short(names.robot))}: standard D-H frames at home"
+    chain = f"{visible(short(names.base))} -> {visible(short(names.tip))}"
+    assert title in comments and chain in comments  # (a comment per line)
 
 
 def test_a_hostile_length_unit_stays_in_its_place(tmp_path):
@@ -217,10 +223,10 @@ def test_ur_yaml_keeps_its_keys(tmp_path):
 
 def test_refusals_name_the_joint_on_one_line(tmp_path):
     source = write_source(tmp_path, "genser6", CLASSIC, "urdf")
-    got = run(tmp_path, source, "export", "linuxcnc", CLASSIC, "urdf", ["--style", "wu"])
+    got = run(tmp_path, source, "export", "linuxcnc", CLASSIC, "urdf", ["--convention", "dh"])
     assert got.code == 2 and got.output is None and got.stderr.count("\n") == 1
-    assert "genserkins has no theta offsets" in got.stderr
-    assert shown(CLASSIC.joints[4]) in got.stderr  # "j5\u2028x", U+2028 escaped
+    assert "linuxcnc takes mdh tables, not dh" in got.stderr
+    assert shown(CLASSIC.joints[0]) in got.stderr  # 'j1"\nsystem(...)%', its line break escaped
     # the chain the other way round (--base and --tip swapped): a chain error naming both
     swapped = [f"--base={CLASSIC.tip}", f"--tip={CLASSIC.base}"]
     got = run(tmp_path, source, "export", "ur", CLASSIC, "table", swapped)
@@ -228,9 +234,6 @@ def test_refusals_name_the_joint_on_one_line(tmp_path):
     with pytest.raises(ExportError) as e:
         esc.xml_attribute("j\x01\n", "joint")
     assert str(e.value).count("\n") == 0 and "'j\\x01\\n'" in str(e.value)
-    with pytest.raises(ExportError) as e:
-        esc.csv_cell("a\ud800\n", "joint")
-    assert str(e.value).count("\n") == 0 and "'a\\ud800\\n'" in str(e.value)
 
 
 # --------------------------------------------------------------------------- the functions
@@ -296,12 +299,12 @@ def test_markdown_and_csv_cells_hold_any_name(text):
     cells = [t for t in tokens if t.type == "inline"]
     assert len(cells) == 4 and {c.type for c in cells[2].children} <= {"text", "text_special"}
     assert "".join(c.content for c in cells[2].children) == visible(text)
-    try:
-        cell = esc.csv_cell(text, "joint")
-    except ExportError:
-        return
+    cell = esc.csv_cell(text)
     rows = list(csv.reader(io.StringIO(f"a,{cell},b\n", newline="")))
-    assert rows == [["a", "'" + text if text.startswith(FORMULA) else text, "b"]]
+    want = visible(text)
+    assert rows == [["a", "'" + want if want.startswith(FORMULA) else want, "b"]]
+    assert rows[0][1].isprintable() and not rows[0][1].startswith(FORMULA)
+    assert esc.csv_names(["x", rows[0][1]], [text]) == ["x", text]
 
 
 @EXAMPLES
@@ -311,3 +314,19 @@ def test_messages_show_names_on_one_line(text):
     assert visible(text).isprintable() and ast.literal_eval(repr(text)) == text
     if len(text) <= 120:
         assert shown(text) == repr(text)
+
+
+def test_measure_writes_names_as_csv_text_and_calibrate_reads_them_back(tmp_path, monkeypatch):
+    """``measure``'s header: each joint name as ``csv_cell`` writes it (visible text, a leading
+    ``'`` before a formula start), and ``calibrate`` finds the joints by those cells."""
+    hostile = ("=SUM(A1)", "\u202eevil\u202c", "a,b\"c", "\u200bzero\u00adsoft", "@x",
+               "\uff1dcmd\U000e0041")  # fmt: skip
+    names = replace(clean_names("ur5"), joints=hostile)
+    source = write_source(tmp_path, "ur5", names, "poe-json")
+    monkeypatch.chdir(tmp_path)
+    assert cli.main(["measure", source, "--configs", "40", "-o", "m.csv"]) == 0
+    header = next(csv.reader(io.StringIO((tmp_path / "m.csv").read_text(), newline="")))
+    assert header[:6] == ["'=SUM(A1)", "\\u202eevil\\u202c", 'a,b"c', "\\u200bzero\\xadsoft",
+                          "'@x", "'\uff1dcmd\\U000e0041"]  # fmt: skip
+    assert all(c.isprintable() and not c.startswith(FORMULA) for c in header)
+    assert cli.main(["calibrate", source, "m.csv", "-o", "back.yaml"]) == 0

@@ -1,4 +1,4 @@
-"""README's two set-up commands are exactly what CI runs."""
+"""README's two set-up commands are exactly what CI runs first."""
 
 from __future__ import annotations
 
@@ -9,6 +9,8 @@ ROOT = Path(__file__).resolve().parents[1]
 
 
 def test_ci_runs_the_readme_commands():
+    """CI's first commands are README's two, as written; it may do more after them (the real
+    consumers: scripts/check-consumers)."""
     readme = (ROOT / "README.md").read_text()
     quick = readme.split("## Quick start", 1)[1].split("\n## ", 1)[0]
     blocks = re.findall(r"```bash\n(.*?)\n```", quick, re.S)
@@ -18,5 +20,12 @@ def test_ci_runs_the_readme_commands():
         for line in (ROOT / ".ci" / "run").read_text().splitlines()
         if line and not line.startswith("#") and not line.startswith(("set ", "cd "))
     ]
-    assert ci == blocks
+    assert ci[:2] == blocks
     assert "urdf2dh convert ur5" in blocks[0] and "pytest" in blocks[1]
+
+
+def test_ci_runs_every_real_consumer_after_the_tests():
+    ci = (ROOT / ".ci" / "run").read_text().splitlines()
+    commands = [line for line in ci if line and not line.startswith("#")]
+    assert commands[-1] == ". .venv/bin/activate && scripts/check-consumers"
+    assert (ROOT / "scripts" / "check-consumers").stat().st_mode & 0o111

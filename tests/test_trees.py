@@ -192,13 +192,44 @@ def test_stdout_refuses_formats_of_one_file_per_chain(capsys, tree, fmt):
     assert (code, out) == (2, "") and "give -o DIR" in one_line_error(err)
 
 
-# --------------------------------------------------------------------------- -o DIR
+# --------------------------------------------------------------------------- -o FILE, -o DIR/
+
+
+@pytest.mark.parametrize("fmt", ["json", "yaml", "text", "markdown"])
+def test_a_file_name_gets_the_one_document_stdout_would(capsys, tree, tmp_path, fmt):
+    """``-o tables.json`` is a file, not a directory named tables.json."""
+    target = tmp_path / f"tables.{fmt}"
+    code, out, err = run(capsys, "convert", tree, "--all-tips", "--format", fmt, "-o", target)
+    assert (code, out) == (0, ""), err
+    assert target.is_file()
+    _, printed, _ = run(capsys, "convert", tree, "--all-tips", "--format", fmt)
+    assert target.read_text() == printed
+    if fmt == "json":
+        assert sorted(json.loads(printed)) == ["left_tip", "right_tip"]
+
+
+def test_one_file_per_chain_needs_a_directory(capsys, tree, tmp_path):
+    for argv in (
+        ["convert", tree, "--all-tips", "--format", "csv", "-o", tmp_path / "tables.csv"],
+        ["export", tree, "--all-tips", "--to", "rtb", "-o", tmp_path / "robots.py"],
+    ):
+        code, out, err = run(capsys, *argv)
+        assert (code, out) == (2, "")
+        assert "give -o DIR/ (a trailing slash, or an existing directory)" in one_line_error(err)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["ytree.urdf"]
+    existing = tmp_path / "existing"  # an existing directory needs no slash
+    existing.mkdir()
+    code, _, err = run(capsys, "export", tree, "--all-tips", "--to", "rtb", "-o", existing)
+    assert code == 0, err
+    assert sorted(os.listdir(existing)) == ["left_tip.py", "right_tip.py"]
 
 
 @pytest.mark.parametrize("fmt", sorted(FORMAT_SUFFIXES))
 def test_a_new_directory_gets_one_file_per_tip(capsys, tree, tmp_path, fmt):
     out_dir = tmp_path / "tables"
-    code, out, err = run(capsys, "convert", tree, "--all-tips", "--format", fmt, "-o", out_dir)
+    code, out, err = run(
+        capsys, "convert", tree, "--all-tips", "--format", fmt, "-o", f"{out_dir}/"
+    )
     assert (code, out) == (0, ""), err
     suffix = FORMAT_SUFFIXES[fmt]
     assert sorted(os.listdir(out_dir)) == [f"left_tip{suffix}", f"right_tip{suffix}"]
@@ -277,7 +308,7 @@ def failing_runs(tmp_path: Path) -> list[tuple[list[str], int, tuple[str, ...]]]
 def test_a_failing_tip_leaves_no_new_directory(capsys, tmp_path):
     for argv, code, message in failing_runs(tmp_path):
         before = sorted(os.listdir(tmp_path))
-        got, _, err = run(capsys, *argv, "-o", tmp_path / "out")
+        got, _, err = run(capsys, *argv, "-o", f"{tmp_path / 'out'}/")
         assert got == code and all(m in one_line_error(err) for m in message)
         assert sorted(os.listdir(tmp_path)) == before  # no DIR, no temporary directory
 
@@ -308,7 +339,7 @@ def test_a_table_failing_its_self_check_fails_the_run(capsys, tree, tmp_path, mo
         return real(model, *args, **kwargs)
 
     monkeypatch.setattr(convert, "to_table", failing)
-    code, out, err = run(capsys, "convert", tree, "--all-tips", "-o", tmp_path / "out")
+    code, out, err = run(capsys, "convert", tree, "--all-tips", "-o", f"{tmp_path / 'out'}/")
     assert (code, out) == (1, "")
     assert "tip 'right_tip': self-check failed" in one_line_error(err)
     assert not (tmp_path / "out").exists()
@@ -333,9 +364,9 @@ def test_what_is_not_a_regular_file_is_never_replaced(capsys, tree, tmp_path):
     assert (tmp_path / "elsewhere.txt").read_text() == "not mine"
     regular = tmp_path / "a-file"
     regular.write_text("x")
-    code, _, err = run(capsys, "convert", tree, "--all-tips", "-o", regular)
+    code, _, err = run(capsys, "convert", tree, "--all-tips", "-o", f"{regular}/")
     assert code == 2 and "is not a directory" in one_line_error(err)
-    code, _, err = run(capsys, "convert", tree, "--all-tips", "-o", tmp_path / "no" / "dir")
+    code, _, err = run(capsys, "convert", tree, "--all-tips", "-o", f"{tmp_path / 'no' / 'dir'}/")
     assert code == 2 and "does not exist" in one_line_error(err)
 
 
@@ -386,7 +417,7 @@ def test_a_rename_failing_midway_puts_everything_back(tmp_path, monkeypatch):
 def test_a_tip_that_cannot_be_a_file_name_is_refused(capsys, tmp_path, name, why):
     source = tmp_path / "t.urdf"
     source.write_text(tree_urdf(left=name))
-    code, _, err = run(capsys, "convert", source, "--all-tips", "-o", tmp_path / "out")
+    code, _, err = run(capsys, "convert", source, "--all-tips", "-o", f"{tmp_path / 'out'}/")
     assert code == 2
     assert f"tip link {name!r} cannot name a file" in one_line_error(err) and why in err
     assert sorted(os.listdir(tmp_path)) == ["t.urdf"]
@@ -401,7 +432,7 @@ def test_tips_differing_only_in_case_are_refused(capsys, tmp_path):
     source = tmp_path / "t.urdf"
     source.write_text(tree_urdf(left="Tip", right="tip"))
     code, _, err = run(
-        capsys, "export", source, "--all-tips", "--to", "kdl", "-o", tmp_path / "out"
+        capsys, "export", source, "--all-tips", "--to", "kdl", "-o", f"{tmp_path / 'out'}/"
     )
     assert code == 2 and "'Tip' and 'tip' differ only in case" in one_line_error(err)
     assert not (tmp_path / "out").exists()
@@ -422,15 +453,20 @@ def test_verify_reports_each_chain(capsys, tree):
 def test_verify_exits_1_when_one_chain_disagrees(capsys, tree, monkeypatch):
     """Pinocchio's answer is shifted by 1 mm for the left chain only: that chain fails, the
     other is still reported."""
-    real = verify.pinocchio_fk
+    real = verify.pinocchio_evaluator
 
-    def shifted(source, model, q):
-        poses = real(source, model, q)
-        if model.tip_link == "left_tip":
-            poses[:, 0, 3] += 1e-3
-        return poses
+    def shifted(source, model):
+        evaluate = real(source, model)
 
-    monkeypatch.setattr(verify, "pinocchio_fk", shifted)
+        def moved(q):
+            poses = evaluate(q)
+            if model.tip_link == "left_tip":
+                poses[:, 0, 3] += 1e-3
+            return poses
+
+        return moved
+
+    monkeypatch.setattr(verify, "pinocchio_evaluator", shifted)
     code, out, err = run(capsys, "verify", tree, "--all-tips", "--samples", "5")
     assert code == 1
     assert "-> left_tip" in out and "-> right_tip" in out
@@ -470,7 +506,17 @@ def test_verify_refuses_a_chain_through_a_floating_joint(capsys, tmp_path):
 def test_export_writes_one_file_per_tip_with_the_targets_suffix(capsys, tmp_path):
     out_dir = tmp_path / "rtb"
     code, _, err = run(
-        capsys, "export", "ur5", "--tip", "tool0", "--tip", "ee_link", "--to", "rtb", "-o", out_dir
+        capsys,
+        "export",
+        "ur5",
+        "--tip",
+        "tool0",
+        "--tip",
+        "ee_link",
+        "--to",
+        "rtb",
+        "-o",
+        f"{out_dir}/",
     )
     assert code == 0, err
     assert sorted(os.listdir(out_dir)) == ["ee_link.py", "tool0.py"]
@@ -486,7 +532,9 @@ def test_the_written_tables_match_their_chains(capsys, tree, tmp_path):
     from urdf2dh.sources import open_source
 
     out_dir = tmp_path / "out"
-    assert run(capsys, "convert", tree, "--all-tips", "--format", "json", "-o", out_dir)[0] == 0
+    assert (
+        run(capsys, "convert", tree, "--all-tips", "--format", "json", "-o", f"{out_dir}/")[0] == 0
+    )
     rng = np.random.default_rng(13)
     source = open_source(str(tree))
     for tip in ("left_tip", "right_tip"):
@@ -522,7 +570,7 @@ def test_signals_leave_a_directory_as_it_was(tree, tmp_path, name, code):
     out_dir.mkdir()
     (out_dir / "left_tip.txt").write_text("old")
     before = listing(tmp_path)
-    for call, when, target in (("replace", 2, out_dir), ("rename", 1, tmp_path / "new")):
+    for call, when, target in (("replace", 2, out_dir), ("rename", 1, f"{tmp_path / 'new'}/")):
         probe = PROBE.format(call=call, when=when, signal=name)
         proc = subprocess.run(
             [sys.executable, "-c", probe, str(tree), str(target)],

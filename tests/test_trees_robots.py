@@ -104,14 +104,16 @@ def test_a_humanoid_above_its_free_flyer_is_refused_and_converts_below_it(capsys
     path = example_robot_data_dir() / "talos_data/robots/talos_reduced.urdf"
     source = tmp_path / "talos_free.urdf"
     source.write_text(with_root_joint(path, kind))
-    code = main(["convert", str(source), "--all-tips", "--ignore-mimic", "-o", str(tmp_path / "o")])
+    code = main(
+        ["convert", str(source), "--all-tips", "--ignore-mimic", "-o", f"{tmp_path / 'o'}/"]
+    )
     err = capsys.readouterr().err
     assert code == 2 and err.count("\n") == 1
     assert "joint 'root_joint' on the chain 'world' -> " in err and f"is {kind};" in err
     assert sorted(p.name for p in tmp_path.iterdir()) == ["talos_free.urdf"]
     _, tips = expected_tips(path)
     argv = ["convert", str(source), "--all-tips", "--ignore-mimic", "--base", "base_link"]
-    assert main([*argv, "-o", str(tmp_path / "o")]) == 0
+    assert main([*argv, "-o", f"{tmp_path / 'o'}/"]) == 0
     assert sorted(p.name for p in (tmp_path / "o").iterdir()) == sorted(f"{t}.txt" for t in tips)
     if kind == "floating":  # Pinocchio reads the free flyer too; the chains below it agree
         argv[0] = "verify"

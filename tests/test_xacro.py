@@ -192,3 +192,13 @@ def test_a_bound_that_is_not_hit_changes_nothing(capsys):
         == 0
     )
     assert "wrist_joint" in capsys.readouterr().out
+
+
+def test_xacro_is_a_dependency_and_the_old_extra_still_installs():
+    """`pip install urdf2dh` reads xacro descriptions; `urdf2dh[xacro]` (old install lines)
+    still names an extra that exists, now empty."""
+    tomllib = pytest.importorskip("tomllib")
+    root = Path(__file__).resolve().parents[1]
+    project = tomllib.loads((root / "pyproject.toml").read_text())["project"]
+    assert [d for d in project["dependencies"] if d.startswith("xacro")] == ["xacro>=2.0"]
+    assert project["optional-dependencies"]["xacro"] == []

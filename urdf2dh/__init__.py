@@ -11,8 +11,9 @@ The pipeline, in the public names of this package:
 :func:`load` reads any SOURCE (URDF, xacro, POE file, table file, bundled robot) into a
 :class:`PoeModel`; :func:`to_table` converts it to a :class:`Table` in one of
 :data:`CONVENTIONS` and checks its forward kinematics against the model's; :func:`render`
-writes it. :meth:`Table.to_poe` goes back. Pinocchio cross-checks live in
-:mod:`urdf2dh.verify`, controller files in :mod:`urdf2dh.export`, the conventions themselves in
+writes it; :func:`plot` draws its frames (a picture, or an interactive view as an HTML page).
+:meth:`Table.to_poe` goes back. Pinocchio cross-checks live in :mod:`urdf2dh.verify`,
+controller files in :mod:`urdf2dh.export`, the conventions themselves in
 :mod:`urdf2dh.conventions`.
 
 Twists are ``[w, v]`` (angular first); angles are radians; lengths are in the source's unit
@@ -21,6 +22,7 @@ Twists are ``[w, v]`` (angular first); angles are radians; lengths are in the so
 
 from __future__ import annotations
 
+import os
 from typing import TYPE_CHECKING
 
 __version__ = "0.1.0"
@@ -38,6 +40,7 @@ __all__ = [
     "Urdf2DhError",
     "__version__",
     "load",
+    "plot",
     "render",
     "to_table",
 ]
@@ -45,6 +48,7 @@ __all__ = [
 if TYPE_CHECKING:
     from .conventions import NAMES as CONVENTIONS
     from .convert import to_table
+    from .emit.plot import plot
     from .errors import Urdf2DhError
     from .formats import render
     from .screws import Joint, PoeModel
@@ -55,6 +59,7 @@ _LAZY = {
     "CONVENTIONS": ("conventions", "NAMES"),
     "to_table": ("convert", "to_table"),
     "render": ("formats", "render"),
+    "plot": ("emit.plot", "plot"),
     "Urdf2DhError": ("errors", "Urdf2DhError"),
     "Joint": ("screws", "Joint"),
     "PoeModel": ("screws", "PoeModel"),
@@ -78,7 +83,7 @@ def __getattr__(name: str) -> object:
 
 
 def load(
-    source: str,
+    source: str | os.PathLike[str],
     base: str | None = None,
     tip: str | None = None,
     ignore_mimic: bool = False,
@@ -104,8 +109,17 @@ def load(
     Raises
     ------
     Urdf2DhError
-        A one-line message naming the file, link or joint at fault.
+        A one-line message naming the file, link or joint at fault (:class:`SourceError` for
+        a SOURCE that is empty or names neither a file nor a bundled robot).
+    TypeError
+        An argument of the wrong type (``source`` neither text nor a path, ``ignore_mimic``
+        not a bool).
     """
+    from .checks import check_flag, check_optional_name, check_source
     from .sources import open_source
 
+    source = check_source(source, "load: source")
+    base = check_optional_name(base, "load: base")
+    tip = check_optional_name(tip, "load: tip")
+    ignore_mimic = check_flag(ignore_mimic, "load: ignore_mimic")
     return open_source(source).model(base, tip, ignore_mimic)

@@ -1,18 +1,54 @@
-"""Validators at the boundary: a file's numbers as finite floats, or a one-line error naming the
-field (STYLE: ``check_*`` returns canonical values and says what was expected and what came)."""
+"""Validators at the boundary (STYLE: ``check_*`` returns canonical values and says what was
+expected and what came).
+
+* A file's values: a number as a finite float, a name as a non-empty string, or a one-line
+  :class:`~urdf2dh.errors.InputError` (or the subclass the reader passes) naming the field.
+* The Python API's arguments (:func:`urdf2dh.load`, :func:`urdf2dh.to_table`,
+  :func:`urdf2dh.render`, the methods of :class:`~urdf2dh.table.Table` and
+  :class:`~urdf2dh.screws.PoeModel`, the value types' constructors): a ``TypeError`` for a value
+  of the wrong type, a ``ValueError`` for a wrong value (a shape, a non-finite number, a count
+  below 1), each naming the argument, what it takes and what it got. Arrays come back as
+  canonical float64 arrays; a batch is checked with one vectorised ``np.isfinite(...).all()``.
+
+Everything past these checks trusts its arguments' types.
+"""
 
 from __future__ import annotations
 
 import math
+import numbers
+import os
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
 from .errors import InputError
 
 if TYPE_CHECKING:
+    import numpy as np
+    from numpy.typing import NDArray
+
     from .mimic import Followed, Mimic
 
-__all__ = ["LARGEST", "check_leaders", "check_name", "check_number", "check_vector", "read_mimic"]
+__all__ = [
+    "LARGEST",
+    "MAX_SAMPLES",
+    "MAX_SEED",
+    "check_array",
+    "check_configurations",
+    "check_count",
+    "check_flag",
+    "check_instance",
+    "check_leaders",
+    "check_limit",
+    "check_name",
+    "check_number",
+    "check_optional_name",
+    "check_real",
+    "check_seed",
+    "check_source",
+    "check_vector",
+    "read_mimic",
+]
 
 # No number a kinematic file holds is larger: 1e12 of any length unit urdf2dh knows is over a
 # million kilometres, and angles, scales and limits are far smaller. Beyond it, products and
@@ -46,6 +82,16 @@ def check_name(value: Any, where: str, error: type[InputError] = InputError) -> 
 def _short(value: Any) -> str:
     text = repr(value)
     return text if len(text) <= 40 else text[:37] + "..."
+
+
+def _got(value: Any) -> str:
+    """What came, for a message: its type, and its value where short (``str 'ur5'``)."""
+    kind = type(value).__name__
+    if value is None:
+        return "None"
+    if isinstance(value, bool | numbers.Number | str | bytes):
+        return f"{kind} {_short(value)}"
+    return kind
 
 
 def check_vector(
@@ -83,3 +129,141 @@ def check_leaders(joints: Sequence[Followed], where: str,
                 f"{where}: joint {j.name!r} mimics {j.mimic.joint!r}, which is not a joint of "
                 "the chain without mimic"
             )
+
+
+# --------------------------------------------------------------------------- Python API arguments
+
+# Configurations of a self-check or a verify run: about 1 GB of poses at most.
+MAX_SAMPLES = 1_000_000
+MAX_SEED = 2**63 - 1  # numpy's seeds are non-negative integers; this is the CLI's bound too
+
+
+def check_instance(value: Any, kind: type, where: str, hint: str = "") -> Any:
+    """``value`` if it is a ``kind``; else ``TypeError`` naming ``where`` (``"to_table: model"``)
+    and what came, followed by ``hint`` (how to get a ``kind``)."""
+    if not isinstance(value, kind):
+        raise TypeError(
+            f"{where} must be a {kind.__name__}, not {_got(value)}" + (f"; {hint}" if hint else "")
+        )
+    return value
+
+
+def check_flag(value: Any, where: str) -> bool:
+    """``value`` as a bool (``True``, ``False``, or a numpy bool)."""
+    if type(value).__name__ not in ("bool", "bool_"):
+        raise TypeError(f"{where} must be True or False, not {_got(value)}")
+    return bool(value)
+
+
+def check_optional_name(value: Any, where: str) -> str | None:
+    """``value`` as a name (a string) or ``None``."""
+    if value is not None and not isinstance(value, str):
+        raise TypeError(f"{where} must be a string or None, not {_got(value)}")
+    return value
+
+
+def check_source(value: Any, where: str) -> str:
+    """A SOURCE: a file path (``str`` or ``os.PathLike``) or a bundled robot's name, as text.
+    (Whether it names anything is :func:`urdf2dh.sources.open_source`'s to say.)"""
+    if isinstance(value, os.PathLike):
+        value = os.fspath(value)
+    if not isinstance(value, str):
+        raise TypeError(
+            f"{where} must be a file path or a bundled robot's name (str or os.PathLike), not "
+            f"{_got(value)}"
+        )
+    return value
+
+
+def check_count(value: Any, where: str, least: int = 1, most: int = MAX_SAMPLES) -> int:
+    """``value`` as an int from ``least`` to ``most`` (not a bool, not a float)."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+        raise TypeError(f"{where} must be an integer, not {_got(value)}")
+    count = int(value)
+    if not least <= count <= most:
+        raise ValueError(f"{where} must be from {least} to {most:,}, not {count}")
+    return count
+
+
+def check_seed(value: Any, where: str) -> int:
+    """A random seed: an int from 0 to :data:`MAX_SEED` (as ``numpy.random.default_rng``
+    takes it)."""
+    return check_count(value, where, 0, MAX_SEED)
+
+
+def check_real(value: Any, where: str) -> float:
+    """``value`` as a finite float (a real number, not a bool)."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise TypeError(f"{where} must be a number, not {_got(value)}")
+    out = float(value)
+    if not math.isfinite(out):
+        raise ValueError(f"{where} must be finite, not {out!r}")
+    return out
+
+
+def check_limit(value: Any, where: str) -> float | None:
+    """A joint limit: a finite float, or ``None`` for none."""
+    return None if value is None else check_real(value, where)
+
+
+def check_array(value: Any, shape: tuple[int | None, ...], where: str) -> NDArray[np.float64]:
+    """``value`` as a finite float64 array of ``shape`` (``None``: any length there): numbers
+    only (no strings, ``None`` or booleans), every entry finite."""
+    a = _numbers(value, where, f"an array of shape {_shape(shape)}")
+    if a.ndim != len(shape) or any(
+        n is not None and n != m for n, m in zip(shape, a.shape, strict=True)
+    ):
+        raise ValueError(f"{where} must have shape {_shape(shape)}, not {a.shape}")
+    return _finite(a, where)
+
+
+def check_configurations(q: Any, n: int, where: str, batch: bool = False) -> NDArray[np.float64]:
+    """Joint positions for a chain of ``n`` actuated joints: ``(n,)`` or a stack ``(..., n)``,
+    or with ``batch`` ``(N, n)`` (or one ``(n,)``); as a finite float64 array."""
+    shape = f"(N, {n})" if batch else f"({n},) or (..., {n})"
+    a = _numbers(q, where, f"an array of shape {shape}")
+    if a.ndim == 0 or a.shape[-1] != n or (batch and a.ndim > 2):
+        raise ValueError(
+            f"{where} must have shape {shape}, one position per actuated joint, not {a.shape}"
+        )
+    return _finite(a, where)
+
+
+def _numbers(value: Any, where: str, expected: str) -> NDArray[np.float64]:
+    """``value`` as a float64 array (no copy of one), if it holds real numbers only."""
+    import numpy as np
+
+    if isinstance(value, np.ndarray) and value.dtype == np.float64:
+        return value
+    try:
+        a = np.asarray(value)
+    except ValueError as e:  # a ragged nesting
+        raise ValueError(f"{where} must be {expected} ({e})") from None
+    if a.dtype.kind == "O" and all(
+        isinstance(x, numbers.Real) and not isinstance(x, bool) for x in a.ravel()
+    ):
+        a = a.astype(np.float64)
+    if a.dtype.kind not in "iuf":
+        raise TypeError(f"{where} must be {expected} of numbers, not of {_kind(a)}")
+    return np.asarray(a, dtype=np.float64)
+
+
+def _finite(a: NDArray[np.float64], where: str) -> NDArray[np.float64]:
+    """``a``, if every entry is finite (one vectorised test; the first bad entry named)."""
+    import numpy as np
+
+    if not np.isfinite(a).all():
+        bad = tuple(int(i) for i in np.argwhere(~np.isfinite(a))[0])
+        raise ValueError(f"{where} must be finite; entry {bad} is {float(a[bad])!r}")
+    return a
+
+
+def _shape(shape: tuple[int | None, ...]) -> str:
+    inner = ", ".join("N" if n is None else str(n) for n in shape)
+    return f"({inner},)" if len(shape) == 1 else f"({inner})"
+
+
+def _kind(a: Any) -> str:
+    return {"b": "booleans", "U": "strings", "S": "bytes", "c": "complex numbers"}.get(
+        a.dtype.kind, "objects such as None"
+    )

@@ -14,26 +14,75 @@ import os
 import signal
 import sys
 import warnings
+from typing import Any
 
 from . import __version__, options
 from .commands import COMMANDS
 from .conventions import NAMES, STYLES
 from .errors import Urdf2DhError
 from .export import TARGETS
+from .files import drop_stdout, flush_stdout, write_stdout
 from .formats import FORMATS
 from .tolerances import DIFF_ANGLE_DEG, DIFF_LENGTH_M
 
-__all__ = ["get_argument_parser", "main"]
+__all__ = ["get_argument_parser", "main", "version_text"]
+
+#: What ``--version`` names besides urdf2dh: the distributions it runs on (PyPI names; the
+#: Pinocchio wheel is ``pin``).
+RUNS_ON = (("yourdfpy", "yourdfpy"), ("Pinocchio", "pin"), ("numpy", "numpy"), ("xacro", "xacro"))
+
+
+def version_text() -> str:
+    """``urdf2dh X (yourdfpy Y, Pinocchio Z, numpy W, xacro V; Python U)``, from the installed
+    distributions' metadata (nothing is imported)."""
+    from importlib.metadata import PackageNotFoundError, version
+
+    parts = []
+    for label, dist in RUNS_ON:
+        try:
+            parts.append(f"{label} {version(dist)}")
+        except PackageNotFoundError:
+            parts.append(f"{label} not installed")
+    python = ".".join(map(str, sys.version_info[:3]))
+    return f"urdf2dh {__version__} ({', '.join(parts)}; Python {python})"
+
+
+class _Version(argparse.Action):
+    """``--version``: the text is made only when asked for (metadata look-ups cost time)."""
+
+    def __init__(self, option_strings: list[str], dest: str, **kwargs: object) -> None:
+        super().__init__(option_strings, dest, nargs=0, help="show the versions and exit")
+
+    def __call__(self, parser: argparse.ArgumentParser, *args: object) -> None:
+        print(version_text())
+        parser.exit()
+
+
+class ArgumentParser(argparse.ArgumentParser):
+    """argparse's parser, except that help, usage and version text that cannot be written to
+    stdout (a full disk, ``> /dev/full``) is an error, as any other failed write
+    (:func:`urdf2dh.files.write_stdout`); argparse itself ignores it. Every command's parser is
+    one (``add_subparsers`` makes its parsers of the parent's class)."""
+
+    def _print_message(self, message: str, file: Any = None) -> None:
+        # the one place argparse writes: help, usage, --version and its error messages
+        if not message or file is not sys.stdout:
+            super()._print_message(message, file)
+            return
+        try:
+            write_stdout(message)
+        except BrokenPipeError:  # the reader went away (`| head`): not an error
+            drop_stdout()
 
 
 def get_argument_parser() -> argparse.ArgumentParser:
     """The argument parser of the ``urdf2dh`` command."""
-    parser = argparse.ArgumentParser(
+    parser = ArgumentParser(
         prog="urdf2dh",
         description="Turn a robot's URDF (or POE model) into exact Denavit-Hartenberg, "
         "modified D-H and CPC tables, checked against the source and against Pinocchio.",
     )
-    parser.add_argument("--version", action="version", version=f"urdf2dh {__version__}")
+    parser.add_argument("--version", action=_Version)
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
 
     p = sub.add_parser("convert", help="print or write the parameter table of a chain")
@@ -57,11 +106,11 @@ def get_argument_parser() -> argparse.ArgumentParser:
     p.add_argument(
         "-o",
         "--output",
-        metavar="FILE|DIR",
-        help="write to FILE instead of stdout; with several tips a directory, one "
-        "file per tip (DIR/<tip>.txt, .json, .yaml, .csv, .md, .urdf, "
-        ".poe.yaml), all or nothing; to stdout several tables go in text, "
-        "markdown, json (an object keyed by tip) or yaml (a document per tip)",
+        metavar="FILE|DIR/",
+        help="write to FILE instead of stdout; with several tips, FILE gets what stdout would "
+        "(text, markdown, json: an object keyed by tip, yaml: a document per tip) and DIR/ (a "
+        "trailing slash, or an existing directory) one file per tip (DIR/<tip>.txt, .json, "
+        ".yaml, .csv, .md, .urdf, .poe.yaml), all or nothing",
     )
     options.add_tolerances(p)
 
@@ -157,20 +206,24 @@ def get_argument_parser() -> argparse.ArgumentParser:
     p.add_argument(
         "-o",
         "--output",
-        metavar="FILE|DIR",
-        help="write to FILE instead of stdout; with several tips (required) a "
-        "directory: DIR/<tip> plus the target's suffix, all or nothing",
+        metavar="FILE|DIR/",
+        help="write to FILE instead of stdout; with several tips (required) a directory, "
+        "DIR/ (a trailing slash, or an existing directory): DIR/<tip> plus the target's "
+        "suffix, all or nothing",
     )
     options.add_tolerances(p)
 
-    p = sub.add_parser("plot", help="draw the arm at home with its D-H frames (png, svg, pdf)")
+    p = sub.add_parser(
+        "plot", help="draw the arm at home with its frames (png, svg, pdf; html: interactive 3-D)"
+    )
     options.add_chain(p)
     p.add_argument(
         "-o",
         "--output",
         required=True,
         metavar="FILE",
-        help="image file; its suffix picks the format (.png, .svg, .pdf)",
+        help="output file; its suffix picks the format: .png, .svg, .pdf (a picture) or .html "
+        "(an interactive 3-D view in one self-contained page)",
     )
     p.add_argument(
         "--convention",
@@ -196,6 +249,15 @@ def _one_line(text: str) -> str:
     return "".join(c if c.isprintable() or c == " " else repr(c)[1:-1] for c in text)
 
 
+def _report(e: Urdf2DhError) -> int:
+    """Print ``e`` on one line of stderr; its exit code."""
+    try:
+        print(f"urdf2dh: error: {_one_line(str(e))}", file=sys.stderr)
+    except OSError:  # stderr too cannot be written: the exit code still says it
+        pass
+    return e.exit_code
+
+
 def _terminate(signum: int, frame: object) -> None:
     raise SystemExit(128 + signum)  # unwinds like Ctrl-C: temporary files are removed
 
@@ -203,10 +265,13 @@ def _terminate(signum: int, frame: object) -> None:
 def main(argv: list[str] | None = None) -> int:
     """Run the command line; returns the exit code."""
     parser = get_argument_parser()
-    args = parser.parse_args(argv)
-    if args.command is None:
-        parser.print_help()
-        return 2
+    try:
+        args = parser.parse_args(argv)  # --help, --version and bad usage exit here
+        if args.command is None:
+            parser.print_help()
+            return 2
+    except Urdf2DhError as e:  # help or usage that could not be written
+        return _report(e)
     try:
         previous = signal.signal(signal.SIGTERM, _terminate)
     except ValueError:  # not the main thread: the caller handles its signals
@@ -216,15 +281,16 @@ def main(argv: list[str] | None = None) -> int:
             # numerical trouble is reported by the checks (a one-line error), never as a
             # library's warning text
             warnings.simplefilter("ignore")
-            return COMMANDS[args.command](args)
+            code = COMMANDS[args.command](args)
+        flush_stdout()  # what the command printed is written, or the run fails
+        return code
     except Urdf2DhError as e:
-        print(f"urdf2dh: error: {_one_line(str(e))}", file=sys.stderr)
-        return e.exit_code
+        return _report(e)
     except KeyboardInterrupt:
         return 130
     except BrokenPipeError:
         # the reader went away (`| head`); keep Python from complaining at exit
-        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        drop_stdout()
         return 0
     except RecursionError:
         print("urdf2dh: error: input nested too deeply", file=sys.stderr)

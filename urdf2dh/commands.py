@@ -11,7 +11,7 @@ import sys
 from typing import Any
 
 from .calibrate.cli import COMMANDS as calibration_commands
-from .files import write_output
+from .files import write_output, write_stdout
 from .options import tolerances, xacro_options
 
 __all__ = ["COMMANDS"]
@@ -22,6 +22,11 @@ def _open(args: argparse.Namespace, tol: Any = None) -> Any:
     from .tolerances import DEFAULT
 
     return open_source(args.source, tol or DEFAULT, xacro=xacro_options(args))
+
+
+def _say(line: str = "") -> None:
+    """A line of a command's report on stdout, written now (a failed write is an error)."""
+    write_stdout(line + "\n")
 
 
 # --------------------------------------------------------------------------- commands
@@ -39,7 +44,7 @@ def _several(args: argparse.Namespace) -> bool:
 
 
 def _chains(args: argparse.Namespace, source: Any, suffix: str | None = None) -> list[Any]:
-    """The models of a run over several chains; ``suffix``: of the files of ``-o DIR``, whose
+    """The models of a run over several chains; ``suffix``: of the files of ``-o DIR/``, whose
     names are checked before any conversion."""
     from .tips import chain_models, chain_tips, file_names
 
@@ -47,6 +52,20 @@ def _chains(args: argparse.Namespace, source: Any, suffix: str | None = None) ->
     if suffix is not None:
         file_names(source.display, tips, suffix)
     return chain_models(source, base, tips, args.ignore_mimic)
+
+
+def _per_chain(models: list[Any], what: str) -> Any:
+    """The chains of a run, with a progress bar on a terminal."""
+    from .progress import progress
+
+    return progress(models, len(models), what)
+
+
+def _to_directory(args: argparse.Namespace) -> bool:
+    """Whether a run over several chains writes one file per chain (``-o DIR/``)."""
+    from .tips import names_directory
+
+    return args.output is not None and names_directory(args.output)
 
 
 def _write_tips(
@@ -79,19 +98,20 @@ def _convert_tips(args: argparse.Namespace, tol: Any) -> int:
     from .formats import render
     from .tips import FORMAT_SUFFIXES, check_stdout_format, join_tables, naming_tip
 
-    if args.output is None:
+    directory = _to_directory(args)
+    if not directory:
         check_stdout_format(args.format)  # before any reading
     source = _open(args, tol)
     suffix = FORMAT_SUFFIXES[args.format]
-    models = _chains(args, source, suffix if args.output is not None else None)
+    models = _chains(args, source, suffix if directory else None)
     tables = []
-    for model in models:
+    for model in _per_chain(models, "convert"):
         with naming_tip(model.tip_link):
             tables.append(
                 to_table(model, args.convention, tol, samples=args.check_samples, style=args.style)
             )
-    if args.output is None:
-        write_output(join_tables(tables, args.format), None)
+    if not directory:  # stdout, or -o FILE: the one document
+        write_output(join_tables(tables, args.format), args.output, [args.source])
         return 0
     texts = []
     for model, table in zip(models, tables, strict=True):
@@ -107,16 +127,16 @@ def _verify(args: argparse.Namespace) -> int:
     if not _several(args):
         model = source.model(args.base, _one_tip(args), args.ignore_mimic)
         if _verify_chain(args, source, model, tol):
-            print("verify: all conventions agree with Pinocchio")
+            _say("verify: all conventions agree with Pinocchio")
             return 0
         return 1
     from .tips import TipError, naming_tip
 
     models = _chains(args, source)
     failed = []
-    for i, model in enumerate(models):
+    for i, model in enumerate(_per_chain(models, "verify")):
         if i:
-            print()
+            _say()
         try:
             with naming_tip(model.tip_link):
                 ok = _verify_chain(args, source, model, tol)
@@ -136,7 +156,7 @@ def _verify(args: argparse.Namespace) -> int:
             file=sys.stderr,
         )
         return 1
-    print(f"verify: all conventions agree with Pinocchio on all {len(models)} chains")
+    _say(f"verify: all conventions agree with Pinocchio on all {len(models)} chains")
     return 0
 
 
@@ -148,19 +168,19 @@ def _verify_chain(args: argparse.Namespace, source: Any, model: Any, tol: Any) -
     results = verify(source, model, args.samples, args.seed, tol, check_samples=args.check_samples)
     unit, size = v(model.length_unit), model.size()
     chain = f"{v(model.base_link)} -> {v(model.tip_link)}, " if model.base_link else ""
-    print(
+    _say(
         f"{v(source.name)}: {chain}{model.n} joints; against Pinocchio at {args.samples} "
         f"configurations (seed {args.seed}); robot size {size:.4g} {unit}"
     )
-    print(f"  {'model':<10} {'position error':>16} {'relative':>10} {'rotation error':>16}  result")
+    _say(f"  {'model':<10} {'position error':>16} {'relative':>10} {'rotation error':>16}  result")
     for r in results:
-        print(
+        _say(
             f"  {r.label:<10} {r.position:>13.2e} {unit:<2} {r.position / size:>10.2e} "
             f"{r.rotation:>12.2e} rad  {'ok' if r.ok else 'FAILED'}"
         )
     for r in results:
         for w in r.table.warnings if r.table is not None else ():
-            print(f"  warning: {v(w)}")
+            _say(f"  warning: {v(w)}")
     failed = [r.label for r in results if not r.ok]
     if failed:
         where = f" on {chain[:-2]}" if chain and _several(args) else ""
@@ -205,7 +225,7 @@ def _info(args: argparse.Namespace) -> int:
     from .info import describe
 
     source = _open(args)
-    sys.stdout.write(describe(source, args.base, args.tip, args.ignore_mimic))
+    write_stdout(describe(source, args.base, args.tip, args.ignore_mimic))
     return 0
 
 
@@ -216,8 +236,10 @@ def _export(args: argparse.Namespace) -> int:
     if args.units is not None and args.to != "linuxcnc":
         raise UsageError(f"--units applies to --to linuxcnc, not --to {args.to}")
     table_choices(args.to, args.convention, args.style)  # bad choices fail before any reading
-    if _several(args) and args.output is None:
-        raise UsageError("export with several tips writes one file per tip; give -o DIR")
+    if _several(args) and not _to_directory(args):
+        from .tips import DIRECTORY_HINT
+
+        raise UsageError(f"export with several tips writes one file per tip; give {DIRECTORY_HINT}")
     tol = tolerances(args)
     source = _open(args, tol)
     opts = Options(args.units, tol)
@@ -230,7 +252,8 @@ def _export(args: argparse.Namespace) -> int:
 
     suffix = TARGETS[args.to].suffix
     texts = []
-    for model in _chains(args, source, suffix):
+    models = _chains(args, source, suffix)
+    for model in _per_chain(models, "export"):
         with naming_tip(model.tip_link):
             texts.append(
                 (
@@ -253,13 +276,25 @@ def _plot(args: argparse.Namespace) -> int:
     from pathlib import Path
 
     from .convert import to_table
-    from .plot import render
+    from .emit.plot import FORMATS, plot
+    from .emit.scene import check_size
+    from .errors import InputError, UsageError, choices, shown
 
     fmt = Path(args.output).suffix.lower().lstrip(".") or "png"
+    if fmt not in FORMATS:
+        raise UsageError(
+            f"plot: unknown format '.{fmt}' of -o {shown(args.output)}: its suffix picks the "
+            f"format, one of {choices(FORMATS)}"
+        )
     tol = tolerances(args)
-    model = _open(args, tol).model(args.base, args.tip, args.ignore_mimic)
+    source = _open(args, tol)
+    model = source.model(args.base, args.tip, args.ignore_mimic)
+    try:
+        check_size(len(model.joints))
+    except InputError as e:
+        raise InputError(f"{source.display}: {e} (pick a shorter chain with --base/--tip)") from e
     table = to_table(model, args.convention, tol, samples=args.check_samples, style=args.style)
-    write_output(render(table, fmt), args.output, [args.source])
+    write_output(plot(table, fmt), args.output, [args.source])
     return 0
 
 
@@ -267,9 +302,11 @@ def _robots(args: argparse.Namespace) -> int:
     from .catalog import ROBOTS
 
     width = max(len(n) for n in ROBOTS)
+    lines = []
     for r in ROBOTS.values():
         chain = f"{r.base} -> {r.tip}" if r.base else "POE model"
-        print(f"{r.name:<{width}}  {r.description}  [{chain}]")
+        lines.append(f"{r.name:<{width}}  {r.description}  [{chain}]\n")
+    write_stdout("".join(lines))
     return 0
 
 

@@ -14,8 +14,9 @@ from dataclasses import replace
 import numpy as np
 from numpy.typing import NDArray
 
+from .checks import check_count, check_instance, check_seed
 from .conventions import REGISTRY, STYLES, Conversion, get
-from .errors import ConversionError, UsageError, choices
+from .errors import ConversionError, UsageError, choices, shown
 from .fk import chains_fk
 from .lines import Judgement
 from .screws import PoeModel
@@ -27,6 +28,7 @@ __all__ = [
     "DEFAULT_SAMPLES",
     "JUDGED_SAMPLES",
     "build_table",
+    "check_arguments",
     "deviation_bound",
     "sample_configurations",
     "self_check",
@@ -122,6 +124,22 @@ def _length(x: float, unit: str) -> str:
     return f"{x:.3g} {unit}"
 
 
+def check_arguments(
+    model: object, convention: object, tol: object, samples: object, seed: object, style: object
+) -> None:
+    """:func:`to_table`'s arguments, each of its type and range (names are checked where they
+    are looked up, listing the valid ones)."""
+    hint = f"read one first: urdf2dh.load({shown(model)})" if isinstance(model, str) else (
+        "urdf2dh.load(SOURCE) reads one")  # fmt: skip
+    check_instance(model, PoeModel, "to_table: model", hint)
+    for name, value in (("convention", convention), ("style", style)):
+        check_instance(value, str, f"to_table: {name}")
+    check_instance(tol, Tolerances, "to_table: tol", "urdf2dh.Tolerances(...) or urdf2dh.DEFAULT")
+    if samples is not None:
+        check_count(samples, "to_table: samples")
+    check_seed(seed, "to_table: seed")
+
+
 def to_table(
     model: PoeModel,
     convention: str = "dh",
@@ -158,7 +176,15 @@ def to_table(
     ConversionError
         If the table's forward kinematics deviates from the model's by more than the machine
         tolerance plus what the reported judgements account for.
+    UsageError
+        An unknown ``convention`` or ``style`` (the message lists the valid ones; a
+        ``ValueError`` too).
+    TypeError, ValueError
+        An argument of the wrong type (``model`` not a :class:`~urdf2dh.screws.PoeModel`,
+        ``tol`` not a :class:`~urdf2dh.tolerances.Tolerances`), or ``samples`` or ``seed`` out
+        of range (``samples`` from 1 to :data:`~urdf2dh.checks.MAX_SAMPLES`).
     """
+    check_arguments(model, convention, tol, samples, seed, style)
     table, result = build_table(model, convention, tol, style)
     size, reach, unit = model.size(), model.reach() + model.travel(), model.length_unit
     table = written(table, tol.written, tol.written * size)

@@ -34,8 +34,9 @@ class Urdf2DhError(Exception):
     exit_code = 2
 
 
-class UsageError(Urdf2DhError):
-    """A bad command-line option or option value."""
+class UsageError(Urdf2DhError, ValueError):
+    """A bad command-line option or option value, or a choice the Python API does not know (a
+    convention, style, format or export target name); a ``ValueError`` too."""
 
 
 class InputError(Urdf2DhError):

@@ -10,7 +10,9 @@ Output goes to stdout, or to ``-o FILE``:
   into: it cannot be replaced, only written;
 * anything else (a directory, a socket, a dangling link) and the SOURCE file itself are refused.
 
-A failed write, to stdout included (a full disk), is an error (exit 2), never silent.
+A failed write, to stdout included (a full disk, ``> /dev/full``), is an error (exit 2), never
+silent: every text the commands print goes through :func:`write_stdout`, and
+:func:`flush_stdout` ends each run. A reader that goes away (``| head``) is not an error.
 
 Several files go to ``-o DIR`` (:func:`write_directory`), all or nothing:
 
@@ -37,7 +39,14 @@ from pathlib import Path
 
 from .errors import InputError
 
-__all__ = ["read_file", "write_directory", "write_output"]
+__all__ = [
+    "drop_stdout",
+    "flush_stdout",
+    "read_file",
+    "write_directory",
+    "write_output",
+    "write_stdout",
+]
 
 
 def read_file(path: Path, display: str) -> bytes:
@@ -58,18 +67,7 @@ def write_output(data: str | bytes, output: str | None, sources: Iterable[str] =
     command's input files: ``output`` may not be one of them."""
     raw = data.encode("utf-8") if isinstance(data, str) else data
     if output is None:
-        try:
-            sys.stdout.flush()
-            buffer = getattr(sys.stdout, "buffer", None)
-            if buffer is None:  # a text-only stream (io.StringIO in place of stdout)
-                sys.stdout.write(raw.decode("utf-8", "replace"))
-            else:
-                buffer.write(raw)
-                buffer.flush()
-        except BrokenPipeError:
-            raise  # the reader went away (`| head`): not an error of ours
-        except OSError as e:
-            raise InputError(f"stdout: cannot write ({e.strerror})") from e
+        write_stdout(raw)
         return
     target = Path(output)
     _refuse_source(target, output, sources)
@@ -87,6 +85,50 @@ def write_output(data: str | bytes, output: str | None, sources: Iterable[str] =
         raise InputError(f"{output}: is not a regular file; refusing to replace it")
     else:
         _replace(target.resolve() if mode is not None else target, raw, output, mode)
+
+
+def write_stdout(data: str | bytes) -> None:
+    """Write ``data`` to stdout now (UTF-8), or raise ``InputError("stdout: cannot write
+    (...)")``; a ``BrokenPipeError`` (the reader went away) is raised as it is, not an error of
+    ours."""
+    raw = data.encode("utf-8") if isinstance(data, str) else data
+    try:
+        sys.stdout.flush()
+        buffer = getattr(sys.stdout, "buffer", None)
+        if buffer is None:  # a text-only stream (io.StringIO in place of stdout)
+            sys.stdout.write(raw.decode("utf-8", "replace"))
+        else:
+            buffer.write(raw)
+            buffer.flush()
+    except BrokenPipeError:
+        raise
+    except OSError as e:
+        raise _stdout_failed(e) from e
+
+
+def flush_stdout() -> None:
+    """Flush stdout: what is still buffered is written, or ``InputError`` as
+    :func:`write_stdout` raises it."""
+    try:
+        sys.stdout.flush()
+    except BrokenPipeError:
+        raise
+    except OSError as e:
+        raise _stdout_failed(e) from e
+
+
+def drop_stdout() -> None:
+    """Point stdout's file descriptor at the null device, so that nothing more reaches a reader
+    that went away or a full device (and Python's own flush at exit does not fail again)."""
+    try:
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+    except (OSError, ValueError, AttributeError):  # no descriptor (a stream in its place)
+        pass
+
+
+def _stdout_failed(e: OSError) -> InputError:
+    drop_stdout()
+    return InputError(f"stdout: cannot write ({e.strerror or e})")
 
 
 def _refuse_source(target: Path, shown: str, sources: Iterable[str]) -> None:

@@ -4,8 +4,9 @@
 ``csv`` the same numbers flat; ``text`` and ``markdown`` are for people: angles in degrees,
 helix pitch in length per degree (the units of Wu 2019 Table II), units in the headers.
 Names from the source go through :mod:`urdf2dh.export.escape`: JSON and YAML escape them
-themselves, CSV quotes them, text shows them as :func:`~urdf2dh.errors.visible` text (one line,
-no terminal control characters) and Markdown escapes its markup too.
+themselves, CSV writes them as :func:`~urdf2dh.export.escape.csv_cell` does (visible text, no
+formula), text shows them as :func:`~urdf2dh.errors.visible` text (one line, no terminal control
+characters) and Markdown escapes its markup too.
 ``urdf`` and ``poe`` write the table's kinematics as a model instead: a URDF in metres
 (:mod:`urdf2dh.urdfwrite`) or a POE model file (SPEC §4, YAML).
 """
@@ -25,13 +26,27 @@ from .units import DECIMALS
 if TYPE_CHECKING:
     from .table import Table
 
-__all__ = ["FORMATS", "fixed", "render", "summary"]
+__all__ = ["FORMATS", "fixed", "parameter_lines", "render", "summary"]
 
 FORMATS = ("text", "json", "yaml", "csv", "markdown", "urdf", "poe")
 
 
 def render(table: Table, fmt: str) -> str:
-    """The table in format ``fmt`` (one of :data:`FORMATS`), ending with a newline."""
+    """The table in format ``fmt`` (one of :data:`FORMATS`), ending with a newline.
+
+    Raises ``TypeError`` for a ``table`` that is not a :class:`~urdf2dh.table.Table` (a POE
+    model is converted first: :func:`urdf2dh.to_table`), :class:`~urdf2dh.errors.UsageError`
+    for an unknown format (a ``ValueError`` too), :class:`~urdf2dh.errors.ExportError` for a
+    name the format cannot carry (``urdf``: a character XML 1.0 has no way to write).
+    """
+    from .checks import check_instance
+    from .table import Table
+
+    hint = "convert it first: urdf2dh.to_table(model, 'dh')"
+    check_instance(
+        table, Table, "render: table", hint if type(table).__name__ == "PoeModel" else ""
+    )
+    check_instance(fmt, str, "render: fmt")
     if fmt == "json":
         return json.dumps(table.to_dict(), indent=2) + "\n"
     if fmt == "yaml":
@@ -105,7 +120,7 @@ def _csv(table: Table) -> str:
     for label, joint, kind, pitch, scale, params, _ in _records(table):
         cells = [
             label,
-            csv_cell(joint, "joint"),
+            csv_cell(joint),
             kind,
             "" if pitch is None else repr(pitch),
             "" if scale is None else repr(scale),
@@ -139,6 +154,19 @@ def _header(name: str, quantity: str, unit: str) -> str:
     if quantity == "direction":
         return name
     return f"{name} [{unit}]"
+
+
+def parameter_lines(params: Params, unit: str) -> list[str]:
+    """A record's parameters for people, one ``name [unit] = value`` line each, with the
+    headers, units and decimals of the text table (angles in degrees; a 3-vector in
+    parentheses)."""
+    out = []
+    for name, quantity in params.quantities().items():
+        value = getattr(params, name)
+        cells = [_cell(quantity, v, unit) for v in (value if isinstance(value, tuple) else [value])]
+        shown = cells[0] if len(cells) == 1 else "(" + ", ".join(cells) + ")"
+        out.append(f"{_header(name, quantity, unit)} = {shown}")
+    return out
 
 
 def _grid(table: Table, show: Callable[[str], str]) -> tuple[list[str], list[list[str]]]:

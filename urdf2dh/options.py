@@ -8,6 +8,8 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
+from .checks import MAX_SAMPLES, MAX_SEED
+
 __all__ = [
     "MAX_SAMPLES",
     "add_chain",
@@ -26,9 +28,7 @@ __all__ = [
     "xacro_options",
 ]
 
-MAX_SAMPLES = 1_000_000  # configurations of a check or a verify run (about 1 GB at most)
 MAX_PARALLEL_ANGLE = 0.1  # rad: beyond, "nearly parallel" would take in perpendicular axes
-MAX_SEED = 2**63 - 1
 
 
 def integer(text: str, low: int, high: int) -> int:

@@ -16,16 +16,25 @@ import itertools
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
-from typing import Literal, TypeVar, cast
+from typing import Any, Literal, TypeVar, cast
 
 import numpy as np
 from numpy.typing import NDArray
 
 from . import frames, se3
 from ._fastfk import chain_fk
+from .checks import (
+    check_array,
+    check_configurations,
+    check_instance,
+    check_limit,
+    check_real,
+)
+from .errors import shown
 from .mimic import Mimic, actuated, row_positions
+from .tolerances import RIGID_INPUT
 
-__all__ = ["KINDS", "Joint", "JointKind", "JointMotion", "PoeModel"]
+__all__ = ["KINDS", "Joint", "JointKind", "JointMotion", "PoeModel", "check_motion"]
 
 JointKind = Literal["revolute", "prismatic", "helical"]
 KINDS: tuple[str, ...] = ("revolute", "prismatic", "helical")
@@ -34,16 +43,32 @@ Vec = NDArray[np.float64]
 _T = TypeVar("_T")
 
 
-def _frozen(a: NDArray[np.float64] | None, shape: tuple[int, ...]) -> NDArray[np.float64] | None:
-    """A read-only float64 copy of ``a`` (shared as it is if it already is one)."""
-    if a is None:
-        return None
-    if not (isinstance(a, np.ndarray) and a.dtype == np.float64 and not a.flags.writeable):
-        a = np.array(a, dtype=float)
-        a.setflags(write=False)
-    if a.shape != shape:
-        raise ValueError(f"expected an array of shape {shape}, got {a.shape}")
-    return a
+def _frozen(a: object, shape: tuple[int, ...], where: str) -> NDArray[np.float64]:
+    """``a`` as a read-only finite float64 array of ``shape`` (shared as it is if it already is
+    one)."""
+    if isinstance(a, np.ndarray) and a.dtype == np.float64 and not a.flags.writeable:
+        return check_array(a, shape, where)
+    out = np.array(check_array(a, shape, where))
+    out.setflags(write=False)
+    return out
+
+
+def check_motion(joint: Any, where: str) -> None:
+    """The fields a joint and a table row share, as their constructors take them: a name, a
+    known kind, finite pitch and non-zero scale, finite limits, a :class:`Mimic`."""
+    check_instance(joint.name, str, f"{where}: name")
+    if joint.kind not in KINDS:
+        raise ValueError(f"{where}: kind must be one of {', '.join(KINDS)}, not {joint.kind!r}")
+    object.__setattr__(joint, "pitch", check_real(joint.pitch, f"{where}: pitch"))
+    if not check_real(joint.scale, f"{where}: scale"):
+        raise ValueError(f"{where}: scale must not be 0 (s = scale q)")
+    object.__setattr__(joint, "scale", float(joint.scale))
+    # limits out of order are kept as the source has them (sampling then ignores them)
+    object.__setattr__(joint, "lower", check_limit(joint.lower, f"{where}: lower"))
+    object.__setattr__(joint, "upper", check_limit(joint.upper, f"{where}: upper"))
+    mimic = joint.mimic
+    if mimic is not None:
+        check_instance(mimic, Mimic, f"{where}: mimic", "urdf2dh.mimic.Mimic(joint, m, o)")
 
 
 class JointMotion:
@@ -103,12 +128,17 @@ class Joint(JointMotion):
     mimic: Mimic | None = None
 
     def __post_init__(self) -> None:
-        if self.kind not in KINDS:
-            raise ValueError(f"joint {self.name!r}: unknown kind {self.kind!r}")
+        where = f"joint {shown(self.name)}" if isinstance(self.name, str) else "Joint"
+        check_motion(self, where)
+        axis = _frozen(self.axis, (3,), f"{where}: axis")
+        norm = math.hypot(*axis.tolist())
+        if abs(norm - 1.0) > RIGID_INPUT:
+            raise ValueError(f"{where}: axis must be a unit vector, not of length {norm!r}")
+        object.__setattr__(self, "axis", axis)
         if self.point is None and self.kind != "prismatic":
-            raise ValueError(f"joint {self.name!r}: a {self.kind} joint needs a point")
-        object.__setattr__(self, "axis", _frozen(self.axis, (3,)))
-        object.__setattr__(self, "point", _frozen(self.point, (3,)))
+            raise ValueError(f"{where}: a {self.kind} joint needs a point")
+        if self.point is not None:
+            object.__setattr__(self, "point", _frozen(self.point, (3,), f"{where}: point"))
 
     def normalized_twist(self) -> Vec:
         """``xi_hat = [w, v]`` with ``|w| = 1`` (or ``w = 0, |v| = 1`` for prismatic)."""
@@ -152,7 +182,16 @@ class PoeModel:
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "joints", tuple(self.joints))
-        object.__setattr__(self, "home", _frozen(self.home, (4, 4)))
+        for i, j in enumerate(self.joints):
+            check_instance(j, Joint, f"PoeModel: joints[{i}]")
+        home = _frozen(self.home, (4, 4), "PoeModel: home")
+        if home[3].tolist() != [0.0, 0.0, 0.0, 1.0] or not np.allclose(
+            home[:3, :3].T @ home[:3, :3], np.eye(3), rtol=0.0, atol=RIGID_INPUT
+        ):
+            raise ValueError("PoeModel: home must be a rigid transform (R^T R = I, last row 0001)")
+        object.__setattr__(self, "home", home)
+        for name in ("name", "source", "base_link", "tip_link", "length_unit"):
+            check_instance(getattr(self, name), str, f"PoeModel: {name}")
         object.__setattr__(self, "warnings", tuple(self.warnings))
         leaders = {j.name for j in self.joints if j.mimic is None}
         for j in self.joints:
@@ -258,22 +297,33 @@ class PoeModel:
         return se3.stack(links), np.array(motions, dtype=float).reshape(-1, 2)
 
     def positions(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
-        """Every joint's position ``(N, n)`` for configurations ``q`` ``(N, dof)``."""
+        """Every joint's position ``(N, n)`` for configurations ``q`` ``(N, dof)`` (finite
+        numbers; ``ValueError`` or ``TypeError`` otherwise)."""
+        q = check_configurations(q, self.dof, "PoeModel.positions: q", batch=True)
         return row_positions(self.joints, se3.as_configurations(q, self.dof))
 
     def fk_batch(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
         """Poses ``(N, 4, 4)`` of the tip for configurations ``q`` of shape ``(N, dof)`` (large
-        batches by the fast path, :mod:`urdf2dh._fastfk`)."""
-        return chain_fk(*self.link_form(), self.positions(q))
+        batches by the fast path, :mod:`urdf2dh._fastfk`); finite numbers only."""
+        q = check_configurations(q, self.dof, "PoeModel.fk_batch: q", batch=True)
+        return self._fk_batch(q)
+
+    def _fk_batch(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
+        positions = row_positions(self.joints, se3.as_configurations(q, self.dof))
+        return chain_fk(*self.link_form(), positions)
 
     def fk(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
         """Pose ``(4, 4)`` of the tip for a configuration ``q`` of shape ``(dof,)``; for a
-        stack of shape ``(..., dof)``, poses ``(..., 4, 4)``."""
-        return se3.fk_of_stack(self.fk_batch, q, self.dof)
+        stack of shape ``(..., dof)``, poses ``(..., 4, 4)``; finite numbers only."""
+        q = check_configurations(q, self.dof, "PoeModel.fk: q")
+        return se3.fk_of_stack(self._fk_batch, q, self.dof)
 
     def scaled(self, factor: float, unit: str) -> PoeModel:
         """The same chain with lengths multiplied by ``factor`` and called ``unit`` (points,
         tip position, helix pitch; prismatic joints move ``factor`` times as far per ``q``)."""
+        if not check_real(factor, "PoeModel.scaled: factor") > 0.0:
+            raise ValueError(f"PoeModel.scaled: factor must be positive, not {factor!r}")
+        check_instance(unit, str, "PoeModel.scaled: unit")
         joints = tuple(
             replace(
                 j,

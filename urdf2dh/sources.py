@@ -13,7 +13,7 @@ from pathlib import Path
 from typing import Any
 
 from .catalog import ROBOTS, Bundled, robot_path
-from .errors import InputError, SourceError, UsageError, choices
+from .errors import SHOWN_LENGTH, InputError, SourceError, UsageError, choices, shown
 from .files import read_file
 from .screws import PoeModel
 from .text import check_text, first_character
@@ -172,8 +172,13 @@ def open_source(
     if package_paths:
         xacro = replace(xacro or XacroOptions(), packages={
             **(xacro.packages if xacro else {}), **package_paths})  # fmt: skip
+    if not source:
+        raise SourceError(
+            "SOURCE is empty: give a URDF, xacro, POE or table file, or a bundled robot's name "
+            f"{choices(ROBOTS, limit=30)}"
+        )
     path = Path(source)
-    if path.exists():
+    if _exists(path):
         return _from_file(path, source, tol, None, xacro)
     if source in ROBOTS:
         bundled = ROBOTS[source]
@@ -181,8 +186,18 @@ def open_source(
         return _from_file(file, file.name, tol, bundled)
     looks_like_file = any(ch in source for ch in "/\\.")
     if looks_like_file:
-        raise SourceError(f"{source}: no such file")
+        shortened = source if len(source) <= SHOWN_LENGTH else shown(source)
+        raise SourceError(f"{shortened}: no such file")
     raise SourceError(
-        f"'{source}' is neither a file nor a bundled robot; bundled robots are "
+        f"{shown(source)} is neither a file nor a bundled robot; bundled robots are "
         f"{choices(ROBOTS, limit=30)}"
     )
+
+
+def _exists(path: Path) -> bool:
+    """Whether ``path`` names something: a name the system cannot look up (longer than a file
+    name can be, holding a NUL) names nothing."""
+    try:
+        return path.exists()
+    except (OSError, ValueError):
+        return False

@@ -21,9 +21,11 @@ from numpy.typing import NDArray
 
 from . import frames, se3
 from ._fastfk import chain_fk
+from .checks import check_configurations, check_count, check_instance, check_real
 from .conventions import Convention, Params, get
+from .errors import shown
 from .mimic import Mimic, actuated, row_positions
-from .screws import Joint, JointKind, JointMotion, PoeModel
+from .screws import Joint, JointKind, JointMotion, PoeModel, check_motion
 from .tolerances import DEFAULT
 
 __all__ = ["SCHEMA", "Check", "Row", "Table"]
@@ -48,6 +50,11 @@ class Row(JointMotion):
     upper: float | None = None
     mimic: Mimic | None = None
 
+    def __post_init__(self) -> None:
+        where = f"row {shown(self.name)}" if isinstance(self.name, str) else "Row"
+        check_motion(self, where)
+        check_instance(self.params, Params, f"{where}: params", "a convention's record")
+
 
 @dataclass(frozen=True, slots=True)
 class Check:
@@ -69,6 +76,15 @@ class Check:
     max_rotation_error: float
     declared_position: float = 0.0
     declared_rotation: float = 0.0
+
+    def __post_init__(self) -> None:
+        check_count(self.samples, "Check: samples")  # a check at no configuration checks nothing
+
+
+def _check_record(record: Params, kinds: tuple[type[Params], ...], where: str) -> None:
+    if not isinstance(record, kinds):
+        expected = " or ".join(k.__name__ for k in kinds)
+        raise TypeError(f"{where} must be a {expected}, not {type(record).__name__}")
 
 
 @dataclass(frozen=True, slots=True)
@@ -106,11 +122,21 @@ class Table:
     warnings: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
-        get(self.convention)  # a known convention, or a UsageError naming the valid ones
+        conv = get(self.convention)  # a known convention, or a UsageError naming the valid ones
         object.__setattr__(self, "rows", tuple(self.rows))
         object.__setattr__(self, "warnings", tuple(self.warnings))
-        if not self.size > 0.0:
-            raise ValueError(f"a table's size must be positive, not {self.size!r}")
+        _check_record(self.base, conv.base_types, f"Table: base ({conv.name} base record)")
+        _check_record(self.tool, conv.tool_types, f"Table: tool ({conv.name} tool record)")
+        for i, row in enumerate(self.rows):
+            check_instance(row, Row, f"Table: rows[{i}]")
+            where = f"Table: row {shown(row.name)} ({conv.name} row)"
+            _check_record(row.params, conv.row_types, f"{where}: params")
+        if not check_real(self.size, "Table: size") > 0.0:
+            raise ValueError(f"Table: size must be positive, not {self.size!r}")
+        for name in ("robot", "source", "base_link", "tip_link", "length_unit"):
+            check_instance(getattr(self, name), str, f"Table: {name}")
+        if self.check is not None:
+            check_instance(self.check, Check, "Table: check")
 
     @property
     def spec(self) -> Convention:
@@ -151,18 +177,26 @@ class Table:
         return se3.stack(links), np.array(motions, dtype=float).reshape(-1, 2)
 
     def positions(self, q: NDArray[np.float64]) -> Mat:
-        """Every row's position ``(N, n)`` for configurations ``q`` ``(N, dof)``."""
+        """Every row's position ``(N, n)`` for configurations ``q`` ``(N, dof)`` (finite
+        numbers; ``ValueError`` or ``TypeError`` otherwise)."""
+        q = check_configurations(q, self.dof, "Table.positions: q", batch=True)
         return row_positions(self.rows, se3.as_configurations(q, self.dof))
 
     def fk_batch(self, q: NDArray[np.float64]) -> Mat:
         """Poses ``(N, 4, 4)`` of the tool for configurations ``q`` of shape ``(N, dof)`` (large
-        batches by the fast path, :mod:`urdf2dh._fastfk`)."""
-        return chain_fk(*self.link_form(), self.positions(q))
+        batches by the fast path, :mod:`urdf2dh._fastfk`); finite numbers only."""
+        q = check_configurations(q, self.dof, "Table.fk_batch: q", batch=True)
+        return self._fk_batch(q)
+
+    def _fk_batch(self, q: Mat) -> Mat:
+        positions = row_positions(self.rows, se3.as_configurations(q, self.dof))
+        return chain_fk(*self.link_form(), positions)
 
     def fk(self, q: NDArray[np.float64]) -> Mat:
         """Pose ``(4, 4)`` of the tool for a configuration ``q`` of shape ``(dof,)``; for a
-        stack of shape ``(..., dof)``, poses ``(..., 4, 4)``."""
-        return se3.fk_of_stack(self.fk_batch, q, self.dof)
+        stack of shape ``(..., dof)``, poses ``(..., 4, 4)``; finite numbers only."""
+        q = check_configurations(q, self.dof, "Table.fk: q")
+        return se3.fk_of_stack(self._fk_batch, q, self.dof)
 
     def frames(self) -> list[Mat]:
         """Home-pose frames ``(4, 4)``: for each joint, the frame whose z axis is its axis

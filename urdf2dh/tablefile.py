@@ -67,12 +67,16 @@ def read_table(data: Any, display: str, tol: Tolerances = DEFAULT) -> Table:
     joints = data.get("joints")
     if not isinstance(joints, list):
         raise TableFileError(f"{display}: 'joints' must be a list")
-    rows = []
+    rows: list[Row] = []
+    seen: set[str] = set()
     for i, j in enumerate(joints, 1):
         if not isinstance(j, dict):
             raise TableFileError(f"{display}: joint {i} must be a mapping")
         name = _text(j, "name", f"joint{i}", f"{display}: joint {i}")
         where = f"{display}: joint {name!r}"
+        if name in seen:
+            raise TableFileError(f"{where} appears twice")
+        seen.add(name)
         kind = j.get("type", "revolute")
         if kind not in KINDS:
             raise TableFileError(f"{where} has unknown type '{kind}'; valid: {choices(KINDS)}")

@@ -13,20 +13,24 @@ The rules (README, "Commands"):
   holds only fixed joints (sensor and collision frames: their table would be a constant
   transform); no leaf left is an error. ``--tip`` given several times: those tips, in the order
   given, whatever their joints; a tip given twice is an error.
-* ``-o DIR`` writes ``DIR/<tip><suffix>`` per tip. A tip whose name cannot be a file name is
-  refused (exit 2) naming the link: empty, ``.`` or ``..``, holding ``/``, ``\\`` or a character
-  that ``str.isprintable`` rejects (control characters, line breaks, NUL), starting with ``-``,
-  longer than 255 bytes with its suffix, or equal to another tip's file name but for case.
+* ``-o DIR/`` (a trailing slash, or an existing directory) writes ``DIR/<tip><suffix>`` per
+  tip; ``-o FILE`` (any other name) writes the one document stdout would. A tip whose name
+  cannot be a file name is refused (exit 2) naming the link: empty, ``.`` or ``..``, holding
+  ``/``, ``\\`` or a character that ``str.isprintable`` rejects (control characters, line
+  breaks, NUL), starting with ``-``, longer than 255 bytes with its suffix, or equal to another
+  tip's file name but for case.
 * stdout: ``text`` and ``markdown`` print each table under a heading naming its tip; ``json``
   one object keyed by tip; ``yaml`` one document per tip (each names its ``tip_link``); ``csv``,
-  ``urdf`` and ``poe`` are one file per chain and need ``-o DIR``.
+  ``urdf`` and ``poe`` are one file per chain and need ``-o DIR/``; so does ``export``.
 """
 
 from __future__ import annotations
 
 import json
+import os
 from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
+from pathlib import Path
 from typing import TYPE_CHECKING
 
 from .errors import ChainError, Urdf2DhError, UsageError
@@ -37,6 +41,7 @@ if TYPE_CHECKING:
     from .table import Table
 
 __all__ = [
+    "DIRECTORY_HINT",
     "FORMAT_SUFFIXES",
     "STDOUT_FORMATS",
     "TipError",
@@ -45,6 +50,7 @@ __all__ = [
     "check_stdout_format",
     "file_names",
     "join_tables",
+    "names_directory",
     "naming_tip",
     "several",
     "shown",
@@ -193,10 +199,22 @@ def file_names(display: str, tips: Sequence[str], suffix: str) -> dict[str, str]
     return out
 
 
+DIRECTORY_HINT = "-o DIR/ (a trailing slash, or an existing directory)"
+
+
+def names_directory(output: str) -> bool:
+    """Whether ``-o`` names a directory for one file per chain: it ends with a slash, or it is
+    an existing directory (or a symbolic link to one). Anything else is one file."""
+    return output.endswith(("/", os.sep)) or Path(output).is_dir()
+
+
 def check_stdout_format(fmt: str) -> None:
-    """Refuse (before any conversion) a format that cannot hold several tables on stdout."""
+    """Refuse (before any conversion) a format that cannot hold several tables in one
+    document (stdout, or ``-o FILE``)."""
     if fmt not in STDOUT_FORMATS:
-        raise UsageError(f"--format {fmt} writes one file per chain; with several tips give -o DIR")
+        raise UsageError(
+            f"--format {fmt} writes one file per chain; with several tips give {DIRECTORY_HINT}"
+        )
 
 
 def join_tables(tables: Sequence[Table], fmt: str) -> str:

@@ -26,6 +26,7 @@ __all__ = [
     "POORLY_IDENTIFIED",
     "QUATERNION_NORM",
     "RANK_RELATIVE",
+    "RIGID_INPUT",
     "Tolerances",
 ]
 
@@ -36,6 +37,10 @@ EPS = sys.float_info.epsilon  # float64's; not numpy's, so that `urdf2dh --help`
 # one ulp off its decimal) that would change the hash's %g text; 1e-10 is far below the 6
 # significant digits the hash sees and far above round-off.
 HASH_DECIMALS = 10
+# Exported files write a length as the shortest decimal within this x robot size of it: the
+# arithmetic's last few ulps (0.03500000000000003 -> 0.035), far below every tolerance, so that a
+# whole file's lengths move its forward kinematics by less than about 1e-14 x size.
+DECIMAL_ROUND_OFF = 4 * EPS
 
 # `diff` (and the calibration report's diff) marks changes beyond these by default: what a
 # calibration corrects beyond its measuring noise (0.1 mm, 0.01 deg at typical accuracies of
@@ -87,7 +92,7 @@ POORLY_IDENTIFIED = 3.0
 
 # A measurement whose standardised residual a chi-square variable (3 or 6 degrees of freedom)
 # would exceed with a chance below OUTLIER_CHANCE is an outlier suspect (about 5.5 sigma for a
-# position): rejected where cross-validation shows the others are better predicted without it.
+# position): listed, and rejected when asked.
 OUTLIER_CHANCE = 1e-6
 
 # Noise levels (estimated or given) never weigh one kind of residual more than 1 / NOISE_RATIO
@@ -95,6 +100,14 @@ OUTLIER_CHANCE = 1e-6
 # rotations the weights would otherwise drown every position below RANK_RELATIVE, and the
 # parameters only positions see would look undetermined. 1e-6 keeps them 1e4 above it.
 NOISE_RATIO = 1e-6
+
+# ----------------------------------------------------------------------------- the Python API
+
+# A joint axis given to the Python API (urdf2dh.screws.Joint) is a unit vector, and a pose
+# (PoeModel.home) a rigid transform, within this: what float arithmetic leaves of one (1e-15),
+# far below any typed-in rounding (0.7071 is 1e-5 off), which the files' readers orthonormalise
+# with a warning instead (Tolerances.rotation_input).
+RIGID_INPUT = 1e-9
 
 
 @dataclass(frozen=True, slots=True)
@@ -190,6 +203,8 @@ class Tolerances:
             value = getattr(self, f.name)
             if f.name == "intersect_distance" and value is None:
                 continue
+            if isinstance(value, bool) or not isinstance(value, int | float):
+                raise TypeError(f"tolerance {f.name} must be a number, not {value!r}")
             if f.name == "cpc_reverse_below":  # a cosine
                 if not -1.0 <= value <= 0.0:
                     raise ValueError(f"cpc_reverse_below must lie in [-1, 0], not {value!r}")

@@ -11,6 +11,11 @@ URDF has no helical joint and no joint scale:
   ``mimic=True``, and :mod:`urdf2dh.urdf` reads the pair back as one helical joint);
 * a joint with ``scale`` other than +-1 moves by ``s = scale q``: the URDF joint's position is
   ``|scale| q`` (its limits scaled alike), and a comment and the returned notes say so.
+
+The base and tip links and the joints keep their names; the links between them
+(``<joint>_link``, ``<joint>_lead_link``), the lead joints (``<joint>_lead``) and the tip's fixed
+joint (``<tip>_joint``) are made up and keep clear of those (:mod:`urdf2dh.export.names`: a
+suffix ``_2`` where the robot has the name, stated in a comment).
 """
 
 from __future__ import annotations
@@ -23,6 +28,7 @@ from numpy.typing import NDArray
 from . import __version__, se3, units
 from .errors import shown
 from .export.escape import xml_attribute, xml_comment
+from .export.names import Namespace, renaming_notes
 from .table import Row, Table
 
 __all__ = ["table_to_urdf"]
@@ -46,15 +52,6 @@ def _link(name: str) -> str:
     return xml_attribute(name, "link")
 
 
-def _unique(name: str, taken: set[str]) -> str:
-    out, k = name, 1
-    while out in taken:
-        k += 1
-        out = f"{name}_{k}"
-    taken.add(out)
-    return out
-
-
 def table_to_urdf(table: Table) -> tuple[str, list[str]]:
     """URDF text for ``table`` (in metres, as URDF requires) and the notes about what URDF
     could not say directly."""
@@ -62,10 +59,10 @@ def table_to_urdf(table: Table) -> tuple[str, list[str]]:
     frames = [f.copy() for f in table.frames()]
     for f in frames:
         f[:3, 3] *= metres
-    taken: set[str] = set()
-    base = _unique(table.base_link or "base", taken)
-    tip_name = table.tip_link or "tool"
-    taken.add(tip_name)
+    link_names = Namespace("urdf", "link", [n for n in (table.base_link, table.tip_link) if n])
+    joint_names = Namespace("urdf", "joint", [r.name for r in table.rows])
+    base = table.base_link or link_names.invent("base")
+    tip_name = table.tip_link or link_names.invent("tool")
     links = [base]
     joints: list[str] = []
     notes: list[str] = []
@@ -91,7 +88,7 @@ def table_to_urdf(table: Table) -> tuple[str, list[str]]:
             unit = metres if row.kind == "prismatic" else 1.0
             lo, hi = sorted((unit * abs(scale) * row.lower, unit * abs(scale) * row.upper))
             limit = f'<limit lower="{_num(lo)}" upper="{_num(hi)}" effort="0" velocity="0"/>'
-        child = _unique(f"{row.name}_link", taken)
+        child = link_names.invent(f"{row.name}_link")
         if row.kind == "prismatic":
             jtype = "prismatic"
             limit = limit or '<limit effort="0" velocity="0"/>'
@@ -127,9 +124,10 @@ def table_to_urdf(table: Table) -> tuple[str, list[str]]:
         links.append(child)
         parent, prev = child, frame
         if row.kind == "helical":
-            lead = _unique(f"{row.name}_lead_link", taken)
+            lead = link_names.invent(f"{row.name}_lead_link")
             joints.append(
-                f'  <joint name={_joint(row.name + "_lead")} type="prismatic">\n'
+                f"  <joint name={_joint(joint_names.invent(row.name + '_lead'))} "
+                'type="prismatic">\n'
                 f"    <parent link={_link(parent)}/><child link={_link(lead)}/>\n"
                 f'    <origin xyz="0 0 0" rpy="0 0 0"/>\n    {axis}\n'
                 f'    <limit effort="0" velocity="0"/>\n'
@@ -139,7 +137,7 @@ def table_to_urdf(table: Table) -> tuple[str, list[str]]:
             links.append(lead)
             parent = lead
     joints.append(
-        f'  <joint name={_joint(tip_name + "_joint")} type="fixed">\n'
+        f'  <joint name={_joint(joint_names.invent(tip_name + "_joint"))} type="fixed">\n'
         f"    <parent link={_link(parent)}/><child link={_link(tip_name)}/>\n"
         f"    {_origin(se3.inv(prev) @ frames[-1])}\n  </joint>"
     )
@@ -150,6 +148,7 @@ def table_to_urdf(table: Table) -> tuple[str, list[str]]:
         f"({table.convention} table{converted}).",
         "Kinematics only: no inertias, no geometry.",
         *notes,
+        *renaming_notes(link_names, joint_names),
     ]
     text = (
         '<?xml version="1.0"?>\n'

@@ -15,7 +15,7 @@ import contextlib
 import os
 import sys
 import tempfile
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from typing import Any
 
@@ -25,15 +25,16 @@ from numpy.typing import NDArray
 from .conventions import NAMES
 from .convert import sample_configurations, to_table
 from .errors import InputError
-from .fk import chains_errors
+from .fk import BLOCK, chains_errors
 from .mimic import Mimic, actuated
+from .progress import progress
 from .screws import PoeModel
 from .sources import Source
 from .table import Check, Table
 from .tolerances import DEFAULT, EPS, Tolerances
 from .urdf.chain import final_leader
 
-__all__ = ["Result", "native_stderr", "pinocchio_fk", "verify"]
+__all__ = ["Result", "native_stderr", "pinocchio_evaluator", "pinocchio_fk", "verify"]
 
 VERIFY_STREAM = 1  # verify's configurations: seeded by --seed, apart from the self-check's
 
@@ -176,32 +177,42 @@ def pinocchio_fk(source: Source, poe: PoeModel, q: Mat) -> Mat:
     """Pinocchio's pose ``(N, 4, 4)`` of the tip in the base link for configurations ``q``
     ``(N, dof)`` of the chain's actuated joints (mimic joints following them, other joints at
     their neutral position)."""
+    return pinocchio_evaluator(source, poe)(q)
+
+
+def pinocchio_evaluator(source: Source, poe: PoeModel) -> Callable[[Mat], Mat]:
+    """:func:`pinocchio_fk` of one chain as a function of the configurations, its Pinocchio
+    model built once for every block of configurations it is asked (``verify``'s blocks)."""
     pin = _pin()
     if source.kind == "urdf":
         model, mapping, base_f, tip_f, rows = _model_from_urdf(pin, source, poe)
     else:  # our own model of Pinocchio joints, one per row, driven with the mimic coupling
         model, mapping, base_f, tip_f = _model_from_poe(pin, poe)
         rows = True
-    if rows:
-        q = poe.positions(q)
-    configs = np.repeat(pin.neutral(model)[None], q.shape[0], axis=0)
-    for column, (idx, nq, scale, shift) in zip(q.T, mapping, strict=True):
-        value = scale * column + shift
-        if nq == 2:  # a continuous joint: (cos q, sin q)
-            configs[:, idx], configs[:, idx + 1] = np.cos(value), np.sin(value)
-        else:
-            configs[:, idx] = value
     data = model.createData()
     # the base link lies above the chain, so its pose moves with none of the sampled joints
     pin.forwardKinematics(model, data, pin.neutral(model))
     base_inverse = pin.updateFramePlacement(model, data, base_f).inverse().homogeneous
-    tip = np.empty((q.shape[0], 4, 4))
-    for k, config in enumerate(configs):
-        pin.forwardKinematics(model, data, config)
-        tip[k] = pin.updateFramePlacement(model, data, tip_f).homogeneous
-    if np.array_equal(base_inverse, np.eye(4)):  # the base link is Pinocchio's root
-        return tip
-    return base_inverse @ tip
+
+    def evaluate(q: Mat) -> Mat:
+        if rows:
+            q = poe.positions(q)
+        configs = np.repeat(pin.neutral(model)[None], q.shape[0], axis=0)
+        for column, (idx, nq, scale, shift) in zip(q.T, mapping, strict=True):
+            value = scale * column + shift
+            if nq == 2:  # a continuous joint: (cos q, sin q)
+                configs[:, idx], configs[:, idx + 1] = np.cos(value), np.sin(value)
+            else:
+                configs[:, idx] = value
+        tip = np.empty((q.shape[0], 4, 4))
+        for k, config in enumerate(configs):
+            pin.forwardKinematics(model, data, config)
+            tip[k] = pin.updateFramePlacement(model, data, tip_f).homogeneous
+        if np.array_equal(base_inverse, np.eye(4)):  # the base link is Pinocchio's root
+            return tip
+        return base_inverse @ tip
+
+    return evaluate
 
 
 def _oracle_rounding(source: Source, poe: PoeModel) -> float:
@@ -258,17 +269,23 @@ def verify(
     link lies far from the URDF's root (:func:`_oracle_rounding`).
     """
     q = sample_configurations(poe, samples, (seed, VERIFY_STREAM))
-    reference = pinocchio_fk(source, poe, q)
     tables = [to_table(poe, conv, tol, samples=check_samples) for conv in conventions]
     chains = [poe.link_form(), *(t.link_form() for t in tables)]
-    model_errors, *table_errors = chains_errors(chains, poe.positions(q), reference)
+    worst = np.zeros((len(chains), 2))
+    pinocchio = pinocchio_evaluator(source, poe)
+    starts = range(0, q.shape[0], BLOCK)
+    for lo in progress(starts, len(starts), "verify"):  # a bar on a terminal
+        block = q[lo : lo + BLOCK]
+        errors = chains_errors(chains, poe.positions(block), pinocchio(block))
+        worst = np.maximum(worst, errors)  # NaN (a non-finite pose) stays NaN: a failure
+    (model_pos, model_rot), *table_errors = ((float(p), float(r)) for p, r in worst)
     base_pos = tol.check_position * poe.size() + _oracle_rounding(source, poe)
     base_rot = tol.check_rotation
-    results = [Result("POE model", *model_errors, base_pos, base_rot, None)]
-    for table, errors in zip(tables, table_errors, strict=True):
+    results = [Result("POE model", model_pos, model_rot, base_pos, base_rot, None)]
+    for table, (pos, rot) in zip(tables, table_errors, strict=True):
         declared = table.check or Check(0, 0.0, 0.0)
         results.append(Result(
-            table.convention, *errors,
+            table.convention, pos, rot,
             base_pos + declared.declared_position, base_rot + declared.declared_rotation, table,
         ))  # fmt: skip
     return results

@@ -75,8 +75,8 @@ def _xacro(display: str) -> Any:
         import xacro
     except ImportError as e:
         raise InputError(
-            f"{display}: reading .xacro files needs the xacro package; install it with: "
-            "pip install xacro  (or pip install 'urdf2dh[xacro]')"
+            f"{display}: reading .xacro files needs the xacro package (a dependency of "
+            "urdf2dh, missing here); install it with: pip install xacro"
         ) from e
     return xacro
 

@@ -50,6 +50,7 @@ from numpy.typing import NDArray
 
 from .. import units
 from ..errors import InputError, UsageError, choices, shown
+from ..export.escape import csv_cell, csv_names
 from ..files import read_file
 from ..tolerances import QUATERNION_NORM
 
@@ -404,8 +405,11 @@ def read_measurements(
     if first is None:
         raise InputError(f"{display}: empty file (expected a header row and measurements)")
     fields = [f.strip() for f in first[1]]
-    layout = _layout(_renamed(fields, reading, display), joints, display)
-    names = [n if n is not None else "" for n in _renamed(fields, reading, display)]
+    renamed = _renamed(fields, reading, display)
+    # a name as written, or as csv_cell writes it
+    names = [None if n is None else csv_names([n], joints)[0] for n in renamed]
+    layout = _layout(names, joints, display)
+    shown_names = [n if n is not None else "" for n in names]
     q_rows: list[list[float]] = []
     point_rows: list[list[float]] = []
     orient_rows: list[list[float]] = []
@@ -421,10 +425,10 @@ def read_measurements(
                 "most that many (a few hundred well-spread configurations identify a robot: "
                 "urdf2dh plan picks them)"
             )
-        q = [_number(raw, k, names[k], where) for k in layout.joints]
+        q = [_number(raw, k, shown_names[k], where) for k in layout.joints]
         orient: list[float] = []
         if layout.quaternion is not None:
-            orient = [_number(raw, k, names[k], where) for k in layout.quaternion]
+            orient = [_number(raw, k, shown_names[k], where) for k in layout.quaternion]
             norm = math.sqrt(math.fsum(v * v for v in orient))
             if abs(norm - 1.0) > QUATERNION_NORM:
                 raise InputError(
@@ -432,7 +436,7 @@ def read_measurements(
                     f"{norm:.9g}, not 1 (within {QUATERNION_NORM:g})"
                 )
         elif layout.euler is not None:
-            orient = [_number(raw, k, names[k], where) for k in layout.euler]
+            orient = [_number(raw, k, shown_names[k], where) for k in layout.euler]
         mark = None
         if layout.marker is not None:
             text_value = raw[layout.marker].strip()
@@ -446,7 +450,7 @@ def read_measurements(
                 raise InputError(f"{where}, column 'marker': {mark} is negative")
         for cols, marker in zip(layout.points, layout.point_ids, strict=True):
             q_rows.append(q)
-            point_rows.append([_number(raw, k, names[k], where) for k in cols])
+            point_rows.append([_number(raw, k, shown_names[k], where) for k in cols])
             if orient:
                 orient_rows.append(orient)
             if marker is not None or mark is not None:
@@ -498,7 +502,7 @@ def read_configurations(
     first = next(rows, None)
     if first is None:
         raise InputError(f"{display}: empty file (expected a header row and configurations)")
-    fields = [f.strip() for f in first[1]]
+    fields = csv_names([f.strip() for f in first[1]], joints)
     missing = [j for j in joints if j not in fields]
     if missing:
         raise InputError(f"{display}: the header has no column for joint {shown(missing[0])}")
@@ -522,15 +526,16 @@ def read_configurations(
 
 
 def write_measurements(m: Measurements) -> str:
-    """The CSV text of ``m`` (every number as the shortest text that reads back exactly)."""
+    """The CSV text of ``m`` (every number as the shortest text that reads back exactly, joint
+    names as :func:`~urdf2dh.export.escape.csv_cell` writes them)."""
     out = io.StringIO()
     writer = csv.writer(out, lineterminator="\n")
-    header = [*m.joints, *POINT]
+    header = [*(csv_cell(j) for j in m.joints), *POINT]
     if m.quaternions is not None:
         header += QUATERNION
     if m.markers is not None:
         header.append(MARKER)
-    writer.writerow(header)
+    out.write(",".join(header) + "\n")  # names as csv_cell writes them
     for k in range(len(m)):
         row = [repr(float(v) + 0.0) for v in (*m.q[k], *m.points[k])]
         if m.quaternions is not None:
@@ -542,10 +547,11 @@ def write_measurements(m: Measurements) -> str:
 
 
 def write_configurations(joints: tuple[str, ...], q: Mat) -> str:
-    """The CSV text of configurations: a column per joint."""
+    """The CSV text of configurations: a column per joint (names as
+    :func:`~urdf2dh.export.escape.csv_cell` writes them)."""
     out = io.StringIO()
     writer = csv.writer(out, lineterminator="\n")
-    writer.writerow(joints)
+    out.write(",".join(csv_cell(j) for j in joints) + "\n")
     for row in q:
         writer.writerow([repr(float(v) + 0.0) for v in row])
     return out.getvalue()

@@ -1,6 +1,7 @@
 """Pictures of a calibration (``calibrate --plot FILE``): PNG through matplotlib, or one
-self-contained interactive HTML page through plotly (plotly.js embedded: nothing is fetched
-when it is opened).
+self-contained interactive HTML page through plotly, written as every urdf2dh page is
+(:func:`urdf2dh.emit.html.offline_page`: plotly.js in the page, nothing fetched when it is
+opened, every name written with :func:`~urdf2dh.export.escape.html_text`).
 
 Three panels:
 
@@ -17,8 +18,9 @@ from __future__ import annotations
 import io
 from typing import TYPE_CHECKING, Any
 
+from ..emit.html import offline_page, plotly_objects
 from ..errors import InputError, UsageError
-from ..export.escape import matplotlib_text
+from ..export.escape import html_text, matplotlib_text
 
 if TYPE_CHECKING:
     from .calibration import Calibration
@@ -104,15 +106,11 @@ def _png(cal: Calibration) -> bytes:
 
 
 def _html(cal: Calibration) -> bytes:
-    try:
-        import plotly.graph_objects as go
-        from plotly.subplots import make_subplots
-    except ImportError as e:  # pragma: no cover - plotly is a dependency of --plot FILE.html
-        raise InputError(
-            "calibrate --plot FILE.html needs plotly; install it with: pip install plotly"
-        ) from e
+    go = plotly_objects("calibrate --plot FILE.html")
+    from plotly.subplots import make_subplots
+
     d = _panels(cal)
-    unit = d["unit"]
+    unit = html_text(d["unit"])
     fig = make_subplots(
         rows=1,
         cols=3,
@@ -131,7 +129,7 @@ def _html(cal: Calibration) -> bytes:
     fig.add_trace(
         go.Bar(
             x=d["effects"],
-            y=d["names"],
+            y=[html_text(n) for n in d["names"]],
             orientation="h",
             error_x={"type": "data", "array": d["spread"]},
             name="change at the tool",
@@ -143,9 +141,8 @@ def _html(cal: Calibration) -> bytes:
     fig.update_xaxes(title_text="configuration", row=1, col=1)
     fig.update_xaxes(title_text=f"RMS position error ({unit})", row=1, col=2)
     fig.update_xaxes(title_text=f"change at the tool ({unit})", row=1, col=3)
-    fig.update_layout(title_text=d["title"], barmode="overlay", height=520)
-    html = fig.to_html(include_plotlyjs=True, full_html=True)
-    return html.encode("utf-8")
+    fig.update_layout(title_text=html_text(d["title"]), barmode="overlay")
+    return offline_page(fig, d["title"]).encode("utf-8")
 
 
 def plot_calibration(cal: Calibration, fmt: str) -> bytes:

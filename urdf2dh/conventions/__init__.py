@@ -43,7 +43,9 @@ STYLES: tuple[str, ...] = tuple(dict.fromkeys(s for c in REGISTRY.values() for s
 
 def get(name: str) -> Convention:
     """The convention called ``name``; a :class:`~urdf2dh.errors.UsageError` listing the valid
-    names otherwise."""
+    names otherwise (a ``TypeError`` for a name that is not a string)."""
+    if not isinstance(name, str):
+        raise TypeError(f"a convention is named by a string such as 'dh', not {name!r}")
     try:
         return REGISTRY[name]
     except KeyError:

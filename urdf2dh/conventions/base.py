@@ -43,6 +43,8 @@ __all__ = [
     "length",
     "offset",
     "read_params",
+    "written_angle",
+    "written_length",
 ]
 
 Quantity = Literal["angle", "length", "direction", "offset"]
@@ -121,9 +123,9 @@ class Params:
         for name, quantity in _layout(type(self)):
             value = getattr(self, name)
             if quantity == "angle":
-                values[name] = _snap_angle(value, angle)
+                values[name] = written_angle(value, angle)
             elif quantity == "length":
-                values[name] = _snap(value, (0.0,), length)
+                values[name] = written_length(value, length)
             else:
                 targets, within = ((-1.0, 0.0, 1.0), angle) if quantity == "direction" else (
                     (0.0,), length)  # fmt: skip
@@ -158,7 +160,14 @@ def _snap(value: float, targets: tuple[float, ...], within: float) -> float:
     return value + 0.0  # -0.0 -> 0.0
 
 
-def _snap_angle(value: float, within: float) -> float:
+def written_length(value: float, within: float) -> float:
+    """A length as files write it: 0 when within ``within`` of 0, never ``-0.0``."""
+    return _snap(value, (0.0,), within)
+
+
+def written_angle(value: float, within: float) -> float:
+    """An angle as files write it: the multiple of pi/2 (in [-pi, pi], pi for -pi) when within
+    ``within`` of one, never ``-0.0``; other values are kept."""
     quarter = round(value / (0.5 * math.pi))
     if abs(value - quarter * 0.5 * math.pi) > within:
         return value + 0.0

@@ -176,11 +176,19 @@ def export(
     samples: int | None = 1000,
 ) -> str:
     """Convert ``model`` for ``target`` (a name in :data:`TARGETS`) and render the file text;
-    ``samples``: configurations of the table's (or OPW's) check, ``None`` for its default."""
+    ``samples``: configurations of the table's (or OPW's) check, ``None`` for its default.
+    Arguments are checked as :func:`urdf2dh.to_table` checks them (``TypeError``,
+    ``ValueError``; an unknown target, convention or style is a ``UsageError``)."""
+    from ..checks import check_count, check_instance
     from ..convert import to_table
+    from ..screws import PoeModel
     from .common import Options
 
-    opts = opts or Options()
+    check_instance(model, PoeModel, "export: model", "urdf2dh.load(SOURCE) reads one")
+    check_instance(target, str, "export: target")
+    if samples is not None:
+        check_count(samples, "export: samples")
+    opts = Options() if opts is None else check_instance(opts, Options, "export: opts")
     convention, style = table_choices(target, convention, style)
     if _target(target).reads_model:
         return _target(target).render_model(model, opts, samples)

@@ -13,12 +13,13 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..conventions import Params, get
+from ..conventions.base import written_angle, written_length
 from ..errors import ExportError, UsageError, shown
 from ..formats import summary
 from ..mimic import Followed
 from ..se3 import pose_errors
 from ..table import Table
-from ..tolerances import DEFAULT, Tolerances
+from ..tolerances import DECIMAL_ROUND_OFF, DEFAULT, Tolerances
 
 __all__ = [
     "Numbers",
@@ -80,29 +81,43 @@ def yaml_float(x: float) -> str:
     return text
 
 
+def _shortest(x: float, within: float) -> float:
+    """The number with the fewest significant digits within ``within`` of ``x`` (``x`` itself
+    when none is)."""
+    for digits in range(1, 16):
+        y = float(f"{x:.{digits}g}")
+        if abs(y - x) <= within:
+            return y + 0.0
+    return float(f"{x:.15g}") + 0.0
+
+
 @dataclass(frozen=True, slots=True)
 class Numbers:
-    """How a target writes a table's numbers: 15 significant digits (1e-15 relative, far below
-    the exactness promised), and round-off as zero: a length within ``noise x size`` of 0, an
-    angle or a rotation-matrix entry within ``noise``. So files carry ``0`` and ``0.39225``
-    where the arithmetic left ``1.2e-16`` and ``0.39225000000000004``, and read the same on
-    every platform; the table's genuine values (a rounded pi/2 leaving 4.9e-12) are kept."""
+    """How a target writes a table's numbers: round-off snapped as the table files snap it
+    (:func:`~urdf2dh.conventions.base.written_angle`, :func:`~.written_length`: a length within
+    ``written x size`` of 0, an angle within ``written`` of a multiple of pi/2, as that); then
+    a length as the shortest decimal within the arithmetic's round-off
+    (:data:`~urdf2dh.tolerances.DECIMAL_ROUND_OFF` x size) and an angle to 15 significant
+    digits. So files carry ``0``, ``0.39225`` and ``-0.035`` where the arithmetic left
+    ``1.2e-16``, ``0.39225000000000004`` and ``-0.03500000000000005``, and read the same on
+    every platform; genuine values (a rounded pi/2 leaving 4.9e-12 rad, a length 2.8e-13 m off
+    its decimal, 600 mm as 23.6220472440945 inch) are kept."""
 
     size: float
-    noise: float
+    written: float
     length_scale: float = 1.0
 
     @classmethod
     def of(cls, table: Table, tol: Tolerances, length_scale: float = 1.0) -> Numbers:
-        return cls(table.size * length_scale, tol.noise, length_scale)
+        return cls(table.size * length_scale, tol.written, length_scale)
 
     def angle(self, x: float) -> float:
-        return 0.0 if abs(x) <= self.noise else float(f"{x:.15g}") + 0.0
+        return float(f"{written_angle(x, self.written):.15g}") + 0.0
 
     def length(self, x: float) -> float:
         """A length of the table, in the target's unit (times ``length_scale``)."""
-        x *= self.length_scale
-        return 0.0 if abs(x) <= self.noise * self.size else float(f"{x:.15g}") + 0.0
+        x = written_length(x * self.length_scale, self.written * self.size)
+        return _shortest(x, DECIMAL_ROUND_OFF * self.size)
 
     def ang(self, x: float) -> str:
         """An angle's text."""

@@ -22,8 +22,14 @@ XML (URDF)          attributes with XML's escapes (:func:`xml_attribute`), refus
 Markdown            :func:`visible` text with its markup characters backslash-escaped
                     (:func:`markdown_text`)
 matplotlib          :func:`visible` text with ``$`` escaped (:func:`matplotlib_text`)
-CSV                 RFC 4180 quoting (:func:`csv_cell`); a cell a spreadsheet would read as
-                    a formula gets a leading ``'``
+HTML                :func:`visible` text with ``& < > " '`` as character references
+                    (:func:`html_text`): text and attribute values of a page, and the text of
+                    a plotly figure (titles, labels, hover), which plotly reads as HTML
+JavaScript          a page's only data is its plotly figure, which ``plotly.io.to_html``
+                    writes as JSON with ``< > /`` (and U+2028, U+2029) as ``\\u`` escapes, so
+                    no string ends the script or a line; its text is :func:`html_text`
+CSV                 :func:`visible` text, RFC 4180 quoting (:func:`csv_cell`); a cell a
+                    spreadsheet would read as a formula gets a leading ``'``
 ==================  =========================================================================
 
 Where a language has no escapes (comments), a name is shown as :func:`visible` gives it: the
@@ -33,15 +39,20 @@ text of Python's ``repr`` without the quotes, so it stays on one line, shows wha
 
 from __future__ import annotations
 
+import html
 import re
 from collections.abc import Iterable
 
 from ..errors import ExportError, shown, visible
 
 __all__ = [
+    "FORMULA",
     "HAL_LINE_BYTES",
     "csv_cell",
+    "csv_names",
+    "csv_text",
     "hal_comment",
+    "html_text",
     "markdown_text",
     "matlab_comment",
     "matlab_string",
@@ -206,6 +217,17 @@ def matplotlib_text(text: str) -> str:
     return visible(text).replace("$", "\\$")
 
 
+# --------------------------------------------------------------------------- HTML, JavaScript
+
+
+def html_text(text: str) -> str:
+    """``text`` as HTML text or a quoted attribute value: :func:`visible` text (one line, no
+    control characters) with ``& < > " '`` as character references, so no name opens a tag,
+    an entity or ends an attribute. plotly draws its titles, labels and hover text as HTML
+    (a few tags and the entities), so a figure's text is written with it too."""
+    return html.escape(visible(text), quote=True)
+
+
 # --------------------------------------------------------------------------- Markdown, CSV
 
 _MARKDOWN = set("\\`*[]<>|&~!$")  # ($: GitHub reads $...$ as math)
@@ -236,22 +258,35 @@ def markdown_text(text: str) -> str:
     return "&#32;" * left + body + "&#32;" * right
 
 
-_FORMULA = ("=", "+", "-", "@", "\t", "\r")  # what spreadsheets read as the start of a formula
+# what spreadsheets read as the start of a formula (OWASP, "CSV Injection"), the full-width
+# forms included (an IME writes them, and some spreadsheets take ＝ for =); tab and CR never
+# start a cell's text, which is :func:`visible`
+FORMULA = ("=", "+", "-", "@", "\uff1d", "\uff0b", "\uff0d", "\uff20")
 
 
-def csv_cell(text: str, what: str) -> str:
-    """``text`` as a CSV cell (RFC 4180): quoted, with ``"`` doubled, when it holds a comma, a
-    quote or a line break, so a CSV reader gets it back exactly; a cell starting like a
-    spreadsheet formula (``= + - @``, tab, CR) gets a leading ``'`` (OWASP's advice). ``what``
-    names the value for the error if UTF-8 cannot encode it (a lone surrogate)."""
-    try:
-        text.encode("utf-8")
-    except UnicodeEncodeError as e:
-        raise ExportError(
-            f"csv: {what} {shown(text)} holds a lone surrogate, which UTF-8 cannot encode"
-        ) from e
-    if text.startswith(_FORMULA):
-        text = "'" + text
-    if any(ch in text for ch in ',"\r\n'):
-        return '"' + text.replace('"', '""') + '"'
-    return text
+def csv_text(text: str) -> str:
+    """A name as a CSV cell shows it: :func:`visible` text (one line, no invisible character:
+    no bidi control, zero-width character, BOM, soft hyphen or tag character, each written as
+    its escape), with a leading ``'`` where it starts like a spreadsheet formula
+    (:data:`FORMULA`), so a spreadsheet shows it as text."""
+    shown_text = visible(text)
+    return "'" + shown_text if shown_text.startswith(FORMULA) else shown_text
+
+
+def csv_cell(text: str) -> str:
+    """A name as a CSV cell (RFC 4180): :func:`csv_text`, quoted with ``"`` doubled where it
+    holds a comma or a quote, so a CSV reader gets :func:`csv_text` back exactly. The one way
+    a name reaches a CSV file (``--format csv``, ``measure``)."""
+    out = csv_text(text)
+    if "," in out or '"' in out:
+        return '"' + out.replace('"', '""') + '"'
+    return out
+
+
+def csv_names(cells: Iterable[str], names: Iterable[str]) -> list[str]:
+    """The names a CSV header's cells stand for: a cell that is one of ``names`` stands for
+    itself, one that is a name's :func:`csv_text` (as :func:`csv_cell` wrote it) for that
+    name, any other for itself."""
+    names = set(names)
+    written = {csv_text(n): n for n in names}
+    return [c if c in names else written.get(c, c) for c in cells]

@@ -15,6 +15,12 @@ or ``Tz(d)``, goes into a fixed body of its own: before the joint's body for ``d
 (``Rz(q) Rz(theta) = Rz(theta) Rz(q)``) and after it for ``mdh`` (``Rz(theta) Tz(d)`` commutes
 with the joint motion). Base and tool are fixed bodies with 4x4 transforms; the last body is named
 after the tip link, so ``getTransform(robot, q, "<tip>")`` is the table's forward kinematics.
+
+Names: the base (``robot.BaseName``) and the last body carry the chain's base and tip links'
+names and each joint its own; the names the script makes up (bodies ``dh_base``, ``body<i>``,
+``body<i>_offset``, their joints ``<body>_fixed``, the tip's joint ``<tip>_fixed``) keep clear
+of those (:mod:`.names`: a suffix ``_2`` where the robot has the name, stated in a comment), as
+``addBody`` refuses a second body or joint of one name.
 """
 
 from __future__ import annotations
@@ -31,14 +37,15 @@ from .common import (
     require,
 )
 from .escape import matlab_comment, matlab_string
+from .names import Namespace, renaming_notes
 
 __all__ = ["render"]
 
 
-def _fixed_body(name: str, tform: str) -> list[str]:
+def _fixed_body(body: str, joint: str, tform: str) -> list[str]:
     return [
-        f"body = rigidBody({matlab_string(name)});",
-        f'joint = rigidBodyJoint({matlab_string(name + "_fixed")}, "fixed");',
+        f"body = rigidBody({matlab_string(body)});",
+        f'joint = rigidBodyJoint({matlab_string(joint)}, "fixed");',
         f"setFixedTransform(joint, {tform});",
         "body.Joint = joint;",
         "addBody(robot, body, parent);",
@@ -64,12 +71,12 @@ def _offset(row: Row, numbers: Numbers) -> np.ndarray | None:
     return out
 
 
-def _joint_body(index: int, row: Row, convention: str, numbers: Numbers) -> list[str]:
+def _joint_body(body: str, row: Row, convention: str, numbers: Numbers) -> list[str]:
     p = floats(row.params)
     theta = "0" if row.kind == "revolute" else numbers.ang(p["theta"])
     d = "0" if row.kind == "prismatic" else numbers.lin(p["d"])
     lines = [
-        f'body = rigidBody("body{index}");',
+        f"body = rigidBody({matlab_string(body)});",
         f"joint = rigidBodyJoint({matlab_string(row.name)}, {matlab_string(row.kind)});",
     ]
     if row.lower is not None and row.upper is not None:
@@ -87,10 +94,43 @@ def _joint_body(index: int, row: Row, convention: str, numbers: Numbers) -> list
     return lines
 
 
+class _Names:
+    """The script's two namespaces, bodies and joints: the robot's names, then made-up ones."""
+
+    def __init__(self, table: Table) -> None:
+        links = [n for n in (table.base_link, table.tip_link) if n]
+        self.bodies = Namespace("matlab", "body", links)
+        self.joints = Namespace("matlab", "joint", [r.name for r in table.rows])
+
+    def fixed(self, body: str, transform: str) -> list[str]:
+        """A made-up fixed body and its joint (``<body>_fixed``), each kept clear on its own."""
+        return _fixed_body(self.bodies.invent(body), self.joints.invent(body + "_fixed"), transform)
+
+
 def render(table: Table, opts: Options) -> str:
     """A MATLAB script building ``robot``, a ``rigidBodyTree`` of the table."""
     require(table, "matlab", ("dh", "mdh"))
     numbers = Numbers.of(table, opts.tol)
+    names = _Names(table)
+    base = table.base_link or names.bodies.invent("base_link")
+    body = []
+    body.append('robot = rigidBodyTree("DataFormat", "row");')
+    body.append(f"robot.BaseName = {matlab_string(base)};")
+    body.append("parent = robot.BaseName;")
+    body.append("")
+    body += names.fixed("dh_base", matlab_matrix(table.base_matrix, numbers))
+    for i, row in enumerate(table.rows, start=1):
+        body.append("")
+        offset = _offset(row, numbers)
+        if offset is not None and table.convention == "dh":
+            body += names.fixed(f"body{i}_offset", matlab_matrix(offset, numbers))
+        body += _joint_body(names.bodies.invent(f"body{i}"), row, table.convention, numbers)
+        if offset is not None and table.convention == "mdh":
+            body += names.fixed(f"body{i}_offset", matlab_matrix(offset, numbers))
+    body.append("")
+    tip = table.tip_link or names.bodies.invent("tool")
+    tool = matlab_matrix(table.tool_matrix, numbers)
+    body += _fixed_body(tip, names.joints.invent(tip + "_fixed"), tool)
     out = [matlab_comment(line) for line in header(table, "MATLAB rigidBodyTree")]
     out.append(
         matlab_comment(
@@ -104,19 +144,5 @@ def render(table: Table, opts: Options) -> str:
             "value per joint, in chain order."
         )
     )
-    out.append('robot = rigidBodyTree("DataFormat", "row");')
-    out.append(f"robot.BaseName = {matlab_string(table.base_link or 'base_link')};")
-    out.append("parent = robot.BaseName;")
-    out.append("")
-    out += _fixed_body("dh_base", matlab_matrix(table.base_matrix, numbers))
-    for i, row in enumerate(table.rows, start=1):
-        out.append("")
-        offset = _offset(row, numbers)
-        if offset is not None and table.convention == "dh":
-            out += _fixed_body(f"body{i}_offset", matlab_matrix(offset, numbers))
-        out += _joint_body(i, row, table.convention, numbers)
-        if offset is not None and table.convention == "mdh":
-            out += _fixed_body(f"body{i}_offset", matlab_matrix(offset, numbers))
-    out.append("")
-    out += _fixed_body(table.tip_link or "tool", matlab_matrix(table.tool_matrix, numbers))
-    return "\n".join(out) + "\n"
+    out += [matlab_comment(note) for note in renaming_notes(names.bodies, names.joints)]
+    return "\n".join(out + body) + "\n"

@@ -83,7 +83,7 @@ def render_model(model: PoeModel, opts: Options, samples: int | None = None) -> 
     require_uncoupled(model.joints, "opw")
     p = opw_from_poe(model, opts.tol, samples)
     metres = units.factor(model.length_unit, "m")
-    numbers = Numbers(model.size() * metres, opts.tol.noise, metres)
+    numbers = Numbers(model.size() * metres, opts.tol.written, metres)
     geometry = p.geometry()
     offsets = ", ".join(yaml_float(numbers.angle(v)) for v in p.offsets)
     lines = [yaml_comment(line) for line in _header(model, p, metres)]

@@ -187,7 +187,7 @@ def render(table: Table, opts: Options) -> str:
     lines = [yaml_comment(note) for note in notes]
     lines.append("kinematics:")
     metres = units.factor(table.length_unit, "m")
-    numbers = Numbers(table.size * metres, opts.tol.noise)  # origins are in metres
+    numbers = Numbers(table.size * metres, opts.tol.written)  # origins are in metres
     for link, origin in zip(LINKS, joint_origins(table), strict=True):
         lines.append(f"  {link}:")
         xyz = (numbers.length(v) for v in origin[:3, 3])

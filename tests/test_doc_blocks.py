@@ -1,0 +1,135 @@
+"""Every code block a user can copy from README.md and docs/*.md runs as shown.
+
+Blocks are read as a CommonMark renderer reads them (markdown-it-py): each fenced ``bash`` block
+runs in ``bash -euo pipefail``, each ``python`` block in this Python, in order, one document at
+a time in a temporary directory where the repository's folders (``tests``, ``examples``, ...)
+are linked, as in a checkout, and where ``urdf2dh`` and ``python`` are this checkout's. Blocks
+of other languages, and ``text`` blocks (output, excerpts of generated files), are shown, not
+run; so are README's "Quick start" commands, which are what CI runs (tests/test_readme.py).
+
+A ``python`` block that imports a consumer not installed here (PyKDL: Debian's python3-pykdl,
+which scripts/check-consumers installs and then runs these tests again) is left out, and the
+test says so once the others have passed.
+"""
+
+from __future__ import annotations
+
+import glob
+import os
+import re
+import subprocess
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+
+import pytest
+from markdown_it import MarkdownIt
+
+ROOT = Path(__file__).resolve().parents[1]
+DOCS = [ROOT / "README.md", *sorted((ROOT / "docs").rglob("*.md"))]
+RUN = ("bash", "python")
+LINKED = ("tests", "examples", "robots", "scripts", "benchmarks", "docs")
+OPTIONAL = {"PyKDL": "Debian's python3-pykdl"}  # consumers the test extra does not install
+
+
+@dataclass(frozen=True)
+class Block:
+    lang: str
+    code: str
+    line: int  # 1-based line of the opening fence
+    section: str
+
+
+def blocks(path: Path) -> list[Block]:
+    """The fenced blocks of a Markdown file, with the heading each stands under."""
+    tokens = MarkdownIt("commonmark").parse(path.read_text(encoding="utf-8"))
+    out, section = [], ""
+    for i, token in enumerate(tokens):
+        if token.type == "heading_open":
+            section = tokens[i + 1].content
+        elif token.type == "fence" and token.map is not None:
+            lang = token.info.split()[0] if token.info.strip() else ""
+            out.append(Block(lang, token.content, token.map[0] + 1, section))
+    return out
+
+
+def to_run(path: Path) -> list[Block]:
+    return [
+        b
+        for b in blocks(path)
+        if b.lang in RUN and not (path.name == "README.md" and b.section == "Quick start")
+    ]
+
+
+def _workspace(tmp_path: Path) -> dict[str, str]:
+    """Link the repository's folders, put shims for ``urdf2dh`` and ``python`` first on PATH,
+    and make Debian's PyKDL importable where it is installed for this Python."""
+    for name in LINKED:
+        if (ROOT / name).exists():
+            (tmp_path / name).symlink_to(ROOT / name)
+    bin_dir = tmp_path / ".bin"
+    bin_dir.mkdir()
+    shims = {"urdf2dh": f'exec "{sys.executable}" -m urdf2dh.cli "$@"'}
+    shims.update(dict.fromkeys(("python", "python3"), f'exec "{sys.executable}" "$@"'))
+    for name, body in shims.items():
+        (bin_dir / name).write_text(f"#!/bin/sh\n{body}\n")
+        (bin_dir / name).chmod(0o755)
+    paths = [str(ROOT)]
+    tag = f"cpython-{sys.version_info.major}{sys.version_info.minor}"
+    debian = glob.glob(f"/usr/lib/python3/dist-packages/PyKDL.{tag}-*.so")
+    if debian:  # the one module, not Debian's whole dist-packages
+        kdl = tmp_path / ".pykdl"
+        kdl.mkdir()
+        (kdl / Path(debian[0]).name).symlink_to(debian[0])
+        paths.append(str(kdl))
+    env = dict(os.environ, MPLBACKEND="Agg", PYTHONPATH=os.pathsep.join(paths))
+    env["PATH"] = f"{bin_dir}{os.pathsep}{env.get('PATH', '')}"
+    return env
+
+
+def _missing(block: Block, env: dict[str, str]) -> str | None:
+    for module, where in OPTIONAL.items():
+        if re.search(rf"^\s*(import|from)\s+{module}\b", block.code, re.M):
+            probe = subprocess.run(
+                [sys.executable, "-c", f"import {module}"], env=env, capture_output=True
+            )
+            if probe.returncode != 0:
+                return f"{module} ({where})"
+    return None
+
+
+@pytest.mark.parametrize("path", DOCS, ids=lambda p: str(p.relative_to(ROOT)))
+def test_every_code_block_runs_as_shown(path, tmp_path):
+    env = _workspace(tmp_path)
+    left_out = []
+    for block in to_run(path):
+        where = f"{path.relative_to(ROOT)}:{block.line}"
+        missing = _missing(block, env)
+        if missing:
+            left_out.append(f"{where} needs {missing}")
+            continue
+        if block.lang == "bash":
+            argv = ["bash", "-euo", "pipefail", "-c", block.code]
+        else:
+            script = tmp_path / f".block{block.line}.py"
+            script.write_text(block.code)
+            argv = [sys.executable, str(script)]
+        proc = subprocess.run(
+            argv, cwd=tmp_path, env=env, capture_output=True, text=True, timeout=600
+        )
+        assert proc.returncode == 0, (
+            f"{where} ({block.lang}) exited {proc.returncode}:\n{block.code}\n"
+            f"stdout:\n{proc.stdout[-3000:]}\nstderr:\n{proc.stderr[-3000:]}"
+        )
+    if left_out:
+        pytest.skip("ran every other block; left out: " + "; ".join(left_out))
+
+
+def test_the_blocks_are_found():
+    """The reader sees README's blocks: the commands run, the output shown."""
+    readme = blocks(ROOT / "README.md")
+    assert sum(b.lang == "bash" for b in readme) >= 10
+    assert any(b.lang == "python" and "fk_batch(q)" in b.code for b in readme)
+    assert any(b.lang == "text" and b.code.startswith("robot = DHRobot(") for b in readme)
+    assert [b.section for b in readme if b.lang == "bash"][:2] == ["Quick start"] * 2
+    assert all(b.section != "Quick start" for b in to_run(ROOT / "README.md"))
