@@ -51,13 +51,16 @@ CONFIDENCE = 0.99  # of the test that noise explains a held-out error
 
 
 def formula(est: Estimate) -> str:
-    """The identified-parameter count of the level before anything is held fixed, as a formula
-    with its numbers (``full``: Wu 2019 eq. 23, ``5h + 4r + 2t + n + 6``)."""
+    """The level's parameter count before anything is held fixed, as a formula with its numbers:
+    ``full`` is Wu 2019 eq. 23, ``5h + 4r + 2t + n + 6`` (poses; ``3K`` for ``K`` markers); the
+    others name their parts (``base 6 + offsets n + tool 6``)."""
     level = est.level
     kinds = Counter(est.chain.kinds)
+    tool = (2 if est.keep_tool_axis else 6) if est.home is not None else None
+    markers = 0 if est.markers is None else len(est.markers)
     terms: list[tuple[str, str, int]] = []
     if level.base:
-        terms.append(("6", "6", 6))
+        terms.append(("base 6", "6", 6))
     if level.lines:
         for label, size, kind in (
             ("5h", 5, "helical"),
@@ -65,14 +68,14 @@ def formula(est: Estimate) -> str:
             ("2t", 2, "prismatic"),
         ):
             terms.append((label, f"{size}*{kinds[kind]}", size * kinds[kind]))
-    if level.offsets or level.scales:
+    if level.offsets:
+        terms.append(("offsets n", str(est.n), est.n))
+    if level.scales:
         terms.append(("n", str(est.n), est.n))
-    if est.home is not None:
-        tool = 2 if est.keep_tool_axis else 6
-        terms.append((str(tool), str(tool), tool))
-    else:
-        assert est.markers is not None
-        terms.append(("3K", f"3*{len(est.markers)}", 3 * len(est.markers)))
+    end = str(tool) if tool is not None else "3K"
+    if level.base:
+        end = f"tool {end}" if tool is not None else f"markers {end}"
+    terms.append((end, str(tool) if tool is not None else f"3*{markers}", tool or 3 * markers))
     total = sum(t[2] for t in terms)
     return f"{' + '.join(t[0] for t in terms)} = {' + '.join(t[1] for t in terms)} = {total}"
 
