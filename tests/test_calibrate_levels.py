@@ -346,6 +346,6 @@ def test_plan_writes_configurations_that_measure_reads(tmp_path, capsys):
     assert "12 configurations chosen" in printed and "offsets" in printed
     lines = out.read_text().splitlines()
     assert lines[0].startswith("shoulder_pan_joint,") and len(lines) == 13
-    code = main(["measure", "ur5", "--configurations", str(out), "--configs", "1", "-o", str(meas)])
+    code = main(["measure", "ur5", "--configurations", str(out), "-o", str(meas)])
     assert code == 0, capsys.readouterr().err
     assert len(meas.read_text().splitlines()) == 13

@@ -106,9 +106,10 @@ def add_parsers(sub: Any) -> None:
     p.add_argument(
         "--configs",
         type=main.samples,
-        required=True,
+        default=None,
         metavar="N",
-        help="number of configurations, drawn uniformly within the joint limits",
+        help="number of configurations, drawn uniformly within the joint limits (or give "
+        "--configurations)",
     )
     p.add_argument(
         "--noise-pos",
@@ -384,13 +385,15 @@ def measure_command(args: argparse.Namespace) -> int:
         raise UsageError("--markers measures positions; it does not go with --measure pose")
     if args.marker_layout and args.markers is None:
         raise UsageError("--marker-layout writes the layout of --markers K")
+    if (args.configs is None) == (args.configurations is None):
+        raise UsageError("measure takes --configs N or --configurations FILE (one of them)")
     configurations = None
     if args.configurations:
         joints = tuple(j.name for j in model.joints)
         configurations = read_configurations(args.configurations, joints)
     m, layout = measure(
         model,
-        args.configs,
+        args.configs or 0,
         args.noise_pos,
         args.noise_rot,
         args.seed,

@@ -9,8 +9,9 @@ judged on configurations it was not fitted to:
   are dealt into ``k`` folds by a permutation drawn from ``numpy.random.default_rng((seed,
   5))`` (``k`` = :data:`FOLDS`, or the number of configurations if fewer);
 * for each fold, every level is fitted to the other folds exactly as the final fit is (the
-  base-tool level first, each other level from its solution, to convergence), with the noise
-  levels of that level's fit to all the measurements, and predicts the fold's positions;
+  base-tool level first, each other level from the solution of the simpler one before it, to
+  convergence), with the noise levels of that level's fit to all the measurements, and predicts
+  the fold's positions;
 * a level's cross-validated error is the RMS position (and, for poses, rotation) error over all
   configurations, each configuration's mean squared error over its markers; its uncertainty is
   the standard error of that mean, carried to the RMS (``se(mean e^2) / (2 RMS)``);
@@ -192,19 +193,41 @@ def level_fits(
         level: redundant(before.solution.estimate.with_level(LEVELS[level]), nominal.limits(), size)
         for level in levels
     }
+    previous = before.solution.estimate  # each level starts from the simpler one's solution
     for level in levels:
         if level == "base-tool" and not opts.fixed_patterns:
             fits[level] = before
             continue
         lopts = replace(opts, level=level)
-        est, _, _ = level_start(nominal, before.solution.estimate, lopts, ids, structures[level])
-        if count(est) > len(data) * data.rows:
+        start, reference = _starts(nominal, before, previous, lopts, ids, structures[level])
+        if count(start) > len(data) * data.rows:
             failures[level] = (
-                f"{count(est)} parameters, more than the {len(data) * data.rows} equations"
+                f"{count(start)} parameters, more than the {len(data) * data.rows} equations"
             )
             continue
-        fits[level] = solve_level(est, data, lopts, size, est, (before.sigma_pos, before.sigma_rot))
+        noise = (before.sigma_pos, before.sigma_rot)
+        fits[level] = solve_level(start, data, lopts, size, reference, noise)
+        if fits[level].solution.converged:
+            previous = fits[level].solution.estimate
     return fits, failures, structures
+
+
+def _starts(
+    nominal: PoeModel,
+    before: Fit,
+    previous: Estimate,
+    opts: Options,
+    ids: list[int],
+    structure: NDArray[np.bool_] | None,
+) -> tuple[Estimate, Estimate]:
+    """A level's start, the solution of the simpler level fitted before it (levels are nested:
+    it is a point of this level too, nearer the solution than the base-tool one), and the
+    prior's centre, the base-tool solution at this level (the nominal as placed)."""
+    reference, _, _ = level_start(nominal, before.solution.estimate, opts, ids, structure)
+    if previous is before.solution.estimate:
+        return reference, reference
+    start, _, _ = level_start(nominal, previous, opts, ids, structure)
+    return start, reference
 
 
 def fold_errors(
@@ -243,6 +266,7 @@ def fold_errors(
             )
             return {}, dict.fromkeys(fits, why)
         fold_before = _refit(before, before.solution.estimate, train_data, opts, size)
+        previous = fold_before.solution.estimate
         for level, template in fits.items():
             if level in failures:
                 continue
@@ -250,20 +274,17 @@ def fold_errors(
                 fold_fit = fold_before
             else:
                 lopts = replace(opts, level=level)
-                est, _, _ = level_start(
-                    nominal,
-                    fold_before.solution.estimate,
-                    lopts,
-                    ids,
-                    None if structures is None else structures.get(level),
-                )
+                structure = None if structures is None else structures.get(level)
+                est, reference = _starts(nominal, fold_before, previous, lopts, ids, structure)
                 if count(est) > len(train_data) * train_data.rows:
                     failures[level] = (
                         f"a fold leaves {len(train_data) * train_data.rows} equations for its "
                         f"{count(est)} parameters"
                     )
                     continue
-                fold_fit = _refit(template, est, train_data, lopts, size)
+                fold_fit = _refit(template, est, train_data, lopts, size, reference)
+                if fold_fit.solution.converged:
+                    previous = fold_fit.solution.estimate
             if not fold_fit.solution.converged:
                 failures[level] = (
                     f"its fit did not converge in {opts.max_iterations} iterations in fold "
@@ -361,11 +382,19 @@ def _within(level: Mat, best: Mat) -> bool:
     return bool(np.mean(d) <= float(np.std(d, ddof=1)) / math.sqrt(len(d)))
 
 
-def _refit(template: Fit, est: Estimate, data: Data, opts: Options, size: float) -> Fit:
-    """``est`` solved on ``data`` with the noise levels of ``template`` (no statistics)."""
+def _refit(
+    template: Fit,
+    est: Estimate,
+    data: Data,
+    opts: Options,
+    size: float,
+    reference: Estimate | None = None,
+) -> Fit:
+    """``est`` solved on ``data`` with the noise levels of ``template`` (no statistics);
+    ``reference``: the prior's centre (default ``est``)."""
     from .solver import Problem, solve
 
-    problem = Problem(data, template.sigma_pos, template.sigma_rot, opts.prior, est)
+    problem = Problem(data, template.sigma_pos, template.sigma_rot, opts.prior, reference or est)
     if opts.prior is None or est.level.name == "base-tool":
         problem = Problem(data, template.sigma_pos, template.sigma_rot)
     sol = solve(est, problem, size, opts.max_iterations)
