@@ -147,30 +147,60 @@ def robotkinecal(nominal: PoeModel, m: Measurements, work: Path) -> tuple[float,
 
 
 def figaroh(m: Measurements, work: Path) -> tuple[float, Any]:
+    """FIGAROH's full_params on the synthetic UR5 poses: (time, its forward kinematics)."""
+    import pinocchio as pin
+    from figaroh.calibration.calibration_tools import calc_updated_fkm
+
+    ur5 = str(robot_path(ROBOTS["ur5"]))
+    elapsed, cal, robot = run_figaroh(ur5, "base_link", "tool0", m, "full_params", work, 1)
+
+    def fk(q: np.ndarray) -> np.ndarray:
+        config = dict(cal.calib_config, NbSample=len(q))
+        flat = calc_updated_fkm(robot.model, robot.data, cal.LM_result.x, q, config)
+        flat = flat.reshape(6, len(q))
+        out = np.zeros((len(q), 4, 4))
+        out[:, 3, 3] = 1.0
+        out[:, :3, 3] = flat[:3].T
+        out[:, :3, :3] = [pin.rpy.rpyToMatrix(*angles) for angles in flat[3:].T]
+        return out
+
+    return elapsed, fk
+
+
+def run_figaroh(
+    urdf: str, base: str, tool: str, fit: Measurements, level: str, work: Path, repeats: int
+) -> tuple[float, Any, Any]:
+    """FIGAROH at ``level`` (``full_params``, ``joint_offset``) on ``fit``, base and tool frames
+    unknown, its default solve; the measurements in its CSV layout (x1, y1, z1 and, for poses,
+    phix1, phiy1, phiz1; joints by name). Returns the best time of ``repeats``, the calibration
+    and the robot. Its printed report goes nowhere."""
+    import contextlib
+    import io
+
     import pandas as pd
     import pinocchio as pin
     import yaml
     from figaroh.calibration.base_calibration import BaseCalibration
-    from figaroh.calibration.calibration_tools import calc_updated_fkm
     from pinocchio.robot_wrapper import RobotWrapper
 
-    robot = RobotWrapper(pin.buildModelFromUrdf(str(robot_path(ROBOTS["ur5"]))))
-    names = [robot.model.names[i] for i in range(1, robot.model.njoints)]
-    rpy = np.array([pin.rpy.matrixToRpy(r) for r in rotation_of(m.quaternions)])
-    columns = {f"{k}1": v for k, v in zip(("x", "y", "z"), m.points.T, strict=True)}
-    columns |= {f"{k}1": v for k, v in zip(("phix", "phiy", "phiz"), rpy.T, strict=True)}
-    columns |= {n: m.q[:, i] for i, n in enumerate(names)}
+    robot = RobotWrapper(pin.buildModelFromUrdf(urdf))
+    pose = fit.quaternions is not None
+    columns = {f"{k}1": v for k, v in zip("xyz", fit.points.T, strict=True)}
+    if pose:
+        rpy = np.array([pin.rpy.matrixToRpy(r) for r in rotation_of(fit.quaternions)])
+        columns |= {f"{k}1": v for k, v in zip(("phix", "phiy", "phiz"), rpy.T, strict=True)}
+    columns |= {n: fit.q[:, i] for i, n in enumerate(fit.joints)}
     pd.DataFrame(columns).to_csv(work / "figaroh.csv", index=False)
     config = {
         "schema_version": "2.0",
-        "robot": {"name": "ur5"},
+        "robot": {"name": "robot"},
         "tasks": {
             "calibration": {
                 "type": "kinematic_calibration",
-                "kinematics": {"base_frame": "base_link", "tool_frame": "tool0"},
-                "measurements": {"markers": [{"measurable_dof": [True] * 6}]},
-                "parameters": {"calibration_level": "full_params"},
-                "data": {"source_file": str(work / "figaroh.csv"), "number_of_samples": len(m)},
+                "kinematics": {"base_frame": base, "tool_frame": tool},
+                "measurements": {"markers": [{"measurable_dof": [True] * 3 + [pose] * 3}]},
+                "parameters": {"calibration_level": level},
+                "data": {"source_file": str(work / "figaroh.csv"), "number_of_samples": len(fit)},
             }
         },
     }
@@ -179,25 +209,17 @@ def figaroh(m: Measurements, work: Path) -> tuple[float, Any]:
     class Calibration(BaseCalibration):
         pass
 
-    start = time.perf_counter()
-    cal = Calibration(robot, str(work / "figaroh.yaml"))
-    cal.calib_config["known_baseframe"] = False  # the device frame and the tool are unknown
-    cal.calib_config["known_tipframe"] = False
-    cal.initialize()
-    cal.solve(enable_logging=False)
-    elapsed = time.perf_counter() - start
-    var = cal.LM_result.x
+    def run() -> Any:
+        cal = Calibration(robot, str(work / "figaroh.yaml"))
+        cal.calib_config["known_baseframe"] = False  # the device frame and the tool are unknown
+        cal.calib_config["known_tipframe"] = False
+        with contextlib.redirect_stdout(io.StringIO()):
+            cal.initialize()
+            cal.solve(enable_logging=False)
+        return cal
 
-    def fk(q: np.ndarray) -> np.ndarray:
-        config = dict(cal.calib_config, NbSample=len(q))
-        flat = calc_updated_fkm(robot.model, robot.data, var, q, config).reshape(6, len(q))
-        out = np.zeros((len(q), 4, 4))
-        out[:, 3, 3] = 1.0
-        out[:, :3, 3] = flat[:3].T
-        out[:, :3, :3] = [pin.rpy.rpyToMatrix(*angles) for angles in flat[3:].T]
-        return out
-
-    return elapsed, fk
+    elapsed, cal = best_time(run, repeats)
+    return elapsed, cal, robot
 
 
 def main() -> int:
@@ -341,55 +363,16 @@ def figaroh_real(
     repeats: int = 1,
 ) -> tuple[float, float]:
     """FIGAROH at ``level`` on ``fit``, judged on ``test``: (time, held-out RMS position)."""
-    import pandas as pd
-    import pinocchio as pin
-    import yaml
-    from figaroh.calibration.base_calibration import BaseCalibration
     from figaroh.calibration.calibration_tools import calc_updated_fkm
-    from pinocchio.robot_wrapper import RobotWrapper
 
-    robot = RobotWrapper(pin.buildModelFromUrdf(urdf))
-    pose = fit.quaternions is not None
-    columns = {f"{k}1": v for k, v in zip("xyz", fit.points.T, strict=True)}
-    if pose:
-        rpy = np.array([pin.rpy.matrixToRpy(r) for r in rotation_of(fit.quaternions)])
-        columns |= {f"{k}1": v for k, v in zip(("phix", "phiy", "phiz"), rpy.T, strict=True)}
-    columns |= {n: fit.q[:, i] for i, n in enumerate(fit.joints)}
-    pd.DataFrame(columns).to_csv(work / "figaroh.csv", index=False)
-    config = {
-        "schema_version": "2.0",
-        "robot": {"name": "robot"},
-        "tasks": {
-            "calibration": {
-                "type": "kinematic_calibration",
-                "kinematics": {"base_frame": "universe", "tool_frame": tool},
-                "measurements": {"markers": [{"measurable_dof": [True] * 3 + [pose] * 3}]},
-                "parameters": {"calibration_level": level},
-                "data": {"source_file": str(work / "figaroh.csv"), "number_of_samples": len(fit)},
-            }
-        },
-    }
-    (work / "figaroh.yaml").write_text(yaml.safe_dump(config))
-
-    class Calibration(BaseCalibration):
-        pass
-
-    def run() -> Any:
-        cal = Calibration(robot, str(work / "figaroh.yaml"))
-        cal.calib_config["known_baseframe"] = False
-        cal.calib_config["known_tipframe"] = False
-        cal.initialize()
-        cal.solve(enable_logging=False)
-        return cal
-
-    elapsed, cal = best_time(run, repeats)
+    elapsed, cal, robot = run_figaroh(urdf, "universe", tool, fit, level, work, repeats)
     q = np.zeros((len(test), robot.model.nq))
     for i, n in enumerate(test.joints):
         q[:, robot.model.joints[robot.model.getJointId(n)].idx_q] = test.q[:, i]
     flat = calc_updated_fkm(
         robot.model, robot.data, cal.LM_result.x, q, dict(cal.calib_config, NbSample=len(q))
     )
-    flat = flat.reshape(6 if pose else 3, len(q))
+    flat = flat.reshape(6 if fit.quaternions is not None else 3, len(q))
     return elapsed, held_out_rms(flat[:3].T, test.points)
 
 

@@ -288,6 +288,12 @@ class Calibration:
         """The comparison on ``name`` (``fit``, ``held_out``, ``validation``), if there is one."""
         return next((c for c in self.comparisons if c.name == name), None)
 
+    def _repr_markdown_(self) -> str:
+        """In a notebook: the text ``urdf2dh calibrate`` prints."""
+        from .report import summary
+
+        return "```text\n" + summary(self) + "```\n"
+
 
 def holdout_split(
     m: Measurements, fraction: float, seed: int

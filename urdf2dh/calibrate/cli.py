@@ -95,6 +95,18 @@ def _add_reading(p: argparse.ArgumentParser) -> None:
     )
 
 
+def _add_markers(p: argparse.ArgumentParser, help_text: str) -> None:
+    from .. import options as main
+
+    p.add_argument(
+        "--markers",
+        type=lambda text: main.integer(text, 1, MAX_MARKERS),
+        default=None,
+        metavar="K",
+        help=help_text,
+    )
+
+
 def add_parsers(sub: Any) -> None:
     """Add ``measure``, ``calibrate`` and ``plan`` to the ``urdf2dh`` subparsers."""
     from .. import options as main  # its option helpers
@@ -131,13 +143,7 @@ def add_parsers(sub: Any) -> None:
         default=None,
         help="pose (default) or position of the tool origin; --markers implies position",
     )
-    p.add_argument(
-        "--markers",
-        type=lambda text: main.integer(text, 1, MAX_MARKERS),
-        default=None,
-        metavar="K",
-        help="measure the positions of K markers at seeded points of the tool",
-    )
+    _add_markers(p, "measure the positions of K markers at seeded points of the tool")
     p.add_argument(
         "--marker-layout",
         metavar="FILE",
@@ -332,13 +338,7 @@ def add_parsers(sub: Any) -> None:
         default="pose",
         help="what will be measured (default %(default)s)",
     )
-    p.add_argument(
-        "--markers",
-        type=lambda text: main.integer(text, 1, MAX_MARKERS),
-        default=None,
-        metavar="K",
-        help="position measurements of K markers at seeded points of the tool",
-    )
+    _add_markers(p, "position measurements of K markers at seeded points of the tool")
     p.add_argument(
         "--noise-pos",
         type=main.positive_float,
