@@ -175,9 +175,9 @@ def test_joints_that_barely_move_and_poorly_identified_parameters_are_named(ur5)
 
 
 def test_position_measurements_without_rotation_noise_identify_everything(ur5):
-    """Poses whose rotations are exact (measure's default --noise-rot 0) used to drown the
-    positions in the weights: 21 of 36 parameters, and advice to measure more varied
-    configurations. The weights are bounded: every parameter is identified."""
+    """Poses whose rotations are exact (measure's default --noise-rot 0): weights from the
+    noise levels alone would drown the positions (21 of 36 parameters seen). The weights are
+    bounded, every parameter is identified, and a given level that would drown them is named."""
     actual = perturb(ur5, 15, 0.002, 0.002)
     m = synthesize(actual, 60, NOISE, 0.0, seed=16)
     cal = calibrate(ur5, m, identify_level="full")

@@ -104,7 +104,7 @@ def test_the_franka_is_within_five_percent_of_the_best_anchor(defaults):
 
 def test_the_tiago_full_model_is_flagged_as_overfitted_when_asked_for():
     """41 parameters from 24 configurations: the held-out error is far beyond what noise
-    explains, and the report says so (it used to say nothing)."""
+    explains, and the report says so, and flags the parameters."""
     nominal, m = load("tiago")
     cal = calibrate(nominal, m, holdout=0.3, seed=0, identify_level="full")
     held = cal.comparison("held_out")
