@@ -54,7 +54,7 @@ class _Version(argparse.Action):
         super().__init__(option_strings, dest, nargs=0, help="show the versions and exit")
 
     def __call__(self, parser: argparse.ArgumentParser, *args: object) -> None:
-        print(version_text())
+        parser._print_message(version_text() + "\n", sys.stdout)  # a failed write is an error
         parser.exit()
 
 
