@@ -40,6 +40,7 @@ from .xacro import XacroOptions
 __all__ = [
     "SCHEMA",
     "Change",
+    "Diff",
     "FormChange",
     "IllPair",
     "compare",
@@ -299,6 +300,61 @@ RECOMMENDATION = (
     "POE model and convert back for compensation; modified D-H uses the same common normals and "
     "shares the problem"
 )
+
+
+@dataclass(frozen=True)
+class Diff:
+    """A comparison of two parameter sets in one convention (what ``urdf2dh diff`` reports).
+
+    Attributes
+    ----------
+    convention, nominal, actual
+        The convention and the two sources' names.
+    length_unit
+        The tables' length unit (the nominal's).
+    size
+        The nominal's size.
+    angle_threshold, length_threshold
+        What is marked: changes beyond these (rad; length unit).
+    warnings
+        The two tables' warnings.
+    changes, forms, pairs
+        The parameter changes of rows of one form, the rows that changed form, the
+        ill-conditioned axis pairs.
+    """
+
+    convention: str
+    nominal: str
+    actual: str
+    length_unit: str
+    size: float
+    angle_threshold: float
+    length_threshold: float
+    warnings: tuple[str, ...]
+    changes: tuple[Change, ...]
+    forms: tuple[FormChange, ...]
+    pairs: tuple[IllPair, ...]
+
+    def info(self) -> dict[str, Any]:
+        """The report's header fields (:func:`render_diff`'s ``info``)."""
+        return {
+            "convention": self.convention,
+            "nominal": self.nominal,
+            "actual": self.actual,
+            "units": {"length": self.length_unit, "angle": "rad"},
+            "size": self.size,
+            "thresholds": {"angle": self.angle_threshold, "length": self.length_threshold},
+            "warnings": list(self.warnings),
+        }
+
+    def tree(self) -> dict[str, Any]:
+        """The JSON report as a tree (docs/diff.md)."""
+        return diff_tree(self.info(), list(self.changes), list(self.pairs), self.forms)
+
+    @property
+    def marked(self) -> int:
+        """How many parameters changed beyond the thresholds."""
+        return sum(c.marked for c in self.changes)
 
 
 def diff_tree(

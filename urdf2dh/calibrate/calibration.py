@@ -27,11 +27,11 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field, replace
-from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
+from ..diff import Diff
 from ..errors import InputError, Urdf2DhError, UsageError, choices, shown
 from ..screws import PoeModel
 from ..table import Table
@@ -248,7 +248,7 @@ class Calibration:
     convention_reason
         Why this convention, when it was chosen.
     diff
-        The ``diff`` of the nominal and the identified model (``urdf2dh diff``'s JSON tree).
+        The ``diff`` of the nominal and the identified model (``urdf2dh diff``'s).
     warnings
         Everything worth a person's attention.
     """
@@ -279,7 +279,7 @@ class Calibration:
     convention: str
     table: Table | None
     convention_reason: str | None
-    diff: dict[str, Any]
+    diff: Diff
     warnings: tuple[str, ...]
     rows: tuple[int, ...] = field(default=(), repr=False)  # fitted rows' numbers in the file
     schema: str = SCHEMA

@@ -27,6 +27,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
+from ..diff import Diff
 from ..errors import UsageError, visible
 from ..screws import PoeModel
 from ..table import Table
@@ -297,16 +298,11 @@ def _insane(table: Table, tol: Tolerances) -> str | None:
 
 def _diff(
     nominal: PoeModel, model: PoeModel, table: Table | None, style: str, tol: Tolerances
-) -> dict[str, Any]:
-    """The ``diff`` of the nominal and the identified model as ``urdf2dh diff``'s JSON tree."""
+) -> Diff:
+    """The ``diff`` of the nominal and the identified model (``urdf2dh diff``'s), in the output
+    table's convention (for a POE model file, the convention chosen for a table)."""
     from ..convert import to_table
-    from ..diff import (
-        compare,
-        default_length_threshold,
-        diff_tree,
-        form_changes,
-        ill_conditioned,
-    )
+    from ..diff import compare, default_length_threshold, form_changes, ill_conditioned
 
     if table is None:
         _, table, _ = output_table(model, None, style, tol, None)
@@ -319,20 +315,18 @@ def _diff(
     except UsageError:
         length = math.inf  # unknown unit: nothing is marked
     angle = math.radians(DIFF_ANGLE_DEG)  # as `urdf2dh diff` marks by default
-    info = {
-        "convention": table.convention,
-        "nominal": nominal.name,
-        "actual": model.name,
-        "units": {"length": model.length_unit, "angle": "rad"},
-        "size": nominal.size(),
-        "thresholds": {"angle": angle, "length": length},
-        "warnings": [w for t in (theirs, table) for w in t.warnings],
-    }
-    return diff_tree(
-        info,
-        compare(theirs, table, angle, length),
-        ill_conditioned(nominal, model, math.radians(5.0)),
-        form_changes(theirs, table, angle, length),
+    return Diff(
+        table.convention,
+        nominal.name,
+        model.name,
+        model.length_unit,
+        nominal.size(),
+        angle,
+        length,
+        tuple(w for t in (theirs, table) for w in t.warnings),
+        tuple(compare(theirs, table, angle, length)),
+        tuple(form_changes(theirs, table, angle, length)),
+        tuple(ill_conditioned(nominal, model, math.radians(5.0))),
     )
 
 
@@ -600,7 +594,7 @@ def to_dict(cal: Calibration) -> dict[str, Any]:
         "convention": cal.convention,
         "convention_reason": cal.convention_reason,
         "model": poe_to_dict(cal.model),
-        "diff": cal.diff,
+        "diff": cal.diff.tree(),
         "warnings": list(cal.warnings),
     }
 
@@ -678,12 +672,11 @@ def summary(cal: Calibration) -> str:
                 for p in worst
             )
         )
-    marked = [p for p in cal.diff.get("parameters", []) if p["marked"]]
-    forms = cal.diff.get("changed_form", [])
+    forms = len(cal.diff.forms)
     out.append(
-        f"output: {cal.convention}; diff against the nominal ({cal.diff.get('convention', '-')}): "
-        f"{len(marked)} parameters changed beyond the thresholds"
-        + (f", {len(forms)} rows changed form" if forms else "")
+        f"output: {cal.convention}; diff against the nominal ({cal.diff.convention}): "
+        f"{cal.diff.marked} parameters changed beyond the thresholds"
+        + (f", {forms} row{'s' if forms > 1 else ''} changed form" if forms else "")
     )
     out += [f"warning: {w}" for w in cal.warnings]
     return "\n".join(out) + "\n"
