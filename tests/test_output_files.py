@@ -112,28 +112,44 @@ import os, signal, sys
 from urdf2dh import files
 from urdf2dh.cli import main
 
-real_replace = os.replace
-def slow_replace(src, dst):
-    print(src, flush=True)          # the temporary file now exists
+real = getattr(os, "{hook}")
+def hooked(path, *args):
+    print(path, flush=True)          # the temporary file now exists
     os.kill(os.getpid(), signal.{signal})
-    real_replace(src, dst)
-files.os.replace = slow_replace
+    return real(path, *args)
+setattr(files.os, "{hook}", hooked)
 sys.exit(main(["convert", "ur5", "-o", sys.argv[1]]))
 """
 
 
-@pytest.mark.parametrize(("name", "code"), [("SIGTERM", 143), ("SIGINT", 130)])
-def test_signals_remove_the_temporary_file(tmp_path, name, code):
+def _probe(tmp_path: Path, name: str, hook: str) -> tuple[subprocess.CompletedProcess, Path]:
     target = tmp_path / "table.txt"
+    target.write_text("old")
     proc = subprocess.run(
-        [sys.executable, "-c", PROBE.format(signal=name), str(target)],
+        [sys.executable, "-c", PROBE.format(signal=name, hook=hook), str(target)],
         capture_output=True,
         text=True,
         cwd=ROOT,
         timeout=120,
     )
-    assert proc.returncode == code, proc.stderr
     temporary = Path(proc.stdout.strip())
-    assert temporary.parent == tmp_path and temporary.name.startswith(".table.txt.")
-    assert list(tmp_path.iterdir()) == [] and "Traceback" not in proc.stderr
+    assert temporary.parent == tmp_path and temporary.name.startswith(".table.txt."), proc.stdout
+    assert "Traceback" not in proc.stderr, proc.stderr
+    return proc, target
+
+
+@pytest.mark.parametrize(("name", "code"), [("SIGTERM", 143), ("SIGINT", 130)])
+def test_signals_while_writing_leave_the_file_and_no_temporary_file(tmp_path, name, code):
+    proc, target = _probe(tmp_path, name, "chmod")  # the temporary file is written, not renamed
+    assert proc.returncode == code, proc.stderr
+    assert [p.name for p in tmp_path.iterdir()] == ["table.txt"] and target.read_text() == "old"
     assert getattr(signal, name)  # the signal the probe sent
+
+
+@pytest.mark.parametrize("name", ["SIGTERM", "SIGINT"])
+def test_a_signal_while_renaming_lets_the_rename_finish(tmp_path, name):
+    """Once outputs are being put in place, the run has done its work: exit 0, file written."""
+    proc, target = _probe(tmp_path, name, "replace")
+    assert proc.returncode == 0, proc.stderr
+    assert [p.name for p in tmp_path.iterdir()] == ["table.txt"]
+    assert "shoulder_pan_joint" in target.read_text()

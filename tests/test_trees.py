@@ -551,34 +551,50 @@ import os, signal, sys
 from urdf2dh.cli import main
 
 real, calls = os.{call}, []
-def interrupted(src, dst):
-    calls.append(dst)
+def interrupted(path, *args):
+    calls.append(path)
     if len(calls) == {when}:
-        print(src, flush=True)
+        print(path, flush=True)
         os.kill(os.getpid(), signal.{signal})
-    real(src, dst)
+    return real(path, *args)
 os.{call} = interrupted
 sys.exit(main(["convert", sys.argv[1], "--all-tips", "-o", sys.argv[2]]))
 """
 
 
+def _interrupted(tree: Path, target: Path, call: str, when: int, name: str):
+    proc = subprocess.run(
+        [sys.executable, "-c", PROBE.format(call=call, when=when, signal=name), tree, target],
+        capture_output=True,
+        text=True,
+        cwd=Path(__file__).resolve().parents[1],
+        timeout=120,
+    )
+    assert proc.stdout.strip() and "Traceback" not in proc.stderr  # the signal was sent
+    return proc
+
+
 @pytest.mark.parametrize(("name", "code"), [("SIGTERM", 143), ("SIGINT", 130)])
 def test_signals_leave_a_directory_as_it_was(tree, tmp_path, name, code):
-    """Interrupted between two renames into an existing DIR, or before a new DIR's rename."""
-    root = Path(__file__).resolve().parents[1]
+    """Interrupted while the files of an existing DIR are written, or before a new DIR's
+    rename."""
     out_dir = tmp_path / "out"
     out_dir.mkdir()
     (out_dir / "left_tip.txt").write_text("old")
     before = listing(tmp_path)
-    for call, when, target in (("replace", 2, out_dir), ("rename", 1, f"{tmp_path / 'new'}/")):
-        probe = PROBE.format(call=call, when=when, signal=name)
-        proc = subprocess.run(
-            [sys.executable, "-c", probe, str(tree), str(target)],
-            capture_output=True,
-            text=True,
-            cwd=root,
-            timeout=120,
-        )
+    for when, target in ((2, out_dir), (1, f"{tmp_path / 'new'}/")):  # 2nd file's mode; new DIR's
+        proc = _interrupted(tree, target, "chmod", when, name)
         assert proc.returncode == code, proc.stderr
-        assert proc.stdout.strip() and "Traceback" not in proc.stderr  # it was interrupted
         assert listing(tmp_path) == before
+
+
+@pytest.mark.parametrize("name", ["SIGTERM", "SIGINT"])
+def test_a_signal_between_two_renames_lets_them_finish(tree, tmp_path, name):
+    """Once the files are being put in place, the run has done its work: all are written."""
+    out_dir = tmp_path / "out"
+    out_dir.mkdir()
+    (out_dir / "left_tip.txt").write_text("old")
+    proc = _interrupted(tree, out_dir, "replace", 1, name)
+    assert proc.returncode == 0, proc.stderr
+    assert sorted(os.listdir(out_dir)) == ["left_tip.txt", "right_tip.txt"]
+    assert all("D-H" in (out_dir / f).read_text() for f in os.listdir(out_dir))

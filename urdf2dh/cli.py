@@ -11,21 +11,16 @@ from __future__ import annotations
 
 import argparse
 import os
-import signal
 import sys
 import warnings
 from typing import Any
 
-from . import __version__, options
-from .commands import COMMANDS
-from .conventions import NAMES, STYLES
+from . import __version__, files, interrupts
 from .errors import Urdf2DhError
-from .export import TARGETS
 from .files import drop_stdout, flush_stdout, write_stdout
-from .formats import FORMATS
-from .tolerances import DIFF_ANGLE_DEG, DIFF_LENGTH_M
 
-__all__ = ["get_argument_parser", "main", "version_text"]
+__all__ = ["console", "get_argument_parser", "main", "version_text"]
+
 
 #: What ``--version`` names besides urdf2dh: the distributions it runs on (PyPI names; the
 #: Pinocchio wheel is ``pin``).
@@ -77,6 +72,13 @@ class ArgumentParser(argparse.ArgumentParser):
 
 def get_argument_parser() -> argparse.ArgumentParser:
     """The argument parser of the ``urdf2dh`` command."""
+    # imported here, not with this module: main() handles Ctrl-C from its first line on
+    from . import options
+    from .conventions import NAMES, STYLES
+    from .export import TARGETS
+    from .formats import FORMATS
+    from .tolerances import DIFF_ANGLE_DEG, DIFF_LENGTH_M
+
     parser = ArgumentParser(
         prog="urdf2dh",
         description="Turn a robot's URDF (or POE model) into exact Denavit-Hartenberg, "
@@ -249,65 +251,88 @@ def _one_line(text: str) -> str:
     return "".join(c if c.isprintable() or c == " " else repr(c)[1:-1] for c in text)
 
 
-def _report(e: Urdf2DhError) -> int:
-    """Print ``e`` on one line of stderr; its exit code."""
-    try:
-        print(f"urdf2dh: error: {_one_line(str(e))}", file=sys.stderr)
-    except OSError:  # stderr too cannot be written: the exit code still says it
-        pass
-    return e.exit_code
-
-
-def _terminate(signum: int, frame: object) -> None:
-    raise SystemExit(128 + signum)  # unwinds like Ctrl-C: temporary files are removed
-
-
 def main(argv: list[str] | None = None) -> int:
-    """Run the command line; returns the exit code."""
-    parser = get_argument_parser()
-    try:
-        args = parser.parse_args(argv)  # --help, --version and bad usage exit here
-        if args.command is None:
-            parser.print_help()
-            return 2
-    except Urdf2DhError as e:  # help or usage that could not be written
-        return _report(e)
-    try:
-        previous = signal.signal(signal.SIGTERM, _terminate)
-    except ValueError:  # not the main thread: the caller handles its signals
-        previous = None
+    """Run the command line; returns the exit code.
+
+    Ctrl-C and ``SIGTERM`` end the run with 130 and 143 and leave every output as it was
+    (:mod:`urdf2dh.interrupts`); no output replaces a file the run read (:mod:`urdf2dh.files`).
+    """
+    return _main(argv, restore=True)
+
+
+def console() -> None:
+    """The ``urdf2dh`` program: :func:`main` on ``sys.argv``, then exit with its code; a signal
+    after the run changes nothing."""
+    sys.exit(_main(None, restore=False))
+
+
+def _main(argv: list[str] | None, restore: bool) -> int:
+    with interrupts.handled(restore), files.one_run():
+        try:
+            parser = get_argument_parser()
+            args = parser.parse_args(argv)
+            if args.command is None:
+                parser.print_help()
+                return 2
+            code = _run(args)
+        except KeyboardInterrupt:  # while the parser was built
+            code = 130
+        except Urdf2DhError as e:  # help or usage that could not be written
+            code = _report(e)
+        except SystemExit as e:  # SIGTERM (interrupts.handled), or argparse's --help and errors
+            if not interrupts.pending():
+                raise
+            code = e.code if isinstance(e.code, int) else 2
+        return interrupts.exit_code(code)
+
+
+def _run(args: argparse.Namespace) -> int:
+    """The command, its errors turned into exit codes and one-line messages."""
     try:
         with warnings.catch_warnings():
             # numerical trouble is reported by the checks (a one-line error), never as a
             # library's warning text
             warnings.simplefilter("ignore")
-            code = COMMANDS[args.command](args)
+            from .commands import COMMANDS
+
+            code: int = COMMANDS[args.command](args)
+        interrupts.check()  # a signal some library swallowed still ends the run
         flush_stdout()  # what the command printed is written, or the run fails
         return code
-    except Urdf2DhError as e:
-        return _report(e)
     except KeyboardInterrupt:
         return 130
-    except BrokenPipeError:
-        # the reader went away (`| head`); keep Python from complaining at exit
-        drop_stdout()
+    except Exception as e:
+        if interrupts.pending():  # the aftermath of a signal some library swallowed
+            return 2  # main turns it into the signal's exit code
+        if os.environ.get("URDF2DH_DEBUG") and not isinstance(
+            e, Urdf2DhError | BrokenPipeError | RecursionError
+        ):
+            raise
+        return _report(e)
+
+
+def _report(e: Exception) -> int:
+    """The exit code of a run that raised ``e``; its message on stderr."""
+    if isinstance(e, Urdf2DhError):
+        try:
+            print(f"urdf2dh: error: {_one_line(str(e))}", file=sys.stderr)
+        except OSError:  # stderr too cannot be written: the exit code still says it
+            pass
+        return e.exit_code
+    if isinstance(e, BrokenPipeError):
+        drop_stdout()  # the reader went away (`| head`); keep Python from complaining at exit
         return 0
-    except RecursionError:
+    if isinstance(e, RecursionError):
         print("urdf2dh: error: input nested too deeply", file=sys.stderr)
         return 2
-    except Exception as e:  # a bug, or bad input we failed to foresee: still no traceback
-        if os.environ.get("URDF2DH_DEBUG"):
-            raise
-        print(
-            f"urdf2dh: internal error: {type(e).__name__}: {_one_line(str(e))} (set "
-            "URDF2DH_DEBUG=1 for the traceback, and please report it)",
-            file=sys.stderr,
-        )
-        return 2
-    finally:
-        if previous is not None:
-            signal.signal(signal.SIGTERM, previous)
+    # a bug, or bad input we failed to foresee: still no traceback
+    print(
+        f"urdf2dh: internal error: {type(e).__name__}: {_one_line(str(e))} (set "
+        "URDF2DH_DEBUG=1 for the traceback, and please report it)",
+        file=sys.stderr,
+    )
+    return 2
 
 
 if __name__ == "__main__":  # pragma: no cover
-    sys.exit(main())
+    console()

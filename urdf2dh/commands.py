@@ -76,7 +76,7 @@ def _write_tips(
     from .tips import file_names
 
     names = file_names(source.display, [m.tip_link for m, _ in texts], suffix)
-    write_directory({names[m.tip_link]: text for m, text in texts}, args.output, [args.source])
+    write_directory({names[m.tip_link]: text for m, text in texts}, args.output)
 
 
 def _convert(args: argparse.Namespace) -> int:
@@ -89,7 +89,7 @@ def _convert(args: argparse.Namespace) -> int:
     source = _open(args, tol)
     model = source.model(args.base, _one_tip(args), args.ignore_mimic)
     table = to_table(model, args.convention, tol, samples=args.check_samples, style=args.style)
-    write_output(render(table, args.format), args.output, [args.source])
+    write_output(render(table, args.format), args.output)
     return 0
 
 
@@ -111,7 +111,7 @@ def _convert_tips(args: argparse.Namespace, tol: Any) -> int:
                 to_table(model, args.convention, tol, samples=args.check_samples, style=args.style)
             )
     if not directory:  # stdout, or -o FILE: the one document
-        write_output(join_tables(tables, args.format), args.output, [args.source])
+        write_output(join_tables(tables, args.format), args.output)
         return 0
     texts = []
     for model, table in zip(models, tables, strict=True):
@@ -213,11 +213,7 @@ def _diff(args: argparse.Namespace) -> int:
         samples=args.check_samples,
         xacro=xacro_options(args),
     )
-    write_output(
-        render_diff(info, changes, pairs, args.format, forms),
-        args.output,
-        [args.nominal, args.actual],
-    )
+    write_output(render_diff(info, changes, pairs, args.format, forms), args.output)
     return 0
 
 
@@ -246,7 +242,7 @@ def _export(args: argparse.Namespace) -> int:
     if not _several(args):
         model = source.model(args.base, _one_tip(args), args.ignore_mimic)
         text = export(model, args.to, args.convention, args.style, opts, samples=args.check_samples)
-        write_output(text, args.output, [args.source])
+        write_output(text, args.output)
         return 0
     from .tips import naming_tip
 
@@ -294,7 +290,7 @@ def _plot(args: argparse.Namespace) -> int:
     except InputError as e:
         raise InputError(f"{source.display}: {e} (pick a shorter chain with --base/--tip)") from e
     table = to_table(model, args.convention, tol, samples=args.check_samples, style=args.style)
-    write_output(plot(table, fmt), args.output, [args.source])
+    write_output(plot(table, fmt), args.output)
     return 0
 
 

@@ -1,58 +1,108 @@
 """Reading input files and writing output files, with one-line errors naming the file.
 
-Output goes to stdout, or to ``-o FILE``:
+Inputs: within :func:`one_run` (the command line's run), every file the run reads is one of its
+inputs: what :func:`read_file` reads (SOURCE, a bundled robot's installed file, measurements,
+a marker layout) and what :func:`note_input` is told of (every file a xacro expansion opened).
+No output of the run may be one of them, whatever name it is given (a symbolic link, a hard
+link, another path to it).
+
+Outputs go to stdout or to files, all of a run's together (:func:`write_outputs`;
+:func:`write_output` for one):
 
 * a regular file (new or existing, or the regular file a symbolic link points to) is written
-  through a temporary file beside it and a rename, keeping an existing file's permissions; a
-  failed or interrupted run (an error, Ctrl-C, SIGTERM) removes the temporary file and leaves
-  the old file as it was;
+  through a temporary file beside it and a rename, keeping an existing file's permissions;
 * a character device or a FIFO (``/dev/null``, ``/dev/stdout``, a pipe) is written straight
-  into: it cannot be replaced, only written;
-* anything else (a directory, a socket, a dangling link) and the SOURCE file itself are refused.
+  into: it cannot be replaced, only written (before any file is put in place);
+* anything else (a directory, a socket, a dangling link), an input of the run, and two outputs
+  that are the same file (but for a device or FIFO) are refused, before anything is written.
 
-A failed write, to stdout included (a full disk, ``> /dev/full``), is an error (exit 2), never
-silent: every text the commands print goes through :func:`write_stdout`, and
-:func:`flush_stdout` ends each run. A reader that goes away (``| head``) is not an error.
+All or nothing: every file is written to its temporary file first; only then are they renamed
+into place, with Ctrl-C and ``SIGTERM`` held off (:func:`urdf2dh.interrupts.committing`); should
+a rename fail, those done are undone, the replaced files restored from hard links where the file
+system makes them. A failed or interrupted run (an error, Ctrl-C, ``SIGTERM``) leaves every file
+as it was, and no temporary file behind. A failed write, to stdout included (a full disk,
+``> /dev/full``), is an error (exit 2), never silent: every text the commands print goes through
+:func:`write_stdout`, and :func:`flush_stdout` ends each run. A reader that goes away (``| head``)
+is not an error.
 
-Several files go to ``-o DIR`` (:func:`write_directory`), all or nothing:
-
-* DIR is an existing directory (or a link to one), or a new name in an existing directory;
-* each file's place in DIR must be free or hold a regular file, which is replaced keeping its
-  permissions; a symbolic link, directory, device or FIFO there, or the SOURCE file, is refused
-  before anything is written;
-* the files are written into a temporary directory first: for a new DIR one beside it, renamed
-  to DIR at the end (so DIR appears only on success, complete); for an existing DIR a hidden one
-  inside it, whose files are then renamed into DIR (one file system, so each rename is atomic;
-  should one fail, the files already moved are taken back and the replaced ones restored from
-  hard links where the file system makes them). The temporary directory never outlives the run.
+Several files go to ``-o DIR`` (:func:`write_directory`), all or nothing too: DIR is an existing
+directory (or a link to one), or a new name in an existing directory; each file's place in DIR
+must be free or hold a regular file (a symbolic link, directory, device or FIFO there is
+refused). A new DIR is written as a temporary directory beside it, renamed to DIR at the end: it
+appears only on success, complete.
 """
 
 from __future__ import annotations
 
+import contextlib
 import os
+import secrets
 import shutil
 import stat
 import sys
 import tempfile
-from collections.abc import Iterable, Mapping
+from collections.abc import Iterable, Iterator, Mapping, Sequence
+from contextvars import ContextVar
+from dataclasses import dataclass
 from pathlib import Path
 
+from . import interrupts
 from .errors import InputError
 
 __all__ = [
+    "check_outputs",
     "drop_stdout",
     "flush_stdout",
+    "note_input",
+    "one_run",
     "read_file",
     "write_directory",
     "write_output",
+    "write_outputs",
     "write_stdout",
 ]
 
+SOURCE_ROLE = "the SOURCE file"
+INPUT_ROLE = "an input of this run"
 
-def read_file(path: Path, display: str) -> bytes:
-    """The bytes of ``path``; ``display`` names it in error messages."""
+# the inputs of the run: (device, inode) -> what the file is to the run ("the SOURCE file")
+_inputs: ContextVar[dict[tuple[int, int], str] | None] = ContextVar("inputs", default=None)
+
+
+# --------------------------------------------------------------------------- inputs
+
+
+@contextlib.contextmanager
+def one_run() -> Iterator[None]:
+    """A run: the files read within are its inputs, and no output replaces one of them."""
+    token = _inputs.set({})
+    try:
+        yield
+    finally:
+        _inputs.reset(token)
+
+
+def _record(status: os.stat_result, role: str) -> None:
+    inputs = _inputs.get()
+    if inputs is not None:
+        inputs.setdefault((status.st_dev, status.st_ino), role)
+
+
+def note_input(path: str | Path, role: str = INPUT_ROLE) -> None:
+    """Record ``path`` (read by other means than :func:`read_file`) as an input of the run; a
+    path that does not exist (any more) is left out."""
+    try:
+        _record(os.stat(path), role)
+    except (OSError, ValueError):
+        pass
+
+
+def read_file(path: Path, display: str, role: str = INPUT_ROLE) -> bytes:
+    """The bytes of ``path``, an input of the run (``role`` says what it is to the run);
+    ``display`` names it in error messages."""
     try:
         with open(path, "rb", buffering=0) as f:  # unbuffered: one read of the whole file
+            _record(os.fstat(f.fileno()), role)
             return f.read()
     except FileNotFoundError as e:
         raise InputError(f"{display}: no such file") from e
@@ -62,29 +112,124 @@ def read_file(path: Path, display: str) -> bytes:
         raise InputError(f"{display}: cannot read ({e.strerror})") from e
 
 
-def write_output(data: str | bytes, output: str | None, sources: Iterable[str] = ()) -> None:
-    """Write ``data`` to stdout, or to ``output`` (see the module docstring). ``sources`` are the
-    command's input files: ``output`` may not be one of them."""
-    raw = data.encode("utf-8") if isinstance(data, str) else data
-    if output is None:
-        write_stdout(raw)
-        return
-    target = Path(output)
-    _refuse_source(target, output, sources)
+def _input_role(status: os.stat_result) -> str | None:
+    inputs = _inputs.get()
+    return None if inputs is None else inputs.get((status.st_dev, status.st_ino))
+
+
+# --------------------------------------------------------------------------- one output file
+
+
+@dataclass(frozen=True, slots=True)
+class _Plan:
+    """Where one output goes, checked before anything is written."""
+
+    shown: str  # as the user named it (messages)
+    target: Path  # the file replaced or created (a symbolic link's target)
+    mode: int | None  # the permissions of the regular file replaced; None: a new file
+    stream: bool  # a character device or FIFO: written into
+    identity: tuple[int, int] | tuple[str]  # the same file <=> the same identity
+
+
+def _plan(output: str, in_directory: bool = False) -> _Plan:
+    """Check the output ``output``: where it goes, or an ``InputError`` saying why not.
+    ``in_directory``: a file of ``-o DIR``, which must be free or a regular file."""
+    if not output:
+        raise InputError("-o: an empty file name")
+    path = Path(output)
     try:
-        mode = os.stat(target).st_mode
+        status = os.lstat(path) if in_directory else os.stat(path)
     except FileNotFoundError:
-        if target.is_symlink():
+        if path.is_symlink():
             raise InputError(f"{output}: is a dangling symbolic link; refusing to write") from None
-        mode = None
+        directory = path.absolute().parent
+        if not directory.is_dir():
+            raise InputError(f"{output}: directory '{directory}' does not exist") from None
+        target = directory.resolve() / path.name
+        return _Plan(output, target, None, False, (str(target),))
     except OSError as e:
         raise InputError(f"{output}: cannot write ({e.strerror})") from e
-    if mode is not None and (stat.S_ISCHR(mode) or stat.S_ISFIFO(mode)):
-        _write_into(target, raw, output)
-    elif mode is not None and not stat.S_ISREG(mode):
+    role = _input_role(status)
+    if role is not None:
+        raise InputError(f"{output}: is {role}; refusing to write over it")
+    identity = (status.st_dev, status.st_ino)
+    if not in_directory and (stat.S_ISCHR(status.st_mode) or stat.S_ISFIFO(status.st_mode)):
+        return _Plan(output, path, None, True, identity)
+    if not stat.S_ISREG(status.st_mode):
         raise InputError(f"{output}: is not a regular file; refusing to replace it")
-    else:
-        _replace(target.resolve() if mode is not None else target, raw, output, mode)
+    return _Plan(output, path.resolve(), stat.S_IMODE(status.st_mode), False, identity)
+
+
+def _plan_all(outputs: Iterable[str], in_directory: bool = False) -> list[_Plan]:
+    plans: list[_Plan] = []
+    for output in outputs:
+        plan = _plan(output, in_directory)
+        for other in plans:
+            if other.identity == plan.identity and not plan.stream:  # /dev/null twice is fine
+                raise InputError(
+                    f"{plan.shown}: is the same file as {other.shown}; two outputs of one run "
+                    "cannot go to one file"
+                )
+        plans.append(plan)
+    return plans
+
+
+def check_outputs(outputs: Iterable[str | None]) -> None:
+    """Refuse now what :func:`write_outputs` would refuse of these outputs (``None``: stdout):
+    a run that takes long can fail before its work rather than after it."""
+    _plan_all(o for o in outputs if o is not None)
+
+
+# --------------------------------------------------------------------------- writing
+
+
+def write_output(data: str | bytes, output: str | None) -> None:
+    """Write ``data`` to stdout, or to the file ``output`` (see the module docstring)."""
+    write_outputs([(output, data)])
+
+
+def write_outputs(outputs: Sequence[tuple[str | None, str | bytes]]) -> None:
+    """Write each ``(output, data)`` of a run, all or nothing (see the module docstring).
+
+    Parameters
+    ----------
+    outputs
+        The file name as the user gave it (``None``: stdout, at most once) and its text or bytes.
+    """
+    to_stdout = [_bytes(data) for output, data in outputs if output is None]
+    if len(to_stdout) > 1:
+        raise ValueError("at most one output of a run goes to stdout")
+    files = [(o, _bytes(d)) for o, d in outputs if o is not None]
+    _write(files, to_stdout[0] if to_stdout else None)
+
+
+def _write(
+    files: Sequence[tuple[str, bytes]], stdout: bytes | None, in_directory: bool = False
+) -> None:
+    """Check every output, stage the files, write the streams and stdout, then put the files in
+    place (``in_directory``: the files of ``-o DIR``)."""
+    plans = _plan_all((o for o, _ in files), in_directory)
+    staged: list[tuple[_Plan, Path]] = []
+    try:
+        with interrupts.held():  # each temporary file is noted as soon as it exists
+            for plan, (_, raw) in zip(plans, files, strict=True):
+                if not plan.stream:
+                    staged.append((plan, _stage(plan, raw)))
+        interrupts.check()
+        for plan, (_, raw) in zip(plans, files, strict=True):
+            if plan.stream:
+                _write_into(plan, raw)
+        if stdout is not None:
+            write_stdout(stdout)
+        with interrupts.committing():
+            _put_in_place(staged)
+    finally:  # an error, KeyboardInterrupt or SystemExit (SIGTERM) alike
+        for _, tmp in staged:
+            tmp.unlink(missing_ok=True)
+
+
+def _bytes(data: str | bytes) -> bytes:
+    return data.encode("utf-8") if isinstance(data, str) else data
 
 
 def write_stdout(data: str | bytes) -> None:
@@ -131,54 +276,13 @@ def _stdout_failed(e: OSError) -> InputError:
     return InputError(f"stdout: cannot write ({e.strerror or e})")
 
 
-def _refuse_source(target: Path, shown: str, sources: Iterable[str]) -> None:
-    """An ``InputError`` if ``target`` is one of the command's input files."""
-    for source in sources:
-        if _same_file(target, Path(source)):
-            raise InputError(f"{shown}: is the SOURCE file; refusing to write over it")
-
-
-def _same_file(a: Path, b: Path) -> bool:
-    try:
-        return a.exists() and b.exists() and os.path.samefile(a, b)
-    except OSError:
-        return False
-
-
-def _write_into(target: Path, raw: bytes, output: str) -> None:
+def _write_into(plan: _Plan, raw: bytes) -> None:
     """Write straight into a device or FIFO."""
     try:
-        with open(target, "wb") as f:
+        with open(plan.target, "wb") as f:
             f.write(raw)
     except OSError as e:
-        raise InputError(f"{output}: cannot write ({e.strerror})") from e
-
-
-def _replace(target: Path, raw: bytes, output: str, mode: int | None) -> None:
-    """Write a temporary file beside ``target`` and rename it into place; on any failure or
-    interruption the temporary file is removed and ``target`` is untouched."""
-    directory = target.parent
-    if not directory.is_dir():
-        raise InputError(f"{output}: directory '{directory}' does not exist")
-    try:
-        fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", dir=directory)
-    except OSError as e:
-        raise InputError(f"{output}: cannot write ({e.strerror})") from e
-    try:
-        with os.fdopen(fd, "wb") as f:
-            f.write(raw)
-        if mode is None:  # mkstemp creates 0600; give it the mode a plain open() would
-            os.chmod(tmp, 0o666 & ~_umask())
-        else:  # keep the permissions of the file replaced
-            os.chmod(tmp, stat.S_IMODE(mode))
-        os.replace(tmp, target)
-    except OSError as e:
-        raise InputError(f"{output}: cannot write ({e.strerror})") from e
-    finally:  # an error, KeyboardInterrupt or SystemExit (SIGTERM, see cli.py) alike
-        Path(tmp).unlink(missing_ok=True)
-
-
-# --------------------------------------------------------------------------- -o DIR
+        raise InputError(f"{plan.shown}: cannot write ({e.strerror})") from e
 
 
 def _umask() -> int:
@@ -187,70 +291,75 @@ def _umask() -> int:
     return umask
 
 
-def _existing_modes(
-    directory: Path, names: Iterable[str], output: str, sources: Iterable[str]
-) -> dict[str, int | None]:
-    """Each file name -> the permissions of the regular file it replaces (``None``: new); what
-    must not be replaced is refused here, before anything is written."""
-    modes: dict[str, int | None] = {}
-    for name in names:
-        target = directory / name
-        shown = os.path.join(output, name)
-        _refuse_source(target, shown, sources)
-        try:
-            mode = os.lstat(target).st_mode
-        except FileNotFoundError:
-            modes[name] = None
-            continue
-        except OSError as e:
-            raise InputError(f"{shown}: cannot write ({e.strerror})") from e
-        if not stat.S_ISREG(mode):
-            raise InputError(f"{shown}: is not a regular file; refusing to replace it")
-        modes[name] = stat.S_IMODE(mode)
-    return modes
-
-
-def _stage(staging: Path, files: Mapping[str, bytes], modes: Mapping[str, int | None]) -> None:
-    for name, raw in files.items():
-        fd = os.open(staging / name, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666)
+def _stage(plan: _Plan, raw: bytes) -> Path:
+    """Write ``raw`` to a new temporary file beside the plan's target, with the permissions the
+    target will have; its path."""
+    try:
+        fd, name = tempfile.mkstemp(prefix=f".{plan.target.name}.", dir=plan.target.parent)
+    except OSError as e:
+        raise InputError(f"{plan.shown}: cannot write ({e.strerror})") from e
+    tmp = Path(name)
+    try:
         with os.fdopen(fd, "wb") as f:
             f.write(raw)
-        mode = modes[name]
-        if mode is not None:
-            os.chmod(staging / name, mode)
+        # mkstemp creates 0600: give it the mode of the file replaced, or the one open() gives
+        os.chmod(tmp, 0o666 & ~_umask() if plan.mode is None else plan.mode)
+    except BaseException as e:
+        tmp.unlink(missing_ok=True)
+        if isinstance(e, OSError):
+            raise InputError(f"{plan.shown}: cannot write ({e.strerror})") from e
+        raise
+    return tmp
 
 
-def _move_in(staging: Path, directory: Path, modes: Mapping[str, int | None]) -> None:
-    """Rename the staged files into ``directory``; on a failure put back what was there."""
-    backups = staging / "old"
-    backups.mkdir()
-    done: list[tuple[Path, Path | None]] = []
+def _put_in_place(staged: Sequence[tuple[_Plan, Path]]) -> None:
+    """Rename the staged files onto their targets; should one fail, undo those done."""
+    done: list[tuple[Path, Path | None]] = []  # target, hard link to the file it replaced
     try:
-        for name, mode in modes.items():
-            target, backup = directory / name, None
-            if mode is not None:
-                try:
-                    os.link(target, backups / name)
-                    backup = backups / name
-                except OSError:  # no hard links here: this file cannot be restored
-                    pass
-            os.replace(staging / "new" / name, target)
-            done.append((target, backup))
+        for plan, tmp in staged:
+            backup = _keep(plan.target) if plan.mode is not None and len(staged) > 1 else None
+            try:
+                os.replace(tmp, plan.target)
+            except OSError as e:
+                if backup is not None:
+                    backup.unlink(missing_ok=True)
+                raise InputError(f"{plan.shown}: cannot write ({e.strerror})") from e
+            done.append((plan.target, backup))
     except BaseException:
         for target, backup in reversed(done):
             try:
                 if backup is None:
-                    target.unlink()
+                    target.unlink()  # new: or replaced where no hard link could keep it
                 else:
                     os.replace(backup, target)
             except OSError:
                 pass
         raise
+    finally:
+        for _, backup in done:
+            if backup is not None:
+                backup.unlink(missing_ok=True)
 
 
-def write_directory(
-    files: Mapping[str, str | bytes], output: str, sources: Iterable[str] = ()
-) -> None:
+def _keep(target: Path) -> Path | None:
+    """A hard link to ``target`` beside it, to put it back from; ``None`` where the file system
+    makes none."""
+    for _ in range(8):
+        backup = target.with_name(f".{target.name}.{secrets.token_hex(6)}.old")
+        try:
+            os.link(target, backup)
+            return backup
+        except FileExistsError:
+            continue
+        except OSError:
+            return None
+    return None
+
+
+# --------------------------------------------------------------------------- -o DIR
+
+
+def write_directory(files: Mapping[str, str | bytes], output: str) -> None:
     """Write each ``name -> data`` to ``output/name``, all or nothing (see the module docstring).
 
     Parameters
@@ -259,41 +368,37 @@ def write_directory(
         File name (a plain name, no directory part) -> its text or bytes.
     output
         The directory, as the user named it (also in messages).
-    sources
-        The command's input files: none of the files may be one of them.
     """
     for name in files:
         if name in ("", ".", "..") or os.sep in name or "/" in name or "\0" in name:
             raise ValueError(f"not a plain file name: {name!r}")
     if not output:
         raise InputError("-o: an empty directory name")
-    raw = {n: d.encode("utf-8") if isinstance(d, str) else d for n, d in files.items()}
     directory = Path(output)
-    exists = directory.is_dir()
-    if exists:
-        directory = directory.resolve()
-    elif directory.is_symlink():
+    if directory.is_dir():
+        paths = [(os.path.join(output, name), _bytes(data)) for name, data in files.items()]
+        _write(paths, None, in_directory=True)
+        return
+    if directory.is_symlink():
         raise InputError(f"{output}: is a dangling symbolic link; refusing to write")
-    elif directory.exists():
+    if directory.exists():
         raise InputError(f"{output}: is not a directory; several files need -o DIR")
-    elif not directory.absolute().parent.is_dir():
-        raise InputError(f"{output}: directory '{directory.absolute().parent}' does not exist")
-    modes = _existing_modes(directory, raw, output, sources) if exists else dict.fromkeys(raw)
+    parent = directory.absolute().parent
+    if not parent.is_dir():
+        raise InputError(f"{output}: directory '{parent}' does not exist")
+    tmp: Path | None = None
     try:
-        where = directory if exists else directory.absolute().parent
-        tmp = Path(tempfile.mkdtemp(prefix=f".{directory.name or 'output'}.", dir=where))
-    except OSError as e:
-        raise InputError(f"{output}: cannot write ({e.strerror})") from e
-    try:
-        if exists:
-            (tmp / "new").mkdir()
-            _stage(tmp / "new", raw, modes)
-            _move_in(tmp, directory, modes)
-        else:
-            _stage(tmp, raw, modes)
+        with interrupts.held():  # the temporary directory is noted as soon as it exists
+            tmp = Path(tempfile.mkdtemp(prefix=f".{directory.name or 'output'}.", dir=parent))
+            for name, data in files.items():
+                fd = os.open(tmp / name, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666)
+                with os.fdopen(fd, "wb") as f:
+                    f.write(_bytes(data))
             os.chmod(tmp, 0o777 & ~_umask())  # mkdtemp makes 0700; mkdir would give this
+        with interrupts.committing():
             os.rename(tmp, directory)  # DIR appears now, complete
     except OSError as e:
         raise InputError(f"{output}: cannot write ({e.strerror})") from e
-    finally:  # an error, KeyboardInterrupt or SystemExit (SIGTERM, see cli.py) alike
-        shutil.rmtree(tmp, ignore_errors=True)
+    finally:  # an error, KeyboardInterrupt or SystemExit (SIGTERM) alike
+        if tmp is not None:
+            shutil.rmtree(tmp, ignore_errors=True)

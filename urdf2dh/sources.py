@@ -14,7 +14,7 @@ from typing import Any
 
 from .catalog import ROBOTS, Bundled, robot_path
 from .errors import SHOWN_LENGTH, InputError, SourceError, UsageError, choices, shown
-from .files import read_file
+from .files import SOURCE_ROLE, read_file
 from .screws import PoeModel
 from .text import check_text, first_character
 from .tolerances import DEFAULT, Tolerances
@@ -127,7 +127,8 @@ def _from_file(
     bundled: Bundled | None,
     xacro: XacroOptions | None = None,
 ) -> Source:
-    data = read_file(path, display)
+    role = f"the installed file of bundled robot '{bundled.name}'" if bundled else SOURCE_ROLE
+    data = read_file(path, display, role)
     check_text(data, display, "a URDF, POE or table file")
     suffix = path.suffix.lower()
     if suffix == ".xacro":

@@ -6,28 +6,40 @@ xacro opens (includes, ``xacro.load_yaml``) resolve to the directories given as
 ``--xacro-arg NAME:=VALUE`` sets the file's ``<xacro:arg>`` values. ``package://`` mesh file
 names in the expanded URDF are left as they are: meshes are never loaded.
 
-xacro evaluates Python expressions (``${...}``), so a file can ask for anything: ``${9**9**9}``
-never ends, ``${'x'*10**9}`` wants gigabytes. The expansion runs in a child process bounded in
-time and memory (:class:`XacroOptions`: 20 s and 1 GiB by default, ``--xacro-timeout`` and
-``--xacro-memory`` to raise them); hitting a bound is a one-line error naming it.
+A xacro file is a program: xacro evaluates the Python expressions in it (``${...}``,
+``$(eval ...)``). The expansion runs in a confined child process (:mod:`urdf2dh.io`,
+``docs/security.md``): started isolated from the working directory and ``PYTHONPATH``, with an
+empty environment, refused processes, sockets and file changes, its expressions checked before
+xacro evaluates them, and bounded in time and memory (:class:`XacroOptions`: 20 s and 1 GiB by
+default, ``--xacro-timeout`` and ``--xacro-memory`` to raise them) and in what it prints
+(:data:`URDF_LIMIT`, :data:`MESSAGES_LIMIT`). Hitting a bound, or an expression refused, is a
+one-line error naming it. Everything the child starts is killed when it ends. The files the
+expansion read are inputs of the run (:func:`urdf2dh.files.note_input`): no output replaces them.
 """
 
 from __future__ import annotations
 
-import contextlib
-import importlib
+import importlib.machinery
 import json
+import math
 import os
-import subprocess
 import sys
-from collections.abc import Iterator, Mapping
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING
 
 from .errors import InputError
+from .files import note_input
+from .io.xacro_child import OUT_OF_MEMORY
 
-__all__ = ["PackageNotFound", "XacroOptions", "expand"]
+if TYPE_CHECKING:
+    from .io.child import Finished
+
+__all__ = ["MESSAGES_LIMIT", "URDF_LIMIT", "PackageNotFound", "XacroOptions", "expand"]
+
+URDF_LIMIT = 256 * 2**20  # bytes of expanded URDF
+MESSAGES_LIMIT = 2**20  # bytes the expansion may print (xacro.message, warnings)
 
 
 @dataclass(frozen=True, slots=True)
@@ -56,9 +68,6 @@ class XacroOptions:
             raise ValueError("xacro limits must be positive")
 
 
-PACKAGE_URL = "package://"
-
-
 class PackageNotFound(InputError):
     """A ``$(find NAME)`` or ``package://NAME`` with no ``--package-path NAME=DIR``."""
 
@@ -70,133 +79,140 @@ class PackageNotFound(InputError):
         self.package = package
 
 
-def _xacro(display: str) -> Any:
+CHILD = Path(__file__).resolve().parent / "io" / "xacro_child.py"
+UNDEFINED_ARG = "Undefined substitution argument "  # xacro's words for a missing $(arg)
+INSTALL_HINT = "pip install xacro"
+READ_ROLE = "a file the xacro SOURCE read"
+
+
+def _module_dirs(display: str) -> list[str]:
+    """The directories the child imports ``xacro`` and ``yaml`` from: where this interpreter
+    finds them on its ``sys.path``, the working directory left out (a module there is not
+    installed: it may be anybody's)."""
+    path = [p for p in sys.path if p and os.path.isabs(p) and not _is_cwd(p)]
+    dirs = []
+    for name in ("xacro", "yaml"):
+        blocked = name in sys.modules and sys.modules[name] is None  # `import` refuses it here
+        spec = None if blocked else importlib.machinery.PathFinder.find_spec(name, path)
+        if spec is None or spec.origin is None:
+            if name == "xacro":
+                raise InputError(
+                    f"{display}: reading .xacro files needs the xacro package (a dependency of "
+                    "urdf2dh, missing here); install it with: " + INSTALL_HINT
+                )
+            continue
+        top = Path(spec.origin).parent if Path(spec.origin).name == "__init__.py" else None
+        directory = str((top or Path(spec.origin)).parent)
+        if directory not in dirs:
+            dirs.append(directory)
+    return dirs
+
+
+def _is_cwd(directory: str) -> bool:
     try:
-        import xacro
-    except ImportError as e:
-        raise InputError(
-            f"{display}: reading .xacro files needs the xacro package (a dependency of "
-            "urdf2dh, missing here); install it with: pip install xacro"
-        ) from e
-    return xacro
+        return os.path.samefile(directory, os.getcwd())
+    except OSError:
+        return False
 
 
-@contextlib.contextmanager
-def _packages(xacro: Any, display: str, paths: Mapping[str, str]) -> Iterator[None]:
-    """Resolve ``$(find NAME)`` and ``package://NAME/`` from ``paths`` while xacro runs.
-
-    xacro asks ROS's ament index for ``$(find)`` (``substitution_args._eval_find``) and opens
-    other file names as paths (``abs_filename_spec``); both hooks are swapped for ours and put
-    back afterwards.
-    """
-    subst: Any = importlib.import_module("xacro.substitution_args")
-
-    def find(package: str) -> str:
-        if package not in paths:
-            raise PackageNotFound(display, package)
-        return os.path.abspath(paths[package])
-
-    original_spec = xacro.abs_filename_spec
-
-    def filename_spec(spec: str) -> str:
-        if spec.startswith(PACKAGE_URL):
-            package, _, rest = spec[len(PACKAGE_URL) :].partition("/")
-            return os.path.join(find(package), rest)
-        return str(original_spec(spec))
-
-    original_find = subst._eval_find
-    subst._eval_find = find
-    xacro.abs_filename_spec = filename_spec
-    try:
-        yield
-    finally:
-        subst._eval_find = original_find
-        xacro.abs_filename_spec = original_spec
+def _environment() -> dict[str, str]:
+    """The child's environment: empty but for what the interpreter itself may need to start."""
+    return {k: v for k, v in os.environ.items() if k in ("LD_LIBRARY_PATH", "SYSTEMROOT")}
 
 
 def expand(path: Path, display: str, options: XacroOptions | None = None) -> bytes:
-    """The URDF text of the xacro file ``path``, expanded in a child process within the time and
-    memory of ``options``."""
+    """The URDF text of the xacro file ``path``, expanded in a confined child process within the
+    time and memory of ``options`` (see the module docstring)."""
+    from .io import child
+
     options = options or XacroOptions()
-    _xacro(display)  # installed, or an install hint now rather than from the child
+    dirs = _module_dirs(display)
     for name, directory in options.packages.items():
         if not Path(directory).is_dir():
             raise InputError(f"--package-path {name}={directory}: no such directory")
-    job = {"path": str(path), "display": display, "packages": dict(options.packages),
-           "args": dict(options.args), "memory": options.memory}  # fmt: skip
-    here = str(Path(__file__).resolve().parents[1])  # where urdf2dh is imported from
-    env = {**os.environ, "PYTHONPATH": os.pathsep.join(
-        [here, *filter(None, [os.environ.get("PYTHONPATH")])])}  # fmt: skip
+    if not sys.executable:
+        raise InputError(f"{display}: no Python interpreter to expand xacro with")
+    job = {
+        "path": str(path),
+        "packages": dict(options.packages),
+        "args": dict(options.args),
+        "memory": options.memory * 2**20,
+        "cpu": math.ceil(options.timeout) + 1,
+        "parent": os.getpid(),
+        "module_dirs": dirs,
+    }
+    argv = [sys.executable, "-I", "-S", "-B", "-X", "utf8", str(CHILD)]
     try:
-        done = subprocess.run(
-            [sys.executable, "-c", "from urdf2dh.xacro import _child; _child()"],
-            input=json.dumps(job).encode(), capture_output=True, timeout=options.timeout,
-            env=env, check=False,
+        done = child.run(
+            argv, json.dumps(job).encode("utf-8"), _environment(), options.timeout,
+            URDF_LIMIT + 2**20, MESSAGES_LIMIT,
         )  # fmt: skip
-    except subprocess.TimeoutExpired:
+    except child.TimedOut:
         raise InputError(
             f"{display}: xacro expansion took longer than {options.timeout:g} s "
             "(--xacro-timeout SECONDS allows more)"
         ) from None
-    if done.returncode == 0:
-        return done.stdout
-    if done.returncode == _OUT_OF_MEMORY:
+    except child.Overflow as e:
+        what = "expanded URDF" if e.stream == "stdout" else "messages"
+        raise InputError(
+            f"{display}: xacro expansion printed more than {e.limit // 2**20} MiB of {what}; "
+            "stopped"
+        ) from None
+    if done.returncode == OUT_OF_MEMORY:
         raise InputError(
             f"{display}: xacro expansion needs more than {options.memory} MiB of memory "
             "(--xacro-memory MIB allows more)"
         )
-    message = done.stderr.decode("utf-8", "replace").strip().splitlines()
-    raise InputError(message[-1] if message else f"{display}: xacro failed ({done.returncode})")
-
-
-_OUT_OF_MEMORY = 3
-UNDEFINED_ARG = "Undefined substitution argument "  # xacro's words for a missing $(arg)
-
-
-def _child() -> None:
-    """The expanding process: a job on stdin, URDF text on stdout, or a one-line error on
-    stderr (exit 1; exit 3 when out of memory)."""
-    job = json.load(sys.stdin)
+    header, _, text = done.stdout.partition(b"\n")
     try:
-        import resource
+        result = json.loads(header) if done.returncode == 0 else None
+    except ValueError:
+        result = None
+    if not isinstance(result, dict):
+        return _crashed(display, done)
+    if "error" in result:
+        raise _error(display, result)
+    for file in result.get("read", []):
+        note_input(file, READ_ROLE)
+    return text
 
-        limit = job["memory"] * 2**20
-        resource.setrlimit(resource.RLIMIT_AS, (limit, limit))
-    except (ImportError, ValueError, OSError):  # no such limit on this platform
-        pass
+
+def _crashed(display: str, done: Finished) -> bytes:
+    """The one-line error of a child that ended without its answer."""
+    if done.returncode < 0:
+        how = f"was killed by signal {-done.returncode}"
+    else:
+        last = done.stderr_tail.decode("utf-8", "replace").strip().splitlines()
+        how = f"failed (exit {done.returncode}{': ' + last[-1] if last else ''})"
+    raise InputError(f"{display}: xacro expansion {how}")
+
+
+def _error(display: str, result: Mapping[str, str]) -> InputError:
+    """The one-line error of a failed expansion."""
+    kind, text = result.get("error"), result.get("message", "")
+    if kind == "package":
+        return PackageNotFound(display, result["package"])
+    if kind == "no-xacro":
+        return InputError(
+            f"{display}: reading .xacro files needs the xacro package ({text}); install it "
+            f"with: {INSTALL_HINT}"
+        )
+    if kind == "refused":
+        where = result.get("file") or ""
+        place = f" in {where}" if where and not _same_path(where, display) else ""
+        return InputError(
+            f"{display}: refused xacro expression ${{{result.get('expression', '')}}}{place}: "
+            f"{text} (docs/security.md)"
+        )
+    hint = ""
+    if text.startswith(UNDEFINED_ARG):
+        name = text[len(UNDEFINED_ARG) :].split()[0]
+        hint = f"; pass it as --xacro-arg {name}:=VALUE"
+    return InputError(f"{display}: xacro cannot expand it ({text}){hint}")
+
+
+def _same_path(a: str, b: str) -> bool:
     try:
-        text = _expand_here(Path(job["path"]), job["display"], job["packages"], job["args"])
-    except MemoryError:
-        sys.exit(_OUT_OF_MEMORY)
-    except InputError as e:
-        sys.stderr.write(" ".join(str(e).split()) + "\n")
-        sys.exit(1)
-    sys.stdout.buffer.write(text)
-
-
-def _expand_here(path: Path, display: str, packages: Mapping[str, str],
-                 mappings: Mapping[str, str]) -> bytes:  # fmt: skip
-    """The expansion itself, in this process."""
-    xacro = _xacro(display)
-    try:
-        with _packages(xacro, display, packages):
-            doc = xacro.process_file(str(path), mappings=dict(mappings))
-    except InputError:
-        raise
-    except MemoryError:
-        raise
-    except Exception as e:  # xacro raises XacroException, expat errors, IOError, NameError...
-        cause: BaseException | None = e
-        while cause is not None:  # xacro may wrap our PackageNotFound (as .exc or __cause__)
-            if isinstance(cause, InputError):
-                raise cause from e
-            if isinstance(cause, MemoryError):
-                raise cause from e
-            cause = cause.__cause__ or getattr(cause, "exc", None)
-        text = " ".join(str(e).split()) or type(e).__name__
-        hint = ""
-        if text.startswith(UNDEFINED_ARG):
-            name = text[len(UNDEFINED_ARG) :].split()[0]
-            hint = f"; pass it as --xacro-arg {name}:=VALUE"
-        raise InputError(f"{display}: xacro cannot expand it ({text}){hint}") from e
-    return str(doc.toprettyxml(indent="  ")).encode("utf-8")
+        return os.path.samefile(a, b)
+    except OSError:
+        return a == b

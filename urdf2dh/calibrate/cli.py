@@ -12,7 +12,7 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import InputError, UsageError, choices, shown
-from ..files import write_output
+from ..files import check_outputs, write_outputs
 
 __all__ = ["COMMANDS", "add_parsers", "calibrate_command", "measure_command", "plan_command"]
 
@@ -401,18 +401,11 @@ def measure_command(args: argparse.Namespace) -> int:
         pose,
         configurations,
     )
-    if args.marker_layout:
-        _check_directory(args.marker_layout)
-    sources = [args.source, *([args.configurations] if args.configurations else [])]
-    write_output(write_measurements(m), args.output, sources)
+    outputs = [(args.output, write_measurements(m))]
     if args.marker_layout and layout is not None:
-        write_output(write_layout(layout), args.marker_layout, sources)
+        outputs.append((args.marker_layout, write_layout(layout)))
+    write_outputs(outputs)
     return 0
-
-
-def _check_directory(path: str | None) -> None:
-    if path is not None and not Path(path).parent.is_dir():
-        raise InputError(f"{path}: directory '{Path(path).parent}' does not exist")
 
 
 def _helical(text: str, joints: tuple[str, ...]) -> tuple[str, ...]:
@@ -480,8 +473,7 @@ def calibrate_command(args: argparse.Namespace) -> int:
             f"{args.measurements}: {len(m.marker_ids())} markers; give their positions on the "
             "tool (--marker-layout FILE, marker,x,y,z) to define the tool frame"
         )
-    for path in (args.output, args.report, args.plot):
-        _check_directory(path)
+    check_outputs([args.output, args.report, args.plot])  # before the fit, which may take long
     if args.convention == "poe" and args.format not in ("yaml", "poe", "text", "json"):
         raise UsageError(
             f"--convention poe writes a POE model file: --format yaml or json, not {args.format}"
@@ -523,23 +515,17 @@ def calibrate_command(args: argparse.Namespace) -> int:
         check_samples=args.check_samples,
     )
     text = _model_text(cal, args.format)
-    plot = None
+    outputs: list[tuple[str | None, str | bytes]] = [(args.output, text)]
+    if args.report:
+        import json
+
+        outputs.append((args.report, json.dumps(to_dict(cal), indent=2) + "\n"))
     if args.plot:
         from .plot import plot_calibration
 
         plot = plot_calibration(cal, Path(args.plot).suffix.lower().lstrip("."))
-    sources = [
-        p
-        for p in (args.source, args.measurements, args.validate, args.marker_layout)
-        if p is not None
-    ]
-    write_output(text, args.output, sources)
-    if args.report:
-        import json
-
-        write_output(json.dumps(to_dict(cal), indent=2) + "\n", args.report, sources)
-    if args.plot and plot is not None:
-        write_output(plot, args.plot, sources)
+        outputs.append((args.plot, plot))
+    write_outputs(outputs)
     print(summary(cal), end="", file=sys.stdout if args.output else sys.stderr)
     return 0
 
@@ -581,8 +567,7 @@ def plan_command(args: argparse.Namespace) -> int:
         noise_rot=args.noise_rot,
         seed=args.seed,
     )
-    sources = [args.source, *([args.candidates] if args.candidates else [])]
-    write_output(write_configurations(joints, result.configurations), args.output, sources)
+    write_outputs([(args.output, write_configurations(joints, result.configurations))])
     print(result.summary(), end="", file=sys.stdout if args.output else sys.stderr)
     return 0
 
