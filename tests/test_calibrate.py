@@ -13,12 +13,13 @@ import yaml
 from consumers import ur_description_urdf
 
 import urdf2dh
+from urdf2dh.calibrate.calibration import calibrate
 from urdf2dh.calibrate.chart import Estimate, line_point, local_coordinates
 from urdf2dh.calibrate.identify import identify, moved
 from urdf2dh.calibrate.lie import quaternion_of
 from urdf2dh.calibrate.measure import marker_layout, perturb, synthesize
 from urdf2dh.calibrate.measurements import Measurements
-from urdf2dh.calibrate.run import Request, run
+from urdf2dh.calibrate.report import to_dict
 from urdf2dh.calibrate.start import Options, placement
 from urdf2dh.catalog import our_robots_dir
 from urdf2dh.convert import sample_configurations, to_table
@@ -84,19 +85,9 @@ def test_puma_from_60_noise_free_poses_is_the_actual_model_and_table_ii(puma):
 def test_noisy_poses_leave_the_noise_floor_on_held_out_poses(puma):
     nominal, actual = puma
     m = synthesize(actual, 250, NOISE_POS, NOISE_ROT, seed=2)
-    out = run(
-        Request(
-            nominal,
-            m,
-            pose=True,
-            helical=("all",),
-            holdout=0.2,
-            seed=3,
-            convention="poe",
-            fmt="json",
-        )
-    )
-    tree = out.tree
+    cal = calibrate(nominal, m, helical=("all",), holdout=0.2, seed=3, convention="poe")
+    assert cal.level == "full" and cal.chosen_by == "cross-validation"
+    tree = to_dict(cal)
     assert tree["counts"]["fit"] == 200 and tree["counts"]["held_out"] == 50
     held = tree["residuals"]["after"]["held_out"]
     floor_pos, floor_rot = math.sqrt(3) * NOISE_POS, math.sqrt(3) * NOISE_ROT
@@ -115,7 +106,7 @@ def test_standard_deviations_cover_the_errors_over_50_seeds(puma):
     chart the covariance is expressed in, up to second order), against twice the reported
     deviation: a Gaussian puts 95.4% within; we require 90%."""
     nominal, actual = puma
-    truth = Estimate(
+    truth = Estimate.of(
         tuple(
             Joint(j.name, "helical", j.axis, line_point(j.axis, j.point), j.pitch, j.scale)
             for j in actual.joints
@@ -161,8 +152,9 @@ def test_one_marker_identifies_the_chain_and_the_point_not_the_tool_rotation(pum
     q = sample_configurations(actual, 1000, 6)
     ours, theirs = result.model.fk_batch(q), actual.fk_batch(q)
     assert np.abs(ours[:, :3, 3] - theirs[:, :3, 3]).max() <= 1e-9 * actual.size()
-    kept = (placement(nominal, m, opts, [0]) @ nominal.home)[:3, :3]
-    assert np.allclose(result.model.home[:3, :3], kept, atol=1e-15)
+    # as placed in the device frame by the rigid fit and the base-tool level's base motion
+    placed = result.before.base_motion() @ placement(nominal, m, opts, [0]) @ nominal.home
+    assert np.allclose(result.model.home[:3, :3], placed[:3, :3], atol=1e-15)
     assert pose_errors(ours, theirs)[1] > 1e-3  # and so the tool's orientation is the nominal's
 
 
@@ -177,12 +169,13 @@ def test_scara_and_stanford_calibrate(robot):
     position, rotation = fk_error(result.model, actual)
     assert position <= 1e-9 * size and rotation <= 1e-9
     noisy = synthesize(actual, 250, 1e-5, 1e-5, seed=9)
-    out = run(Request(nominal, noisy, pose=True, holdout=0.2, convention="cpc", fmt="json"))
-    held = out.tree["residuals"]["after"]["held_out"]
-    assert held["rms_position"] <= 1.2 * math.sqrt(3) * 1e-5
-    assert held["rms_rotation"] <= 1.2 * math.sqrt(3) * 1e-5
+    cal = calibrate(nominal, noisy, holdout=0.2, convention="cpc")
+    held = cal.comparison("held_out")
+    assert held is not None and held.after.rms_rotation is not None
+    assert held.after.rms_position <= 1.2 * math.sqrt(3) * 1e-5
+    assert held.after.rms_rotation <= 1.2 * math.sqrt(3) * 1e-5
     for convention in ("dh", "mdh", "cpc"):  # every writer takes the identified model
-        assert to_table(out.result.model, convention).check.max_position_error < 1e-10 * size
+        assert to_table(cal.model, convention).check.max_position_error < 1e-10 * size
 
 
 def test_helical_pitch_is_identified(puma):
@@ -250,7 +243,9 @@ def test_nominal_frame_anchors_a_prismatic_first_joint_by_its_direction():
     assert position <= 1e-12 and rotation <= 1e-12
 
 
-def test_a_joint_that_never_moves_is_reported_not_identified():
+def test_a_joint_that_never_moves_is_reported_not_identified_with_the_cause():
+    """A joint held at one position throughout shows nothing of how its line lies or how far it
+    scales: those are not determined, the report says so and why, and the rest is found."""
     nominal = urdf2dh.load("ur5")
     actual = perturb(nominal, 4, 0.002, 0.001)
     m = synthesize(actual, 60, seed=5)
@@ -260,13 +255,18 @@ def test_a_joint_that_never_moves_is_reported_not_identified():
     frozen = Measurements(
         m.joints, q, poses[:, :3, 3], quaternion_of(poses[:, :3, :3]), None, "frozen.csv"
     )
-    out = run(Request(nominal, frozen, pose=True))
-    assert out.tree["counts"]["rank"] == 36 - 5
-    lost = [p["name"] for p in out.tree["parameters"] if p["std"] is None]
+    cal = calibrate(nominal, frozen, identify_level="full")
+    assert cal.counts.rank == 36 - 5 and cal.counts.parameters == 36
+    lost = [p.name for p in cal.parameters if p.std is None]
     assert lost == [f"wrist_1_joint.{k}" for k in ("turn1", "turn2", "shift1", "shift2", "scale")]
-    assert any("determine 31 of the 36 parameters" in w for w in out.tree["warnings"])
+    assert all("barely moved (0 rad)" in (p.flag or "") for p in cal.parameters if p.std is None)
+    assert cal.barely_moved == (("wrist_1_joint", 0.0),)
+    assert any(
+        "determine 31 of the 36 parameters" in w and "barely moved (wrist_1_joint)" in w
+        for w in cal.warnings
+    )
     # the rest is still found: the model matches the robot wherever wrist_1 is at zero
     fresh = sample_configurations(actual, 200, 6)
     fresh[:, 3] = 0.0
-    position, _ = pose_errors(out.result.model.fk_batch(fresh), actual.fk_batch(fresh))
+    position, _ = pose_errors(cal.model.fk_batch(fresh), actual.fk_batch(fresh))
     assert position <= 1e-9 * actual.size()

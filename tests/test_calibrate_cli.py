@@ -116,7 +116,7 @@ def test_calibrate_writes_every_convention_and_the_report(poses, tmp_path, capsy
     assert table["schema"] == "urdf2dh/1" and table["convention"] == "dh"
     assert table["check"]["max_position_error"] < 1e-10 * 300
     tree = json.loads(report.read_text())
-    assert tree["schema"] == "urdf2dh-calibration/1"
+    assert tree["schema"] == "urdf2dh-calibration/2"
     counts = tree["counts"]
     assert (counts["measurements"], counts["fit"], counts["held_out"]) == (200, 150, 50)
     assert counts["parameters"] == counts["rank"] == 42
@@ -217,8 +217,8 @@ HEADER = "j1,j2,j3,j4,j5,j6,x,y,z,qx,qy,qz,qw"
         (f"j1,j2,j3,j4,j5,j7,x,y,z\n{GOOD[:17]}\n", "column 'j7' is neither a joint of the chain"),
         ("j1,j2,j3,j4,j5,x,y,z\n0,0,0,0,0,1,2,3\n", "the header has no column for joint 'j6'"),
         (
-            f"{HEADER}\n{GOOD}\n0,0,0,0,0,0,1,2,3,0,0,0,1.00001\n",
-            "row 2 (line 3), column 'qw': the quaternion (qx, qy, qz, qw) has norm 1.00001",
+            f"{HEADER}\n{GOOD}\n0,0,0,0,0,0,1,2,3,0,0,0,1.5\n",
+            "row 2 (line 3), column 'qw': the quaternion (qx, qy, qz, qw) has norm 1.5",
         ),
         (
             "j1,j2,j3,j4,j5,j6,x,y,z,marker\n0,0,0,0,0,0,1,2,3,1.5\n",
@@ -243,11 +243,13 @@ def test_bad_rows_exit_2_naming_file_row_and_column(tmp_path, capsys, text, frag
 def test_too_few_measurements_exit_2_with_both_counts(tmp_path, capsys):
     meas = tmp_path / "few.csv"
     run(capsys, "measure", "puma560-actual", "--configs", "6", "-o", meas)
-    code, _, err = run(capsys, "calibrate", "puma560-nominal", meas, "--helical", "all")
+    code, _, err = run(
+        capsys, "calibrate", "puma560-nominal", meas, "--helical", "all", "--identify", "full"
+    )
     assert code == 2
     assert "6 poses give 36 equations (6 each), fewer than the 42 parameters" in err
     run(capsys, "measure", "puma560-actual", "--configs", "10", "--measure", "position", "-o", meas)
-    code, _, err = run(capsys, "calibrate", "puma560-nominal", meas)
+    code, _, err = run(capsys, "calibrate", "puma560-nominal", meas, "--identify", "full")
     assert code == 2 and "10 positions give 30 equations (3 each), fewer than the 33" in err
 
 
@@ -288,7 +290,7 @@ def test_markers_need_their_layout_and_position_measurements(tmp_path, capsys):
     code, _, err = run(capsys, "calibrate", "puma560-nominal", meas)
     assert code == 2 and "3 markers; give their positions on the tool" in err
     code, _, err = run(capsys, "calibrate", "puma560-nominal", meas, "--measure", "pose")
-    assert code == 2 and "--measure pose needs the columns qx, qy, qz, qw" in err
+    assert code == 2 and "--measure pose needs an orientation (qx, qy, qz, qw" in err
     code, out, err = run(
         capsys,
         "calibrate",

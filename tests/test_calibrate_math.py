@@ -8,7 +8,18 @@ import numpy as np
 import pytest
 
 import urdf2dh
-from urdf2dh.calibrate.chart import Estimate, count, line_point, local_coordinates, retract
+from urdf2dh.calibrate.chart import (
+    BASE_TOOL,
+    FULL,
+    GEOMETRY,
+    OFFSETS,
+    Estimate,
+    absorbed,
+    count,
+    line_point,
+    local_coordinates,
+    retract,
+)
 from urdf2dh.calibrate.lie import (
     exp_so3,
     left_jacobian,
@@ -45,7 +56,7 @@ def estimate(model: PoeModel, helical: bool = False, **kw) -> Estimate:
         )
         for j in model.joints
     )
-    return Estimate(joints, home=model.home.copy(), **kw)
+    return Estimate.of(joints, home=model.home.copy(), **kw)
 
 
 @pytest.mark.parametrize("angle", [0.0, 1e-9, 1e-5, 0.05, 0.3, 2.0, np.pi - 1e-4, np.pi - 1e-9])
@@ -104,30 +115,85 @@ def _numeric_jacobian(est, data, sp, sr, h=1e-6):
     return np.array(cols).T
 
 
-@pytest.mark.parametrize("case", ["pose", "tool-axis", "position", "prismatic", "no-scale"])
+CASES = [
+    "pose",
+    "tool-axis",
+    "position",
+    "prismatic",
+    "no-scale",
+    "offsets",
+    "base-tool",
+    "offsets-position",
+    "some-fixed",
+    "markers-fixed",
+]
+
+
+@pytest.mark.parametrize("case", CASES)
 def test_analytic_jacobian_equals_finite_differences(case):
-    model = urdf2dh.load("stanford" if case == "prismatic" else "puma560-actual")
+    """Every level's Jacobian (joint lines, pitches, scales; base, offsets; tool and markers,
+    with some coordinates held fixed) against central differences of the residuals."""
+    model = urdf2dh.load("stanford" if case in ("prismatic", "offsets") else "puma560-actual")
     rng = np.random.default_rng(4)
     q = sample_configurations(model, 15, 5)
-    if case == "position":
-        base = estimate(model, helical=True)
-        est = Estimate(base.joints, markers=np.array([[200.0, 60.0, -10.0], [260.0, 30, 5]]))
+    level = {
+        "no-scale": GEOMETRY,
+        "offsets": OFFSETS,
+        "offsets-position": OFFSETS,
+        "base-tool": BASE_TOOL,
+    }.get(case, FULL)
+    if case in ("position", "offsets-position", "markers-fixed"):
+        base = estimate(model, helical=case != "offsets-position")
+        est = Estimate(
+            base.chain,
+            markers=np.array([[200.0, 60.0, -10.0], [260.0, 30, 5]]),
+            level=level,
+            offsets=rng.normal(size=model.n) * 0.1 if level.offsets else None,
+        )
+        if case == "markers-fixed":
+            free = np.ones(count(est), dtype=bool)
+            free[[3, 10, -1, -5]] = False
+            est = Estimate(est.chain, markers=est.markers, free=free)
         data = Data(q, rng.normal(size=(15, 3)) * 100, marker_rows=rng.integers(0, 2, 15))
     else:
         est = estimate(
             model,
-            helical=case != "prismatic",
+            helical=case not in ("prismatic", "offsets", "base-tool"),
             keep_tool_axis=case == "tool-axis",
-            scales=case != "no-scale",
+            level=level,
         )
+        if level.offsets:
+            est = Estimate(est.chain, est.home, level=level, offsets=rng.normal(size=model.n) * 0.1)
+        if case == "some-fixed":
+            free = np.ones(count(est), dtype=bool)
+            free[[0, 7, 20, -2]] = False
+            est = Estimate(est.chain, est.home, level=level, free=free)
         poses = model_poses(est, q)
         turn = exp_so3(rng.normal(size=(15, 3)) * 0.2)  # residuals far from 0: J_l^-1 matters
         data = Data(q, poses[:, :3, 3] + rng.normal(size=(15, 3)), poses[:, :3, :3] @ turn)
     sp, sr = 0.5, 0.01
     _, jac = evaluate(est, data, sp, sr)
     numeric = _numeric_jacobian(est, data, sp, sr)
+    assert jac.shape == numeric.shape == (len(data) * data.rows, count(est))
     scale = np.abs(jac).max(axis=0)
     assert np.all(np.abs(jac - numeric).max(axis=0) <= 1e-6 * scale), np.abs(jac - numeric).max(0)
+
+
+@pytest.mark.parametrize("robot", ["puma560-actual", "stanford"])
+def test_offsets_are_absorbed_into_the_same_motion(robot):
+    """A model with joint offsets and the same model with them absorbed by the lines and the
+    tool (chart.absorbed) move alike at every configuration."""
+    model = urdf2dh.load(robot)
+    rng = np.random.default_rng(9)
+    est = Estimate(
+        estimate(model).chain,
+        model.home.copy(),
+        level=OFFSETS,
+        offsets=rng.normal(size=model.n) * 0.3,
+    )
+    flat = absorbed(est)
+    q = sample_configurations(model, 50, 10)
+    assert np.allclose(model_poses(est, q), model_poses(flat, q), atol=1e-12 * model.size())
 
 
 def _rank(jac: np.ndarray, relative: float = 1e-7) -> int:

@@ -120,3 +120,56 @@ def test_diff_across_units_and_conventions(tmp_path, capsys):
 def test_diff_of_different_chains_is_an_input_error(capsys):
     assert main(["diff", "ur5", "panda"]) == 2
     assert "NOMINAL has 6 joints and ACTUAL 7" in capsys.readouterr().err
+
+
+def _poe_file(path, model):
+    import yaml
+
+    from urdf2dh.poefile import poe_to_dict
+
+    path.write_text(yaml.safe_dump(poe_to_dict(model), sort_keys=False))
+    return str(path)
+
+
+def test_a_row_that_changes_form_is_reported_not_a_crash(tmp_path, capsys):
+    """Two parallel axes made 2 mrad apart: their hayati row is a D-H link in one table and a
+    Hayati link in the other. diff reports the row as changed form, with both records, the
+    link transform each gives and how far those are apart (text and JSON)."""
+    import numpy as np
+
+    import urdf2dh
+    from urdf2dh.screws import PoeModel
+    from urdf2dh.se3 import rot_axis
+
+    ur5 = urdf2dh.load("ur5")
+    tilt = rot_axis(np.array([0.0, 0.0, 1.0]), 0.002)  # out of the common normals' plane
+    elbow = ur5.joints[2]
+    tilted = type(elbow)(
+        elbow.name, elbow.kind, tilt @ elbow.axis, elbow.point, elbow.pitch, elbow.scale
+    )
+    actual = PoeModel((*ur5.joints[:2], tilted, *ur5.joints[3:]), ur5.home, "tilted")
+    a, b = _poe_file(tmp_path / "a.yaml", ur5), _poe_file(tmp_path / "b.yaml", actual)
+    tree = run_json(capsys, a, b, "--convention", "hayati")
+    forms = tree["changed_form"]
+    assert forms and {f["nominal_form"] for f in forms} | {f["actual_form"] for f in forms} == {
+        "D-H",
+        "Hayati",
+    }
+    f = forms[0]
+    assert set(f) == {
+        "row",
+        "nominal_form",
+        "actual_form",
+        "nominal",
+        "actual",
+        "nominal_link",
+        "actual_link",
+        "length",
+        "angle",
+        "marked",
+    }
+    assert len(f["nominal_link"]) == 4 and f["marked"] and f["angle"] > 0
+    assert all(p["row"] != f["row"] for p in tree["parameters"])  # no mixed-up parameters
+    assert main(["diff", a, b, "--convention", "hayati"]) == 0
+    out = capsys.readouterr().out
+    assert f"{f['row']}" in out and "link moved" in out and "changed form" in out

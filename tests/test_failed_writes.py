@@ -20,7 +20,18 @@ FULL = Path("/dev/full")
 ROOT = Path(__file__).resolve().parents[1]
 pytestmark = pytest.mark.skipif(not FULL.exists(), reason="no /dev/full on this system")
 
-COMMANDS = ["convert", "verify", "diff", "info", "export", "plot", "robots", "measure", "calibrate"]
+COMMANDS = [
+    "convert",
+    "verify",
+    "diff",
+    "info",
+    "export",
+    "plot",
+    "robots",
+    "measure",
+    "calibrate",
+    "plan",
+]
 
 
 def test_every_command_is_listed_here():
@@ -64,6 +75,7 @@ OUTPUTS = [
     ["diff", "puma560-nominal", "puma560-actual"],
     ["export", "ur5", "--to", "rtb"],
     ["measure", "ur5", "--configs", "5"],
+    ["plan", "ur5", "--configs", "3"],
     ["convert", "ur5", "-o", str(FULL)],
     ["plot", "ur5", "-o", str(FULL)],
 ]

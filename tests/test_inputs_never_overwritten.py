@@ -41,6 +41,8 @@ def inputs(tmp_path, monkeypatch):
     assert main(["measure", "puma560-actual", *common, "-o", "poses.csv"]) == 0
     layout = ["--markers", "3", "--marker-layout", "layout.csv"]
     assert main(["measure", "puma560-actual", *common, *layout, "-o", "markers.csv"]) == 0
+    assert main(["measure", "puma560-actual", "--configs", "10", "-o", "held.csv"]) == 0
+    assert main(["plan", "arm.urdf", "--configs", "8", "--seed", "1", "-o", "cands.csv"]) == 0
     return tmp_path
 
 
@@ -75,6 +77,9 @@ RUNS = [
     (["calibrate", "nominal.yaml", "poses.csv"], ["nominal.yaml", "poses.csv"]),
     (["calibrate", "nominal.yaml", "markers.csv", "--marker-layout", "layout.csv"],
      ["layout.csv", "markers.csv"]),
+    (["calibrate", "nominal.yaml", "poses.csv", "--validate", "held.csv"], ["held.csv"]),
+    (["plan", "arm.urdf", "--configs", "4", "--candidates", "cands.csv"], ["cands.csv"]),
+    (["measure", "arm.urdf", "--configurations", "cands.csv"], ["cands.csv", "hard.urdf"]),
 ]  # fmt: skip
 
 
@@ -90,11 +95,17 @@ def test_no_output_replaces_an_input(inputs, capsys, command, targets):
 
 @pytest.mark.parametrize(
     ("option", "target"),
-    [("--report", "poses.csv"), ("--report", "nominal.yaml"), ("--marker-layout", "arm.urdf")],
+    [
+        ("--report", "poses.csv"),
+        ("--report", "nominal.yaml"),
+        ("--plot", "poses.png"),
+        ("--marker-layout", "arm.urdf"),
+    ],
 )
 def test_second_outputs_are_held_to_it_too(inputs, capsys, option, target):
+    os.link(inputs / "poses.csv", inputs / "poses.png")  # --plot wants an image's name
     before = snapshot(inputs)
-    if option == "--report":
+    if option in ("--report", "--plot"):
         argv = ["calibrate", "nominal.yaml", "poses.csv", "-o", "new.txt", option, target]
     else:
         argv = ["measure", "arm.urdf", "--configs", "5", "--markers", "2", "-o", "m.csv"]

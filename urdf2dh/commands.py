@@ -198,7 +198,7 @@ def _diff(args: argparse.Namespace) -> int:
 
     from .diff import diff_sources, render_diff
 
-    info, changes, pairs = diff_sources(
+    info, changes, pairs, forms = diff_sources(
         args.nominal,
         args.actual,
         args.convention,
@@ -213,7 +213,7 @@ def _diff(args: argparse.Namespace) -> int:
         samples=args.check_samples,
         xacro=xacro_options(args),
     )
-    write_output(render_diff(info, changes, pairs, args.format), args.output)
+    write_output(render_diff(info, changes, pairs, args.format, forms), args.output)
     return 0
 
 

@@ -7,6 +7,13 @@ may describe the same pair of lines with (theta, alpha, a) or (theta + pi, -alph
 sign rule such as a >= 0 switches between them when a crosses 0 (Table II's 0H1 alpha, 90 ->
 -88.854, is not marked).
 
+A row whose two tables hold records of different forms (a ``hayati`` row that is a D-H link in
+one table and a Hayati link in the other: two axes that were parallel no longer are, exactly what
+calibration finds) has no parameter-by-parameter change: it is reported as *changed form*, with
+each record's parameters, the link transform each gives (the row's constant transforms composed
+at ``q = 0``) and how far those two transforms are apart, in length and angle
+(:class:`FormChange`).
+
 The axis pairs where D-H is ill-conditioned are named: consecutive lines (base z, joint axes,
 tool z) that are nearly parallel in either model. There the common normal, and with it d, a and
 theta, jump under small changes (Wu 2019 §V-B): identify with CPC or the POE model and convert
@@ -30,7 +37,19 @@ from .table import Row, Table
 from .tolerances import DIFF_LENGTH_M, DIFF_ROUND_OFF, Tolerances
 from .xacro import XacroOptions
 
-__all__ = ["Change", "IllPair", "compare", "diff_sources", "ill_conditioned", "render_diff"]
+__all__ = [
+    "SCHEMA",
+    "Change",
+    "Diff",
+    "FormChange",
+    "IllPair",
+    "compare",
+    "diff_sources",
+    "diff_tree",
+    "form_changes",
+    "ill_conditioned",
+    "render_diff",
+]
 
 SCHEMA = "urdf2dh-diff/1"
 
@@ -46,6 +65,39 @@ class Change:
     actual: Any
     change: float
     kind: str  # "angle", "length", "direction", "pitch" or "scale"
+    marked: bool
+
+
+@dataclass(frozen=True, slots=True)
+class FormChange:
+    """A row (or the base, or the tool) whose records differ in form between the tables.
+
+    Attributes
+    ----------
+    row
+        The row's label (``base``, a joint's name, ``tool``).
+    nominal_form, actual_form
+        Each record's form (``D-H``, ``Hayati``, or its class name).
+    nominal, actual
+        Each record's parameters (angles in radians, lengths in the nominal's unit).
+    nominal_link, actual_link
+        ``4 x 4`` the link transform each record gives (its constant transforms at ``q = 0``).
+    length, angle
+        How far the two link transforms are apart: the distance of their origins and the angle
+        of their relative rotation (rad).
+    marked
+        Whether either exceeds the thresholds.
+    """
+
+    row: str
+    nominal_form: str
+    actual_form: str
+    nominal: dict[str, Any]
+    actual: dict[str, Any]
+    nominal_link: list[list[float]]
+    actual_link: list[list[float]]
+    length: float
+    angle: float
     marked: bool
 
 
@@ -66,22 +118,12 @@ def _angle_mod_pi(delta: float) -> float:
 def compare(
     nominal: Table, actual: Table, angle_threshold: float, length_threshold: float
 ) -> list[Change]:
-    """Row-by-row changes from ``nominal`` to ``actual`` (same convention, same unit)."""
-    if nominal.convention != actual.convention:
-        raise UsageError("diff compares tables of one convention")
-    if nominal.n != actual.n:
-        raise InputError(
-            f"NOMINAL has {nominal.n} joints and ACTUAL {actual.n}: the tables do not match"
-        )
-    rows: list[tuple[str, Params, Params, Row | None, Row | None]] = [
-        ("base", nominal.base, actual.base, None, None)
-    ]
-    for a, b in zip(nominal.rows, actual.rows, strict=True):
-        label = a.name if a.name == b.name else f"{a.name}/{b.name}"
-        rows.append((label, a.params, b.params, a, b))
-    rows.append(("tool", nominal.tool, actual.tool, None, None))
+    """Row-by-row changes from ``nominal`` to ``actual`` (same convention, same unit); rows whose
+    records changed form are left to :func:`form_changes`."""
     out = []
-    for label, pa, pb, ra, rb in rows:
+    for label, pa, pb, ra, rb in _pairs(nominal, actual):
+        if type(pa) is not type(pb):
+            continue  # changed form: see form_changes
         values_a, values_b = pa.values(), pb.values()
         for param, quantity in type(pa).quantities().items():
             va, vb = values_a[param], values_b[param]
@@ -100,13 +142,74 @@ def compare(
                 change = float(vb) - float(va)  # type: ignore[arg-type]
                 marked = abs(change) > length_threshold
             out.append(Change(label, param, va, vb, change, kind, marked))
-        if ra is not None and rb is not None:
-            out.append(
-                Change(label, "pitch", ra.pitch, rb.pitch, rb.pitch - ra.pitch, "pitch", False)
+        out += _motion_changes(label, ra, rb)
+    return out
+
+
+def _motion_changes(label: str, ra: Row | None, rb: Row | None) -> list[Change]:
+    if ra is None or rb is None:
+        return []
+    return [
+        Change(label, "pitch", ra.pitch, rb.pitch, rb.pitch - ra.pitch, "pitch", False),
+        Change(label, "scale", ra.scale, rb.scale, rb.scale - ra.scale, "scale", False),
+    ]
+
+
+def _pairs(
+    nominal: Table, actual: Table
+) -> list[tuple[str, Params, Params, Row | None, Row | None]]:
+    """The records of both tables side by side, labelled (after checking they match)."""
+    if nominal.convention != actual.convention:
+        raise UsageError("diff compares tables of one convention")
+    if nominal.n != actual.n:
+        raise InputError(
+            f"NOMINAL has {nominal.n} joints and ACTUAL {actual.n}: the tables do not match"
+        )
+    rows: list[tuple[str, Params, Params, Row | None, Row | None]] = [
+        ("base", nominal.base, actual.base, None, None)
+    ]
+    for a, b in zip(nominal.rows, actual.rows, strict=True):
+        label = a.name if a.name == b.name else f"{a.name}/{b.name}"
+        rows.append((label, a.params, b.params, a, b))
+    rows.append(("tool", nominal.tool, actual.tool, None, None))
+    return rows
+
+
+def _link(params: Params) -> np.ndarray:
+    """The record's link transform at ``q = 0`` (its constant transforms composed)."""
+    from .frames import compose
+    from .se3 import matrix_of
+
+    before, after = params.around_joint()
+    return matrix_of(after if before is None else compose(before, after))
+
+
+def form_changes(
+    nominal: Table, actual: Table, angle_threshold: float, length_threshold: float
+) -> list[FormChange]:
+    """The rows whose records differ in form between the tables (module docstring)."""
+    out = []
+    for label, pa, pb, _, _ in _pairs(nominal, actual):
+        if type(pa) is type(pb):
+            continue
+        la, lb = _link(pa), _link(pb)
+        length = float(np.linalg.norm(lb[:3, 3] - la[:3, 3]))
+        rel = la[:3, :3].T @ lb[:3, :3]
+        angle = math.acos(max(-1.0, min(1.0, 0.5 * (float(np.trace(rel)) - 1.0))))
+        out.append(
+            FormChange(
+                label,
+                pa.form or type(pa).__name__,
+                pb.form or type(pb).__name__,
+                pa.to_dict(),
+                pb.to_dict(),
+                la.tolist(),
+                lb.tolist(),
+                length,
+                angle,
+                length > length_threshold or angle > angle_threshold,
             )
-            out.append(
-                Change(label, "scale", ra.scale, rb.scale, rb.scale - ra.scale, "scale", False)
-            )
+        )
     return out
 
 
@@ -151,10 +254,11 @@ def diff_sources(
     style: str = "wu",
     samples: int = 1000,
     xacro: XacroOptions | None = None,
-) -> tuple[dict[str, Any], list[Change], list[IllPair]]:
+) -> tuple[dict[str, Any], list[Change], list[IllPair], list[FormChange]]:
     """Both SOURCEs as tables of ``convention`` (ACTUAL in NOMINAL's length unit), compared.
 
-    Returns the report's header fields, the parameter changes and the ill-conditioned pairs.
+    Returns the report's header fields, the parameter changes, the ill-conditioned pairs and the
+    rows that changed form.
     ``length_threshold`` ``None`` means :data:`~urdf2dh.tolerances.DIFF_LENGTH_M` in the
     nominal's unit.
     """
@@ -187,7 +291,8 @@ def diff_sources(
         "warnings": [w for t in tables for w in t.warnings],
     }
     changes = compare(tables[0], tables[1], angle_threshold, length)
-    return info, changes, ill_conditioned(nominal, actual, parallel_within)
+    forms = form_changes(tables[0], tables[1], angle_threshold, length)
+    return info, changes, ill_conditioned(nominal, actual, parallel_within), forms
 
 
 RECOMMENDATION = (
@@ -197,19 +302,90 @@ RECOMMENDATION = (
 )
 
 
-def render_diff(info: dict[str, Any], changes: list[Change], pairs: list[IllPair], fmt: str) -> str:
+@dataclass(frozen=True)
+class Diff:
+    """A comparison of two parameter sets in one convention (what ``urdf2dh diff`` reports).
+
+    Attributes
+    ----------
+    convention, nominal, actual
+        The convention and the two sources' names.
+    length_unit
+        The tables' length unit (the nominal's).
+    size
+        The nominal's size.
+    angle_threshold, length_threshold
+        What is marked: changes beyond these (rad; length unit).
+    warnings
+        The two tables' warnings.
+    changes, forms, pairs
+        The parameter changes of rows of one form, the rows that changed form, the
+        ill-conditioned axis pairs.
+    """
+
+    convention: str
+    nominal: str
+    actual: str
+    length_unit: str
+    size: float
+    angle_threshold: float
+    length_threshold: float
+    warnings: tuple[str, ...]
+    changes: tuple[Change, ...]
+    forms: tuple[FormChange, ...]
+    pairs: tuple[IllPair, ...]
+
+    def info(self) -> dict[str, Any]:
+        """The report's header fields (:func:`render_diff`'s ``info``)."""
+        return {
+            "convention": self.convention,
+            "nominal": self.nominal,
+            "actual": self.actual,
+            "units": {"length": self.length_unit, "angle": "rad"},
+            "size": self.size,
+            "thresholds": {"angle": self.angle_threshold, "length": self.length_threshold},
+            "warnings": list(self.warnings),
+        }
+
+    def tree(self) -> dict[str, Any]:
+        """The JSON report as a tree (docs/diff.md)."""
+        return diff_tree(self.info(), list(self.changes), list(self.pairs), self.forms)
+
+    @property
+    def marked(self) -> int:
+        """How many parameters changed beyond the thresholds."""
+        return sum(c.marked for c in self.changes)
+
+
+def diff_tree(
+    info: dict[str, Any],
+    changes: list[Change],
+    pairs: list[IllPair],
+    forms: list[FormChange] | tuple[FormChange, ...] = (),
+) -> dict[str, Any]:
+    """The JSON report as a tree (docs/diff.md gives its shape)."""
+    return {
+        "schema": SCHEMA,
+        **info,
+        "parameters": [asdict(c) for c in changes],
+        "changed_form": [asdict(f) for f in forms],
+        "ill_conditioned": [asdict(p) for p in pairs],
+        "recommendation": RECOMMENDATION if pairs else None,
+    }
+
+
+def render_diff(
+    info: dict[str, Any],
+    changes: list[Change],
+    pairs: list[IllPair],
+    fmt: str,
+    forms: list[FormChange] | tuple[FormChange, ...] = (),
+) -> str:
     """Text (angles in degrees) or JSON (radians) report."""
     if fmt == "json":
         import json
 
-        tree = {
-            "schema": SCHEMA,
-            **info,
-            "parameters": [asdict(c) for c in changes],
-            "ill_conditioned": [asdict(p) for p in pairs],
-            "recommendation": RECOMMENDATION if pairs else None,
-        }
-        return json.dumps(tree, indent=2) + "\n"
+        return json.dumps(diff_tree(info, changes, pairs, forms), indent=2) + "\n"
     unit = info["units"]["length"]
     # lengths to a micrometre or finer, angles to 1e-4 deg; a change too small for that is
     # shown in full (3 digits) rather than as +0.0000
@@ -242,7 +418,7 @@ def render_diff(info: dict[str, Any], changes: list[Change], pairs: list[IllPair
         return f"{signed(c.change, decimals, exact * info['size'])} {unit}"
 
     rows = [visible(c.row) for c in changes]
-    width = max(map(len, rows))
+    width = max(map(len, [*rows, *(visible(f.row) for f in forms), "row"]))
     thresholds = info["thresholds"]
     out = [
         f"diff ({info['convention']}): {visible(info['nominal'])} -> {visible(info['actual'])}; "
@@ -258,8 +434,20 @@ def render_diff(info: dict[str, Any], changes: list[Change], pairs: list[IllPair
             f"{row:<{width}}  {c.param:<6} {show(c.nominal, c.kind):>28} "
             f"{show(c.actual, c.kind):>28}  {delta(c)}{'  *' if c.marked else ''}"
         )
+    for f in forms:
+        out.append(
+            f"{visible(f.row):<{width}}  form   {f.nominal_form:>28} {f.actual_form:>28}  "
+            f"link moved {signed(f.length, decimals, exact * info['size'])} {unit}, "
+            f"{signed(math.degrees(f.angle), 4, math.degrees(exact))} deg"
+            + ("  *" if f.marked else "")
+        )
     marked = sum(c.marked for c in changes)
     out.append(f"{marked} parameter{'' if marked == 1 else 's'} changed beyond the thresholds")
+    if forms:
+        out.append(
+            f"{len(forms)} row{'' if len(forms) == 1 else 's'} changed form (parameters of "
+            "different kinds: compared by the link transform each gives)"
+        )
     if pairs:
         names = ", ".join(
             f"({visible(p.first)}, {visible(p.second)}) {math.degrees(p.nominal_angle):.3f} / "

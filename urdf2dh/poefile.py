@@ -180,17 +180,21 @@ def joint_from_twist(
 
     For ``|w| > 0`` the scale is ``|w|`` and the pitch ``w.v / |w|^2``; the joint is revolute
     when the pitch is round-off (``|h| <= noise * |v| / |w|``), helical otherwise. For
-    ``|w| <= noise`` the joint is prismatic with scale ``|v|``. Callers validate the twist
-    (finite, not all zero) before calling.
+    ``|w| <= noise`` the joint is prismatic with scale ``|v|``. A scale within ``noise`` of 1 is
+    1: a unit twist written with its direction's last bit of round-off reads back as itself (a
+    unit scale is what most controllers require). Callers validate the twist (finite, not all
+    zero) before calling.
     """
     xi = np.asarray(xi, dtype=float)
     w, v = xi[:3], xi[3:]
     nw, nv = float(np.linalg.norm(w)), float(np.linalg.norm(v))
     if nw <= noise:
-        return Joint(name, "prismatic", v / nv, None, 0.0, nv, lower, upper)
+        scale = 1.0 if abs(nv - 1.0) <= noise else nv
+        return Joint(name, "prismatic", v / nv, None, 0.0, scale, lower, upper)
     u = w / nw
     pitch = float(w @ v) / (nw * nw)
     point = np.cross(w, v) / (nw * nw)
+    scale = 1.0 if abs(nw - 1.0) <= noise else nw
     if abs(pitch) <= noise * nv / nw:
-        return Joint(name, "revolute", u, point, 0.0, nw, lower, upper)
-    return Joint(name, "helical", u, point, pitch, nw, lower, upper)
+        return Joint(name, "revolute", u, point, 0.0, scale, lower, upper)
+    return Joint(name, "helical", u, point, pitch, scale, lower, upper)

@@ -11,6 +11,8 @@ import sys
 from dataclasses import dataclass, fields, replace
 
 __all__ = [
+    "BARELY_MOVED",
+    "CALIBRATION_COST",
     "CALIBRATION_GRADIENT",
     "CALIBRATION_STEP",
     "DEFAULT",
@@ -21,6 +23,9 @@ __all__ = [
     "FK_ROUNDING",
     "HASH_DECIMALS",
     "NOISE_FLOOR",
+    "NOISE_RATIO",
+    "OUTLIER_CHANCE",
+    "POORLY_IDENTIFIED",
     "QUATERNION_NORM",
     "RANK_RELATIVE",
     "RIGID_INPUT",
@@ -51,17 +56,23 @@ DIFF_ROUND_OFF = 1e-12
 
 # ----------------------------------------------------------------------------- calibration
 
-# A measured quaternion (x, y, z, w) must be a unit quaternion within this (issue 15): files
-# written with 7 or more significant digits pass, a scaled or truncated one does not.
-QUATERNION_NORM = 1e-6
+# A measured quaternion (x, y, z, w) must be a unit quaternion within this (it is then
+# normalised): files that round to 3 decimals (norm off by up to ~1e-3) pass, a quaternion that is
+# scaled, truncated to fewer digits or not one at all does not.
+QUATERNION_NORM = 1e-2
 
 # Identification (urdf2dh/calibrate/identify.py) has converged when the next Gauss-Newton step
 # would move no modelled tool point by more than CALIBRATION_STEP x robot size and no tool
 # orientation by more than CALIBRATION_STEP rad (below that, steps only chase round-off: forward
 # kinematics is itself good to ~1e-15 relative), or when every column of the (column-normalised)
 # Jacobian is within CALIBRATION_GRADIENT of orthogonal to the residual (a minimum with noise).
+# It has converged too when the next step is predicted to lower the weighted sum of squares by
+# no more than CALIBRATION_COST of it (MINPACK's and scipy's ftol, 1.5e-8 and 1e-8): the fit's
+# RMS residual would not change in its eighth digit. In a flat valley of parameters the data
+# barely see, steps that still move them would otherwise creep on for hundreds of iterations.
 CALIBRATION_STEP = 1e-11
 CALIBRATION_GRADIENT = 1e-10
+CALIBRATION_COST = 1e-8
 
 # Numerical rank of the column-scaled, weighted identification Jacobian: singular values below
 # RANK_RELATIVE x the largest count as zero. Identifiable directions of well-spread data lie
@@ -79,6 +90,30 @@ FK_ROUNDING = 2.0
 # Noise levels estimated from residuals (or given as 0) are raised to this x robot size
 # (position) and this (rad, rotation), so that noise-free data keeps finite weights.
 NOISE_FLOOR = 1e-14
+
+# A joint whose measured positions span less than BARELY_MOVED (rad; for a sliding joint, x the
+# robot's size) barely moved: how its line lies and how far it scales can hardly be seen (a
+# line's tilt shows at the tool in proportion to the joint's motion), and what is identified of
+# them holds near the measured positions only. Calibration names the joint and flags those
+# parameters.
+BARELY_MOVED = 0.1
+
+# An identified parameter is flagged as poorly identified when one standard deviation of it moves
+# some measured tool point by more than POORLY_IDENTIFIED x the position noise level (rotations
+# counted at the robot's size): the measurements leave it uncertain by more than a few of their
+# own errors, so its value in the output means little.
+POORLY_IDENTIFIED = 3.0
+
+# A measurement whose standardised residual a chi-square variable (3 or 6 degrees of freedom)
+# would exceed with a chance below OUTLIER_CHANCE is an outlier suspect (about 5.5 sigma for a
+# position): listed, and rejected when asked.
+OUTLIER_CHANCE = 1e-6
+
+# Noise levels (estimated or given) never weigh one kind of residual more than 1 / NOISE_RATIO
+# times the other (rotation in rad against position over the robot's size): with exact
+# rotations the weights would otherwise drown every position below RANK_RELATIVE, and the
+# parameters only positions see would look undetermined. 1e-6 keeps them 1e4 above it.
+NOISE_RATIO = 1e-6
 
 # ----------------------------------------------------------------------------- the Python API
 

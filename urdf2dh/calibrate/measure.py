@@ -21,13 +21,14 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..convert import sample_configurations
+from ..errors import InputError
 from ..screws import Joint, PoeModel
 from ..se3 import twist_exp
 from .chart import line_motion
 from .lie import exp_so3, quaternion_of
-from .measurements import Measurements
+from .measurements import MAX_MEASUREMENTS, Measurements
 
-__all__ = ["MARKER_DISTANCE", "marker_layout", "perturb", "synthesize"]
+__all__ = ["MARKER_DISTANCE", "marker_layout", "measure", "perturb", "synthesize"]
 
 Mat = NDArray[np.float64]
 
@@ -44,6 +45,56 @@ def marker_layout(model: PoeModel, markers: int, seed: int) -> dict[int, Mat]:
     return {k: direction[k] * distance[k] for k in range(markers)}
 
 
+def measure(
+    model: PoeModel,
+    configs: int,
+    noise_pos: float = 0.0,
+    noise_rot: float = 0.0,
+    seed: int = 0,
+    markers: int | None = None,
+    pose: bool = True,
+    configurations: Mat | None = None,
+) -> tuple[Measurements, dict[int, Mat] | None]:
+    """Synthetic measurements of ``model`` (module docstring) and, with ``markers``, their
+    seeded layout on the tool.
+
+    Parameters
+    ----------
+    model
+        What is measured.
+    configs
+        How many configurations, drawn within the joint limits (ignored with
+        ``configurations``).
+    noise_pos, noise_rot
+        Gaussian noise per coordinate: length unit, rad.
+    seed
+        Seeds the configurations, the noise and the markers.
+    markers
+        Position measurements of this many markers at seeded points of the tool.
+    pose
+        Pose measurements (without ``markers``); else positions of the tool origin.
+    configurations
+        ``(N, n)`` the configurations to measure at.
+
+    Raises
+    ------
+    InputError
+        More than :data:`~.measurements.MAX_MEASUREMENTS` rows would be written.
+    """
+    count = configs if configurations is None else len(configurations)
+    rows = count * (markers or 1)
+    if rows > MAX_MEASUREMENTS:
+        raise InputError(
+            f"{count} configurations x {markers or 1} markers are {rows} measurements, more than "
+            f"the {MAX_MEASUREMENTS} calibration reads"
+        )
+    layout = marker_layout(model, markers, seed) if markers else None
+    m = synthesize(
+        model, count, noise_pos, noise_rot, seed, layout, pose and not markers, configurations
+    )
+    return m, layout
+
+
 def synthesize(
     model: PoeModel,
     configs: int,
@@ -52,13 +103,20 @@ def synthesize(
     seed: int = 0,
     layout: dict[int, Mat] | None = None,
     pose: bool = True,
+    configurations: Mat | None = None,
 ) -> Measurements:
-    """Measurements of ``model`` at ``configs`` seeded configurations.
+    """Measurements of ``model`` at ``configs`` seeded configurations (or at
+    ``configurations``).
 
     ``pose`` gives pose measurements of the tool frame; otherwise positions of the points of
     ``layout`` (marker -> point in the tool frame; ``None``: the tool origin, no marker column).
     """
-    q = sample_configurations(model, configs, seed)
+    q = (
+        sample_configurations(model, configs, seed)
+        if configurations is None
+        else np.asarray(configurations, dtype=float)
+    )
+    configs = len(q)
     poses = model.fk_batch(q)
     noise = np.random.default_rng((seed, 1))
     names = tuple(j.name for j in model.joints)
@@ -102,7 +160,8 @@ def perturb(
         a, b, c, d = rng.normal(size=4)
         if j.kind == "prismatic":
             c = d = 0.0
-        motion = twist_exp(line_motion(j, angle * a, angle * b, length * c, length * d))
+        p = j.point if j.point is not None else np.zeros(3)
+        motion = twist_exp(line_motion(j.axis, p, angle * a, angle * b, length * c, length * d))
         axis = motion[:3, :3] @ j.axis
         point = None if j.point is None else motion[:3, :3] @ j.point + motion[:3, 3]
         s = j.scale * (1.0 + scale * rng.normal())

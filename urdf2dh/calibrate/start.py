@@ -3,8 +3,10 @@
 The start is the nominal model moved by the rigid transform that best fits its tool points to
 the measured ones (:func:`.frames.fit_rigid`; for poses, each pose's origin and axis tips at the
 robot's size, so orientations count too; for positions, the markers' points, placed on the tool
-by the marker layout, or at the tool origin). Revolute joints named in ``helical`` (or all) start
-as helical joints of pitch 0, so that their pitch is identified.
+by the marker layout, or at the tool origin), at the ``base-tool`` level (:mod:`.chart`): the
+identification fits that level first, and starts every other from its solution. Revolute joints
+named in ``helical`` (or all) start as helical joints of pitch 0, so that their pitch is
+identified.
 """
 
 from __future__ import annotations
@@ -14,13 +16,14 @@ from dataclasses import dataclass, replace
 import numpy as np
 from numpy.typing import NDArray
 
-from ..errors import UsageError, shown
+from ..errors import UsageError, choices, shown
 from ..screws import Joint, PoeModel
 from ..tolerances import DEFAULT, Tolerances
-from .chart import Estimate, line_point
+from .chart import BASE_TOOL, LEVELS, Estimate, line_point
 from .frames import fit_rigid, pose_points
 from .lie import rotation_of
 from .measurements import Measurements
+from .prior import Prior
 from .residuals import Data
 
 __all__ = [
@@ -36,26 +39,68 @@ __all__ = [
 Mat = NDArray[np.float64]
 
 
+MAX_ITERATIONS = 200  # Levenberg-Marquardt iterations of one solve at most: a safety net
+
+
 @dataclass(frozen=True, slots=True)
 class Options:
-    """What to identify and how (the ``calibrate`` command's options)."""
+    """What to identify and how (the ``calibrate`` command's options).
+
+    Attributes
+    ----------
+    pose
+        Pose measurements (else positions).
+    level
+        The level identified (:data:`.chart.LEVELS`).
+    fixed
+        Parameters held at the nominal's values: names or shell-style patterns
+        (``*.scale``, ``arm_7_joint.*``).
+    prior
+        Deviations of the joints' parameters about the nominal (:mod:`.prior`), or ``None``.
+    helical
+        Revolute joints whose pitch is identified too (``("all",)`` for every one).
+    keep_scale
+        The nominal's joint scales are kept (the same as fixing ``*.scale``).
+    keep_tool_axis
+        The tool keeps its placement relative to the last joint's line.
+    frame
+        ``device`` or ``nominal``: the frame of the output model.
+    noise_pos, noise_rot
+        Noise levels that weigh the residuals (``None``: estimated).
+    layout
+        The markers' nominal positions on the tool.
+    max_iterations
+        Iterations of one solve at most.
+    tol
+        The tolerances.
+    """
 
     pose: bool = True
-    helical: tuple[str, ...] = ()  # joint names identified as helical; ("all",) for every one
+    level: str = "full"
+    fixed: tuple[str, ...] = ()
+    prior: Prior | None = None
+    helical: tuple[str, ...] = ()
     keep_scale: bool = False
     keep_tool_axis: bool = False
     frame: str = "device"
     noise_pos: float | None = None
     noise_rot: float | None = None
     layout: dict[int, Mat] | None = None
-    max_iterations: int = 100
+    max_iterations: int = MAX_ITERATIONS
     tol: Tolerances = DEFAULT
 
     def __post_init__(self) -> None:
         if self.frame not in ("device", "nominal"):
             raise UsageError(f"frame must be device or nominal, not {shown(self.frame)}")
+        if self.level not in LEVELS:
+            raise UsageError(f"unknown level {shown(self.level)}; valid: {choices(LEVELS)}")
         if self.pose and (self.noise_pos is None) != (self.noise_rot is None):
             raise UsageError("give both noise levels (position and rotation) or neither")
+
+    @property
+    def fixed_patterns(self) -> tuple[str, ...]:
+        """The fixed parameters' patterns, the scales' with ``keep_scale``."""
+        return (*self.fixed, "*.scale") if self.keep_scale else self.fixed
 
 
 def to_data(m: Measurements, pose: bool, marker_ids: list[int]) -> Data:
@@ -131,9 +176,7 @@ def start_estimate(nominal: PoeModel, g: Mat, opts: Options, ids: list[int]) -> 
     )
     home = g @ nominal.home
     if opts.pose:
-        return Estimate(
-            joints, home=home, scales=not opts.keep_scale, keep_tool_axis=opts.keep_tool_axis
-        )
+        return Estimate.of(joints, home=home, level=BASE_TOOL, keep_tool_axis=opts.keep_tool_axis)
     local = layout_points(opts, ids)
     markers = local @ home[:3, :3].T + home[:3, 3]
-    return Estimate(joints, markers=markers, scales=not opts.keep_scale)
+    return Estimate.of(joints, markers=markers, level=BASE_TOOL)
