@@ -14,6 +14,7 @@ import argparse
 import os
 import platform
 import sys
+import tempfile
 from pathlib import Path
 
 import numpy as np
@@ -21,9 +22,9 @@ import pinocchio as pin
 import yourdfpy
 
 ROOT = Path(__file__).resolve().parents[1]
-sys.path[:0] = [str(ROOT / "tests"), str(Path(__file__).resolve().parent)]
+sys.path[:0] = [str(ROOT), str(ROOT / "tests"), str(Path(__file__).resolve().parent)]
 
-from scale import chain_lengths  # noqa: E402
+from scale import at_the_bounds, chain_lengths  # noqa: E402
 from timing import Figure, best_of, import_ms, peak_alloc, print_table, run_process  # noqa: E402
 
 from urdf2dh.catalog import ROBOTS, robot_path  # noqa: E402
@@ -400,6 +401,9 @@ def main(argv: list[str] | None = None) -> int:
     print_table("Chain length (random chains, in one process)", rows)
     print("\n" + "\n".join(notes))
     figures += rows
+    with tempfile.TemporaryDirectory(prefix="urdf2dh-bench-") as directory:
+        notes = at_the_bounds(Path(directory), quick)
+    print("\n### Bounds (new processes)\n\n" + "\n".join(notes))
     rows = batch_fk(count=10_000 if quick else 100_000, repeat=2 if quick else 7)
     print_table("Batch forward kinematics", rows)
     figures += rows

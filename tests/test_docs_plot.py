@@ -45,7 +45,7 @@ def test_the_samples_are_what_urdf2dh_prints(tmp_path, monkeypatch, capsys):
     shown = scene(to_table(open_source("panda").model(), "mdh"))
     assert hover.splitlines() == list(shown.frames[4].hover)
     monkeypatch.chdir(tmp_path)
-    Path("long.urdf").write_text(random_chain_urdf(5, 10_000)[0])
+    Path("long.urdf").write_text(random_chain_urdf(5, 5_000)[0])
     assert main(["plot", "long.urdf", "-o", "long.png"]) == 2
     assert capsys.readouterr().err == error + "\n"
 

@@ -24,6 +24,7 @@ import yaml
 from urdf2dh import files, verify
 from urdf2dh.cli import main
 from urdf2dh.conventions import NAMES
+from urdf2dh.errors import shown
 from urdf2dh.tips import FORMAT_SUFFIXES
 
 
@@ -419,13 +420,13 @@ def test_a_tip_that_cannot_be_a_file_name_is_refused(capsys, tmp_path, name, why
     source.write_text(tree_urdf(left=name))
     code, _, err = run(capsys, "convert", source, "--all-tips", "-o", f"{tmp_path / 'out'}/")
     assert code == 2
-    assert f"tip link {name!r} cannot name a file" in one_line_error(err) and why in err
+    assert f"tip link {shown(name)} cannot name a file" in one_line_error(err) and why in err
     assert sorted(os.listdir(tmp_path)) == ["t.urdf"]
     code, out, err = run(capsys, "convert", source, "--all-tips")  # stdout needs no file name
     assert code == 0, err
     headings = [line for line in out.splitlines() if line.startswith("==> ")]
-    shown = name if name.isprintable() else repr(name)
-    assert headings == [f"==> {shown} <==", "==> right_tip <=="]
+    heading = name if name.isprintable() else repr(name)
+    assert headings == [f"==> {heading} <==", "==> right_tip <=="]
 
 
 def test_tips_differing_only_in_case_are_refused(capsys, tmp_path):
@@ -471,7 +472,7 @@ def test_verify_exits_1_when_one_chain_disagrees(capsys, tree, monkeypatch):
     assert code == 1
     assert "-> left_tip" in out and "-> right_tip" in out
     assert "FAILED on base -> left_tip for POE model" in err
-    assert err.splitlines()[-1] == "verify: FAILED on 1 of 2 chains: left_tip"
+    assert err.splitlines()[-1] == "verify: FAILED on 1 of 2 chains: 'left_tip'"
 
 
 def test_verify_goes_on_past_a_table_failing_its_self_check(capsys, tree, monkeypatch):
@@ -489,7 +490,7 @@ def test_verify_goes_on_past_a_table_failing_its_self_check(capsys, tree, monkey
     assert code == 1 and "-> right_tip" in out
     assert err.splitlines() == [
         "verify: tip 'left_tip': self-check failed (forced)",
-        "verify: FAILED on 1 of 2 chains: left_tip",
+        "verify: FAILED on 1 of 2 chains: 'left_tip'",
     ]
 
 

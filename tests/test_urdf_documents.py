@@ -92,7 +92,7 @@ def test_the_common_file_is_parsed_as_it_stands():
                 for i in range(1, 10)
             )
             + b']><robot name="&a9;"><link name="a"/></robot>',
-            "malformed XML (Maximum entity",
+            "beyond the XML parser's limits (Maximum entity",
         ),
     ],
 )

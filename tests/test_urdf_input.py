@@ -162,7 +162,7 @@ def test_white_space_is_read_as_urdfdom_reads_it(slot, value, capsys, tmp_path):
 def test_numbers_directly():
     assert numbers("1 -2.5e-3  .5", 3, "xyz", "f") == [1.0, -2.5e-3, 0.5]
     assert numbers("1e300", 1, "v", "f", None) == [1e300]
-    with pytest.raises(InputError, match=r"f: v '1e300' is out of range \(1e300 is beyond"):
+    with pytest.raises(InputError, match=r"f: v '1e300' is out of range \('1e300' is beyond"):
         numbers("1e300", 1, "v", "f")
     with pytest.raises(InputError, match="it holds 4"):
         numbers("0 0 1 4", 3, "xyz", "f")

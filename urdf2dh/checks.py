@@ -18,10 +18,12 @@ from __future__ import annotations
 import math
 import numbers
 import os
+import re
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
-from .errors import InputError
+from .bounds import JOINTS
+from .errors import InputError, shown
 
 if TYPE_CHECKING:
     import numpy as np
@@ -38,6 +40,7 @@ __all__ = [
     "check_count",
     "check_flag",
     "check_instance",
+    "check_joint_count",
     "check_leaders",
     "check_limit",
     "check_name",
@@ -60,7 +63,8 @@ def check_number(value: Any, where: str, error: type[InputError] = InputError) -
     """``value`` as a finite float of magnitude at most :data:`LARGEST`; ``error`` naming
     ``where`` for anything else (booleans, strings, non-finite or huge numbers)."""
     if isinstance(value, bool) or not isinstance(value, int | float):
-        raise error(f"{where} must be a number, not {_short(value)}")
+        note = yaml11_note(value) if isinstance(value, str) else ""
+        raise error(f"{where} must be a number, not {_short(value)}{note}")
     try:
         out = float(value)
     except OverflowError as e:
@@ -70,6 +74,61 @@ def check_number(value: Any, where: str, error: type[InputError] = InputError) -
     if abs(out) > LARGEST:
         raise error(f"{where} is {out:.3g}: beyond {LARGEST:g}, no kinematic number is that large")
     return out
+
+
+# Text that YAML 1.1 readers (PyYAML's default loader, ROS 1's rosparam) take for a number or a
+# boolean, and YAML 1.2 and JSON, which urdf2dh reads, for text (urdf2dh.io.mappings); an integer
+# with a leading zero is octal to the one and decimal to the other, and text to urdf2dh
+_YAML11_BOOL = re.compile(r"yes|Yes|YES|no|No|NO|on|On|ON|off|Off|OFF")
+_YAML11_INT = re.compile(
+    r"[-+]?(?:0b[01_]+|0x[0-9a-fA-F_]+|0[0-7_]+|[0-9][0-9_]*(?::[0-5]?[0-9])+|[1-9][0-9_]*)"
+)
+_YAML11_FLOAT = re.compile(r"[-+]?(?:[0-9][0-9_]*(?::[0-5]?[0-9])+|[0-9_]*)\.[0-9_]*")
+
+
+def yaml11_note(text: str) -> str:
+    """For text where a number was expected: what a YAML 1.1 reader would have made of it, as a
+    note for the error message (``""`` if nothing)."""
+    if _YAML11_BOOL.fullmatch(text):
+        word = "true" if text.lower() in ("yes", "on") else "false"
+        return f" (YAML 1.1 reads it as {word}; a number is needed)"
+    value = _yaml11_number(text)
+    if re.fullmatch(r"[-+]?0[0-9]+", text):
+        octal = "text" if value is None else f"octal {value:g}"
+        return (
+            f" (a leading zero: YAML 1.1 reads it as {octal}, YAML 1.2 as decimal "
+            f"{int(text, 10)}; write the number meant without it)"
+        )
+    if value is None:
+        return ""
+    return (
+        f" (YAML 1.1 reads it as {value:g}; urdf2dh reads YAML 1.2 and JSON, where it is "
+        "text: write the number in decimal)"
+    )
+
+
+def _yaml11_number(text: str) -> float | None:
+    """The number YAML 1.1 reads ``text`` as (base 60, octal, binary, hexadecimal, digits
+    grouped by ``_``), or ``None``."""
+    is_int, is_float = _YAML11_INT.fullmatch(text), _YAML11_FLOAT.fullmatch(text)
+    if not (is_int or is_float):
+        return None
+    sign = -1.0 if text.startswith("-") else 1.0
+    digits = text.lstrip("+-").replace("_", "")
+    try:
+        if ":" in digits:
+            total = 0.0
+            for part in digits.split(":"):
+                total = 60.0 * total + float(part)
+            return sign * total
+        if is_float:
+            return sign * float(digits)
+        for prefix, base in (("0b", 2), ("0x", 16)):
+            if digits.startswith(prefix):
+                return sign * int(digits[2:], base)
+        return sign * int(digits, 8 if len(digits) > 1 and digits[0] == "0" else 10)
+    except (ValueError, OverflowError):
+        return None
 
 
 def check_name(value: Any, where: str, error: type[InputError] = InputError) -> str:
@@ -119,6 +178,12 @@ def read_mimic(raw: Any, where: str, error: type[InputError] = InputError) -> Mi
     )
 
 
+def check_joint_count(count: int, where: str, error: type[InputError] = InputError) -> None:
+    """At most :data:`~urdf2dh.bounds.JOINTS` joints in a POE or table file."""
+    if count > JOINTS:
+        raise error(f"{where}: {count:,} joints; urdf2dh reads chains of at most {JOINTS:,}")
+
+
 def check_leaders(joints: Sequence[Followed], where: str,
                   error: type[InputError] = InputError) -> None:  # fmt: skip
     """Every mimicking joint follows an actuated joint of the same chain."""
@@ -126,8 +191,8 @@ def check_leaders(joints: Sequence[Followed], where: str,
     for j in joints:
         if j.mimic is not None and j.mimic.joint not in leaders:
             raise error(
-                f"{where}: joint {j.name!r} mimics {j.mimic.joint!r}, which is not a joint of "
-                "the chain without mimic"
+                f"{where}: joint {shown(j.name)} mimics {shown(j.mimic.joint)}, which is not a "
+                "joint of the chain without mimic"
             )
 
 

@@ -16,7 +16,7 @@ import warnings
 from typing import Any
 
 from . import __version__, files, interrupts
-from .errors import Urdf2DhError
+from .errors import MESSAGE_LENGTH, Urdf2DhError
 from .files import drop_stdout, flush_stdout, write_stdout
 
 __all__ = ["console", "get_argument_parser", "main", "version_text"]
@@ -247,8 +247,14 @@ def get_argument_parser() -> argparse.ArgumentParser:
 
 def _one_line(text: str) -> str:
     """``text`` with line breaks and other control characters written as escapes, so that an
-    error message naming a hostile name stays one line."""
-    return "".join(c if c.isprintable() or c == " " else repr(c)[1:-1] for c in text)
+    error message naming a hostile name stays one line, and at most :data:`MESSAGE_LENGTH`
+    characters (names in messages are shortened already, :func:`~urdf2dh.errors.shown`; this
+    is the last guard against a library's message quoting a whole input)."""
+    line = "".join(c if c.isprintable() or c == " " else repr(c)[1:-1] for c in text)
+    if len(line) <= MESSAGE_LENGTH:
+        return line
+    keep = MESSAGE_LENGTH // 2
+    return f"{line[:keep]} ... ({len(line):,} characters) ... {line[-keep:]}"
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -148,7 +148,7 @@ def _verify(args: argparse.Namespace) -> int:
         if not ok:
             failed.append(model.tip_link)
     if failed:
-        from .tips import shown
+        from .errors import shown
 
         print(
             f"verify: FAILED on {len(failed)} of {len(models)} chains: "

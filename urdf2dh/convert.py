@@ -14,15 +14,16 @@ from dataclasses import replace
 import numpy as np
 from numpy.typing import NDArray
 
+from .bounds import JOINT_POSITIONS
 from .checks import check_count, check_instance, check_seed
 from .conventions import REGISTRY, STYLES, Conversion, get
-from .errors import ConversionError, UsageError, choices, shown
+from .errors import ConversionError, InputError, UsageError, choices, shown
 from .fk import chains_fk
 from .lines import Judgement
 from .screws import PoeModel
 from .se3 import pose_errors
 from .table import Check, Row, Table
-from .tolerances import DEFAULT, Tolerances
+from .tolerances import DEFAULT, EPS, FK_ROUNDING, Tolerances
 
 __all__ = [
     "DEFAULT_SAMPLES",
@@ -30,6 +31,7 @@ __all__ = [
     "build_table",
     "check_arguments",
     "deviation_bound",
+    "rounding_bound",
     "sample_configurations",
     "self_check",
     "to_table",
@@ -49,7 +51,14 @@ def sample_configurations(
 ) -> NDArray[np.float64]:
     """``(samples, dof)`` actuated joint positions drawn uniformly within the model's limits
     (:meth:`~urdf2dh.screws.PoeModel.limits`), seeded (a tuple seed names a separate stream, as
-    ``numpy.random.default_rng`` takes it)."""
+    ``numpy.random.default_rng`` takes it); at most :data:`~urdf2dh.bounds.JOINT_POSITIONS`
+    positions in all, or an ``InputError``."""
+    if samples * max(model.dof, 1) > JOINT_POSITIONS:
+        raise InputError(
+            f"{model.source or model.name}: {samples:,} configurations of {model.dof:,} joints "
+            f"are more than {JOINT_POSITIONS:,} joint positions, the most one run evaluates (at "
+            f"most {JOINT_POSITIONS // max(model.dof, 1):,} configurations of this chain)"
+        )
     lim = model.limits()
     rng = np.random.default_rng(seed)
     return rng.uniform(lim[:, 0], lim[:, 1], size=(samples, model.dof))
@@ -118,6 +127,21 @@ def deviation_bound(judgements: tuple[Judgement, ...], reach: float) -> tuple[fl
     """
     position = math.fsum(2.0 * j.angle * (reach + j.pivot) + 2.0 * j.gap for j in judgements)
     return position, math.fsum(2.0 * j.angle for j in judgements)
+
+
+def rounding_bound(table: Table) -> float:
+    """What float64 evaluation of the table's forward kinematics may round by, at most:
+    :data:`~urdf2dh.tolerances.FK_ROUNDING` x eps x the sum of its lengths (every length
+    parameter and offset component of the base, rows and tool)."""
+    lengths = []
+    for params in (table.base, *(r.params for r in table.rows), table.tool):
+        for name, quantity in params.quantities().items():
+            value = getattr(params, name)
+            if quantity == "length":
+                lengths.append(abs(value))
+            elif quantity == "offset":
+                lengths.extend(abs(x) for x in value)
+    return FK_ROUNDING * EPS * math.fsum(lengths)
 
 
 def _length(x: float, unit: str) -> str:
@@ -191,40 +215,57 @@ def to_table(
     warnings = list(model.warnings)
     declared_pos, declared_rot = deviation_bound(result.judgements, reach)
     snapped = False
+    rounding = rounding_bound(table)
     for j in result.judgements:
         # a judgement is new only if the lines are apart both in the frames built so far and in
         # the source; otherwise it carries on (or undoes) an earlier judgement's deviation
-        shown = j.angle if j.source_angle is None else min(j.angle, j.source_angle)
-        pos, rot = deviation_bound((replace(j, angle=shown),), reach)
-        if (pos <= tol.report * size and rot <= tol.report) or (
-            shown <= tol.noise and j.gap <= tol.noise * size
-        ):
-            continue  # below the exactness promised, float round-off, or a consequence
+        apart = j.angle if j.source_angle is None else min(j.angle, j.source_angle)
+        pos, rot = deviation_bound((replace(j, angle=apart),), reach)
+        if pos <= max(tol.report * size, rounding) and rot <= tol.report:
+            continue  # below the exactness promised or the table's own rounding, or a
+            # consequence of an earlier judgement
         snapped = True
         if j.kind == "parallel":
             warnings.append(
-                f"{convention}: '{j.first}' and '{j.second}' are {shown:.3g} rad from parallel; "
-                f"treated as parallel (--parallel-angle {tol.parallel_angle:g}; the exact D-H "
-                "row is beyond reach or precision; --convention hayati is exact here)"
+                f"{convention}: {shown(j.first)} and {shown(j.second)} are {apart:.3g} rad from "
+                f"parallel; treated as parallel (--parallel-angle {tol.parallel_angle:g}; the "
+                "exact D-H row is beyond reach or precision; --convention hayati is exact here)"
             )
         else:
             warnings.append(
-                f"{convention}: '{j.first}' and '{j.second}' are {_length(j.gap, unit)} apart; "
+                f"{convention}: {shown(j.first)} and {shown(j.second)} are "
+                f"{_length(j.gap, unit)} apart; "
                 f"treated as {j.kind} (--intersect-distance {tol.distance(size):.3g})"
             )
+    judged_pos = declared_pos
+    rounds = rounding > tol.report * size
+    if rounds:  # lengths far beyond the robot's (their rows are named in the notes)
+        declared_pos += rounding
     if samples is None:
         samples = JUDGED_SAMPLES if snapped else DEFAULT_SAMPLES
     check = self_check(model, table, samples, seed)
     allowed_pos = tol.check_position * size + declared_pos
     allowed_rot = tol.check_rotation + declared_rot
+    worst = (
+        f"(the worst of {samples} checked: {_length(check.max_position_error, unit)}, "
+        f"{check.max_rotation_error:.3g} rad)"
+    )
     if snapped:
-        check = replace(check, declared_position=declared_pos, declared_rotation=declared_rot)
         warnings.append(
             f"{convention}: FK deviation from the source caused by these judgements: at most "
-            f"{_length(declared_pos, unit)}, {declared_rot:.3g} rad at any configuration (the "
-            f"worst of {samples} checked: {_length(check.max_position_error, unit)}, "
-            f"{check.max_rotation_error:.3g} rad); --exact keeps the exact geometry"
+            f"{_length(judged_pos, unit)}, {declared_rot:.3g} rad at any configuration"
+            + ("" if rounds else " " + worst)
+            + "; --exact keeps the exact geometry"
         )
+    if rounds:
+        total = rounding / (FK_ROUNDING * EPS)
+        warnings.append(
+            f"{convention}: its lengths add up to {_length(total, unit)}, "
+            f"{total / size:.3g} x the robot's size: float64 evaluation of its FK may round by "
+            f"up to {_length(rounding, unit)} {worst}"
+        )
+    if snapped or rounds:
+        check = replace(check, declared_position=declared_pos, declared_rotation=declared_rot)
     warnings.extend(result.notes)
     if not (check.max_position_error <= allowed_pos and check.max_rotation_error <= allowed_rot):
         raise ConversionError(

@@ -34,7 +34,7 @@ from .errors import InputError, UsageError, visible
 from .formats import fixed
 from .screws import PoeModel
 from .table import Row, Table
-from .tolerances import DEFAULT, DIFF_LENGTH_M, Tolerances
+from .tolerances import DIFF_LENGTH_M, DIFF_ROUND_OFF, Tolerances
 from .xacro import XacroOptions
 
 __all__ = [
@@ -406,7 +406,7 @@ def render_diff(
         text = fixed(x, places, "+")
         return f"{x:+.3g}" if float(text) == 0.0 and abs(x) > exact else text
 
-    exact = DEFAULT.report  # rad, or x size: the exactness promised; below is round-off
+    exact = DIFF_ROUND_OFF  # rad, or x size: below it, round-off of the conversions
 
     def delta(c: Change) -> str:
         if c.kind in ("angle", "direction"):

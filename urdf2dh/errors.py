@@ -11,6 +11,7 @@ from __future__ import annotations
 from collections.abc import Iterable
 
 __all__ = [
+    "MESSAGE_LENGTH",
     "ChainError",
     "ConversionError",
     "ExportError",
@@ -26,6 +27,7 @@ __all__ = [
 ]
 
 SHOWN_LENGTH = 120  # characters of a name an error message shows
+MESSAGE_LENGTH = 2000  # characters of an error line the command line prints, at most
 
 
 class Urdf2DhError(Exception):
@@ -97,11 +99,19 @@ def _escape_char(ch: str) -> str:
     return "\\\\" if ch == "\\" else ch if ch.isprintable() else repr(ch)[1:-1]
 
 
-def shown(name: str) -> str:
-    """A name from a file as an error message shows it: Python's ``repr`` (quoted, with
+def shown(name: object) -> str:
+    """A name (or any value) from a file as a message shows it: Python's ``repr`` (quoted, with
     escapes for line breaks, controls and every other unprintable character, so the message
-    stays one line and shows what the name holds), cut after :data:`SHOWN_LENGTH`
-    characters."""
+    stays one line and shows what the name holds), cut after :data:`SHOWN_LENGTH` characters
+    with the full length said. The one rule for everything from an input that a message
+    names."""
+    if not isinstance(name, str):
+        text = repr(name)
+        return (
+            text
+            if len(text) <= SHOWN_LENGTH
+            else f"{text[:SHOWN_LENGTH]}... ({len(text)} characters)"
+        )
     if len(name) <= SHOWN_LENGTH:
         return repr(name)
     return f"{name[:SHOWN_LENGTH]!r}... ({len(name)} characters)"

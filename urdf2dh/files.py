@@ -47,6 +47,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from . import interrupts
+from .bounds import FILE_BYTES
 from .errors import InputError
 
 __all__ = [
@@ -97,19 +98,52 @@ def note_input(path: str | Path, role: str = INPUT_ROLE) -> None:
         pass
 
 
-def read_file(path: Path, display: str, role: str = INPUT_ROLE) -> bytes:
-    """The bytes of ``path``, an input of the run (``role`` says what it is to the run);
-    ``display`` names it in error messages."""
+def read_file(path: Path, display: str, role: str = INPUT_ROLE, limit: int = FILE_BYTES) -> bytes:
+    """The bytes of the regular file ``path``, an input of the run (``role`` says what it is to
+    the run), at most ``limit`` of them (:data:`~urdf2dh.bounds.FILE_BYTES`); ``display`` names
+    it in error messages.
+
+    A device, FIFO or socket (``/dev/zero``, a named pipe, ``/dev/stdin``) is refused before
+    anything is read: it may never end, or block forever (the file is opened without waiting for
+    a writer, and checked again once open). At most one byte beyond the limit is read, so a file
+    that grows while it is read is bounded too."""
     try:
-        with open(path, "rb", buffering=0) as f:  # unbuffered: one read of the whole file
-            _record(os.fstat(f.fileno()), role)
-            return f.read()
+        _regular(os.stat(path).st_mode, display)
+        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
     except FileNotFoundError as e:
         raise InputError(f"{display}: no such file") from e
-    except IsADirectoryError as e:
-        raise InputError(f"{display}: is a directory, not a file") from e
     except OSError as e:
         raise InputError(f"{display}: cannot read ({e.strerror})") from e
+    with os.fdopen(fd, "rb", buffering=0) as f:
+        status = os.fstat(fd)
+        _regular(status.st_mode, display)  # the file opened, should the path have moved
+        _record(status, role)
+        chunks, total = [], 0
+        try:
+            while total <= limit:
+                chunk = f.read(limit + 1 - total)
+                if not chunk:
+                    break
+                chunks.append(chunk)
+                total += len(chunk)
+        except OSError as e:
+            raise InputError(f"{display}: cannot read ({e.strerror})") from e
+    if total > limit:
+        raise InputError(f"{display}: larger than {_size(limit)}, the most urdf2dh reads")
+    return b"".join(chunks)
+
+
+def _regular(mode: int, display: str) -> None:
+    if stat.S_ISDIR(mode):
+        raise InputError(f"{display}: is a directory, not a file")
+    if not stat.S_ISREG(mode):
+        raise InputError(
+            f"{display}: not a regular file (a device, FIFO or socket); urdf2dh reads files"
+        )
+
+
+def _size(size: int) -> str:
+    return f"{size // 2**20} MiB" if size % 2**20 == 0 else f"{size:,} bytes"
 
 
 def _input_role(status: os.stat_result) -> str | None:

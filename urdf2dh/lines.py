@@ -11,8 +11,14 @@ previous line), find ``H = Rz(theta) Tz(d) Rx(alpha) Tx(a)`` whose z axis is the
   for a parallel tool axis the offset goes into ``d`` (the tool's own ``d`` is then 0), as in the
   paper's reference implementation; this is what reproduces Table II's last rows.
 
-The tolerance judgements (near-parallel treated as parallel, near-coincident as coincident)
-are returned as :class:`Judgement` records so the caller can report them.
+* Nearly parallel lines whose exact common normal lies far away meet the z axis at a pivot
+  (``d = 0``, or the line's own point where that is on the z axis and the crossing is not: a
+  joint's origin on the previous axis, its axis turned by a rounded angle), their direction
+  kept, when they pass that close; otherwise they are treated as parallel.
+
+The tolerance judgements (near-parallel treated as parallel, near-coincident as coincident,
+round-off directions written as clean ones) are returned as :class:`Judgement` records so the
+caller can report every one whose effect exceeds the exactness promised (``tol.report``).
 """
 
 from __future__ import annotations
@@ -78,6 +84,8 @@ class Limits:
     far: float  # a common normal farther than this from the pivot is too far for D-H
     noise: float  # float round-off, as an angle
     sane: float  # beyond this |d| or |a| the lines are treated as parallel whatever the angle
+    clean: float  # an angle within this of 0 or pi is written as that (tol.written)
+    free: float  # a gap below this costs less than the exactness promised (tol.report x size)
 
     @classmethod
     def of(cls, tol: Tolerances, size: float) -> Limits:
@@ -91,7 +99,18 @@ class Limits:
             tol.far_factor * size,
             tol.noise,
             sane,
+            tol.written,
+            0.5 * tol.report * size,
         )
+
+
+def _foot(u: Vec3, p: Vec3) -> float:
+    """Where the exact common normal of the local z axis and a line (not parallel to it) meets
+    the z axis: its ``d`` (Wu, eq. after (17))."""
+    ux, uy, uz = u
+    px, py, pz = p
+    mx, my = py * uz - pz * uy, pz * ux - px * uz  # of the moment p x u
+    return (ux * my - uy * mx) / (ux * ux + uy * uy)
 
 
 def _far(u: Vec3, p: Vec3, pivot_d: float, far: float) -> bool:
@@ -99,11 +118,7 @@ def _far(u: Vec3, p: Vec3, pivot_d: float, far: float) -> bool:
     (``far_factor x size``) from the pivot: only then does D-H need the parallel judgement.
     (Lines tilted about their common perpendicular keep a near normal, and their exact table is
     sane.)"""
-    ux, uy, uz = u
-    px, py, pz = p
-    mx, my = py * uz - pz * uy, pz * ux - px * uz  # of the moment p x u
-    d = (ux * my - uy * mx) / (ux * ux + uy * uy)
-    return abs(d - pivot_d) > far
+    return abs(_foot(u, p) - pivot_d) > far
 
 
 def common_normal(
@@ -132,21 +147,21 @@ def link_to_line(
     ux, uy, uz = u
     rho = math.hypot(ux, uy)
     off_parallel = math.atan2(rho, abs(uz))
-    judgements: list[Judgement] = []
     if rho == 0.0 or off_parallel <= lim.snap:
         # (Nearly) parallel. Pivot on the tool origin (the frame lands on it, the tool's own d
-        # is 0), or on the line's crossing of the local xy plane (d = 0, Wu's parallel case).
+        # is 0), or on the line's crossing of the local xy plane (d = 0, Wu's parallel case),
+        # or, where that crossing is off the z axis by more than the exactness promised and
+        # the line's own point is not, on that point (a joint's origin on the previous axis,
+        # its axis turned by a rounded angle: the lines meet there, not at d = 0).
         x, y, d = _pivot(u, p, tool)
         gap = math.hypot(x, y)
+        if gap > lim.free and math.hypot(p[0], p[1]) <= lim.free:
+            x, y, d = p
+            gap = math.hypot(x, y)
         if gap <= lim.distance:
             # The lines meet at the pivot: a = 0 and the exact direction is kept, which is
             # exact however small the angle, where the common-normal formula is ill-conditioned.
-            if gap > 0.0:
-                judgements.append(Judgement("coincident", *names, 0.0, gap))
-            if off_parallel <= lim.noise:  # float round-off: a clean alpha = 0 or pi
-                alpha = 0.0 if uz > 0.0 else math.pi
-                return LinkParams(0.0, d, alpha, 0.0, True, True), judgements
-            return LinkParams(angle(ux, -uy), d, angle(rho, uz), 0.0, True), judgements
+            return _meet(u, d, gap, off_parallel, lim, names)
         if off_parallel <= lim.noise or (off_parallel <= lim.parallel and _far(u, p, d, lim.far)):
             return _parallel(u, (x, y, d), off_parallel, names)
     px, py, pz = p
@@ -166,7 +181,22 @@ def link_to_line(
         sigma, a = (1.0, a_abs) if -mz > 0.0 else (-1.0, a_abs)
     alpha = angle(sigma * rho, uz)
     theta = angle(sigma * ux, -sigma * uy)  # Wu eq. (16)
-    return LinkParams(theta, d, alpha, a, False), judgements
+    return LinkParams(theta, d, alpha, a, False), []
+
+
+def _meet(
+    u: Vec3, d: float, gap: float, off_parallel: float, lim: Limits, names: tuple[str, str]
+) -> tuple[LinkParams, list[Judgement]]:
+    """The link to a line taken to meet the local z axis at height ``d`` (``gap`` from it),
+    its direction kept; within ``lim.clean`` of parallel it is made exactly parallel, a clean
+    ``alpha`` of 0 or pi. Each departure from the line is a judgement."""
+    ux, uy, uz = u
+    judgements = [Judgement("coincident", *names, 0.0, gap)] if gap > 0.0 else []
+    if off_parallel <= lim.clean:
+        if off_parallel > 0.0:
+            judgements.append(Judgement("parallel", *names, off_parallel, 0.0))
+        return LinkParams(0.0, d, 0.0 if uz > 0.0 else math.pi, 0.0, True, True), judgements
+    return LinkParams(angle(ux, -uy), d, angle(math.hypot(ux, uy), uz), 0.0, True), judgements
 
 
 def _pivot(u: Vec3, p: Vec3, tool: bool) -> Vec3:

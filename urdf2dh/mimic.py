@@ -16,6 +16,8 @@ from typing import Protocol
 import numpy as np
 from numpy.typing import NDArray
 
+from .errors import shown
+
 __all__ = ["Followed", "Mimic", "actuated", "row_positions"]
 
 
@@ -30,7 +32,7 @@ class Mimic:
 
     def __post_init__(self) -> None:
         if not (math.isfinite(self.multiplier) and math.isfinite(self.offset)):
-            raise ValueError(f"mimic of {self.joint!r}: multiplier and offset must be finite")
+            raise ValueError(f"mimic of {shown(self.joint)}: multiplier and offset must be finite")
 
 
 class Followed(Protocol):

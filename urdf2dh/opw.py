@@ -28,7 +28,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .convert import sample_configurations
-from .errors import ConversionError, ExportError
+from .errors import ConversionError, ExportError, shown
 from .opwmodel import OpwParameters, opw_fk, rot_z
 from .screws import PoeModel
 from .se3 import pose_errors
@@ -79,7 +79,7 @@ class _Judge:
         self.made: list[tuple[str, float, float]] = []  # (what, angle, gap) held within tol
 
     def axes(self, *i: int) -> str:
-        return ", ".join(f"{k + 1} ({self.names[k]!r})" for k in i)
+        return ", ".join(f"{k + 1} ({shown(self.names[k])})" for k in i)
 
     def relation(self, d: list[Mat], i: int, k: int, parallel: bool, what: str) -> None:
         """Axes ``i`` and ``k`` (0-based) parallel, or else perpendicular, within the angle."""
@@ -119,12 +119,12 @@ def _meeting_point(points: list[Mat], dirs: list[Mat]) -> tuple[Mat, float]:
 def _require_six_revolute(model: PoeModel) -> None:
     if model.n != 6:
         raise ExportError(f"opw: an OPW arm has 6 joints; this chain has {model.n}")
-    bad = [f"{j.name!r} ({j.kind})" for j in model.joints if j.kind != "revolute"]
+    bad = [f"{shown(j.name)} ({j.kind})" for j in model.joints if j.kind != "revolute"]
     if bad:
         raise ExportError(
             f"opw: joints {', '.join(bad)} cannot be written; opw has revolute joints only"
         )
-    bad = [f"{j.name!r} (scale {j.scale:g})" for j in model.joints if abs(j.scale) != 1.0]
+    bad = [f"{shown(j.name)} (scale {j.scale:g})" for j in model.joints if abs(j.scale) != 1.0]
     if bad:
         raise ExportError(
             f"opw: joints {', '.join(bad)} move by a multiple of their position; "

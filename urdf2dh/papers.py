@@ -44,9 +44,10 @@ def agrees(value: float, printed: str) -> bool:
 
 
 def _reference(name: str) -> Any:
-    import yaml
+    from .io.mappings import read_mapping
 
-    return yaml.safe_load((our_robots_dir() / name).read_text())
+    path = our_robots_dir() / name
+    return read_mapping(path, name, path.read_bytes())
 
 
 def wu2019_table2(robot: str) -> list[Cell]:

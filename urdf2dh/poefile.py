@@ -27,8 +27,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from . import se3, units
-from .checks import check_leaders, check_name, check_number, read_mimic
-from .errors import InputError, choices
+from .checks import check_joint_count, check_leaders, check_name, check_number, read_mimic
+from .errors import InputError, choices, shown
 from .screws import KINDS, Joint, PoeModel
 from .tolerances import DEFAULT, Tolerances
 
@@ -89,12 +89,13 @@ def read_poe(data: Any, display: str, tol: Tolerances = DEFAULT) -> PoeModel:
     raw = data.get("joints")
     if not isinstance(raw, list):
         raise InputError(f"{display}: 'joints' must be a list")
+    check_joint_count(len(raw), display)
     joints, names = [], set()
     for i, entry in enumerate(raw, 1):
         if not isinstance(entry, dict):
             raise InputError(f"{display}: joint {i} must be a mapping with name and twist")
         name = check_name(entry.get("name", f"joint{i}"), f"{display}: joint {i} name")
-        where = f"{display}: joint {name!r}"
+        where = f"{display}: joint {shown(name)}"
         if name in names:
             raise InputError(f"{where} appears twice")
         names.add(name)
@@ -117,7 +118,9 @@ def read_poe(data: Any, display: str, tol: Tolerances = DEFAULT) -> PoeModel:
         declared = entry.get("type")
         if declared is not None:
             if declared not in KINDS:
-                raise InputError(f"{where} has unknown type '{declared}'; valid: {choices(KINDS)}")
+                raise InputError(
+                    f"{where} has unknown type {shown(declared)}; valid: {choices(KINDS)}"
+                )
             if declared != joint.kind:
                 detail = {
                     "prismatic": "w = 0 (a prismatic joint)",

@@ -197,7 +197,8 @@ class PoeModel:
         for j in self.joints:
             if j.mimic is not None and j.mimic.joint not in leaders:
                 raise ValueError(
-                    f"joint {j.name!r} mimics {j.mimic.joint!r}, not an actuated joint of the chain"
+                    f"joint {shown(j.name)} mimics {shown(j.mimic.joint)}, not an actuated joint "
+                    "of the chain"
                 )
 
     def _once(self, key: str, compute: Callable[[], _T]) -> _T:

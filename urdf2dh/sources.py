@@ -6,22 +6,21 @@ model of the chain between the requested links.
 
 from __future__ import annotations
 
-import json
 from collections.abc import Mapping
 from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import Any
 
 from .catalog import ROBOTS, Bundled, robot_path
 from .errors import SHOWN_LENGTH, InputError, SourceError, UsageError, choices, shown
 from .files import SOURCE_ROLE, read_file
+from .io.mappings import read_mapping
 from .screws import PoeModel
 from .text import check_text, first_character
 from .tolerances import DEFAULT, Tolerances
 from .urdf import UrdfTree, parse_tree, tree_to_poe
 from .xacro import XacroOptions
 
-__all__ = ["Source", "open_source", "read_mapping"]
+__all__ = ["Source", "open_source"]
 
 
 @dataclass(frozen=True, slots=True)
@@ -56,68 +55,6 @@ class Source:
             base = base or self.bundled.base
             tip = tip or self.bundled.tip
         return tree_to_poe(self.tree, base, tip, ignore_mimic, self.name)
-
-
-# A parsed file holds at most this many values, aliases counted each time they are used: a
-# YAML file of a few hundred bytes can otherwise alias its way to billions ("billion laughs").
-MAPPING_BUDGET = 1_000_000
-
-
-def read_mapping(path: Path, display: str, data: bytes) -> Any:
-    """Parse YAML or JSON text (JSON for ``.json``, YAML otherwise) with a one-line error;
-    UTF-8 only, and at most :data:`MAPPING_BUDGET` values however it is nested or aliased."""
-    try:
-        text = data.decode("utf-8-sig")
-    except UnicodeDecodeError as e:
-        raise InputError(f"{display}: not UTF-8 text (byte {e.start}); save it as UTF-8") from e
-    try:
-        if path.suffix.lower() == ".json":
-            tree = _json(text, display)
-        else:
-            tree = _yaml(text, display)
-    except RecursionError as e:
-        raise InputError(f"{display}: nested too deeply") from e
-    _within_budget(tree, display)
-    return tree
-
-
-def _json(text: str, display: str) -> Any:
-    try:
-        return json.loads(text)
-    except json.JSONDecodeError as e:
-        raise InputError(f"{display}: malformed JSON (line {e.lineno}: {e.msg})") from e
-    except ValueError as e:  # e.g. an integer of more digits than Python converts
-        raise InputError(f"{display}: malformed JSON ({e})") from e
-
-
-def _yaml(text: str, display: str) -> Any:
-    import yaml
-
-    try:
-        return yaml.safe_load(text)
-    except yaml.YAMLError as e:
-        mark = getattr(e, "problem_mark", None)
-        where = f"line {mark.line + 1}: " if mark is not None else ""
-        problem = getattr(e, "problem", None) or str(e).splitlines()[0]
-        raise InputError(f"{display}: malformed YAML ({where}{problem})") from e
-    except ValueError as e:
-        raise InputError(f"{display}: malformed YAML ({e})") from e
-
-
-def _within_budget(tree: Any, display: str) -> None:
-    """Count the values of a parsed tree (a shared, aliased one as often as it is reached)."""
-    count, stack = 0, [tree]
-    while stack:
-        value = stack.pop()
-        count += 1
-        if count > MAPPING_BUDGET:
-            raise InputError(
-                f"{display}: more than {MAPPING_BUDGET:,} values (aliases counted as expanded)"
-            )
-        if isinstance(value, dict):
-            stack.extend(value.values())
-        elif isinstance(value, list):
-            stack.extend(value)
 
 
 def _from_file(

@@ -12,9 +12,9 @@ from typing import Any
 
 import numpy as np
 
-from .checks import check_leaders, check_number, read_mimic
+from .checks import check_joint_count, check_leaders, check_number, read_mimic
 from .conventions import NAMES, get, read_params
-from .errors import InputError, TableFileError, choices
+from .errors import InputError, TableFileError, choices, shown
 from .screws import KINDS
 from .table import SCHEMA, Check, Row, Table
 from .tolerances import DEFAULT, Tolerances
@@ -67,19 +67,20 @@ def read_table(data: Any, display: str, tol: Tolerances = DEFAULT) -> Table:
     joints = data.get("joints")
     if not isinstance(joints, list):
         raise TableFileError(f"{display}: 'joints' must be a list")
+    check_joint_count(len(joints), display, TableFileError)
     rows: list[Row] = []
     seen: set[str] = set()
     for i, j in enumerate(joints, 1):
         if not isinstance(j, dict):
             raise TableFileError(f"{display}: joint {i} must be a mapping")
         name = _text(j, "name", f"joint{i}", f"{display}: joint {i}")
-        where = f"{display}: joint {name!r}"
+        where = f"{display}: joint {shown(name)}"
         if name in seen:
             raise TableFileError(f"{where} appears twice")
         seen.add(name)
         kind = j.get("type", "revolute")
         if kind not in KINDS:
-            raise TableFileError(f"{where} has unknown type '{kind}'; valid: {choices(KINDS)}")
+            raise TableFileError(f"{where} has unknown type {shown(kind)}; valid: {choices(KINDS)}")
         pitch = check_number(j.get("pitch", 0.0), f"{where} pitch", TableFileError)
         if (kind == "helical") != (pitch != 0.0):
             raise TableFileError(f"{where}: type {kind} contradicts pitch {pitch:g}")
@@ -106,8 +107,13 @@ def read_table(data: Any, display: str, tol: Tolerances = DEFAULT) -> Table:
     check = None
     if isinstance(data.get("check"), dict):
         c = data["check"]
+        samples = check_number(c.get("samples", 0), f"{display}: check samples", TableFileError)
+        if samples < 0 or samples != int(samples):
+            raise TableFileError(
+                f"{display}: check samples must be a whole number, not {samples:g}"
+            )
         check = Check(
-            int(check_number(c.get("samples", 0), f"{display}: check samples", TableFileError)),
+            int(samples),
             *(check_number(c.get(k, 0.0), f"{display}: check {k}", TableFileError)
               for k in ("max_position_error", "max_rotation_error", "declared_position",
                         "declared_rotation")),

@@ -33,12 +33,14 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from .errors import ChainError, Urdf2DhError, UsageError
+from .bounds import JOINTS
+from .errors import ChainError, Urdf2DhError, UsageError, shown
 
 if TYPE_CHECKING:
     from .screws import PoeModel
     from .sources import Source
     from .table import Table
+    from .urdf import UrdfTree
 
 __all__ = [
     "DIRECTORY_HINT",
@@ -49,11 +51,11 @@ __all__ = [
     "chain_tips",
     "check_stdout_format",
     "file_names",
+    "heading",
     "join_tables",
     "names_directory",
     "naming_tip",
     "several",
-    "shown",
 ]
 
 #: ``convert --format`` -> the suffix of each file in ``-o DIR``.
@@ -78,7 +80,7 @@ class TipError(Urdf2DhError):
     (2 for bad input, 1 for a table that failed its own check)."""
 
     def __init__(self, tip: str, error: Urdf2DhError) -> None:
-        super().__init__(f"tip {tip!r}: {error}")
+        super().__init__(f"tip {shown(tip)}: {error}")
         self.exit_code = error.exit_code
 
 
@@ -87,7 +89,7 @@ def several(all_tips: bool, tips: Sequence[str] | None) -> bool:
     return all_tips or len(tips or ()) > 1
 
 
-def shown(name: str) -> str:
+def heading(name: str) -> str:
     """A name from a file as a heading shows it: as it is, or ``repr``-escaped when it holds a
     character that would break the line (a control character, a line break)."""
     return name if name.isprintable() else repr(name)
@@ -116,21 +118,37 @@ def chain_tips(
     if base not in tree.links:
         from .urdf.tree import names
 
-        raise ChainError(f"{tree.path}: unknown base link {base!r}; links are {names(tree.links)}")
+        raise ChainError(
+            f"{tree.path}: unknown base link {shown(base)}; links are {names(tree.links)}"
+        )
     if not all_tips:
         chosen = list(tips or ())
         for i, tip in enumerate(chosen):
             if tip in chosen[:i]:
-                raise UsageError(f"--tip {tip!r} is given twice")
+                raise UsageError(f"--tip {shown(tip)} is given twice")
+        _within_bound(tree, base, chosen)
         return base, chosen
     order = {link: i for i, link in enumerate(tree.links)}
     leaves = sorted(tree.leaves(base), key=order.__getitem__)
     moving = [t for t in leaves if any(j.type != "fixed" for j in tree.chain(base, t))]
     if not moving:
         raise ChainError(
-            f"{tree.path}: no leaf below base link {base!r} has a moving joint on its chain"
+            f"{tree.path}: no leaf below base link {shown(base)} has a moving joint on its chain"
         )
+    _within_bound(tree, base, moving)
     return base, moving
+
+
+def _within_bound(tree: UrdfTree, base: str, tips: Sequence[str]) -> None:
+    """At most :data:`~urdf2dh.bounds.JOINTS` joints on the chains of one run, counted chain by
+    chain (a comb of 3,000 links has 4.5 million)."""
+    start = tree.depth(base) if base in tree.links else 0
+    total = sum(tree.depth(t) - start for t in tips if t in tree.links)
+    if total > JOINTS:
+        raise UsageError(
+            f"{tree.path}: the {len(tips):,} chains have {total:,} joints in all; one run "
+            f"converts at most {JOINTS:,} (name fewer tips with --tip)"
+        )
 
 
 @contextmanager
@@ -161,7 +179,7 @@ def _why_not_a_file_name(name: str, suffix: str) -> str | None:
         return "it is empty, '.' or '..'"
     for bad in ("/", "\\"):
         if bad in name:
-            return f"it holds {bad!r}"
+            return f"it holds {shown(bad)}"
     if not name.isprintable():
         return "it holds a control character"
     if name.startswith("-"):
@@ -186,14 +204,15 @@ def file_names(display: str, tips: Sequence[str], suffix: str) -> dict[str, str]
         why = _why_not_a_file_name(tip, suffix)
         if why is not None:
             raise UsageError(
-                f"{display}: tip link {tip!r} cannot name a file in the output directory ({why})"
+                f"{display}: tip link {shown(tip)} cannot name a file in the output directory "
+                f"({why})"
             )
         name = tip + suffix
         other = folded.setdefault(name.casefold(), tip)
         if other != tip:
             raise UsageError(
-                f"{display}: tip links {other!r} and {tip!r} differ only in case; their files "
-                "would be one on a case-insensitive file system"
+                f"{display}: tip links {shown(other)} and {shown(tip)} differ only in case; "
+                "their files would be one on a case-insensitive file system"
             )
         out[tip] = name
     return out
@@ -227,6 +246,6 @@ def join_tables(tables: Sequence[Table], fmt: str) -> str:
     if fmt == "yaml":
         return "".join(f"---\n{render(t, fmt)}" for t in tables)
     if fmt == "text":
-        return "\n".join(f"==> {shown(t.tip_link)} <==\n{render(t, fmt)}" for t in tables)
+        return "\n".join(f"==> {heading(t.tip_link)} <==\n{render(t, fmt)}" for t in tables)
     # markdown
-    return "\n".join(f"## {shown(t.tip_link)}\n\n{render(t, fmt)}" for t in tables)
+    return "\n".join(f"## {heading(t.tip_link)}\n\n{render(t, fmt)}" for t in tables)

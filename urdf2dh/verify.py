@@ -12,19 +12,22 @@ the chain stay at their neutral position.
 from __future__ import annotations
 
 import contextlib
+import functools
 import os
 import sys
 import tempfile
+import threading
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, TypeVar
 
 import numpy as np
 from numpy.typing import NDArray
 
+from .bounds import PINOCCHIO_STACK, VERIFY_JOINTS
 from .conventions import NAMES
 from .convert import sample_configurations, to_table
-from .errors import InputError
+from .errors import InputError, shown
 from .fk import BLOCK, chains_errors
 from .mimic import Mimic, actuated
 from .progress import progress
@@ -34,7 +37,14 @@ from .table import Check, Table
 from .tolerances import DEFAULT, EPS, Tolerances
 from .urdf.chain import final_leader
 
-__all__ = ["Result", "native_stderr", "pinocchio_evaluator", "pinocchio_fk", "verify"]
+__all__ = [
+    "Result",
+    "check_verifiable",
+    "native_stderr",
+    "pinocchio_evaluator",
+    "pinocchio_fk",
+    "verify",
+]
 
 VERIFY_STREAM = 1  # verify's configurations: seeded by --seed, apart from the self-check's
 
@@ -107,15 +117,63 @@ def native_stderr() -> Iterator[list[str]]:
 def _build(pin: Any, source: Source, mimic: bool) -> Any:
     """Pinocchio's model of the URDF text; an ``InputError`` with urdfdom's first reason."""
     assert source.urdf_text is not None
-    error: Exception | None = None
+    error: BaseException | None = None
     with native_stderr() as log:  # urdfdom writes its reasons there, several lines a fault
         try:
-            return pin.buildModelFromXML(source.urdf_text.decode(), mimic=mimic)
+            return _pinocchio_model(source.urdf_text, mimic)
         except Exception as e:  # Pinocchio raises RuntimeError/ValueError with C++ text
             error = e
     reasons = [line.split(":", 1)[1] for line in log if line.startswith("Error:")]
     why = f"urdfdom: {' '.join(reasons[0].split())}" if reasons else str(error)
     raise InputError(f"{source.display}: Pinocchio cannot load it ({why})") from error
+
+
+@functools.lru_cache(maxsize=2)
+def _pinocchio_model(text: bytes, mimic: bool) -> Any:
+    """Pinocchio's model of URDF text, built once for the chains of one file (``verify
+    --all-tips`` checks hundreds against the same model; a failure is not kept)."""
+    pin = _pin()
+    return _on_a_large_stack(lambda: pin.buildModelFromXML(text.decode(), mimic=mimic))
+
+
+_T = TypeVar("_T")
+
+
+def _on_a_large_stack(work: Callable[[], _T]) -> _T:
+    """``work()`` on a thread with a stack of :data:`~urdf2dh.bounds.PINOCCHIO_STACK` bytes:
+    Pinocchio's URDF parser recurses once per link, and the process's own stack (8 MiB, or
+    whatever ``ulimit -s`` says) would overflow on a long chain."""
+    outcome: list[Any] = []
+
+    def run() -> None:
+        try:
+            outcome.append((True, work()))
+        except BaseException as e:  # handed to the caller's thread, whatever it is
+            outcome.append((False, e))
+
+    previous = threading.stack_size(PINOCCHIO_STACK)
+    try:
+        worker = threading.Thread(target=run, name="pinocchio-urdf", daemon=True)
+        worker.start()
+    finally:
+        threading.stack_size(previous)
+    worker.join()
+    ok, value = outcome[0]
+    if not ok:
+        raise value
+    return value  # type: ignore[no-any-return]
+
+
+def check_verifiable(source: Source, poe: PoeModel) -> None:
+    """Refuse a model larger than :data:`~urdf2dh.bounds.VERIFY_JOINTS` joints (a URDF's
+    every joint: Pinocchio builds the whole file), naming the bound."""
+    joints = len(source.tree.joints) if source.tree is not None else poe.n
+    if joints > VERIFY_JOINTS:
+        what = "the URDF has" if source.tree is not None else "the chain has"
+        raise InputError(
+            f"{source.display}: {what} {joints:,} joints; verify checks at most "
+            f"{VERIFY_JOINTS:,} (Pinocchio's model of more takes minutes and gigabytes to build)"
+        )
 
 
 def _model_from_urdf(
@@ -143,7 +201,7 @@ def _model_from_urdf(
     for j in (poe.joints[i] for i in driving):  # with mimic, the mimicking ones follow
         jid = model.getJointId(j.name)
         if jid >= model.njoints:
-            raise InputError(f"{source.display}: Pinocchio has no joint {j.name!r}")
+            raise InputError(f"{source.display}: Pinocchio has no joint {shown(j.name)}")
         scale, shift = 1.0, 0.0
         if model.joints[jid].nq == 0:
             # a joint of the chain standing in for a leader off it (or one --ignore-mimic made
@@ -158,7 +216,7 @@ def _model_from_urdf(
     def frame(link: str) -> int:
         fid = model.getFrameId(link, pin.FrameType.BODY)
         if fid >= model.nframes:
-            raise InputError(f"{source.display}: Pinocchio has no frame for link '{link}'")
+            raise InputError(f"{source.display}: Pinocchio has no frame for link {shown(link)}")
         return int(fid)
 
     return model, mapping, frame(poe.base_link), frame(poe.tip_link), not mimic
@@ -169,7 +227,7 @@ def _urdf_leader(source: Source, name: str) -> Mimic:
     assert source.tree is not None
     joint = source.tree.joints[name]
     if joint.mimic is None or joint.multiplier == 0.0:
-        raise InputError(f"{source.display}: Pinocchio cannot drive joint {name!r}")
+        raise InputError(f"{source.display}: Pinocchio cannot drive joint {shown(name)}")
     return final_leader(source.tree, Mimic(joint.mimic, joint.multiplier, joint.offset))
 
 
@@ -189,10 +247,10 @@ def pinocchio_evaluator(source: Source, poe: PoeModel) -> Callable[[Mat], Mat]:
     else:  # our own model of Pinocchio joints, one per row, driven with the mimic coupling
         model, mapping, base_f, tip_f = _model_from_poe(pin, poe)
         rows = True
-    data = model.createData()
+    poses = _frame_poser(pin, model)
     # the base link lies above the chain, so its pose moves with none of the sampled joints
-    pin.forwardKinematics(model, data, pin.neutral(model))
-    base_inverse = pin.updateFramePlacement(model, data, base_f).inverse().homogeneous
+    base = poses(base_f, pin.neutral(model)[None])[0]
+    base_inverse = pin.SE3(base).inverse().homogeneous
 
     def evaluate(q: Mat) -> Mat:
         if rows:
@@ -204,15 +262,55 @@ def pinocchio_evaluator(source: Source, poe: PoeModel) -> Callable[[Mat], Mat]:
                 configs[:, idx], configs[:, idx + 1] = np.cos(value), np.sin(value)
             else:
                 configs[:, idx] = value
-        tip = np.empty((q.shape[0], 4, 4))
-        for k, config in enumerate(configs):
-            pin.forwardKinematics(model, data, config)
-            tip[k] = pin.updateFramePlacement(model, data, tip_f).homogeneous
+        tip = poses(tip_f, configs)
         if np.array_equal(base_inverse, np.eye(4)):  # the base link is Pinocchio's root
             return tip
         return base_inverse @ tip
 
     return evaluate
+
+
+# Pinocchio's Data holds derivative tensors of nv^3 doubles: 58 MB at 100 joints, 8 GB at 500.
+# Up to this many, forward kinematics uses it (the fastest); beyond, joint by joint.
+DATA_JOINTS = 100
+
+
+def _frame_poser(pin: Any, model: Any) -> Callable[[int, Mat], Mat]:
+    """A function of a frame and configurations ``(N, nq)`` giving Pinocchio's pose
+    ``(N, 4, 4)`` of the frame at each.
+
+    Up to :data:`DATA_JOINTS` degrees of freedom, by ``forwardKinematics`` and
+    ``updateFramePlacement`` on one ``Data``; beyond, the same recursion along the frame's
+    support with each joint's own ``calc`` and one ``JointData`` per joint, ``oMi = oMi_parent
+    . (jointPlacements[i] . M_i(q))``, so that memory stays linear in the joints."""
+    if model.nv <= DATA_JOINTS:
+        data = model.createData()
+
+        def by_data(frame: int, configs: Mat) -> Mat:
+            out = np.empty((configs.shape[0], 4, 4))
+            for k, config in enumerate(configs):
+                pin.forwardKinematics(model, data, config)
+                out[k] = pin.updateFramePlacement(model, data, frame).homogeneous
+            return out
+
+        return by_data
+
+    def joint_by_joint(frame: int, configs: Mat) -> Mat:
+        placement = model.frames[frame].placement
+        support = list(model.supports[model.frames[frame].parentJoint])[1:]  # 0: the universe
+        joints = [model.joints[i] for i in support]
+        steps = [model.jointPlacements[i] for i in support]
+        datas = [j.createData() for j in joints]
+        out = np.empty((configs.shape[0], 4, 4))
+        for k, config in enumerate(configs):
+            pose = pin.SE3.Identity()
+            for joint, step, data in zip(joints, steps, datas, strict=True):
+                joint.calc(data, config)
+                pose = pose * (step * data.M)  # as Pinocchio: oMi = oMi_parent * liMi
+            out[k] = (pose * placement).homogeneous
+        return out
+
+    return joint_by_joint
 
 
 def _oracle_rounding(source: Source, poe: PoeModel) -> float:
@@ -268,6 +366,7 @@ def verify(
     only where a tolerance judgement was reported), plus Pinocchio's own rounding where the base
     link lies far from the URDF's root (:func:`_oracle_rounding`).
     """
+    check_verifiable(source, poe)
     q = sample_configurations(poe, samples, (seed, VERIFY_STREAM))
     tables = [to_table(poe, conv, tol, samples=check_samples) for conv in conventions]
     chains = [poe.link_form(), *(t.link_form() for t in tables)]

@@ -29,6 +29,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from .bounds import FILE_BYTES
 from .errors import InputError
 from .files import note_input
 from .io.xacro_child import OUT_OF_MEMORY
@@ -38,7 +39,7 @@ if TYPE_CHECKING:
 
 __all__ = ["MESSAGES_LIMIT", "URDF_LIMIT", "PackageNotFound", "XacroOptions", "expand"]
 
-URDF_LIMIT = 256 * 2**20  # bytes of expanded URDF
+URDF_LIMIT = FILE_BYTES  # bytes of expanded URDF: as many as a URDF file may hold
 MESSAGES_LIMIT = 2**20  # bytes the expansion may print (xacro.message, warnings)
 
 

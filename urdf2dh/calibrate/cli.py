@@ -415,7 +415,7 @@ def _helical(text: str, joints: tuple[str, ...]) -> tuple[str, ...]:
     unknown = [n for n in names if n not in joints]
     if unknown:
         raise UsageError(
-            f"--helical: {unknown[0]!r} is not a joint of the chain; valid: "
+            f"--helical: {shown(unknown[0])} is not a joint of the chain; valid: "
             f"{choices(joints)} or all"
         )
     return names

@@ -354,9 +354,13 @@ def _number(raw: list[str], k: int, name: str, where: str) -> float:
     try:
         value = float(text_value)
     except ValueError:
-        raise InputError(f"{where}, column {shown(name)}: {text_value!r} is not a number") from None
+        raise InputError(
+            f"{where}, column {shown(name)}: {shown(text_value)} is not a number"
+        ) from None
     if not math.isfinite(value):
-        raise InputError(f"{where}, column {shown(name)}: {text_value!r} is not a finite number")
+        raise InputError(
+            f"{where}, column {shown(name)}: {shown(text_value)} is not a finite number"
+        )
     return value
 
 
@@ -444,7 +448,7 @@ def read_measurements(
                 mark = int(text_value, 10)
             except ValueError:
                 raise InputError(
-                    f"{where}, column 'marker': {text_value!r} is not an integer"
+                    f"{where}, column 'marker': {shown(text_value)} is not an integer"
                 ) from None
             if mark < 0:
                 raise InputError(f"{where}, column 'marker': {mark} is negative")
@@ -576,7 +580,7 @@ def read_layout(path: str | Path, display: str | None = None) -> dict[int, Mat]:
             mark = int(raw[0].strip(), 10)
         except ValueError:
             raise InputError(
-                f"{_where(display, row, line, MARKER)}: {raw[0].strip()!r} is not an integer"
+                f"{_where(display, row, line, MARKER)}: {shown(raw[0].strip())} is not an integer"
             ) from None
         if mark in out:
             raise InputError(f"{_where(display, row, line, MARKER)}: marker {mark} appears twice")

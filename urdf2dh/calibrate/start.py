@@ -16,7 +16,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 from numpy.typing import NDArray
 
-from ..errors import UsageError, choices
+from ..errors import UsageError, choices, shown
 from ..screws import Joint, PoeModel
 from ..tolerances import DEFAULT, Tolerances
 from .chart import BASE_TOOL, LEVELS, Estimate, line_point
@@ -91,9 +91,9 @@ class Options:
 
     def __post_init__(self) -> None:
         if self.frame not in ("device", "nominal"):
-            raise UsageError(f"frame must be device or nominal, not {self.frame!r}")
+            raise UsageError(f"frame must be device or nominal, not {shown(self.frame)}")
         if self.level not in LEVELS:
-            raise UsageError(f"unknown level {self.level!r}; valid: {choices(LEVELS)}")
+            raise UsageError(f"unknown level {shown(self.level)}; valid: {choices(LEVELS)}")
         if self.pose and (self.noise_pos is None) != (self.noise_rot is None):
             raise UsageError("give both noise levels (position and rotation) or neither")
 

@@ -43,6 +43,7 @@ __all__ = [
     "length",
     "offset",
     "read_params",
+    "unit_direction",
     "written_angle",
     "written_length",
 ]
@@ -117,8 +118,9 @@ class Params:
 
     def written(self, angle: float, length: float) -> Params:
         """The record as a table file writes it: a value within ``length`` of 0 (an angle
-        within ``angle`` of a multiple of pi/2, a direction's component within ``angle`` of 0 or
-        +-1) replaced by that, and no ``-0.0``."""
+        within ``angle`` of a multiple of pi/2) replaced by that, a direction's components within
+        ``angle`` of 0 made 0 and the direction normalised again (:func:`unit_direction`), and
+        no ``-0.0``."""
         values: dict[str, Value] = {}
         for name, quantity in _layout(type(self)):
             value = getattr(self, name)
@@ -126,10 +128,11 @@ class Params:
                 values[name] = written_angle(value, angle)
             elif quantity == "length":
                 values[name] = written_length(value, length)
+            elif quantity == "direction":
+                x, y, z = (written_length(c, angle) for c in value)
+                values[name] = unit_direction((x, y, z))
             else:
-                targets, within = ((-1.0, 0.0, 1.0), angle) if quantity == "direction" else (
-                    (0.0,), length)  # fmt: skip
-                x, y, z = (_snap(c, targets, within) for c in value)
+                x, y, z = (_snap(c, (0.0,), length) for c in value)
                 values[name] = (x, y, z)
         return type(self)(**values)
 
@@ -151,6 +154,18 @@ def _layout(cls: type) -> tuple[tuple[str, Quantity], ...]:
     if cls not in _LAYOUTS:
         _LAYOUTS[cls] = tuple((f.name, f.metadata["quantity"]) for f in fields(cls))
     return _LAYOUTS[cls]
+
+
+def unit_direction(v: tuple[float, float, float]) -> tuple[float, float, float]:
+    """``v / |v|`` (``v`` non-zero), with a coordinate axis exactly: ``(0, 0, -1)``, never
+    ``(0, 0, -0.9999999999999999)``; no ``-0.0``.
+
+    How a direction is written and read back, so that its norm is 1 to the last place and a
+    reader that evaluates it as written (CPC's ``R(b)``, Sumenkov eq. 4) gets the rotation the
+    table was checked with."""
+    x, y, z = v
+    n = math.hypot(x, y, z)
+    return (x / n + 0.0, y / n + 0.0, z / n + 0.0)
 
 
 def _snap(value: float, targets: tuple[float, ...], within: float) -> float:
@@ -252,7 +267,7 @@ def read_params(conv: Convention, part: Part, raw: Any, where: str, tol: Toleran
             norm = math.hypot(*v)
             if abs(norm - 1.0) > tol.rotation_input:
                 raise TableFileError(f"{label} must be a unit vector (|{name}| = {norm:.9g})")
-            values[name] = (v[0] / norm, v[1] / norm, v[2] / norm)
+            values[name] = unit_direction(v)
         elif quantity == "offset":
             values[name] = check_vector(raw[name], label, TableFileError)
         else:

@@ -26,6 +26,7 @@ from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING, ClassVar
 
 from .. import frames
+from ..errors import shown
 from ..frames import Frame, Vec3
 from ..lines import Judgement, Limits, LinkParams, link_to_line
 from .base import Conversion, Params, angle, length
@@ -89,9 +90,9 @@ def far_rows(
         values = {k: getattr(params, k) for k in ("d", "a")}
         big = [k for k in values if abs(values[k]) > far]
         if big:
-            shown = ", ".join(f"|{k}| = {abs(values[k]):.3g} {unit}" for k in big)
+            lengths = ", ".join(f"|{k}| = {abs(values[k]):.3g} {unit}" for k in big)
             out.append(
-                f"{name}: row '{joint.name}' has {shown}, far beyond the robot's size "
+                f"{name}: row {shown(joint.name)} has {lengths}, far beyond the robot's size "
                 f"({model.size():.3g} {unit}): nearly parallel axes put the common "
                 "normal far away and D-H loses precision there; --convention hayati (or cpc, or "
                 "the POE model) describes this geometry without it, while mdh shares the common "

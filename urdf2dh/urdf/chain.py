@@ -15,7 +15,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 from numpy.typing import NDArray
 
-from ..errors import ChainError
+from ..errors import ChainError, shown
 from ..mimic import Mimic
 from ..screws import Joint, JointKind, PoeModel
 from .tree import UrdfJoint, UrdfTree, names
@@ -81,8 +81,8 @@ def _walk(
         t = t @ uj.origin
         if uj.type in ("floating", "planar"):
             raise ChainError(
-                f"{tree.path}: joint {uj.name!r} on the chain {base!r} -> {tip!r} is "
-                f"{uj.type}; only revolute, continuous, prismatic and fixed joints have D-H rows"
+                f"{tree.path}: joint {shown(uj.name)} on the chain {shown(base)} -> {shown(tip)} "
+                f"is {uj.type}; only revolute, continuous, prismatic and fixed joints have D-H rows"
             )
         if uj.type == "fixed":
             continue
@@ -94,7 +94,7 @@ def _walk(
                 continue
             if ignore_mimic:
                 warnings.append(
-                    f"joint {uj.name!r} mimics {uj.mimic!r} in the URDF; treated as an "
+                    f"joint {shown(uj.name)} mimics {shown(uj.mimic)} in the URDF; treated as an "
                     "independent joint (--ignore-mimic)"
                 )
         mimic = None
@@ -137,9 +137,10 @@ def _followed(
             if relation.joint not in stand_ins and relation.multiplier != 0.0:
                 stand_ins[relation.joint] = (m.name, relation)
                 warnings.append(
-                    f"joint {m.name!r} follows {relation.joint!r}, which is not on the chain "
-                    f"{base!r} -> {tip!r}: it is driven on its own here (in the URDF, q = "
-                    f"{relation.multiplier:g} q_{relation.joint} + {relation.offset:g})"
+                    f"joint {shown(m.name)} follows {shown(relation.joint)}, which is not on the "
+                    f"chain {shown(base)} -> {shown(tip)}: it is driven on its own here (in the "
+                    f"URDF, q = {relation.multiplier:g} q_{shown(relation.joint)} + "
+                    f"{relation.offset:g})"
                 )
                 relation = None
             elif relation.joint in stand_ins:
@@ -148,8 +149,8 @@ def _followed(
                 relation = Mimic(first, ratio, relation.offset - ratio * r1.offset)
             else:  # a multiplier of 0: a constant position, of no joint
                 raise ChainError(
-                    f"{tree.path}: joint {m.name!r} mimics {relation.joint!r} with multiplier 0; "
-                    "pass --ignore-mimic to treat it as an independent joint"
+                    f"{tree.path}: joint {shown(m.name)} mimics {shown(relation.joint)} with "
+                    "multiplier 0; pass --ignore-mimic to treat it as an independent joint"
                 )
         out.append(m if relation == m.mimic else replace(m, mimic=relation))
     return out
@@ -191,7 +192,9 @@ def tree_to_poe(
     """
     base = base or tree.root
     if base not in tree.links:
-        raise ChainError(f"{tree.path}: unknown base link {base!r}; links are {names(tree.links)}")
+        raise ChainError(
+            f"{tree.path}: unknown base link {shown(base)}; links are {names(tree.links)}"
+        )
     tip = tip or tree.default_tip(base)
     moving, home, warnings = _walk(tree, tree.chain(base, tip), ignore_mimic, base, tip)
     joints = tuple(

@@ -15,13 +15,14 @@ import re
 from pathlib import Path
 from typing import Any
 
-from ..errors import InputError
+from ..bounds import JOINTS
+from ..errors import InputError, shown
 from ..files import read_file
 from ..text import check_text, sniff
 from .tree import UrdfTree, build_tree
 from .validate import check_robot
 
-__all__ = ["document", "load_tree", "parse_tree", "parse_xml", "yourdfpy_robot"]
+__all__ = ["check_size", "document", "load_tree", "parse_tree", "parse_xml", "yourdfpy_robot"]
 
 # An XML declaration and its pseudo-attributes (XML 1.0 §2.8); read from the bytes of a file
 # without a BOM, where it is ASCII whatever the encoding it declares.
@@ -30,6 +31,8 @@ _PSEUDO = re.compile(rb"""(version|encoding|standalone)\s*=\s*(?:"([^"]*)"|'([^'
 _DECLARATION_TEXT = re.compile(r"<\?xml[ \t\r\n][^>]*?\?>")
 _VERSION_1 = re.compile(rb"1\.[0-9]+")  # the versions libxml2 reads; "0.0" and "2.0" it refuses
 _LXML_SOURCE = re.compile(r" \(<string>, line [0-9]+\)$")  # lxml's suffix: the line is in it
+# libxml2's advice to its callers (an option urdf2dh does not set), not to a URDF's author
+_PARSER_HINT = re.compile(r",? (?:try|use|see) (?:XML_PARSE_HUGE|xmlCtxtSetMaxAmplification)[^,]*")
 _UTF8 = ("utf-8", "ascii")  # codec names (codecs.lookup) whose text is UTF-8 as it stands
 _WIDE = ("utf-16", "utf-32")  # declared without a BOM, yet the declaration was ASCII: UTF-8 too
 
@@ -93,7 +96,7 @@ def document(data: bytes, display: str) -> bytes:
         b"<".decode(codec, errors="replace")  # bytes.decode refuses non-text codecs
     except LookupError as e:  # also a codec that is not a text encoding ("base64", "rot13")
         raise InputError(
-            f"{display}: unknown text encoding {declared!r} in its XML declaration"
+            f"{display}: unknown text encoding {shown(declared)} in its XML declaration"
         ) from e
     if codec in _UTF8 or codec.startswith(_WIDE):
         _text(body, "utf-8", display)
@@ -110,7 +113,9 @@ def parse_xml(xml: bytes, display: str) -> Any:
     Raises
     ------
     InputError
-        ``"<display>: malformed XML (<lxml's reason>)"``.
+        ``"<display>: malformed XML (<lxml's reason>)"``, or for a document beyond libxml2's
+        limits (a text node or attribute over 10 MB, nesting over 256 deep, entity expansion)
+        ``"<display>: beyond the XML parser's limits (<its reason>)"``.
     """
     from lxml import etree
 
@@ -121,7 +126,28 @@ def parse_xml(xml: bytes, display: str) -> Any:
         return etree.fromstring(xml, parser=parser)
     except etree.XMLSyntaxError as e:
         reason = _LXML_SOURCE.sub("", " ".join(str(e).split()))
+        if e.code == etree.ErrorTypes.ERR_RESOURCE_LIMIT:
+            # libxml2's bounds (text nodes and attributes of 10 MB, nesting 256 deep, entity
+            # expansion): well-formed or not, the document is too large to read
+            reason = _PARSER_HINT.sub("", reason)
+            raise InputError(f"{display}: beyond the XML parser's limits ({reason})") from e
+        if e.code == etree.ErrorTypes.ERR_NO_MEMORY:
+            raise InputError(f"{display}: not enough memory to parse the XML ({reason})") from e
         raise InputError(f"{display}: malformed XML ({reason})") from e
+    except MemoryError as e:
+        raise InputError(f"{display}: not enough memory to parse the XML") from e
+
+
+def check_size(root: Any, display: str) -> None:
+    """Refuse a URDF of more than :data:`~urdf2dh.bounds.JOINTS` joints (or links than a tree
+    of as many joints has), before anything is done per element."""
+    for kind, most in (("joint", JOINTS), ("link", JOINTS + 1)):
+        count = sum(1 for _ in root.iterchildren(kind))
+        if count > most:
+            raise InputError(
+                f"{display}: {count:,} {kind}s; urdf2dh reads URDFs of at most {JOINTS:,} joints "
+                f"({JOINTS + 1:,} links)"
+            )
 
 
 def yourdfpy_robot(root: Any, display: str) -> Any:
@@ -146,7 +172,7 @@ def yourdfpy_robot(root: Any, display: str) -> Any:
             except Exception as e:  # yourdfpy raises many kinds (ValueError, KeyError, ...)
                 reason = " ".join(f"{type(e).__name__}: {e}".split())
                 raise InputError(
-                    f"{display}: {kind} {el.get('name')!r}: yourdfpy cannot read it ({reason})"
+                    f"{display}: {kind} {shown(el.get('name'))}: yourdfpy cannot read it ({reason})"
                 ) from e
     return robot
 
@@ -174,6 +200,7 @@ def parse_tree(data: bytes, display: str) -> UrdfTree:
     check_text(data, display, "URDF XML")
     xml = document(data, display)
     root = parse_xml(xml, display)
+    check_size(root, display)
     check_robot(root, display)
     return build_tree(yourdfpy_robot(root, display), display, xml)
 

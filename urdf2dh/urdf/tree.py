@@ -16,7 +16,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from ..errors import ChainError, InputError, choices
+from ..errors import ChainError, InputError, choices, shown
 from .validate import JOINT_TYPES, MOVING_TYPES
 
 __all__ = ["UrdfJoint", "UrdfTree", "build_tree", "names"]
@@ -70,9 +70,9 @@ class UrdfJoint:
 
     def __post_init__(self) -> None:
         if self.type not in JOINT_TYPES:
-            raise ValueError(f"joint {self.name!r}: unknown type {self.type!r}")
+            raise ValueError(f"joint {shown(self.name)}: unknown type {shown(self.type)}")
         if self.origin.shape != (4, 4) or self.axis.shape != (3,):
-            raise ValueError(f"joint {self.name!r}: origin must be (4, 4) and axis (3,)")
+            raise ValueError(f"joint {shown(self.name)}: origin must be (4, 4) and axis (3,)")
 
 
 @dataclass(frozen=True, slots=True)
@@ -136,7 +136,7 @@ class UrdfTree:
         tied = [leaf for leaf, d in depths.items() if d == deepest]
         if len(tied) > 1:
             raise ChainError(
-                f"{self.path}: several leaves tie as the deepest below {base!r}: "
+                f"{self.path}: several leaves tie as the deepest below {shown(base)}: "
                 f"{names(tied)}; choose one with --tip"
             )
         return tied[0]
@@ -146,15 +146,15 @@ class UrdfTree:
         for role, link in (("base", base), ("tip", tip)):
             if link not in self.children and link not in self.parent_joint and link != self.root:
                 raise ChainError(
-                    f"{self.path}: unknown {role} link {link!r}; links are {names(self.links)}"
+                    f"{self.path}: unknown {role} link {shown(link)}; links are {names(self.links)}"
                 )
         out: list[UrdfJoint] = []
         link = tip
         while link != base:
             if link not in self.parent_joint:
                 raise ChainError(
-                    f"{self.path}: tip link {tip!r} is not below base link {base!r} "
-                    f"(links below {base!r} end in {names(self.leaves(base))})"
+                    f"{self.path}: tip link {shown(tip)} is not below base link {shown(base)} "
+                    f"(links below {shown(base)} end in {names(self.leaves(base))})"
                 )
             joint = self.parent_joint[link]
             out.append(joint)
@@ -215,9 +215,9 @@ def build_tree(robot: Any, display: str, xml: bytes = b"") -> UrdfTree:
         uj = joints[j.name] = _joint(j)
         if uj.child in parent_joint:
             raise InputError(
-                f"{display}: link {uj.child!r} is the child of both joint "
-                f"{parent_joint[uj.child].name!r} and joint {uj.name!r} (a kinematic loop; "
-                "URDF describes trees only)"
+                f"{display}: link {shown(uj.child)} is the child of both joint "
+                f"{shown(parent_joint[uj.child].name)} and joint {shown(uj.name)} (a kinematic "
+                "loop; URDF describes trees only)"
             )
         parent_joint[uj.child] = uj
         children.setdefault(uj.parent, []).append(uj)
@@ -240,7 +240,7 @@ def build_tree(robot: Any, display: str, xml: bytes = b"") -> UrdfTree:
     if len(reached) != len(links):
         unreached = [link for link in links if link not in reached]
         raise InputError(
-            f"{display}: links {names(unreached)} are not connected to root {roots[0]!r} "
+            f"{display}: links {names(unreached)} are not connected to root {shown(roots[0])} "
             "(a kinematic loop)"
         )
     return tree

@@ -28,7 +28,7 @@ import re
 import sys
 from typing import Any
 
-from ..errors import InputError, choices
+from ..errors import InputError, choices, shown
 
 __all__ = ["JOINT_TYPES", "LARGEST", "LARGEST_ANGLE", "MOVING_TYPES", "check_robot", "numbers"]
 
@@ -99,10 +99,10 @@ def numbers(
             else:
                 if max(map(abs, values)) <= largest:
                     return values
-    return _read(text, count, f"{where}: {what} {text!r}", largest)
+    return _read(text, count, f"{where}: {what} {shown(text)}", largest)
 
 
-def _read(text: str, count: int, shown: str, largest: float) -> list[float]:
+def _read(text: str, count: int, label: str, largest: float) -> list[float]:
     """:func:`numbers`, piece by piece, raising the error that names the piece at fault."""
     expected = "a number" if count == 1 else f"{count} numbers"
     if count == 1:
@@ -112,17 +112,19 @@ def _read(text: str, count: int, shown: str, largest: float) -> list[float]:
     values = []
     for piece in pieces:
         if _NON_FINITE.fullmatch(piece.strip()):
-            raise InputError(f"{shown} is not finite ({piece!r} is not a decimal number)")
+            raise InputError(f"{label} is not finite ({shown(piece)} is not a decimal number)")
         if not _DECIMAL.fullmatch(piece):
-            raise InputError(f"{shown} is not {expected} ({piece!r} is not a decimal number)")
+            raise InputError(f"{label} is not {expected} ({shown(piece)} is not a decimal number)")
         value = float(piece)
         if math.isinf(value):
-            raise InputError(f"{shown} is not finite ({piece.strip()} overflows float64)")
+            raise InputError(f"{label} is not finite ({shown(piece.strip())} overflows float64)")
         if abs(value) > largest:
-            raise InputError(f"{shown} is out of range ({piece.strip()} is beyond ±{largest:g})")
+            raise InputError(
+                f"{label} is out of range ({shown(piece.strip())} is beyond ±{largest:g})"
+            )
         values.append(value)
     if len(values) != count:
-        raise InputError(f"{shown} is not {expected} (it holds {len(values)})")
+        raise InputError(f"{label} is not {expected} (it holds {len(values)})")
     return values
 
 
@@ -149,15 +151,15 @@ def _check_axis(el: Any, jtype: str, where: str) -> None:
         return
     squared = x * x + y * y + z * z
     if not (x or y or z):
-        raise InputError(f"{where}: axis xyz {text!r} is a zero axis")
+        raise InputError(f"{where}: axis xyz {shown(text)} is a zero axis")
     if squared < _SMALLEST_NORMAL:
         raise InputError(
-            f"{where}: axis xyz {text!r} is too short to normalise (its squared length "
+            f"{where}: axis xyz {shown(text)} is too short to normalise (its squared length "
             "underflows float64; urdfdom and Pinocchio would keep it un-normalised)"
         )
     if math.isinf(squared):
         raise InputError(
-            f"{where}: axis xyz {text!r} is too long to normalise (its squared length "
+            f"{where}: axis xyz {shown(text)} is too long to normalise (its squared length "
             "overflows float64; urdfdom and Pinocchio would make it a zero axis)"
         )
 
@@ -166,13 +168,13 @@ def _check_joint(el: Any, display: str, links: set[str], joints: set[str]) -> No
     name = el.get("name")
     if not name:
         raise InputError(f"{display}: a <joint> has no name attribute")
-    where = f"{display}: joint {name!r}"
+    where = f"{display}: joint {shown(name)}"
     if name in joints:
         raise InputError(f"{where} is declared twice")
     joints.add(name)
     jtype = el.get("type")
     if jtype not in JOINT_TYPES:
-        problem = "has no type attribute" if jtype is None else f"has unknown type {jtype!r}"
+        problem = "has no type attribute" if jtype is None else f"has unknown type {shown(jtype)}"
         raise InputError(f"{where} {problem}; valid: {choices(JOINT_TYPES)}")
     sub: dict[Any, Any] = {}
     for child in el:  # the first of each tag counts, as with urdfdom's FirstChildElement
@@ -182,7 +184,7 @@ def _check_joint(el: Any, display: str, links: set[str], joints: set[str]) -> No
         if not link:
             raise InputError(f"{where} has no <{role} link=...>")
         if link not in links:
-            raise InputError(f"{where} names undeclared link {link!r} as its {role}")
+            raise InputError(f"{where} names undeclared link {shown(link)} as its {role}")
     if (origin := sub.get("origin")) is not None:
         _attribute(origin, "xyz", 3, "origin xyz", where)
         _attribute(origin, "rpy", 3, "origin rpy", where, None)
@@ -193,8 +195,8 @@ def _check_joint(el: Any, display: str, links: set[str], joints: set[str]) -> No
             value = _attribute(limit, attr, 1, f"limit {attr}", where)
             if jtype == "revolute" and value is not None and abs(value[0]) > LARGEST_ANGLE:
                 raise InputError(
-                    f"{where}: limit {attr} {limit.get(attr)!r} is out of range for a revolute "
-                    f"joint (beyond ±{LARGEST_ANGLE:g} rad; a joint without limits is "
+                    f"{where}: limit {attr} {shown(limit.get(attr))} is out of range for a "
+                    f"revolute joint (beyond ±{LARGEST_ANGLE:g} rad; a joint without limits is "
                     'type="continuous")'
                 )
         for attr in ("effort", "velocity"):  # not used, but urdfdom and Pinocchio read them
@@ -231,10 +233,10 @@ def check_robot(root: Any, display: str) -> None:
         if not name:
             raise InputError(f"{display}: a <link> has no name attribute")
         if name in links:
-            raise InputError(f"{display}: link {name!r} is declared twice")
+            raise InputError(f"{display}: link {shown(name)} is declared twice")
         links.add(name)
     if not links:
-        raise InputError(f"{display}: robot {root.get('name')!r} declares no links")
+        raise InputError(f"{display}: robot {shown(root.get('name'))} declares no links")
     joints: set[str] = set()
     for el in root.iterchildren("joint"):
         _check_joint(el, display, links, joints)
