@@ -13,8 +13,9 @@ import pytest
 
 from urdf2dh.cli import main
 from urdf2dh.errors import InputError
+from urdf2dh.tolerances import LARGEST_URDF_NUMBER as LARGEST
 from urdf2dh.urdf import parse_tree, tree_to_poe
-from urdf2dh.urdf.validate import LARGEST, numbers
+from urdf2dh.urdf.validate import numbers
 
 LIMIT = 'lower="-1" upper="1" effort="1" velocity="1"'
 

@@ -22,8 +22,8 @@ import re
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
-from .bounds import JOINTS
 from .errors import InputError, shown
+from .tolerances import JOINTS, LARGEST_NUMBER, MAX_SAMPLES, MAX_SEED
 
 if TYPE_CHECKING:
     import numpy as np
@@ -32,9 +32,6 @@ if TYPE_CHECKING:
     from .mimic import Followed, Mimic
 
 __all__ = [
-    "LARGEST",
-    "MAX_SAMPLES",
-    "MAX_SEED",
     "check_array",
     "check_configurations",
     "check_count",
@@ -53,14 +50,10 @@ __all__ = [
     "read_mimic",
 ]
 
-# No number a kinematic file holds is larger: 1e12 of any length unit urdf2dh knows is over a
-# million kilometres, and angles, scales and limits are far smaller. Beyond it, products and
-# sums of squares in the geometry would overflow, so such a number is an input error.
-LARGEST = 1e12
-
 
 def check_number(value: Any, where: str, error: type[InputError] = InputError) -> float:
-    """``value`` as a finite float of magnitude at most :data:`LARGEST`; ``error`` naming
+    """``value`` as a finite float of magnitude at most
+    :data:`~urdf2dh.tolerances.LARGEST_NUMBER`; ``error`` naming
     ``where`` for anything else (booleans, strings, non-finite or huge numbers)."""
     if isinstance(value, bool) or not isinstance(value, int | float):
         note = yaml11_note(value) if isinstance(value, str) else ""
@@ -71,8 +64,10 @@ def check_number(value: Any, where: str, error: type[InputError] = InputError) -
         raise error(f"{where} is too large for a float") from e
     if not math.isfinite(out):
         raise error(f"{where} must be finite")
-    if abs(out) > LARGEST:
-        raise error(f"{where} is {out:.3g}: beyond {LARGEST:g}, no kinematic number is that large")
+    if abs(out) > LARGEST_NUMBER:
+        raise error(
+            f"{where} is {out:.3g}: beyond {LARGEST_NUMBER:g}, no kinematic number is that large"
+        )
     return out
 
 
@@ -179,7 +174,7 @@ def read_mimic(raw: Any, where: str, error: type[InputError] = InputError) -> Mi
 
 
 def check_joint_count(count: int, where: str, error: type[InputError] = InputError) -> None:
-    """At most :data:`~urdf2dh.bounds.JOINTS` joints in a POE or table file."""
+    """At most :data:`~urdf2dh.tolerances.JOINTS` joints in a POE or table file."""
     if count > JOINTS:
         raise error(f"{where}: {count:,} joints; urdf2dh reads chains of at most {JOINTS:,}")
 
@@ -197,10 +192,6 @@ def check_leaders(joints: Sequence[Followed], where: str,
 
 
 # --------------------------------------------------------------------------- Python API arguments
-
-# Configurations of a self-check or a verify run: about 1 GB of poses at most.
-MAX_SAMPLES = 1_000_000
-MAX_SEED = 2**63 - 1  # numpy's seeds are non-negative integers; this is the CLI's bound too
 
 
 def check_instance(value: Any, kind: type, where: str, hint: str = "") -> Any:
@@ -251,8 +242,8 @@ def check_count(value: Any, where: str, least: int = 1, most: int = MAX_SAMPLES)
 
 
 def check_seed(value: Any, where: str) -> int:
-    """A random seed: an int from 0 to :data:`MAX_SEED` (as ``numpy.random.default_rng``
-    takes it)."""
+    """A random seed: an int from 0 to :data:`~urdf2dh.tolerances.MAX_SEED` (as
+    ``numpy.random.default_rng`` takes it)."""
     return check_count(value, where, 0, MAX_SEED)
 
 

@@ -14,7 +14,6 @@ from dataclasses import replace
 import numpy as np
 from numpy.typing import NDArray
 
-from .bounds import JOINT_POSITIONS
 from .checks import check_count, check_instance, check_seed
 from .conventions import REGISTRY, STYLES, Conversion, get
 from .errors import ConversionError, InputError, UsageError, choices, shown
@@ -23,7 +22,7 @@ from .lines import Judgement
 from .screws import PoeModel
 from .se3 import pose_errors
 from .table import Check, Row, Table
-from .tolerances import DEFAULT, EPS, FK_ROUNDING, Tolerances
+from .tolerances import DEFAULT, EPS, FK_ROUNDING, JOINT_POSITIONS, Tolerances
 
 __all__ = [
     "DEFAULT_SAMPLES",
@@ -51,7 +50,7 @@ def sample_configurations(
 ) -> NDArray[np.float64]:
     """``(samples, dof)`` actuated joint positions drawn uniformly within the model's limits
     (:meth:`~urdf2dh.screws.PoeModel.limits`), seeded (a tuple seed names a separate stream, as
-    ``numpy.random.default_rng`` takes it); at most :data:`~urdf2dh.bounds.JOINT_POSITIONS`
+    ``numpy.random.default_rng`` takes it); at most :data:`~urdf2dh.tolerances.JOINT_POSITIONS`
     positions in all, or an ``InputError``."""
     if samples * max(model.dof, 1) > JOINT_POSITIONS:
         raise InputError(

@@ -47,8 +47,8 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from . import interrupts
-from .bounds import FILE_BYTES
 from .errors import InputError
+from .tolerances import FILE_BYTES
 
 __all__ = [
     "check_outputs",
@@ -100,7 +100,7 @@ def note_input(path: str | Path, role: str = INPUT_ROLE) -> None:
 
 def read_file(path: Path, display: str, role: str = INPUT_ROLE, limit: int = FILE_BYTES) -> bytes:
     """The bytes of the regular file ``path``, an input of the run (``role`` says what it is to
-    the run), at most ``limit`` of them (:data:`~urdf2dh.bounds.FILE_BYTES`); ``display`` names
+    the run), at most ``limit`` of them (:data:`~urdf2dh.tolerances.FILE_BYTES`); ``display`` names
     it in error messages.
 
     A device, FIFO or socket (``/dev/zero``, a named pipe, ``/dev/stdin``) is refused before

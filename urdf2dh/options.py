@@ -8,7 +8,7 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
-from .checks import MAX_SAMPLES, MAX_SEED
+from .tolerances import MAX_SAMPLES, MAX_SEED
 
 __all__ = [
     "MAX_SAMPLES",

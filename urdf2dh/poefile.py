@@ -30,13 +30,9 @@ from . import se3, units
 from .checks import check_joint_count, check_leaders, check_name, check_number, read_mimic
 from .errors import InputError, choices, shown
 from .screws import KINDS, Joint, PoeModel
-from .tolerances import DEFAULT, Tolerances
+from .tolerances import DEFAULT, JOINT_SCALES, Tolerances
 
 __all__ = ["check_matrix", "joint_from_twist", "poe_to_dict", "read_poe"]
-
-
-# A joint's scale (|w|, or |v| of a prismatic joint) is a gear ratio or a unit: within these.
-SCALES = (1e-9, 1e9)
 
 
 def _numbers(value: Any, count: int, where: str) -> NDArray[np.float64]:
@@ -104,10 +100,10 @@ def read_poe(data: Any, display: str, tol: Tolerances = DEFAULT) -> PoeModel:
             raise InputError(f"{where} has a zero twist")
         w, v = math.hypot(*xi[:3]), math.hypot(*xi[3:])  # no underflow of tiny entries
         scale = w if w > tol.noise else v
-        if not SCALES[0] <= scale <= SCALES[1]:
+        if not JOINT_SCALES[0] <= scale <= JOINT_SCALES[1]:
             raise InputError(
                 f"{where} twist has scale {scale:.3g} (|w|, or |v| where w = 0); a joint's scale "
-                f"lies within [{SCALES[0]:g}, {SCALES[1]:g}]"
+                f"lies within [{JOINT_SCALES[0]:g}, {JOINT_SCALES[1]:g}]"
             )
         lower = upper = None
         if entry.get("limits") is not None:

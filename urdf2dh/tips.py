@@ -33,8 +33,8 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from .bounds import JOINTS
 from .errors import ChainError, Urdf2DhError, UsageError, shown
+from .tolerances import JOINTS
 
 if TYPE_CHECKING:
     from .screws import PoeModel
@@ -140,7 +140,7 @@ def chain_tips(
 
 
 def _within_bound(tree: UrdfTree, base: str, tips: Sequence[str]) -> None:
-    """At most :data:`~urdf2dh.bounds.JOINTS` joints on the chains of one run, counted chain by
+    """At most :data:`~urdf2dh.tolerances.JOINTS` joints on the chains of one run, counted chain by
     chain (a comb of 3,000 links has 4.5 million)."""
     start = tree.depth(base) if base in tree.links else 0
     total = sum(tree.depth(t) - start for t in tips if t in tree.links)

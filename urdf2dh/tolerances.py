@@ -1,7 +1,14 @@
-"""Every numerical judgement the converter makes, named for what it decides, in one place.
+"""Every number urdf2dh decides by, named for what it decides, in one place: the tolerances of
+its judgements and the bounds on what it reads.
 
-The defaults are documented in README.md and overridable per call (keyword) and per command
-(CLI flag). No bare tolerance literal appears in the geometry modules.
+* :class:`Tolerances`: the judgements of one conversion, overridable per call (keyword) and per
+  command (CLI flag); :data:`DEFAULT` and :data:`EXACT`.
+* Named thresholds of ``diff``, calibration and the exports.
+* Bounds on input: what urdf2dh reads at most, so that no input makes it run for minutes, take
+  gigabytes or crash; beyond each, a one-line error naming the bound (``docs/limits.md`` lists
+  them with the error each gives).
+
+No bare tolerance literal appears in the geometry modules.
 """
 
 from __future__ import annotations
@@ -12,6 +19,7 @@ from dataclasses import dataclass, fields, replace
 
 __all__ = [
     "BARELY_MOVED",
+    "BOUNDS",
     "CALIBRATION_COST",
     "CALIBRATION_GRADIENT",
     "CALIBRATION_STEP",
@@ -20,8 +28,19 @@ __all__ = [
     "DIFF_LENGTH_M",
     "DIFF_ROUND_OFF",
     "EXACT",
+    "FILE_BYTES",
     "FK_ROUNDING",
     "HASH_DECIMALS",
+    "JOINTS",
+    "JOINT_POSITIONS",
+    "JOINT_SCALES",
+    "LARGEST_NUMBER",
+    "LARGEST_URDF_ANGLE",
+    "LARGEST_URDF_NUMBER",
+    "MAPPING_DEPTH",
+    "MAPPING_VALUES",
+    "MAX_SAMPLES",
+    "MAX_SEED",
     "NOISE_FLOOR",
     "NOISE_RATIO",
     "OUTLIER_CHANCE",
@@ -29,6 +48,7 @@ __all__ = [
     "QUATERNION_NORM",
     "RANK_RELATIVE",
     "RIGID_INPUT",
+    "VERIFY_JOINTS",
     "Tolerances",
 ]
 
@@ -114,6 +134,78 @@ OUTLIER_CHANCE = 1e-6
 # rotations the weights would otherwise drown every position below RANK_RELATIVE, and the
 # parameters only positions see would look undetermined. 1e-6 keeps them 1e4 above it.
 NOISE_RATIO = 1e-6
+
+# ----------------------------------------------------------------------------- bounds on input
+# Set from measurements (benchmarks/scale.py): ``convert`` takes about 0.5 ms and 8 kB per joint
+# (a chain of JOINTS joints in ~5 s and 200 MB); Pinocchio's URDF parser, which ``verify`` runs,
+# takes time that grows faster than the links.
+
+# Bytes of any file urdf2dh reads (SOURCE, a measurement CSV, a marker layout, a xacro file's
+# expansion): a URDF of JOINTS joints is ~3 MB, a POE or table file of as many joints under 2 MB.
+FILE_BYTES = 16 * 2**20
+
+# Joints of a URDF (all its joints, on the chain or not), of a POE or table file, of a xacro
+# file's expansion, and of the chains of one run over several tips.
+JOINTS = 10_000
+
+# Values of a parsed POE or table file, aliases counted each time they are used: a YAML file of
+# a few hundred bytes can otherwise alias its way to billions ("billion laughs").
+MAPPING_VALUES = 1_000_000
+
+# Levels of nesting of a POE or table file (lists and mappings in one another): a POE file has
+# four.
+MAPPING_DEPTH = 1_000
+
+# Configurations x joints of one self-check, verify run or synthesized set of poses: 80 MB for
+# each array of joint positions (a check of 1,000 configurations of a JOINTS-joint chain).
+JOINT_POSITIONS = 10_000_000
+
+# Joints of a URDF (or of a POE or table chain) that `verify` hands to Pinocchio: building its
+# model of 2,000 joints takes ~1 s and 200 MB, of 8,000 joints 25 s and 2 GB.
+VERIFY_JOINTS = 2_000
+
+# Configurations of a self-check or a verify run (about 1 GB of poses at most), and the largest
+# random seed (numpy's seeds are non-negative integers).
+MAX_SAMPLES = 1_000_000
+MAX_SEED = 2**63 - 1
+
+# No number a POE or table file holds is larger: 1e12 of any length unit urdf2dh knows is over a
+# million kilometres, and angles, scales and limits are far smaller. Beyond it, products and sums
+# of squares in the geometry would overflow, so such a number is an input error.
+LARGEST_NUMBER = 1e12
+
+# The largest magnitude read from a URDF for a length (origin ``xyz``), a joint limit or a mimic
+# factor: far beyond any robot (1e50 m; URDFs place world joints far away, and urdfdom reads
+# them), and small enough that the product of two such values (a helical joint's travel, pitch x
+# limit) and its square stay finite in float64.
+LARGEST_URDF_NUMBER = 1e50
+
+# The largest magnitude read from a URDF for a revolute joint's limit, in radians (1592 turns).
+# A D-H angle is ``q + theta``: where float64's spacing of ``q`` nears the exactness urdf2dh
+# promises (1e-10 rad), the sum loses ``theta`` (at 1e6 rad the spacing is 1.2e-10 rad, at 1e16
+# rad it is 2 rad), in our table's forward kinematics and in every controller's. Here it is
+# 1.8e-12.
+LARGEST_URDF_ANGLE = 1e4
+
+# A joint's scale in a POE file (|w|, or |v| of a prismatic joint) is a gear ratio or a unit:
+# within these.
+JOINT_SCALES = (1e-9, 1e9)
+
+#: The bounds on input by name, as ``docs/limits.md`` lists them.
+BOUNDS = (
+    "FILE_BYTES",
+    "JOINTS",
+    "MAPPING_VALUES",
+    "MAPPING_DEPTH",
+    "JOINT_POSITIONS",
+    "VERIFY_JOINTS",
+    "MAX_SAMPLES",
+    "MAX_SEED",
+    "LARGEST_NUMBER",
+    "LARGEST_URDF_NUMBER",
+    "LARGEST_URDF_ANGLE",
+    "JOINT_SCALES",
+)
 
 # ----------------------------------------------------------------------------- the Python API
 

@@ -24,7 +24,6 @@ from typing import Any, TypeVar
 import numpy as np
 from numpy.typing import NDArray
 
-from .bounds import PINOCCHIO_STACK, VERIFY_JOINTS
 from .conventions import NAMES
 from .convert import sample_configurations, to_table
 from .errors import InputError, shown
@@ -34,7 +33,7 @@ from .progress import progress
 from .screws import PoeModel
 from .sources import Source
 from .table import Check, Table
-from .tolerances import DEFAULT, EPS, Tolerances
+from .tolerances import DEFAULT, EPS, VERIFY_JOINTS, Tolerances
 from .urdf.chain import final_leader
 
 __all__ = [
@@ -45,6 +44,11 @@ __all__ = [
     "pinocchio_fk",
     "verify",
 ]
+
+# Stack of the thread that runs Pinocchio's URDF parser (bytes), whatever the process's own stack
+# limit: it recurses once per link (a segmentation fault beyond ~3,700 links on an 8 MiB stack);
+# this is ample for VERIFY_JOINTS links.
+PINOCCHIO_STACK = 256 * 2**20
 
 VERIFY_STREAM = 1  # verify's configurations: seeded by --seed, apart from the self-check's
 
@@ -140,7 +144,7 @@ _T = TypeVar("_T")
 
 
 def _on_a_large_stack(work: Callable[[], _T]) -> _T:
-    """``work()`` on a thread with a stack of :data:`~urdf2dh.bounds.PINOCCHIO_STACK` bytes:
+    """``work()`` on a thread with a stack of :data:`PINOCCHIO_STACK` bytes:
     Pinocchio's URDF parser recurses once per link, and the process's own stack (8 MiB, or
     whatever ``ulimit -s`` says) would overflow on a long chain."""
     outcome: list[Any] = []
@@ -165,7 +169,7 @@ def _on_a_large_stack(work: Callable[[], _T]) -> _T:
 
 
 def check_verifiable(source: Source, poe: PoeModel) -> None:
-    """Refuse a model larger than :data:`~urdf2dh.bounds.VERIFY_JOINTS` joints (a URDF's
+    """Refuse a model larger than :data:`~urdf2dh.tolerances.VERIFY_JOINTS` joints (a URDF's
     every joint: Pinocchio builds the whole file), naming the bound."""
     joints = len(source.tree.joints) if source.tree is not None else poe.n
     if joints > VERIFY_JOINTS:

@@ -29,10 +29,10 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from .bounds import FILE_BYTES
 from .errors import InputError
 from .files import note_input
 from .io.xacro_child import OUT_OF_MEMORY
+from .tolerances import FILE_BYTES
 
 if TYPE_CHECKING:
     from .io.child import Finished

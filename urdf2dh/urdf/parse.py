@@ -15,10 +15,10 @@ import re
 from pathlib import Path
 from typing import Any
 
-from ..bounds import JOINTS
 from ..errors import InputError, shown
 from ..files import read_file
 from ..text import check_text, sniff
+from ..tolerances import JOINTS
 from .tree import UrdfTree, build_tree
 from .validate import check_robot
 
@@ -139,7 +139,7 @@ def parse_xml(xml: bytes, display: str) -> Any:
 
 
 def check_size(root: Any, display: str) -> None:
-    """Refuse a URDF of more than :data:`~urdf2dh.bounds.JOINTS` joints (or links than a tree
+    """Refuse a URDF of more than :data:`~urdf2dh.tolerances.JOINTS` joints (or links than a tree
     of as many joints has), before anything is done per element."""
     for kind, most in (("joint", JOINTS), ("link", JOINTS + 1)):
         count = sum(1 for _ in root.iterchildren(kind))

@@ -11,8 +11,8 @@ splits the attribute at spaces and converts each piece with ``strToDouble``, a c
 optional sign, fraction and exponent, nothing else. So ``1_0``, ``0x10``, ``nan``, ``inf``,
 ``1e999`` (overflow), ``1,5`` and a tab between numbers are refused, as is a vector with too few
 or too many numbers (``xyz="0 0 1 4"``); ``.5``, ``5.``, ``+5`` and ``1E-3`` are read. Lengths,
-limits and mimic factors are also bounded by :data:`LARGEST`, and a revolute joint's limits by
-:data:`LARGEST_ANGLE`.
+limits and mimic factors are also bounded by :data:`~urdf2dh.tolerances.LARGEST_URDF_NUMBER`,
+and a revolute joint's limits by :data:`~urdf2dh.tolerances.LARGEST_URDF_ANGLE`.
 
 Axes are normalised by urdfdom and Pinocchio as ``v / sqrt(x^2 + y^2 + z^2)``. That is well
 defined when the squared length is a normal float64; when it underflows (``1e-300 0 0``: they keep
@@ -29,22 +29,12 @@ import sys
 from typing import Any
 
 from ..errors import InputError, choices, shown
+from ..tolerances import LARGEST_URDF_ANGLE, LARGEST_URDF_NUMBER
 
-__all__ = ["JOINT_TYPES", "LARGEST", "LARGEST_ANGLE", "MOVING_TYPES", "check_robot", "numbers"]
+__all__ = ["JOINT_TYPES", "MOVING_TYPES", "check_robot", "numbers"]
 
 JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed", "floating", "planar")
 MOVING_TYPES = ("revolute", "continuous", "prismatic")  # the types whose axis gives a D-H row
-
-#: The largest magnitude read for a length (origin ``xyz``), a joint limit or a mimic factor:
-#: far beyond any robot (1e50 m), and small enough that the product of two such values (a helical
-#: joint's travel, pitch x limit) and its square stay finite in float64.
-LARGEST = 1e50
-
-#: The largest magnitude read for a revolute joint's limit, in radians (1592 turns). A D-H angle
-#: is ``q + theta``: where float64's spacing of ``q`` nears the exactness urdf2dh promises
-#: (1e-10 rad), the sum loses ``theta`` (at 1e6 rad the spacing is 1.2e-10 rad, at 1e16 rad it
-#: is 2 rad), in our table's forward kinematics and in every controller's. Here it is 1.8e-12.
-LARGEST_ANGLE = 1e4
 
 _NUMBER = r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?"
 _LEADING = " \t\n\v\f\r"  # white space strToDouble skips before a number (none after it)
@@ -58,7 +48,7 @@ _FLOAT_MAX = sys.float_info.max
 
 
 def numbers(
-    text: str, count: int, what: str, where: str, bound: float | None = LARGEST
+    text: str, count: int, what: str, where: str, bound: float | None = LARGEST_URDF_NUMBER
 ) -> list[float]:
     """Read ``count`` numbers from an attribute value, by urdfdom's grammar (module docstring).
 
@@ -129,7 +119,7 @@ def _read(text: str, count: int, label: str, largest: float) -> list[float]:
 
 
 def _attribute(
-    el: Any, name: str, count: int, what: str, where: str, bound: float | None = LARGEST
+    el: Any, name: str, count: int, what: str, where: str, bound: float | None = LARGEST_URDF_NUMBER
 ) -> list[float] | None:
     """The numbers of attribute ``name`` of ``el``, or ``None`` where it is absent."""
     text = el.get(name)
@@ -193,11 +183,11 @@ def _check_joint(el: Any, display: str, links: set[str], joints: set[str]) -> No
     if (limit := sub.get("limit")) is not None:
         for attr in ("lower", "upper"):
             value = _attribute(limit, attr, 1, f"limit {attr}", where)
-            if jtype == "revolute" and value is not None and abs(value[0]) > LARGEST_ANGLE:
+            if jtype == "revolute" and value is not None and abs(value[0]) > LARGEST_URDF_ANGLE:
                 raise InputError(
                     f"{where}: limit {attr} {shown(limit.get(attr))} is out of range for a "
-                    f"revolute joint (beyond ±{LARGEST_ANGLE:g} rad; a joint without limits is "
-                    'type="continuous")'
+                    f"revolute joint (beyond ±{LARGEST_URDF_ANGLE:g} rad; a joint without limits "
+                    'is type="continuous")'
                 )
         for attr in ("effort", "velocity"):  # not used, but urdfdom and Pinocchio read them
             _attribute(limit, attr, 1, f"limit {attr}", where, None)
