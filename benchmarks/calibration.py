@@ -54,7 +54,6 @@ sys.path.insert(0, str(ROOT))
 import urdf2dh  # noqa: E402
 from urdf2dh.calibrate.calibration import calibrate  # noqa: E402
 from urdf2dh.calibrate.identify import identify  # noqa: E402
-from urdf2dh.calibrate.lie import log_so3, rotation_of  # noqa: E402
 from urdf2dh.calibrate.measure import perturb, synthesize  # noqa: E402
 from urdf2dh.calibrate.measurements import (  # noqa: E402
     Measurements,
@@ -65,6 +64,7 @@ from urdf2dh.calibrate.start import Options, placement  # noqa: E402
 from urdf2dh.catalog import ROBOTS, robot_path  # noqa: E402
 from urdf2dh.convert import sample_configurations, to_table  # noqa: E402
 from urdf2dh.formats import render  # noqa: E402
+from urdf2dh.geometry.lie import log_so3, rotation_of  # noqa: E402
 from urdf2dh.poefile import joint_from_twist  # noqa: E402
 from urdf2dh.screws import PoeModel  # noqa: E402
 

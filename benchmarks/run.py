@@ -39,7 +39,7 @@ from urdf2dh.convert import (  # noqa: E402
 )
 from urdf2dh.files import read_file  # noqa: E402
 from urdf2dh.fk import chain_fk  # noqa: E402
-from urdf2dh.se3 import pose_errors  # noqa: E402
+from urdf2dh.geometry.se3 import pose_errors  # noqa: E402
 from urdf2dh.sources import open_source  # noqa: E402
 from urdf2dh.tolerances import DEFAULT  # noqa: E402
 from urdf2dh.urdf import parse_tree, tree_to_poe  # noqa: E402

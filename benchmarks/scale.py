@@ -14,7 +14,7 @@ from timing import Figure, best_of, peak_alloc, run_process
 
 from urdf2dh.conventions import NAMES as CONVENTIONS
 from urdf2dh.convert import sample_configurations, to_table
-from urdf2dh.se3 import pose_errors
+from urdf2dh.geometry.se3 import pose_errors
 from urdf2dh.sources import Source
 from urdf2dh.tolerances import JOINTS
 from urdf2dh.urdf import tree_to_poe

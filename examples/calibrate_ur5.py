@@ -38,9 +38,9 @@ from urdf2dh.calibrate.identify import moved
 from urdf2dh.calibrate.measure import perturb
 from urdf2dh.cli import main as urdf2dh_main
 from urdf2dh.convert import sample_configurations
+from urdf2dh.geometry.se3 import from_rpy, rot_z, twist_exp
 from urdf2dh.poefile import poe_to_dict
 from urdf2dh.screws import PoeModel
-from urdf2dh.se3 import from_rpy, rot_z, twist_exp
 
 
 def command(*argv: str) -> None:

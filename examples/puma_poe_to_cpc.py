@@ -15,8 +15,8 @@ import numpy as np
 
 from urdf2dh.convert import to_table
 from urdf2dh.formats import render
+from urdf2dh.geometry.se3 import pose_errors
 from urdf2dh.papers import sumenkov_table3
-from urdf2dh.se3 import pose_errors
 from urdf2dh.sources import open_source
 
 

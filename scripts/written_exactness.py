@@ -36,9 +36,9 @@ from urdf2dh.conventions import NAMES  # noqa: E402
 from urdf2dh.convert import sample_configurations, to_table  # noqa: E402
 from urdf2dh.errors import Urdf2DhError  # noqa: E402
 from urdf2dh.formats import render  # noqa: E402
+from urdf2dh.geometry.se3 import pose_errors  # noqa: E402
 from urdf2dh.io.mappings import read_mapping  # noqa: E402
 from urdf2dh.screws import PoeModel  # noqa: E402
-from urdf2dh.se3 import pose_errors  # noqa: E402
 from urdf2dh.sources import open_source  # noqa: E402
 from urdf2dh.table import Table  # noqa: E402
 from urdf2dh.tablefile import read_table  # noqa: E402

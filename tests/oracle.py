@@ -6,8 +6,8 @@ from __future__ import annotations
 import numpy as np
 
 from urdf2dh.convert import sample_configurations
+from urdf2dh.geometry.se3 import pose_errors
 from urdf2dh.screws import PoeModel
-from urdf2dh.se3 import pose_errors
 from urdf2dh.sources import Source
 from urdf2dh.verify import pinocchio_fk
 

@@ -16,7 +16,6 @@ import urdf2dh
 from urdf2dh.calibrate.calibration import calibrate
 from urdf2dh.calibrate.chart import Estimate, line_point, local_coordinates
 from urdf2dh.calibrate.identify import identify, moved
-from urdf2dh.calibrate.lie import quaternion_of
 from urdf2dh.calibrate.measure import marker_layout, perturb, synthesize
 from urdf2dh.calibrate.measurements import Measurements
 from urdf2dh.calibrate.report import to_dict
@@ -25,9 +24,10 @@ from urdf2dh.catalog import our_robots_dir
 from urdf2dh.convert import sample_configurations, to_table
 from urdf2dh.export import Options as ExportOptions
 from urdf2dh.export import export_table
+from urdf2dh.geometry.lie import quaternion_of
+from urdf2dh.geometry.se3 import pose_errors, twist_exp
 from urdf2dh.papers import agrees
 from urdf2dh.screws import Joint, PoeModel
-from urdf2dh.se3 import pose_errors, twist_exp
 from urdf2dh.tolerances import DEFAULT
 
 NOISE_POS, NOISE_ROT = 0.01, 1e-5  # mm and rad: issue 15's levels

@@ -13,7 +13,7 @@ import urdf2dh
 from urdf2dh.calibrate.measurements import read_layout, read_measurements
 from urdf2dh.cli import main
 from urdf2dh.convert import sample_configurations
-from urdf2dh.se3 import pose_errors
+from urdf2dh.geometry.se3 import pose_errors
 
 PUMA_JOINTS = ("j1", "j2", "j3", "j4", "j5", "j6")
 

@@ -23,8 +23,8 @@ from urdf2dh.calibrate.residuals import model_poses
 from urdf2dh.cli import main
 from urdf2dh.convert import sample_configurations
 from urdf2dh.errors import InputError, UsageError
+from urdf2dh.geometry.se3 import pose_errors
 from urdf2dh.screws import PoeModel
-from urdf2dh.se3 import pose_errors
 
 NOISE = 1e-4  # m and rad
 

@@ -20,7 +20,9 @@ from urdf2dh.calibrate.chart import (
     local_coordinates,
     retract,
 )
-from urdf2dh.calibrate.lie import (
+from urdf2dh.calibrate.residuals import Data, evaluate, model_poses
+from urdf2dh.convert import sample_configurations, to_table
+from urdf2dh.geometry.lie import (
     exp_so3,
     left_jacobian,
     left_jacobian_inverse,
@@ -29,11 +31,9 @@ from urdf2dh.calibrate.lie import (
     quaternion_of,
     rotation_of,
 )
-from urdf2dh.calibrate.residuals import Data, evaluate, model_poses
-from urdf2dh.convert import sample_configurations, to_table
+from urdf2dh.geometry.se3 import twist_exp
 from urdf2dh.info import identifiability
 from urdf2dh.screws import Joint, PoeModel
-from urdf2dh.se3 import twist_exp
 
 
 def param(params, name: str) -> float:

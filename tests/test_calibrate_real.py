@@ -16,12 +16,12 @@ import yaml
 
 import urdf2dh
 from urdf2dh.calibrate.calibration import calibrate, holdout_split
-from urdf2dh.calibrate.lie import rotation_of
 from urdf2dh.calibrate.measurements import Reading, read_measurements
 from urdf2dh.calibrate.report import to_dict
 from urdf2dh.cli import main
 from urdf2dh.conventions import NAMES
 from urdf2dh.formats import FORMATS, render
+from urdf2dh.geometry.lie import rotation_of
 from urdf2dh.poefile import poe_to_dict
 
 DATA = Path(__file__).resolve().parents[2] / "shared" / "calibration-data"

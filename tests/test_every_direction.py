@@ -12,8 +12,8 @@ from oracle import assert_fk_matches, pin_reference
 from urdf2dh.cli import main
 from urdf2dh.conventions import NAMES as CONVENTIONS
 from urdf2dh.convert import sample_configurations, to_table
+from urdf2dh.geometry.se3 import rpy
 from urdf2dh.info import identifiability
-from urdf2dh.se3 import rpy
 from urdf2dh.sources import open_source
 from urdf2dh.urdfwrite import table_to_urdf
 
@@ -85,7 +85,7 @@ def test_urdf_writer_matches_pinocchio_and_round_trips(robot, tmp_path):
 
 
 def test_rpy_round_trip_including_gimbal_lock():
-    from urdf2dh import se3
+    from urdf2dh.geometry import se3
 
     rng = np.random.default_rng(9)
     angles = [rng.uniform(-math.pi, math.pi, 3) for _ in range(200)]

@@ -25,10 +25,10 @@ from urdf2dh.convert import sample_configurations
 from urdf2dh.errors import ExportError, UsageError
 from urdf2dh.export import Options, export
 from urdf2dh.export.escape import yaml_comment
+from urdf2dh.geometry.se3 import from_rpy, inv, rot_x, rot_y, rot_z, trans
 from urdf2dh.opw import opw_from_poe
 from urdf2dh.opwmodel import OpwParameters, opw_fk
 from urdf2dh.screws import Joint, PoeModel
-from urdf2dh.se3 import from_rpy, inv, rot_x, rot_y, rot_z, trans
 from urdf2dh.sources import open_source
 from urdf2dh.tolerances import EXACT as EXACT_TOL
 from urdf2dh.units import factor as length_factor
@@ -186,7 +186,7 @@ def _moved(model: PoeModel, q0, signs, g, h) -> PoeModel:
     """The same arm with its base frame moved (``g``), its tip frame moved (``h``), its zero at
     ``q0`` of the original and joint ``i`` counted the other way where ``signs[i] = -1``:
     pose'(q) = g . pose(q0 + signs q) . h."""
-    from urdf2dh.se3 import twist_exp
+    from urdf2dh.geometry.se3 import twist_exp
 
     joints, e = [], np.eye(4)
     for j, q_start, s in zip(model.joints, q0, signs, strict=True):
@@ -272,7 +272,7 @@ def _with(model: PoeModel, i: int, axis=None, point=None, scale=1.0) -> PoeModel
 def _turned(model: PoeModel, i: int, about, angle: float, through=None) -> PoeModel:
     """Axis ``i`` turned by ``angle`` about direction ``about`` through ``through`` (its own
     point by default)."""
-    from urdf2dh.se3 import rot_axis
+    from urdf2dh.geometry.se3 import rot_axis
 
     r = rot_axis(np.asarray(about, float), angle)[:3, :3]
     j = model.joints[i]

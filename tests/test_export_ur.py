@@ -128,7 +128,7 @@ def test_ur_takes_only_the_ur_style_dh_table():
 
 
 def test_rpy_reads_back_through_the_urdf_convention():
-    from urdf2dh.se3 import from_rpy, rot_x, rot_y, rot_z, rpy
+    from urdf2dh.geometry.se3 import from_rpy, rot_x, rot_y, rot_z, rpy
 
     rng = np.random.default_rng(9)
     cases = [rng.uniform(-np.pi, np.pi, 3) for _ in range(50)]

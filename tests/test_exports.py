@@ -136,7 +136,7 @@ def test_the_kdl_stand_in_reads_the_documented_frames():
     """The stand-in's Frame.DH is Rz(theta) Tz(d) Rx(alpha) Tx(a) and Frame.DH_Craig1989 is
     Rx(alpha) Tx(a) Rz(theta) Tz(d) (KDL's documentation), composed here from elementary
     transforms; where PyKDL imports (Debian's python3-pykdl), the real one agrees too."""
-    from urdf2dh import se3
+    from urdf2dh.geometry import se3
 
     rng = np.random.default_rng(5)
     for a, alpha, d, theta in rng.uniform(-2, 2, (20, 4)):
@@ -289,7 +289,7 @@ def _turn_tool(model):
     """The same chain with its tool turned 90 degrees about x (its origin stays on the axis)."""
     from dataclasses import replace
 
-    from urdf2dh.se3 import rot_x
+    from urdf2dh.geometry.se3 import rot_x
 
     return replace(model, home=model.home @ rot_x(math.pi / 2))
 

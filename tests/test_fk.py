@@ -10,9 +10,10 @@ import numpy as np
 import pytest
 from chains import random_chain_urdf
 
-from urdf2dh import fk, se3
+from urdf2dh import fk
 from urdf2dh.conventions import NAMES
 from urdf2dh.convert import sample_configurations, to_table
+from urdf2dh.geometry import se3
 from urdf2dh.screws import Joint, PoeModel
 from urdf2dh.urdf import parse_tree, tree_to_poe
 

@@ -14,7 +14,6 @@ from hypothesis import strategies as st
 from oracle import EXACT, assert_fk_matches, pin_reference
 from test_fk import product_of_exponentials
 
-from urdf2dh import se3
 from urdf2dh.catalog import ROBOTS
 from urdf2dh.cli import main
 from urdf2dh.conventions.dh import DhLink
@@ -22,6 +21,7 @@ from urdf2dh.conventions.hayati import HayatiLink
 from urdf2dh.convert import sample_configurations, to_table
 from urdf2dh.errors import UsageError
 from urdf2dh.export import export_table
+from urdf2dh.geometry import se3
 from urdf2dh.screws import Joint, PoeModel
 from urdf2dh.sources import open_source
 from urdf2dh.urdfwrite import table_to_urdf

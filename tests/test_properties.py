@@ -15,9 +15,9 @@ import numpy as np
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from urdf2dh import se3
 from urdf2dh.conventions import NAMES as CONVENTIONS
 from urdf2dh.convert import sample_configurations, to_table
+from urdf2dh.geometry import se3
 from urdf2dh.screws import Joint, PoeModel
 
 RELATIONS = ("parallel", "antiparallel", "intersecting", "coincident", "perpendicular", "skew")

@@ -18,7 +18,7 @@ from urdf2dh.convert import (
     self_check,
     to_table,
 )
-from urdf2dh.se3 import pose_errors
+from urdf2dh.geometry.se3 import pose_errors
 from urdf2dh.sources import open_source
 from urdf2dh.tolerances import DEFAULT
 

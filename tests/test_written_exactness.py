@@ -14,12 +14,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from urdf2dh import frames, se3
 from urdf2dh.conventions.cpc import r_rows
 from urdf2dh.convert import sample_configurations, to_table
 from urdf2dh.formats import render
+from urdf2dh.geometry import frames, se3
+from urdf2dh.geometry.se3 import pose_errors
 from urdf2dh.screws import Joint, PoeModel
-from urdf2dh.se3 import pose_errors
 from urdf2dh.sources import open_source
 from urdf2dh.tolerances import DEFAULT, EPS
 

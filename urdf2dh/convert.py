@@ -18,9 +18,9 @@ from .checks import check_count, check_instance, check_seed
 from .conventions import REGISTRY, STYLES, Conversion, get
 from .errors import ConversionError, InputError, UsageError, choices, shown
 from .fk import chains_fk
-from .lines import Judgement
+from .geometry.normals import Judgement
+from .geometry.se3 import pose_errors
 from .screws import PoeModel
-from .se3 import pose_errors
 from .table import Check, Row, Table
 from .tolerances import DEFAULT, EPS, FK_ROUNDING, JOINT_POSITIONS, Tolerances
 

@@ -177,8 +177,8 @@ def _pairs(
 
 def _link(params: Params) -> np.ndarray:
     """The record's link transform at ``q = 0`` (its constant transforms composed)."""
-    from .frames import compose
-    from .se3 import matrix_of
+    from .geometry.frames import compose
+    from .geometry.se3 import matrix_of
 
     before, after = params.around_joint()
     return matrix_of(after if before is None else compose(before, after))

@@ -33,7 +33,7 @@ from collections.abc import Callable, Iterator, Sequence
 import numpy as np
 from numpy.typing import NDArray
 
-from .se3 import errors_from_squares
+from .geometry.se3 import errors_from_squares
 
 __all__ = ["BLOCK", "chain_fk", "chains_errors", "chains_fk", "numpy_expi"]
 
@@ -88,7 +88,7 @@ def chains_fk(chains: Sequence[Chain], q: Mat, expi: Expi = numpy_expi) -> list[
 def chains_errors(chains: Sequence[Chain], q: Mat, reference: Mat) -> list[tuple[float, float]]:
     """Worst position and rotation error of each chain's poses at ``q`` ``(N, n)`` against
     ``reference`` ``(N, 4, 4)``: ``pose_errors(chains_fk(chains, q)[c], reference)`` for each
-    chain ``c`` (:func:`urdf2dh.se3.pose_errors`), compared block by block as the poses are
+    chain ``c`` (:func:`urdf2dh.geometry.se3.pose_errors`), compared block by block as the poses are
     computed instead of holding them all (``verify``'s 10,000 configurations)."""
     q = np.asarray(q, dtype=float)
     reference = np.asarray(reference, dtype=float)

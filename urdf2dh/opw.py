@@ -29,9 +29,9 @@ from numpy.typing import NDArray
 
 from .convert import sample_configurations
 from .errors import ConversionError, ExportError, shown
+from .geometry.se3 import pose_errors
 from .opwmodel import OpwParameters, opw_fk, rot_z
 from .screws import PoeModel
-from .se3 import pose_errors
 from .tolerances import DEFAULT, Tolerances
 
 __all__ = ["opw_from_poe"]

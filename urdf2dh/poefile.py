@@ -26,9 +26,10 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from . import se3, units
+from . import units
 from .checks import check_joint_count, check_leaders, check_name, check_number, read_mimic
 from .errors import InputError, choices, shown
+from .geometry import se3
 from .screws import KINDS, Joint, PoeModel
 from .tolerances import DEFAULT, JOINT_SCALES, Tolerances
 

@@ -21,7 +21,6 @@ from typing import Any, Literal, TypeVar, cast
 import numpy as np
 from numpy.typing import NDArray
 
-from . import frames, se3
 from ._fastfk import chain_fk
 from .checks import (
     check_array,
@@ -31,6 +30,7 @@ from .checks import (
     check_real,
 )
 from .errors import shown
+from .geometry import frames, se3
 from .mimic import Mimic, actuated, row_positions
 from .tolerances import RIGID_INPUT
 

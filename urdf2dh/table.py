@@ -19,11 +19,11 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from . import frames, se3
 from ._fastfk import chain_fk
 from .checks import check_configurations, check_count, check_instance, check_real
 from .conventions import Convention, Params, get
 from .errors import shown
+from .geometry import frames, se3
 from .mimic import Mimic, actuated, row_positions
 from .screws import Joint, JointKind, JointMotion, PoeModel, check_motion
 from .tolerances import DEFAULT

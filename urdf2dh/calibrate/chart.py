@@ -56,9 +56,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import InputError
+from ..geometry.lie import cross3, cross_rows, exp_so3, left_jacobian, log_se3
+from ..geometry.se3 import twist_exp
 from ..screws import Joint
-from ..se3 import twist_exp
-from .lie import cross3, cross_rows, exp_so3, left_jacobian, log_se3
 
 __all__ = [
     "BASE_TOOL",

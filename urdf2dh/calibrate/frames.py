@@ -24,9 +24,9 @@ import math
 import numpy as np
 from numpy.typing import NDArray
 
-from ..frames import axis_frame
+from ..geometry.frames import axis_frame
+from ..geometry.se3 import inv, matrix_of
 from ..screws import Joint
-from ..se3 import inv, matrix_of
 from ..tolerances import RANK_RELATIVE
 
 __all__ = ["anchor_base", "fit_rigid", "pose_points", "tool_on_last_axis"]

@@ -39,8 +39,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import InputError
+from ..geometry.se3 import inv
 from ..screws import PoeModel
-from ..se3 import inv
 from ..tolerances import NOISE_FLOOR, NOISE_RATIO, Tolerances
 from .chart import LEVELS, Estimate, absorbed, count, names
 from .frames import anchor_base, fit_rigid, pose_points, tool_on_last_axis

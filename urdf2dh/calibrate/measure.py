@@ -22,10 +22,10 @@ from numpy.typing import NDArray
 
 from ..convert import sample_configurations
 from ..errors import InputError
+from ..geometry.lie import exp_so3, quaternion_of
+from ..geometry.se3 import twist_exp
 from ..screws import Joint, PoeModel
-from ..se3 import twist_exp
 from .chart import line_motion
-from .lie import exp_so3, quaternion_of
 from .measurements import MAX_MEASUREMENTS, Measurements
 
 __all__ = ["MARKER_DISTANCE", "marker_layout", "measure", "perturb", "synthesize"]

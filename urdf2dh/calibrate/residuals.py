@@ -36,8 +36,8 @@ from functools import lru_cache
 import numpy as np
 from numpy.typing import NDArray
 
+from ..geometry.lie import ad_apply, cross_columns, cross_rows, left_jacobian_inverse, log_so3
 from .chart import Estimate, normal_bases, sizes, tool_screws
-from .lie import ad_apply, cross_columns, cross_rows, left_jacobian_inverse, log_so3
 
 __all__ = ["Data", "evaluate", "model_poses", "prefix_products"]
 

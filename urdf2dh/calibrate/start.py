@@ -17,11 +17,11 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import UsageError, choices, shown
+from ..geometry.lie import rotation_of
 from ..screws import Joint, PoeModel
 from ..tolerances import DEFAULT, Tolerances
 from .chart import BASE_TOOL, LEVELS, Estimate, line_point
 from .frames import fit_rigid, pose_points
-from .lie import rotation_of
 from .measurements import Measurements
 from .prior import Prior
 from .residuals import Data

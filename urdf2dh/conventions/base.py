@@ -23,8 +23,8 @@ from typing import TYPE_CHECKING, Any, ClassVar, Literal, Protocol
 
 from ..checks import check_number, check_vector
 from ..errors import TableFileError
-from ..frames import Frame
-from ..lines import Judgement
+from ..geometry.frames import Frame
+from ..geometry.normals import Judgement
 
 if TYPE_CHECKING:
     from ..screws import PoeModel

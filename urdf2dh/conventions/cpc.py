@@ -47,9 +47,9 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
-from .. import frames
 from ..errors import shown
-from ..frames import Frame, Vec3
+from ..geometry import frames
+from ..geometry.frames import Frame, Vec3
 from .base import Conversion, Params, angle, direction, offset, unit_direction
 
 if TYPE_CHECKING:

@@ -7,8 +7,8 @@ Forward kinematics of a ``dh`` table (SPEC §2, Wu 2019 eq. 10)::
 ``B = Rz Tz Rx Tx`` puts frame 0's z on joint 1's axis (4 base parameters); row ``i`` carries the
 link from joint ``i``'s axis to joint ``i+1``'s (the last row: to the tool's z axis); the tool
 transform keeps 2 parameters (Lemma 4). The conversion follows eq. (18): each joint axis is
-expressed in the frame built so far (the adjoint step) and Lemmas 1-3 (:mod:`urdf2dh.lines`)
-give the next link.
+expressed in the frame built so far (the adjoint step) and Lemmas 1-3
+(:mod:`urdf2dh.geometry.normals`) give the next link.
 
 Styles choose among the equally exact tables (for each common normal, which of its two
 directions is the x axis): ``wu`` follows Wu 2019 §III (SPEC §3: ``a >= 0``); ``ur`` prefers
@@ -25,10 +25,10 @@ import math
 from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING, ClassVar
 
-from .. import frames
 from ..errors import shown
-from ..frames import Frame, Vec3
-from ..lines import Judgement, Limits, LinkParams, link_to_line
+from ..geometry import frames
+from ..geometry.frames import Frame, Vec3
+from ..geometry.normals import Judgement, Limits, LinkParams, link_to_line
 from .base import Conversion, Params, angle, length
 
 if TYPE_CHECKING:

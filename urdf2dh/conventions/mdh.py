@@ -19,8 +19,8 @@ import itertools
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
-from .. import frames
-from ..frames import Frame
+from ..geometry import frames
+from ..geometry.frames import Frame
 from .base import Conversion, Params, angle, length
 from .dh import STYLES, RzTz, far_rows, links_from_poe
 

@@ -32,9 +32,9 @@ from dataclasses import dataclass, replace
 import numpy as np
 from numpy.typing import NDArray
 
-from .. import se3
 from ..errors import InputError
 from ..formats import fixed, parameter_lines
+from ..geometry import se3
 from ..table import Table
 from ..units import DECIMALS
 

@@ -16,8 +16,8 @@ from ..conventions import Params, get
 from ..conventions.base import written_angle, written_length
 from ..errors import ExportError, UsageError, shown
 from ..formats import summary
+from ..geometry.se3 import pose_errors
 from ..mimic import Followed
-from ..se3 import pose_errors
 from ..table import Table
 from ..tolerances import DECIMAL_ROUND_OFF, DEFAULT, Tolerances
 

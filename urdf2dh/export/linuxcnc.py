@@ -47,7 +47,7 @@ import numpy as np
 from .. import units
 from ..conventions.base import written_angle
 from ..errors import ExportError, shown, visible
-from ..se3 import dh_matrix, rot_x
+from ..geometry.se3 import dh_matrix, rot_x
 from ..table import Row, Table
 from .common import (
     Numbers,

@@ -26,10 +26,10 @@ from __future__ import annotations
 import numpy as np
 
 from .. import units
+from ..geometry.se3 import rpy
 from ..opw import opw_from_poe
 from ..opwmodel import GEOMETRY, OpwParameters
 from ..screws import PoeModel
-from ..se3 import rpy
 from ..table import Table
 from .common import Numbers, Options, require_uncoupled, yaml_float
 from .escape import yaml_comment

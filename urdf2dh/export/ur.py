@@ -49,7 +49,7 @@ from numpy.typing import NDArray
 from .. import units
 from ..conventions import Params
 from ..errors import ExportError, shown, visible
-from ..se3 import dh_matrix, rot_z, rpy
+from ..geometry.se3 import dh_matrix, rot_z, rpy
 from ..table import Table
 from ..tolerances import HASH_DECIMALS
 from .common import (

@@ -1,4 +1,4 @@
-"""Batched SO(3)/SE(3) helpers for calibration: exp, log, their Jacobians, quaternions.
+"""Batched SO(3)/SE(3): exp, log, their Jacobians, quaternions (calibration's residuals and charts).
 
 Twists are ``[w, v]`` (angular first), as everywhere in urdf2dh (Wu 2019 eq. 1). Stacks of
 transforms are ``(N, 4, 4)``, of rotations ``(N, 3, 3)``, of rotation vectors ``(N, 3)``.

@@ -28,8 +28,8 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Literal
 
+from ..tolerances import Tolerances
 from .frames import Vec3, angle
-from .tolerances import Tolerances
 
 __all__ = ["Judgement", "Limits", "LinkParams", "common_normal", "link_to_line"]
 

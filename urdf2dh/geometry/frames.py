@@ -5,7 +5,7 @@ its arithmetic, so these helpers do the same IEEE arithmetic on tuples. They imp
 heavy: the convention modules, which the command line's ``--help`` lists, build on them.
 
 A :data:`Frame` is the top three rows ``[R | t]`` of a homogeneous transform, row by row;
-:mod:`urdf2dh.se3` turns frames into ``(4, 4)`` arrays and back.
+:mod:`urdf2dh.geometry.se3` turns frames into ``(4, 4)`` arrays and back.
 """
 
 from __future__ import annotations

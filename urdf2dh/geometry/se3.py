@@ -7,7 +7,7 @@ Conventions (they bite, so they are stated here once):
   with ``v = p x w + h w`` for a screw through point ``p`` with pitch ``h``. Pinocchio's motion
   vectors are ``[v, w]``; convert at that boundary only (``verify.py``).
 * Batched functions take ``(N, n)`` joint values and return ``(N, 4, 4)`` stacks.
-* Plain-float frames, for the chain walks, are in :mod:`urdf2dh.frames`.
+* Plain-float frames, for the chain walks, are in :mod:`urdf2dh.geometry.frames`.
 """
 
 from __future__ import annotations
@@ -198,7 +198,7 @@ def errors_from_squares(moved: float, turned: float) -> tuple[float, float]:
 
 
 def matrix_of(f: Frame) -> Mat:
-    """The ``(4, 4)`` transform of a :data:`~urdf2dh.frames.Frame`."""
+    """The ``(4, 4)`` transform of a :data:`~urdf2dh.geometry.frames.Frame`."""
     return np.array([*f, (0.0, 0.0, 0.0, 1.0)])
 
 
