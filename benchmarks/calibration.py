@@ -62,11 +62,10 @@ from urdf2dh.calibrate.measurements import (  # noqa: E402
 )
 from urdf2dh.calibrate.start import Options, placement  # noqa: E402
 from urdf2dh.catalog import ROBOTS, robot_path  # noqa: E402
-from urdf2dh.convert import sample_configurations, to_table  # noqa: E402
+from urdf2dh.convert import to_table  # noqa: E402
 from urdf2dh.formats import render  # noqa: E402
 from urdf2dh.geometry.lie import log_so3, rotation_of  # noqa: E402
-from urdf2dh.poefile import joint_from_twist  # noqa: E402
-from urdf2dh.screws import PoeModel  # noqa: E402
+from urdf2dh.model.poe import PoeModel, joint_from_twist  # noqa: E402
 
 NOISE = 1e-5  # m and rad
 
@@ -235,7 +234,7 @@ def main() -> int:
     nominal = urdf2dh.load("ur5")
     actual = perturb(nominal, seed=3, angle=0.002, length=0.001)
     m = synthesize(actual, args.poses, NOISE, NOISE, seed=5)
-    fresh = sample_configurations(actual, 2000, 99)
+    fresh = actual.sample(2000, 99)
     truth = actual.fk_batch(fresh)
     rows: list[tuple[str, float, dict[str, float]]] = []
     with tempfile.TemporaryDirectory(prefix="urdf2dh-bench-") as tmp:
@@ -299,7 +298,7 @@ def more_datasets(nominal: PoeModel, poses: int, count: int) -> None:
         for seed in range(count):
             actual = perturb(nominal, seed=seed, angle=0.002, length=0.001)
             m = synthesize(actual, poses, NOISE, NOISE, seed=50 + seed)
-            fresh = sample_configurations(actual, 2000, 99)
+            fresh = actual.sample(2000, 99)
             truth = actual.fk_batch(fresh)
             cells = []
             for fk in (

@@ -33,13 +33,12 @@ from urdf2dh.convert import (  # noqa: E402
     DEFAULT_SAMPLES,
     JUDGED_SAMPLES,
     build_table,
-    sample_configurations,
     self_check,
     to_table,
 )
 from urdf2dh.files import read_file  # noqa: E402
-from urdf2dh.fk import chain_fk  # noqa: E402
 from urdf2dh.geometry.se3 import pose_errors  # noqa: E402
+from urdf2dh.model.fk import chain_fk  # noqa: E402
 from urdf2dh.sources import open_source  # noqa: E402
 from urdf2dh.tolerances import DEFAULT  # noqa: E402
 from urdf2dh.urdf import parse_tree, tree_to_poe  # noqa: E402
@@ -253,7 +252,7 @@ def batch_fk(count: int, repeat: int) -> list[Figure]:
     source = open_source(ARM)
     model = source.model()
     table = to_table(model, "dh")
-    q = sample_configurations(model, count, 3)
+    q = model.sample(count, 3)
     full = pin.buildModelFromUrdf(str(robot_path(ROBOTS[ARM])))
     arm = {j.name for j in model.joints}
     lock = [i for i in range(1, full.njoints) if full.names[i] not in arm]  # the fingers
@@ -274,7 +273,7 @@ def batch_fk(count: int, repeat: int) -> list[Figure]:
         for config in qp:
             pin.forwardKinematics(reduced, data, config)
 
-    def reference() -> np.ndarray:  # the reference FK alone: no fast path (urdf2dh/_fastfk.py)
+    def reference() -> np.ndarray:  # the reference FK alone: no fast path (model/_fastfk.py)
         return chain_fk(*table.link_form(), table.positions(q))
 
     ours_t, poe_t, loop_t, bare_t, reference_t = best_of(
@@ -286,9 +285,9 @@ def batch_fk(count: int, repeat: int) -> list[Figure]:
         f"\n{ARM}, N = {count:,} configurations within the joint limits; Pinocchio's model is "
         f"the URDF's reduced to the 7 arm joints. Max difference of the poses: {pos:.2e} m, "
         f"{rot:.2e} rad; largest entry {np.abs(ours - theirs).max():.2e}. One thread. The fast "
-        f"path (urdf2dh/_fastfk.py: sines from a table) is {reference_t / ours_t:.2f}x as fast "
-        f"as the reference FK with numpy {np.__version__}'s exp (kept while >= 2x); they differ "
-        f"by {np.abs(ours - reference()).max():.1e}."
+        f"path (urdf2dh/model/_fastfk.py: sines from a table) is {reference_t / ours_t:.2f}x as "
+        f"fast as the reference FK with numpy {np.__version__}'s exp (kept while >= 2x); they "
+        f"differ by {np.abs(ours - reference()).max():.1e}."
     )
     return [
         Figure(
@@ -343,7 +342,7 @@ def verify_run(samples: int, runs: int, repeat: int) -> list[Figure]:
     checked = f"POE + {len(NAMES)} tables + their conversions"
     figures = []
     for count, goal in ((samples, "<= 2x"), (1000, None)):
-        q = sample_configurations(model, count, 3)
+        q = model.sample(count, 3)
 
         def ours_only(count: int = count) -> object:
             return verify(source, model, count)

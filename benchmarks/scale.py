@@ -13,7 +13,7 @@ from reference import chain_fk
 from timing import Figure, best_of, peak_alloc, run_process
 
 from urdf2dh.conventions import NAMES as CONVENTIONS
-from urdf2dh.convert import sample_configurations, to_table
+from urdf2dh.convert import to_table
 from urdf2dh.geometry.se3 import pose_errors
 from urdf2dh.sources import Source
 from urdf2dh.tolerances import JOINTS
@@ -70,7 +70,7 @@ def chain_lengths(sizes: list[int], accuracy_samples: int) -> tuple[list[Figure]
         )
         tree = _tree(data, robot)
         model = tree_to_poe(tree, "base", "tool")
-        q = sample_configurations(model, accuracy_samples, 1)
+        q = model.sample(accuracy_samples, 1)
         exact = chain_fk(text, "base", "tool", q).astype(float)  # rounding: < 1 ulp
         size = model.size()
         ours_err = [pose_errors(model.fk_batch(q), exact)]

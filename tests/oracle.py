@@ -5,9 +5,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from urdf2dh.convert import sample_configurations
 from urdf2dh.geometry.se3 import pose_errors
-from urdf2dh.screws import PoeModel
+from urdf2dh.model.poe import PoeModel
 from urdf2dh.sources import Source
 from urdf2dh.verify import pinocchio_fk
 
@@ -16,7 +15,7 @@ EXACT = 1e-12  # the exactness promised: relative to the robot's size, and in ra
 
 def pin_reference(source: Source, model: PoeModel, samples: int = 200, seed: int = 7):
     """Seeded configurations and Pinocchio's poses for them."""
-    q = sample_configurations(model, samples, seed)
+    q = model.sample(samples, seed)
     return q, pinocchio_fk(source, model, q)
 
 

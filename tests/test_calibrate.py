@@ -21,13 +21,13 @@ from urdf2dh.calibrate.measurements import Measurements
 from urdf2dh.calibrate.report import to_dict
 from urdf2dh.calibrate.start import Options, placement
 from urdf2dh.catalog import our_robots_dir
-from urdf2dh.convert import sample_configurations, to_table
+from urdf2dh.convert import to_table
 from urdf2dh.export import Options as ExportOptions
 from urdf2dh.export import export_table
 from urdf2dh.geometry.lie import quaternion_of
 from urdf2dh.geometry.se3 import pose_errors, twist_exp
+from urdf2dh.model.poe import Joint, PoeModel
 from urdf2dh.papers import agrees
-from urdf2dh.screws import Joint, PoeModel
 from urdf2dh.tolerances import DEFAULT
 
 NOISE_POS, NOISE_ROT = 0.01, 1e-5  # mm and rad: issue 15's levels
@@ -39,7 +39,7 @@ def puma():
 
 
 def fk_error(model: PoeModel, truth: PoeModel, seed: int = 11) -> tuple[float, float]:
-    q = sample_configurations(truth, 1000, seed)
+    q = truth.sample(1000, seed)
     return pose_errors(model.fk_batch(q), truth.fk_batch(q))
 
 
@@ -149,7 +149,7 @@ def test_one_marker_identifies_the_chain_and_the_point_not_the_tool_rotation(pum
     result = identify(nominal, m, opts)
     assert result.stats.rank == len(result.names) == 36 + 3
     assert np.allclose(result.model.twists(), actual.twists(), atol=1e-9)
-    q = sample_configurations(actual, 1000, 6)
+    q = actual.sample(1000, 6)
     ours, theirs = result.model.fk_batch(q), actual.fk_batch(q)
     assert np.abs(ours[:, :3, 3] - theirs[:, :3, 3]).max() <= 1e-9 * actual.size()
     # as placed in the device frame by the rigid fit and the base-tool level's base motion
@@ -218,7 +218,7 @@ def test_ur5_identified_in_its_base_frame_exports_to_ur():
     robot = pin.buildModelFromXML(urdf)
     data = robot.createData()
     frame = robot.getFrameId("tool0")
-    q = sample_configurations(result.model, 50, 13)
+    q = result.model.sample(50, 13)
     for qk in q:
         pin.framesForwardKinematics(robot, data, qk)
         ours = result.model.fk(qk)
@@ -236,7 +236,7 @@ def test_nominal_frame_anchors_a_prismatic_first_joint_by_its_direction():
     result = identify(nominal, synthesize(seen, 100, seed=3), Options(frame="nominal"))
     assert result.model.joints[0].kind == "prismatic"
     assert np.allclose(result.model.joints[0].axis, nominal.joints[0].axis, atol=1e-14)
-    q = sample_configurations(nominal, 500, 1)
+    q = nominal.sample(500, 1)
     position, rotation = pose_errors(
         result.base_in_device @ result.model.fk_batch(q), seen.fk_batch(q)
     )
@@ -266,7 +266,7 @@ def test_a_joint_that_never_moves_is_reported_not_identified_with_the_cause():
         for w in cal.warnings
     )
     # the rest is still found: the model matches the robot wherever wrist_1 is at zero
-    fresh = sample_configurations(actual, 200, 6)
+    fresh = actual.sample(200, 6)
     fresh[:, 3] = 0.0
     position, _ = pose_errors(cal.model.fk_batch(fresh), actual.fk_batch(fresh))
     assert position <= 1e-9 * actual.size()

@@ -158,7 +158,6 @@ def test_output_file_gets_the_usual_permissions(tmp_path, capsys):
 def test_verify_checks_the_written_table_at_configurations_of_its_own():
     import numpy as np
 
-    from urdf2dh.convert import sample_configurations
     from urdf2dh.sources import open_source
     from urdf2dh.verify import VERIFY_STREAM, verify
 
@@ -167,6 +166,6 @@ def test_verify_checks_the_written_table_at_configurations_of_its_own():
     results = verify(source, model, samples=300, seed=0, check_samples=150)
     assert [r.table.check.samples for r in results[1:]] == [150] * len(CONVENTIONS)
     assert all(r.ok for r in results)
-    ours = sample_configurations(model, 300, (0, VERIFY_STREAM))
-    checks = sample_configurations(model, 300, 0)
+    ours = model.sample(300, (0, VERIFY_STREAM))
+    checks = model.sample(300, 0)
     assert not np.allclose(ours, checks)

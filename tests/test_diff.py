@@ -139,7 +139,7 @@ def test_a_row_that_changes_form_is_reported_not_a_crash(tmp_path, capsys):
 
     import urdf2dh
     from urdf2dh.geometry.se3 import rot_axis
-    from urdf2dh.screws import PoeModel
+    from urdf2dh.model.poe import PoeModel
 
     ur5 = urdf2dh.load("ur5")
     tilt = rot_axis(np.array([0.0, 0.0, 1.0]), 0.002)  # out of the common normals' plane

@@ -11,7 +11,7 @@ from oracle import assert_fk_matches, pin_reference
 
 from urdf2dh.cli import main
 from urdf2dh.conventions import NAMES as CONVENTIONS
-from urdf2dh.convert import sample_configurations, to_table
+from urdf2dh.convert import to_table
 from urdf2dh.geometry.se3 import rpy
 from urdf2dh.info import identifiability
 from urdf2dh.sources import open_source
@@ -37,7 +37,7 @@ def close_tables(a, b, size):
 @pytest.mark.parametrize("robot", ROBOTS)
 def test_any_convention_to_any_other_through_table_files(robot, tmp_path, capsys):
     model = open_source(robot).model()
-    q = sample_configurations(model, 100, 1)
+    q = model.sample(100, 1)
     reference = model.fk_batch(q)
     size = model.size()
     for first in CONVENTIONS:

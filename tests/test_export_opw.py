@@ -21,14 +21,13 @@ from consumers import report
 from oracle import EXACT, assert_fk_matches, pin_reference
 
 from urdf2dh.catalog import ROBOTS, our_robots_dir
-from urdf2dh.convert import sample_configurations
 from urdf2dh.errors import ExportError, UsageError
 from urdf2dh.export import Options, export
 from urdf2dh.export.escape import yaml_comment
 from urdf2dh.geometry.se3 import from_rpy, inv, rot_x, rot_y, rot_z, trans
+from urdf2dh.model.poe import Joint, PoeModel
 from urdf2dh.opw import opw_from_poe
 from urdf2dh.opwmodel import OpwParameters, opw_fk
-from urdf2dh.screws import Joint, PoeModel
 from urdf2dh.sources import open_source
 from urdf2dh.tolerances import EXACT as EXACT_TOL
 from urdf2dh.units import factor as length_factor
@@ -230,7 +229,7 @@ def test_any_base_tool_zero_and_signs_give_a_file_the_consumer_follows(robot, se
     signs = rng.choice([-1, 1], 6)
     g, h = (_rigid(rng), _rigid(rng)) if seed else (np.eye(4), _rigid(rng))
     model = _moved(original, q0, signs, g, h)
-    q = sample_configurations(model, 100, seed)
+    q = model.sample(100, seed)
     reference = g @ original.fk(q0 + signs * q) @ h
     np.testing.assert_allclose(model.fk(q), reference, rtol=0, atol=1e-13)  # the redrawing
     text = export(model, "opw")
@@ -320,7 +319,7 @@ def test_a_nearly_parallel_pair_is_judged_reported_and_refused_with_exact():
     assert "axes 2 ('joint_a2'), 3 ('joint_a3') are 1e-06 rad off parallel; treated as such" in text
     pos, rot = declared(text)
     assert 1e-9 < pos < 1e-5 and 1e-9 < rot < 1e-5
-    q = sample_configurations(model, 100, 4)
+    q = model.sample(100, 4)
     opw, base, tool = consumer(text)
     assert_fk_matches(
         "judged",

@@ -27,7 +27,7 @@ from urdf2dh.convert import to_table
 from urdf2dh.errors import ExportError, TableFileError
 from urdf2dh.export import export_table
 from urdf2dh.export.names import RENAMED, Namespace, renaming_notes
-from urdf2dh.screws import Joint, PoeModel
+from urdf2dh.model.poe import Joint, PoeModel
 from urdf2dh.sources import open_source
 
 PYKDL = real_pykdl()

@@ -18,11 +18,11 @@ from urdf2dh.catalog import ROBOTS
 from urdf2dh.cli import main
 from urdf2dh.conventions.dh import DhLink
 from urdf2dh.conventions.hayati import HayatiLink
-from urdf2dh.convert import sample_configurations, to_table
+from urdf2dh.convert import to_table
 from urdf2dh.errors import UsageError
 from urdf2dh.export import export_table
 from urdf2dh.geometry import se3
-from urdf2dh.screws import Joint, PoeModel
+from urdf2dh.model.poe import Joint, PoeModel
 from urdf2dh.sources import open_source
 from urdf2dh.urdfwrite import table_to_urdf
 
@@ -125,14 +125,14 @@ def nearly_parallel_chains(draw):
 @SETTINGS
 @given(nearly_parallel_chains())
 def test_nearly_parallel_axes_are_exact_and_sane(model):
-    q = sample_configurations(model, 50, 2)
+    q = model.sample(50, 2)
     assert_exact_and_sane(model, to_table(model, "hayati"), q, product_of_exponentials(model, q))
 
 
 @SETTINGS
 @given(nearly_parallel_chains())
 def test_dh_and_mdh_never_refuse_and_keep_their_declared_bound(model):
-    q = sample_configurations(model, 50, 3)
+    q = model.sample(50, 3)
     reference = product_of_exponentials(model, q)
     for conv in ("dh", "mdh"):
         table = to_table(model, conv)  # never a ConversionError
@@ -173,7 +173,7 @@ def test_table_files_hold_each_rows_form(tmp_path):
     text = path.read_text()
     assert text.count("beta:") == 3  # the base and rows j2, j6: Hayati rows hold beta, no d
     again = open_source(str(path)).model()
-    q = sample_configurations(model, 100, 4)
+    q = model.sample(100, 4)
     np.testing.assert_allclose(again.fk_batch(q), model.fk_batch(q), atol=1e-12 * model.size())
     back = to_table(again, "hayati")
     assert [type(r.params) for r in back.rows] == [type(r.params) for r in table.rows]

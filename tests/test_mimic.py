@@ -13,7 +13,7 @@ from oracle import assert_fk_matches, pin_reference
 
 from urdf2dh.cli import main
 from urdf2dh.conventions import NAMES
-from urdf2dh.convert import sample_configurations, to_table
+from urdf2dh.convert import to_table
 from urdf2dh.errors import ChainError
 from urdf2dh.export import TARGETS
 from urdf2dh.sources import open_source
@@ -52,7 +52,7 @@ def test_the_rows_follow_their_leaders_and_pinocchio_agrees():
 
 def test_table_and_poe_files_keep_the_coupling(tmp_path, capsys):
     model = open_source(ARM).model()
-    q = sample_configurations(model, 100, 3)
+    q = model.sample(100, 3)
     for fmt, name in (("json", "t.json"), ("yaml", "t.yaml"), ("poe", "t.poe.yaml")):
         path = tmp_path / name
         assert main(["convert", ARM, "--convention", "cpc", "--format", fmt, "-o", str(path)]) == 0

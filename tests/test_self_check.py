@@ -14,7 +14,6 @@ from urdf2dh.convert import (
     DEFAULT_SAMPLES,
     JUDGED_SAMPLES,
     build_table,
-    sample_configurations,
     self_check,
     to_table,
 )
@@ -83,7 +82,7 @@ def test_verify_never_exceeds_the_declared_bound(robot):
 
     source = open_source(robot)
     model = source.model()
-    q = sample_configurations(model, 20_000, (5, 5))
+    q = model.sample(20_000, (5, 5))
     reference = pinocchio_fk(source, model, q)
     for conv in ("dh", "mdh"):
         table = to_table(model, conv)

@@ -16,7 +16,6 @@ from chains import random_chain_urdf
 
 from urdf2dh import verify as verify_module
 from urdf2dh.cli import main
-from urdf2dh.convert import sample_configurations
 from urdf2dh.poefile import read_poe
 from urdf2dh.sources import Source, open_source
 from urdf2dh.tolerances import EPS, VERIFY_JOINTS
@@ -49,7 +48,7 @@ def test_mimic_joints_follow_their_leader_as_in_pinocchio():
     """tests/data/parallelogram.urdf: a mimic chain, built by Pinocchio with mimic=True."""
     source = open_source(str(ROOT / "tests" / "data" / "parallelogram.urdf"))
     poe = source.model()
-    q = sample_configurations(poe, 30, 2)
+    q = poe.sample(30, 2)
     assert np.abs(pinocchio_fk(source, poe, q) - poe.fk_batch(q)).max() < 1e-12
 
 
@@ -131,7 +130,7 @@ def test_both_ways_to_pinocchio_s_poses_agree_on_poe_and_urdf_models(robot, monk
     own Pinocchio model), a prismatic one, continuous joints of a URDF."""
     source = open_source(robot)
     poe = source.model()
-    q = sample_configurations(poe, 25, 6)
+    q = poe.sample(25, 6)
     by_data = pinocchio_fk(source, poe, q)
     monkeypatch.setattr(verify_module, "DATA_JOINTS", 0)
     by_joint = pinocchio_fk(source, poe, q)

@@ -51,7 +51,7 @@ if TYPE_CHECKING:
     from .emit.plot import plot
     from .errors import Urdf2DhError
     from .formats import render
-    from .screws import Joint, PoeModel
+    from .model.poe import Joint, PoeModel
     from .table import Check, Row, Table
     from .tolerances import DEFAULT, EXACT, Tolerances
 
@@ -61,8 +61,8 @@ _LAZY = {
     "render": ("formats", "render"),
     "plot": ("emit.plot", "plot"),
     "Urdf2DhError": ("errors", "Urdf2DhError"),
-    "Joint": ("screws", "Joint"),
-    "PoeModel": ("screws", "PoeModel"),
+    "Joint": ("model.poe", "Joint"),
+    "PoeModel": ("model.poe", "PoeModel"),
     "Check": ("table", "Check"),
     "Row": ("table", "Row"),
     "Table": ("table", "Table"),

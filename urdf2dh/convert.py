@@ -11,18 +11,15 @@ from __future__ import annotations
 import math
 from dataclasses import replace
 
-import numpy as np
-from numpy.typing import NDArray
-
 from .checks import check_count, check_instance, check_seed
 from .conventions import REGISTRY, STYLES, Conversion, get
-from .errors import ConversionError, InputError, UsageError, choices, shown
-from .fk import chains_fk
+from .errors import ConversionError, UsageError, choices, shown
 from .geometry.normals import Judgement
 from .geometry.se3 import pose_errors
-from .screws import PoeModel
+from .model.fk import chains_fk
+from .model.poe import PoeModel
 from .table import Check, Row, Table
-from .tolerances import DEFAULT, EPS, FK_ROUNDING, JOINT_POSITIONS, Tolerances
+from .tolerances import DEFAULT, EPS, FK_ROUNDING, Tolerances
 
 __all__ = [
     "DEFAULT_SAMPLES",
@@ -31,7 +28,6 @@ __all__ = [
     "check_arguments",
     "deviation_bound",
     "rounding_bound",
-    "sample_configurations",
     "self_check",
     "to_table",
     "written",
@@ -43,24 +39,6 @@ __all__ = [
 # introduces a deviation, the check measures how large it is: there it looks at 1000.
 DEFAULT_SAMPLES = 100
 JUDGED_SAMPLES = 1000
-
-
-def sample_configurations(
-    model: PoeModel, samples: int, seed: int | tuple[int, ...]
-) -> NDArray[np.float64]:
-    """``(samples, dof)`` actuated joint positions drawn uniformly within the model's limits
-    (:meth:`~urdf2dh.screws.PoeModel.limits`), seeded (a tuple seed names a separate stream, as
-    ``numpy.random.default_rng`` takes it); at most :data:`~urdf2dh.tolerances.JOINT_POSITIONS`
-    positions in all, or an ``InputError``."""
-    if samples * max(model.dof, 1) > JOINT_POSITIONS:
-        raise InputError(
-            f"{model.source or model.name}: {samples:,} configurations of {model.dof:,} joints "
-            f"are more than {JOINT_POSITIONS:,} joint positions, the most one run evaluates (at "
-            f"most {JOINT_POSITIONS // max(model.dof, 1):,} configurations of this chain)"
-        )
-    lim = model.limits()
-    rng = np.random.default_rng(seed)
-    return rng.uniform(lim[:, 0], lim[:, 1], size=(samples, model.dof))
 
 
 def build_table(
@@ -104,8 +82,8 @@ def self_check(
     model: PoeModel, table: Table, samples: int = DEFAULT_SAMPLES, seed: int = 0
 ) -> Check:
     """The table's FK against the model's at ``samples`` seeded configurations (both by the
-    reference FK, :func:`urdf2dh.fk.chains_fk`)."""
-    q = sample_configurations(model, samples, seed)
+    reference FK, :func:`urdf2dh.model.fk.chains_fk`)."""
+    q = model.sample(samples, seed)
     ours, source = chains_fk([table.link_form(), model.link_form()], model.positions(q))
     return Check(samples, *pose_errors(ours, source))
 
@@ -203,7 +181,7 @@ def to_table(
         An unknown ``convention`` or ``style`` (the message lists the valid ones; a
         ``ValueError`` too).
     TypeError, ValueError
-        An argument of the wrong type (``model`` not a :class:`~urdf2dh.screws.PoeModel`,
+        An argument of the wrong type (``model`` not a :class:`~urdf2dh.model.poe.PoeModel`,
         ``tol`` not a :class:`~urdf2dh.tolerances.Tolerances`), or ``samples`` or ``seed`` out
         of range (``samples`` from 1 to :data:`~urdf2dh.checks.MAX_SAMPLES`).
     """

@@ -32,7 +32,7 @@ from . import units
 from .conventions import Params
 from .errors import InputError, UsageError, visible
 from .formats import fixed
-from .screws import PoeModel
+from .model.poe import PoeModel
 from .table import Row, Table
 from .tolerances import DIFF_LENGTH_M, DIFF_ROUND_OFF, Tolerances
 from .xacro import XacroOptions

@@ -5,7 +5,7 @@ from __future__ import annotations
 from collections import Counter
 
 from .errors import ChainError, choices, visible
-from .screws import PoeModel
+from .model.poe import PoeModel
 from .sources import Source
 
 __all__ = ["describe", "identifiability"]

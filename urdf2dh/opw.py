@@ -27,11 +27,10 @@ from dataclasses import replace
 import numpy as np
 from numpy.typing import NDArray
 
-from .convert import sample_configurations
 from .errors import ConversionError, ExportError, shown
 from .geometry.se3 import pose_errors
+from .model.poe import PoeModel
 from .opwmodel import OpwParameters, opw_fk, rot_z
-from .screws import PoeModel
 from .tolerances import DEFAULT, Tolerances
 
 __all__ = ["opw_from_poe"]
@@ -235,7 +234,7 @@ def _checked(
     """``p`` with its check against the model; refused if it deviates unaccountably."""
     size, reach = model.size(), max(model.reach(), model.size())
     samples = samples or (JUDGED_SAMPLES if judge.made else CHECK_SAMPLES)
-    q = sample_configurations(model, samples, seed)
+    q = model.sample(samples, seed)
     pos, rot = pose_errors(p.fk_batch(q), model.fk_batch(q))
     # as the tables' check (convert.to_table): each judgement may cost twice its angle over
     # the robot's reach plus its gap, and is reported once its effect exceeds tol.report

@@ -27,13 +27,13 @@ import numpy as np
 from numpy.typing import NDArray
 
 from . import units
-from .checks import check_joint_count, check_leaders, check_name, check_number, read_mimic
 from .errors import InputError, choices, shown
 from .geometry import se3
-from .screws import KINDS, Joint, PoeModel
+from .io.fields import check_joint_count, check_leaders, check_name, check_number, read_mimic
+from .model.poe import KINDS, PoeModel, joint_from_twist
 from .tolerances import DEFAULT, JOINT_SCALES, Tolerances
 
-__all__ = ["check_matrix", "joint_from_twist", "poe_to_dict", "read_poe"]
+__all__ = ["check_matrix", "poe_to_dict", "read_poe"]
 
 
 def _numbers(value: Any, count: int, where: str) -> NDArray[np.float64]:
@@ -164,34 +164,3 @@ def poe_to_dict(model: PoeModel) -> dict[str, Any]:
         "joints": joints,
         "tool": {"matrix": [[float(x) for x in row] for row in model.home]},
     }
-
-
-def joint_from_twist(
-    name: str,
-    xi: NDArray[np.float64],
-    noise: float,
-    lower: float | None = None,
-    upper: float | None = None,
-) -> Joint:
-    """Build a joint from a twist ``[w, v]`` of any scale (SPEC §4, Wu 2019 §II).
-
-    For ``|w| > 0`` the scale is ``|w|`` and the pitch ``w.v / |w|^2``; the joint is revolute
-    when the pitch is round-off (``|h| <= noise * |v| / |w|``), helical otherwise. For
-    ``|w| <= noise`` the joint is prismatic with scale ``|v|``. A scale within ``noise`` of 1 is
-    1: a unit twist written with its direction's last bit of round-off reads back as itself (a
-    unit scale is what most controllers require). Callers validate the twist (finite, not all
-    zero) before calling.
-    """
-    xi = np.asarray(xi, dtype=float)
-    w, v = xi[:3], xi[3:]
-    nw, nv = float(np.linalg.norm(w)), float(np.linalg.norm(v))
-    if nw <= noise:
-        scale = 1.0 if abs(nv - 1.0) <= noise else nv
-        return Joint(name, "prismatic", v / nv, None, 0.0, scale, lower, upper)
-    u = w / nw
-    pitch = float(w @ v) / (nw * nw)
-    point = np.cross(w, v) / (nw * nw)
-    scale = 1.0 if abs(nw - 1.0) <= noise else nw
-    if abs(pitch) <= noise * nv / nw:
-        return Joint(name, "revolute", u, point, 0.0, scale, lower, upper)
-    return Joint(name, "helical", u, point, pitch, scale, lower, upper)

@@ -14,7 +14,7 @@ from .catalog import ROBOTS, Bundled, robot_path
 from .errors import SHOWN_LENGTH, InputError, SourceError, UsageError, choices, shown
 from .files import SOURCE_ROLE, read_file
 from .io.mappings import read_mapping
-from .screws import PoeModel
+from .model.poe import PoeModel
 from .text import check_text, first_character
 from .tolerances import DEFAULT, Tolerances
 from .urdf import UrdfTree, parse_tree, tree_to_poe

@@ -8,7 +8,7 @@ Whatever the convention, a table's forward kinematics has the shape::
 with ``(A_i, C_i)`` the constant transforms around row ``i``'s joint motion
 (:meth:`~urdf2dh.conventions.base.Params.around_joint`; ``dh``: ``A = I``, ``C = Rz Tz Rx Tx``).
 The table folds them into ``n + 1`` constant links ``G_0 Q_1 G_1 ... Q_n G_n`` and evaluates
-that with the reference FK (:mod:`urdf2dh.fk`).
+that with the reference FK (:mod:`urdf2dh.model.fk`).
 """
 
 from __future__ import annotations
@@ -19,13 +19,13 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from ._fastfk import chain_fk
 from .checks import check_configurations, check_count, check_instance, check_real
 from .conventions import Convention, Params, get
 from .errors import shown
 from .geometry import frames, se3
-from .mimic import Mimic, actuated, row_positions
-from .screws import Joint, JointKind, JointMotion, PoeModel, check_motion
+from .model._fastfk import chain_fk
+from .model.mimic import Mimic, actuated, row_positions
+from .model.poe import Joint, JointKind, JointMotion, PoeModel, check_motion
 from .tolerances import DEFAULT
 
 __all__ = ["SCHEMA", "Check", "Row", "Table"]
@@ -98,7 +98,7 @@ class Table:
     base, rows, tool
         The base record, one :class:`Row` per movable joint from base to tip, the tool record.
     size
-        The robot's size in ``length_unit`` (:meth:`urdf2dh.screws.PoeModel.size`): what
+        The robot's size in ``length_unit`` (:meth:`urdf2dh.model.poe.PoeModel.size`): what
         position errors and round-off are measured against.
     robot, source, base_link, tip_link, length_unit
         Provenance.
@@ -184,7 +184,7 @@ class Table:
 
     def fk_batch(self, q: NDArray[np.float64]) -> Mat:
         """Poses ``(N, 4, 4)`` of the tool for configurations ``q`` of shape ``(N, dof)`` (large
-        batches by the fast path, :mod:`urdf2dh._fastfk`); finite numbers only."""
+        batches by the fast path, :mod:`urdf2dh.model._fastfk`); finite numbers only."""
         q = check_configurations(q, self.dof, "Table.fk_batch: q", batch=True)
         return self._fk_batch(q)
 

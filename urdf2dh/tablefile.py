@@ -7,15 +7,18 @@ and the ``matrix`` written beside them is an error, never silently preferred one
 
 from __future__ import annotations
 
+import math
+from collections.abc import Mapping
 from dataclasses import replace
 from typing import Any
 
 import numpy as np
 
-from .checks import check_joint_count, check_leaders, check_number, read_mimic
-from .conventions import NAMES, get, read_params
+from .conventions import NAMES, Convention, Params, get
+from .conventions.base import Part, Value, unit_direction
 from .errors import InputError, TableFileError, choices, shown
-from .screws import KINDS
+from .io.fields import check_joint_count, check_leaders, check_number, check_vector, read_mimic
+from .model.poe import KINDS
 from .table import SCHEMA, Check, Row, Table
 from .tolerances import DEFAULT, Tolerances
 from .units import metres_per
@@ -140,3 +143,33 @@ def read_table(data: Any, display: str, tol: Tolerances = DEFAULT) -> Table:
     _matrix_agrees(sections["base"][1], table.base_matrix, f"{display}: base", scale)
     _matrix_agrees(sections["tool"][1], table.tool_matrix, f"{display}: tool", scale)
     return table
+
+
+def read_params(conv: Convention, part: Part, raw: Any, where: str, tol: Tolerances) -> Params:
+    """A table file's ``params`` mapping as a record of ``conv`` for ``part``: its keys must be
+    exactly one record's parameters; numbers finite; a direction a unit vector within
+    ``tol.rotation_input`` (then normalised)."""
+    types = {"base": conv.base_types, "row": conv.row_types, "tool": conv.tool_types}[part]
+    wanted = " or ".join(str(list(cls.quantities())) for cls in types)
+    if not isinstance(raw, Mapping):
+        raise TableFileError(f"{where}: params must be a mapping of {wanted}")
+    keys = set(raw)
+    cls = next((c for c in types if set(c.quantities()) == keys), None)
+    if cls is None:
+        raise TableFileError(
+            f"{where}: params must be exactly {wanted} (got {sorted(map(str, keys))})"
+        )
+    values: dict[str, Value] = {}
+    for name, quantity in cls.quantities().items():
+        label = f"{where}: {name}"
+        if quantity == "direction":
+            v = check_vector(raw[name], label, TableFileError)
+            norm = math.hypot(*v)
+            if abs(norm - 1.0) > tol.rotation_input:
+                raise TableFileError(f"{label} must be a unit vector (|{name}| = {norm:.9g})")
+            values[name] = unit_direction(v)
+        elif quantity == "offset":
+            values[name] = check_vector(raw[name], label, TableFileError)
+        else:
+            values[name] = check_number(raw[name], label, TableFileError)
+    return cls(**values)

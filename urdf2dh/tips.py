@@ -37,7 +37,7 @@ from .errors import ChainError, Urdf2DhError, UsageError, shown
 from .tolerances import JOINTS
 
 if TYPE_CHECKING:
-    from .screws import PoeModel
+    from .model.poe import PoeModel
     from .sources import Source
     from .table import Table
     from .urdf import UrdfTree

@@ -209,7 +209,7 @@ BOUNDS = (
 
 # ----------------------------------------------------------------------------- the Python API
 
-# A joint axis given to the Python API (urdf2dh.screws.Joint) is a unit vector, and a pose
+# A joint axis given to the Python API (urdf2dh.model.poe.Joint) is a unit vector, and a pose
 # (PoeModel.home) a rigid transform, within this: what float arithmetic leaves of one (1e-15),
 # far below any typed-in rounding (0.7071 is 1e-5 off), which the files' readers orthonormalise
 # with a warning instead (Tolerances.rotation_input).

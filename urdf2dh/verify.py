@@ -25,12 +25,12 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .conventions import NAMES
-from .convert import sample_configurations, to_table
+from .convert import to_table
 from .errors import InputError, shown
-from .fk import BLOCK, chains_errors
-from .mimic import Mimic, actuated
+from .model.fk import BLOCK, chains_errors
+from .model.mimic import Mimic, actuated
+from .model.poe import PoeModel
 from .progress import progress
-from .screws import PoeModel
 from .sources import Source
 from .table import Check, Table
 from .tolerances import DEFAULT, EPS, VERIFY_JOINTS, Tolerances
@@ -371,7 +371,7 @@ def verify(
     link lies far from the URDF's root (:func:`_oracle_rounding`).
     """
     check_verifiable(source, poe)
-    q = sample_configurations(poe, samples, (seed, VERIFY_STREAM))
+    q = poe.sample(samples, (seed, VERIFY_STREAM))
     tables = [to_table(poe, conv, tol, samples=check_samples) for conv in conventions]
     chains = [poe.link_form(), *(t.link_form() for t in tables)]
     worst = np.zeros((len(chains), 2))

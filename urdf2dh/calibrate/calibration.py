@@ -33,7 +33,7 @@ from numpy.typing import NDArray
 
 from ..diff import Diff
 from ..errors import InputError, Urdf2DhError, UsageError, choices, shown
-from ..screws import PoeModel
+from ..model.poe import PoeModel
 from ..table import Table
 from ..tolerances import DEFAULT, Tolerances
 from .chart import LEVELS, Estimate, absorbed, count

@@ -58,7 +58,7 @@ from numpy.typing import NDArray
 from ..errors import InputError
 from ..geometry.lie import cross3, cross_rows, exp_so3, left_jacobian, log_se3
 from ..geometry.se3 import twist_exp
-from ..screws import Joint
+from ..model.poe import Joint
 
 __all__ = [
     "BASE_TOOL",
@@ -187,7 +187,7 @@ class Chain:
         return np.array([k != "prismatic" for k in self.kinds], dtype=bool)
 
     def joints(self) -> tuple[Joint, ...]:
-        """The chain as :class:`~urdf2dh.screws.Joint` objects."""
+        """The chain as :class:`~urdf2dh.model.poe.Joint` objects."""
         return tuple(
             Joint(
                 self.names[i],
@@ -271,7 +271,7 @@ class Estimate:
 
     @property
     def joints(self) -> tuple[Joint, ...]:
-        """The joints as :class:`~urdf2dh.screws.Joint` objects (offsets not absorbed)."""
+        """The joints as :class:`~urdf2dh.model.poe.Joint` objects (offsets not absorbed)."""
         return self.chain.joints()
 
     @property

@@ -26,7 +26,7 @@ from numpy.typing import NDArray
 
 from ..geometry.frames import axis_frame
 from ..geometry.se3 import inv, matrix_of
-from ..screws import Joint
+from ..model.poe import Joint
 from ..tolerances import RANK_RELATIVE
 
 __all__ = ["anchor_base", "fit_rigid", "pose_points", "tool_on_last_axis"]

@@ -40,7 +40,7 @@ from numpy.typing import NDArray
 
 from ..errors import InputError
 from ..geometry.se3 import inv
-from ..screws import PoeModel
+from ..model.poe import PoeModel
 from ..tolerances import NOISE_FLOOR, NOISE_RATIO, Tolerances
 from .chart import LEVELS, Estimate, absorbed, count, names
 from .frames import anchor_base, fit_rigid, pose_points, tool_on_last_axis

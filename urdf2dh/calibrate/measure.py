@@ -1,7 +1,7 @@
 """Synthetic measurements of a model (``urdf2dh measure``), for trying calibration and testing it.
 
 * Configurations: ``N`` drawn uniformly within the joint limits (``[-pi, pi]`` for rotating
-  joints without limits; :func:`urdf2dh.convert.sample_configurations`), seeded by ``seed``.
+  joints without limits; :meth:`urdf2dh.model.poe.PoeModel.sample`), seeded by ``seed``.
 * Pose measurements: the tool origin plus isotropic Gaussian noise of ``noise_pos`` per
   coordinate; the tool orientation turned by ``exp([e])``, ``e`` Gaussian with ``noise_rot``
   per coordinate (in the device frame); written as quaternions ``[x, y, z, w]``, ``w >= 0``.
@@ -20,11 +20,10 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-from ..convert import sample_configurations
 from ..errors import InputError
 from ..geometry.lie import exp_so3, quaternion_of
 from ..geometry.se3 import twist_exp
-from ..screws import Joint, PoeModel
+from ..model.poe import Joint, PoeModel
 from .chart import line_motion
 from .measurements import MAX_MEASUREMENTS, Measurements
 
@@ -112,7 +111,7 @@ def synthesize(
     ``layout`` (marker -> point in the tool frame; ``None``: the tool origin, no marker column).
     """
     q = (
-        sample_configurations(model, configs, seed)
+        model.sample(configs, seed)
         if configurations is None
         else np.asarray(configurations, dtype=float)
     )

@@ -25,7 +25,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import InputError
-from ..screws import PoeModel
+from ..model.poe import PoeModel
 from .chart import LEVELS, Estimate, names
 from .identifiable import redundant
 from .measure import marker_layout
@@ -244,7 +244,6 @@ def plan(
     from threadpoolctl import threadpool_limits
 
     from .. import units
-    from ..convert import sample_configurations
 
     pose = pose and not markers
     sp = (
@@ -255,7 +254,7 @@ def plan(
     sr = noise_rot if noise_rot is not None else DEFAULT_NOISE_ROT
     if candidates is None:
         count = min(max(CANDIDATES_PER_CONFIGURATION * configs, 500), MAX_CANDIDATES)
-        candidates = sample_configurations(model, max(count, configs), (seed, 7))
+        candidates = model.sample(max(count, configs), (seed, 7))
     if configs > len(candidates):
         raise InputError(f"{configs} configurations asked for, from {len(candidates)} candidates")
     with threadpool_limits(1, "blas"):

@@ -29,7 +29,7 @@ from numpy.typing import NDArray
 
 from ..diff import Diff
 from ..errors import UsageError, visible
-from ..screws import PoeModel
+from ..model.poe import PoeModel
 from ..table import Table
 from ..tolerances import DIFF_ANGLE_DEG, POORLY_IDENTIFIED, Tolerances
 from .chart import Estimate, absorbed, local_coordinates

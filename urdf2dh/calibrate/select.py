@@ -41,8 +41,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import UsageError
+from ..model.poe import PoeModel
 from ..progress import progress
-from ..screws import PoeModel
 from .chart import LEVELS, Estimate, absorbed, count
 from .identifiable import redundant
 from .identify import Fit, level_start, solve_level

@@ -18,7 +18,7 @@ from numpy.typing import NDArray
 
 from ..errors import UsageError, choices, shown
 from ..geometry.lie import rotation_of
-from ..screws import Joint, PoeModel
+from ..model.poe import Joint, PoeModel
 from ..tolerances import DEFAULT, Tolerances
 from .chart import BASE_TOOL, LEVELS, Estimate, line_point
 from .frames import fit_rigid, pose_points

@@ -53,7 +53,7 @@ from ..geometry.frames import Frame, Vec3
 from .base import Conversion, Params, angle, direction, offset, unit_direction
 
 if TYPE_CHECKING:
-    from ..screws import PoeModel
+    from ..model.poe import PoeModel
     from ..tolerances import Tolerances
 
 __all__ = ["CPC", "CpcConvention", "CpcShape", "CpcTool", "r_rows", "reversals", "v_frame"]

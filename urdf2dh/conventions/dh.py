@@ -32,7 +32,7 @@ from ..geometry.normals import Judgement, Limits, LinkParams, link_to_line
 from .base import Conversion, Params, angle, length
 
 if TYPE_CHECKING:
-    from ..screws import PoeModel
+    from ..model.poe import PoeModel
     from ..tolerances import Tolerances
 
 __all__ = [

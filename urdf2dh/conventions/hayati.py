@@ -41,7 +41,7 @@ from .base import Conversion, Params, angle, length
 from .dh import DhLink, RzTz, chain_lines
 
 if TYPE_CHECKING:
-    from ..screws import PoeModel
+    from ..model.poe import PoeModel
     from ..tolerances import Tolerances
 
 __all__ = ["HAYATI", "HayatiConvention", "HayatiLink", "hayati_link"]

@@ -25,7 +25,7 @@ from .base import Conversion, Params, angle, length
 from .dh import STYLES, RzTz, far_rows, links_from_poe
 
 if TYPE_CHECKING:
-    from ..screws import PoeModel
+    from ..model.poe import PoeModel
     from ..tolerances import Tolerances
 
 __all__ = ["MDH", "CraigLink", "ModifiedDH"]

@@ -30,7 +30,7 @@ from typing import TYPE_CHECKING, Any
 from ..errors import UsageError, choices
 
 if TYPE_CHECKING:
-    from ..screws import PoeModel
+    from ..model.poe import PoeModel
     from ..table import Table
     from .common import Options
 
@@ -181,7 +181,7 @@ def export(
     ``ValueError``; an unknown target, convention or style is a ``UsageError``)."""
     from ..checks import check_count, check_instance
     from ..convert import to_table
-    from ..screws import PoeModel
+    from ..model.poe import PoeModel
     from .common import Options
 
     check_instance(model, PoeModel, "export: model", "urdf2dh.load(SOURCE) reads one")

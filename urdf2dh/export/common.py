@@ -17,7 +17,7 @@ from ..conventions.base import written_angle, written_length
 from ..errors import ExportError, UsageError, shown
 from ..formats import summary
 from ..geometry.se3 import pose_errors
-from ..mimic import Followed
+from ..model.mimic import Followed
 from ..table import Table
 from ..tolerances import DECIMAL_ROUND_OFF, DEFAULT, Tolerances
 

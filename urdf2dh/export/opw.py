@@ -27,9 +27,9 @@ import numpy as np
 
 from .. import units
 from ..geometry.se3 import rpy
+from ..model.poe import PoeModel
 from ..opw import opw_from_poe
 from ..opwmodel import GEOMETRY, OpwParameters
-from ..screws import PoeModel
 from ..table import Table
 from .common import Numbers, Options, require_uncoupled, yaml_float
 from .escape import yaml_comment

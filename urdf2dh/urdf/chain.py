@@ -16,8 +16,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import ChainError, shown
-from ..mimic import Mimic
-from ..screws import Joint, JointKind, PoeModel
+from ..model.mimic import Mimic
+from ..model.poe import Joint, JointKind, PoeModel
 from .tree import UrdfJoint, UrdfTree, names
 
 __all__ = ["KINDS", "final_leader", "tree_to_poe"]

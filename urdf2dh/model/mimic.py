@@ -16,7 +16,7 @@ from typing import Protocol
 import numpy as np
 from numpy.typing import NDArray
 
-from .errors import shown
+from ..errors import shown
 
 __all__ = ["Followed", "Mimic", "actuated", "row_positions"]
 

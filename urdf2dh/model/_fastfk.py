@@ -1,5 +1,5 @@
 """The fast path of ``Table.fk_batch`` and ``PoeModel.fk_batch``: the reference forward
-kinematics (:mod:`urdf2dh.fk`) with ``e^{ix}`` taken from a table instead of numpy's ``exp``.
+kinematics (:mod:`urdf2dh.model.fk`) with ``e^{ix}`` taken from a table instead of numpy's ``exp``.
 
 In the reference FK of a large batch, numpy's sines and cosines take about two thirds of the
 time. Here ``x = k h + r`` with ``h = 2 pi / STEPS``: ``e^{ikh}`` is looked up in a table of
@@ -65,7 +65,7 @@ def expi(x: Mat) -> Complexes:
 
 
 def chains_fk(chains: Sequence[fk.Chain], q: Mat) -> list[Mat]:
-    """:func:`urdf2dh.fk.chains_fk`, with :func:`expi` for batches of ``FAST_MIN`` or more."""
+    """:func:`urdf2dh.model.fk.chains_fk`, with :func:`expi` for batches of ``FAST_MIN`` or more."""
     q = np.asarray(q, dtype=float)
     if q.ndim != 2 or q.shape[0] < FAST_MIN:
         return fk.chains_fk(chains, q)
@@ -73,5 +73,5 @@ def chains_fk(chains: Sequence[fk.Chain], q: Mat) -> list[Mat]:
 
 
 def chain_fk(links: Mat, motions: Mat, q: Mat) -> Mat:
-    """:func:`urdf2dh.fk.chain_fk`, with :func:`expi` for batches of ``FAST_MIN`` or more."""
+    """:func:`urdf2dh.model.fk.chain_fk`, with :func:`expi` for batches of ``FAST_MIN`` or more."""
     return chains_fk([(links, motions)], q)[0]

@@ -21,20 +21,30 @@ from typing import Any, Literal, TypeVar, cast
 import numpy as np
 from numpy.typing import NDArray
 
-from ._fastfk import chain_fk
-from .checks import (
+from ..checks import (
     check_array,
     check_configurations,
+    check_count,
     check_instance,
     check_limit,
     check_real,
+    check_seed,
 )
-from .errors import shown
-from .geometry import frames, se3
+from ..errors import InputError, shown
+from ..geometry import frames, se3
+from ..tolerances import JOINT_POSITIONS, RIGID_INPUT
+from ._fastfk import chain_fk
 from .mimic import Mimic, actuated, row_positions
-from .tolerances import RIGID_INPUT
 
-__all__ = ["KINDS", "Joint", "JointKind", "JointMotion", "PoeModel", "check_motion"]
+__all__ = [
+    "KINDS",
+    "Joint",
+    "JointKind",
+    "JointMotion",
+    "PoeModel",
+    "check_motion",
+    "joint_from_twist",
+]
 
 JointKind = Literal["revolute", "prismatic", "helical"]
 KINDS: tuple[str, ...] = ("revolute", "prismatic", "helical")
@@ -68,7 +78,7 @@ def check_motion(joint: Any, where: str) -> None:
     object.__setattr__(joint, "upper", check_limit(joint.upper, f"{where}: upper"))
     mimic = joint.mimic
     if mimic is not None:
-        check_instance(mimic, Mimic, f"{where}: mimic", "urdf2dh.mimic.Mimic(joint, m, o)")
+        check_instance(mimic, Mimic, f"{where}: mimic", "urdf2dh.model.mimic.Mimic(joint, m, o)")
 
 
 class JointMotion:
@@ -262,6 +272,31 @@ class PoeModel:
         for prismatic ones (``[-1, 1]`` for a chain that is all at the origin); read-only."""
         return self._once("limits", self._limits)
 
+    def sample(self, count: int, seed: int | tuple[int, ...] = 0) -> NDArray[np.float64]:
+        """``(count, dof)`` actuated joint positions drawn uniformly within :meth:`limits`,
+        seeded (``numpy.random.default_rng(seed)``; a tuple seed names a separate stream).
+
+        Raises
+        ------
+        InputError
+            More than :data:`~urdf2dh.tolerances.JOINT_POSITIONS` positions in all.
+        TypeError, ValueError
+            ``count`` not an integer from 1 to :data:`~urdf2dh.tolerances.MAX_SAMPLES`, or a
+            ``seed`` that is not a non-negative integer (or a tuple of them).
+        """
+        check_count(count, "PoeModel.sample: count")
+        for part in seed if isinstance(seed, tuple) else (seed,):
+            check_seed(part, "PoeModel.sample: seed")
+        if count * max(self.dof, 1) > JOINT_POSITIONS:
+            raise InputError(
+                f"{self.source or self.name}: {count:,} configurations of {self.dof:,} joints "
+                f"are more than {JOINT_POSITIONS:,} joint positions, the most one run evaluates "
+                f"(at most {JOINT_POSITIONS // max(self.dof, 1):,} configurations of this chain)"
+            )
+        lim = self.limits()
+        rng = np.random.default_rng(seed)
+        return rng.uniform(lim[:, 0], lim[:, 1], size=(count, self.dof))
+
     def _limits(self) -> NDArray[np.float64]:
         drivers = [self.joints[i] for i in actuated(self.joints)]
         out = np.empty((len(drivers), 2))
@@ -278,7 +313,7 @@ class PoeModel:
     def link_form(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """The FK as links ``G_0 .. G_n`` ``(n + 1, 4, 4)`` and motions ``(n, 2)`` (rotation,
         translation per unit of ``q``): ``T(q) = G_0 Q_1(q_1) G_1 ... Q_n(q_n) G_n`` with
-        ``Q = Rz Tz``, as a table's FK is (:mod:`urdf2dh.fk`).
+        ``Q = Rz Tz``, as a table's FK is (:mod:`urdf2dh.model.fk`).
 
         With ``C_i`` a frame whose z axis is joint ``i``'s axis line, ``exp(xi_i s) =
         C_i Rz(rot s) Tz(trans s) C_i^-1``, so ``G_0 = C_1``, ``G_i = C_i^-1 C_(i+1)`` and
@@ -305,7 +340,7 @@ class PoeModel:
 
     def fk_batch(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
         """Poses ``(N, 4, 4)`` of the tip for configurations ``q`` of shape ``(N, dof)`` (large
-        batches by the fast path, :mod:`urdf2dh._fastfk`); finite numbers only."""
+        batches by the fast path, :mod:`urdf2dh.model._fastfk`); finite numbers only."""
         q = check_configurations(q, self.dof, "PoeModel.fk_batch: q", batch=True)
         return self._fk_batch(q)
 
@@ -337,3 +372,34 @@ class PoeModel:
         home = self.home.copy()
         home[:3, 3] *= factor
         return replace(self, joints=joints, home=home, length_unit=unit)
+
+
+def joint_from_twist(
+    name: str,
+    xi: NDArray[np.float64],
+    noise: float,
+    lower: float | None = None,
+    upper: float | None = None,
+) -> Joint:
+    """Build a joint from a twist ``[w, v]`` of any scale (Wu 2019 §II).
+
+    For ``|w| > 0`` the scale is ``|w|`` and the pitch ``w.v / |w|^2``; the joint is revolute
+    when the pitch is round-off (``|h| <= noise * |v| / |w|``), helical otherwise. For
+    ``|w| <= noise`` the joint is prismatic with scale ``|v|``. A scale within ``noise`` of 1 is
+    1: a unit twist written with its direction's last bit of round-off reads back as itself (a
+    unit scale is what most controllers require). Callers validate the twist (finite, not all
+    zero) before calling.
+    """
+    xi = np.asarray(xi, dtype=float)
+    w, v = xi[:3], xi[3:]
+    nw, nv = float(np.linalg.norm(w)), float(np.linalg.norm(v))
+    if nw <= noise:
+        scale = 1.0 if abs(nv - 1.0) <= noise else nv
+        return Joint(name, "prismatic", v / nv, None, 0.0, scale, lower, upper)
+    u = w / nw
+    pitch = float(w @ v) / (nw * nw)
+    point = np.cross(w, v) / (nw * nw)
+    scale = 1.0 if abs(nw - 1.0) <= noise else nw
+    if abs(pitch) <= noise * nv / nw:
+        return Joint(name, "revolute", u, point, 0.0, scale, lower, upper)
+    return Joint(name, "helical", u, point, pitch, scale, lower, upper)

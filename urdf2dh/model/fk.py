@@ -1,7 +1,7 @@
 """Forward kinematics of chains in link form: the one reference evaluation.
 
 Every table, whatever its convention, and every POE model is evaluated the same way
-(:meth:`urdf2dh.table.Table.link_form`, :meth:`urdf2dh.screws.PoeModel.link_form`)::
+(:meth:`urdf2dh.table.Table.link_form`, :meth:`urdf2dh.model.poe.PoeModel.link_form`)::
 
     T(q) = G_0 . Q_1(q_1) . G_1 . Q_2(q_2) ... Q_n(q_n) . G_n,    Q_i(q) = Rz(r_i q) Tz(t_i q)
 
@@ -23,7 +23,7 @@ has its sines and cosines computed once.
 
 The self-check, ``verify`` and the tests use this module as it is; the public batch FK
 (``Table.fk_batch``, ``PoeModel.fk_batch``) runs it with sines from a table for large batches
-(:mod:`urdf2dh._fastfk`, the one fast path).
+(:mod:`urdf2dh.model._fastfk`, the one fast path).
 """
 
 from __future__ import annotations
@@ -33,7 +33,7 @@ from collections.abc import Callable, Iterator, Sequence
 import numpy as np
 from numpy.typing import NDArray
 
-from .geometry.se3 import errors_from_squares
+from ..geometry.se3 import errors_from_squares
 
 __all__ = ["BLOCK", "chain_fk", "chains_errors", "chains_fk", "numpy_expi"]
 
@@ -73,7 +73,7 @@ def chain_fk(links: Mat, motions: Mat, q: Mat) -> Mat:
 def chains_fk(chains: Sequence[Chain], q: Mat, expi: Expi = numpy_expi) -> list[Mat]:
     """Poses ``(N, 4, 4)`` of each of several chains (each as in :func:`chain_fk`, all with
     ``n`` joints) at the same configurations ``q`` ``(N, n)``; ``expi(x)`` gives ``e^{ix}``
-    (numpy's; the fast batch path, :mod:`urdf2dh._fastfk`, passes its own)."""
+    (numpy's; the fast batch path, :mod:`urdf2dh.model._fastfk`, passes its own)."""
     q = np.asarray(q, dtype=float)
     # each chain's poses held row by row, (4, N, 4), as the blocks compute them; the poses
     # (N, 4, 4) are a view of that (no copy to another layout)
