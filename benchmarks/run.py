@@ -29,7 +29,7 @@ from timing import Figure, best_of, import_ms, peak_alloc, print_table, run_proc
 
 from urdf2dh.catalog import ROBOTS, robot_path  # noqa: E402
 from urdf2dh.conventions import NAMES  # noqa: E402
-from urdf2dh.convert import (  # noqa: E402
+from urdf2dh.conventions.convert import (  # noqa: E402
     DEFAULT_SAMPLES,
     JUDGED_SAMPLES,
     build_table,
@@ -211,7 +211,9 @@ def imports() -> list[Figure]:
     """Import times (-X importtime, cumulative, new processes) against `import pinocchio`."""
     pin_ms = import_ms("import pinocchio")["total"]
     cli = import_ms("import urdf2dh.cli")
-    convert = import_ms("import urdf2dh.convert, urdf2dh.sources, urdf2dh.formats, urdf2dh.urdf")
+    convert = import_ms(
+        "import urdf2dh.conventions.convert, urdf2dh.sources, urdf2dh.formats, urdf2dh.urdf"
+    )
     yd = import_ms("import yourdfpy")
     hygiene = run_process(
         [

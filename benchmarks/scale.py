@@ -13,7 +13,7 @@ from reference import chain_fk
 from timing import Figure, best_of, peak_alloc, run_process
 
 from urdf2dh.conventions import NAMES as CONVENTIONS
-from urdf2dh.convert import to_table
+from urdf2dh.conventions.convert import to_table
 from urdf2dh.geometry.se3 import pose_errors
 from urdf2dh.sources import Source
 from urdf2dh.tolerances import JOINTS

@@ -13,7 +13,7 @@ import sys
 
 import numpy as np
 
-from urdf2dh.convert import to_table
+from urdf2dh.conventions.convert import to_table
 from urdf2dh.formats import render
 from urdf2dh.geometry.se3 import pose_errors
 from urdf2dh.papers import sumenkov_table3

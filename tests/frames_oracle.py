@@ -9,8 +9,8 @@ import re
 
 import numpy as np
 
+from urdf2dh.conventions.table import Table
 from urdf2dh.emit.scene import ARROW, JOINT_AXIS, LABEL_GAP, TOOL_ARROW
-from urdf2dh.table import Table
 
 
 def fk_frames(table: Table) -> dict[str, np.ndarray]:

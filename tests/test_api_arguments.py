@@ -21,9 +21,9 @@ from hypothesis import strategies as st
 
 import urdf2dh
 from urdf2dh.conventions.dh import DhLink
+from urdf2dh.conventions.table import Check, Row
 from urdf2dh.errors import SourceError, UsageError
 from urdf2dh.model.poe import Joint, PoeModel
-from urdf2dh.table import Check, Row
 
 MODEL = urdf2dh.load("ur5")
 TABLE = urdf2dh.to_table(MODEL, "dh")

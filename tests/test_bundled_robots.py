@@ -7,7 +7,7 @@ from oracle import EXACT, assert_fk_matches, pin_reference
 
 from urdf2dh.catalog import ROBOTS
 from urdf2dh.conventions import NAMES as CONVENTIONS
-from urdf2dh.convert import to_table
+from urdf2dh.conventions.convert import to_table
 from urdf2dh.sources import open_source
 from urdf2dh.tolerances import EXACT as EXACT_TOL
 

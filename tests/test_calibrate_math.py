@@ -21,7 +21,7 @@ from urdf2dh.calibrate.chart import (
     retract,
 )
 from urdf2dh.calibrate.residuals import Data, evaluate, model_poses
-from urdf2dh.convert import to_table
+from urdf2dh.conventions.convert import to_table
 from urdf2dh.geometry.lie import (
     exp_so3,
     left_jacobian,

@@ -14,7 +14,7 @@ from oracle import assert_fk_matches, pin_reference
 
 from urdf2dh.cli import main
 from urdf2dh.conventions import NAMES as CONVENTIONS
-from urdf2dh.convert import to_table
+from urdf2dh.conventions.convert import to_table
 from urdf2dh.sources import Source, open_source
 from urdf2dh.tolerances import DEFAULT, EXACT
 from urdf2dh.urdf import parse_tree

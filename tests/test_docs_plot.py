@@ -12,7 +12,7 @@ import pytest
 from chains import random_chain_urdf
 
 from urdf2dh.cli import main
-from urdf2dh.convert import to_table
+from urdf2dh.conventions.convert import to_table
 from urdf2dh.emit.scene import scene
 from urdf2dh.sources import open_source
 

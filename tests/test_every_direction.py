@@ -11,7 +11,7 @@ from oracle import assert_fk_matches, pin_reference
 
 from urdf2dh.cli import main
 from urdf2dh.conventions import NAMES as CONVENTIONS
-from urdf2dh.convert import to_table
+from urdf2dh.conventions.convert import to_table
 from urdf2dh.geometry.se3 import rpy
 from urdf2dh.info import identifiability
 from urdf2dh.sources import open_source

@@ -21,13 +21,12 @@ from consumers import report
 from oracle import EXACT, assert_fk_matches, pin_reference
 
 from urdf2dh.catalog import ROBOTS, our_robots_dir
+from urdf2dh.conventions.opw import OpwParameters, opw_fk, opw_from_poe
 from urdf2dh.errors import ExportError, UsageError
 from urdf2dh.export import Options, export
 from urdf2dh.export.escape import yaml_comment
 from urdf2dh.geometry.se3 import from_rpy, inv, rot_x, rot_y, rot_z, trans
 from urdf2dh.model.poe import Joint, PoeModel
-from urdf2dh.opw import opw_from_poe
-from urdf2dh.opwmodel import OpwParameters, opw_fk
 from urdf2dh.sources import open_source
 from urdf2dh.tolerances import EXACT as EXACT_TOL
 from urdf2dh.units import factor as length_factor
@@ -411,7 +410,7 @@ def test_cli_writes_the_file_and_refuses_non_opw_arms(tmp_path, capsys):
 
 def test_a_table_exports_the_same_parameters_as_its_source():
     """``export_table(table, "opw")`` reads the table's POE model: the same arm."""
-    from urdf2dh.convert import to_table
+    from urdf2dh.conventions.convert import to_table
     from urdf2dh.export import export_table
 
     model = open_source("fanuc-m20ia").model()

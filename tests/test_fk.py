@@ -11,7 +11,7 @@ import pytest
 from chains import random_chain_urdf
 
 from urdf2dh.conventions import NAMES
-from urdf2dh.convert import to_table
+from urdf2dh.conventions.convert import to_table
 from urdf2dh.geometry import se3
 from urdf2dh.model import fk
 from urdf2dh.model.poe import Joint, PoeModel

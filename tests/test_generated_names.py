@@ -23,7 +23,7 @@ from hostile import COLLIDING, KINDS, write_source
 from oracle import assert_fk_matches
 
 import urdf2dh
-from urdf2dh.convert import to_table
+from urdf2dh.conventions.convert import to_table
 from urdf2dh.errors import ExportError, TableFileError
 from urdf2dh.export import export_table
 from urdf2dh.export.names import RENAMED, Namespace, renaming_notes

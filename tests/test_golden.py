@@ -13,7 +13,7 @@ from pathlib import Path
 
 import pytest
 
-from urdf2dh.convert import to_table
+from urdf2dh.conventions.convert import to_table
 from urdf2dh.export import TARGETS, Options, export, export_table, table_choices
 from urdf2dh.sources import open_source
 

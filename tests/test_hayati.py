@@ -16,9 +16,9 @@ from test_fk import product_of_exponentials
 
 from urdf2dh.catalog import ROBOTS
 from urdf2dh.cli import main
+from urdf2dh.conventions.convert import to_table
 from urdf2dh.conventions.dh import DhLink
 from urdf2dh.conventions.hayati import HayatiLink
-from urdf2dh.convert import to_table
 from urdf2dh.errors import UsageError
 from urdf2dh.export import export_table
 from urdf2dh.geometry import se3

@@ -43,7 +43,7 @@ from matlab_reader import read_matlab
 from safety import FORMULA, judge
 
 from urdf2dh import cli
-from urdf2dh.convert import to_table
+from urdf2dh.conventions.convert import to_table
 from urdf2dh.emit.scene import short
 from urdf2dh.errors import ExportError, shown, visible
 from urdf2dh.export import escape as esc

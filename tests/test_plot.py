@@ -16,7 +16,7 @@ from frames_oracle import anchor, fk_frames, named, on_ray, span
 
 from urdf2dh.catalog import ROBOTS
 from urdf2dh.cli import main
-from urdf2dh.convert import to_table
+from urdf2dh.conventions.convert import to_table
 from urdf2dh.emit.picture import COLOURS, draw
 from urdf2dh.emit.scene import ARROW, SLIDE, frames_at_home, scene
 from urdf2dh.sources import open_source

@@ -11,7 +11,7 @@ import pytest
 import yaml
 
 from urdf2dh.cli import main
-from urdf2dh.convert import to_table
+from urdf2dh.conventions.convert import to_table
 from urdf2dh.errors import InputError
 from urdf2dh.poefile import read_poe
 from urdf2dh.sources import open_source

@@ -16,7 +16,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from urdf2dh.conventions import NAMES as CONVENTIONS
-from urdf2dh.convert import to_table
+from urdf2dh.conventions.convert import to_table
 from urdf2dh.geometry import se3
 from urdf2dh.model.poe import Joint, PoeModel
 

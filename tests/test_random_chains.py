@@ -8,7 +8,7 @@ from chains import random_chain_urdf
 from oracle import EXACT, assert_fk_matches, pin_reference
 
 from urdf2dh.conventions import NAMES as CONVENTIONS
-from urdf2dh.convert import to_table
+from urdf2dh.conventions.convert import to_table
 from urdf2dh.sources import Source
 from urdf2dh.urdf import parse_tree, tree_to_poe
 

@@ -10,7 +10,7 @@ import pytest
 
 from urdf2dh.cli import main
 from urdf2dh.conventions import NAMES as CONVENTIONS
-from urdf2dh.convert import (
+from urdf2dh.conventions.convert import (
     DEFAULT_SAMPLES,
     JUDGED_SAMPLES,
     build_table,

@@ -14,8 +14,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from urdf2dh.conventions.convert import to_table
 from urdf2dh.conventions.cpc import r_rows
-from urdf2dh.convert import to_table
 from urdf2dh.formats import render
 from urdf2dh.geometry import frames, se3
 from urdf2dh.geometry.se3 import pose_errors

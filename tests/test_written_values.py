@@ -12,7 +12,7 @@ import pytest
 from urdf2dh.catalog import ROBOTS
 from urdf2dh.cli import main
 from urdf2dh.conventions import NAMES
-from urdf2dh.convert import build_table, self_check, to_table
+from urdf2dh.conventions.convert import build_table, self_check, to_table
 from urdf2dh.sources import open_source
 from urdf2dh.tolerances import DEFAULT
 

@@ -47,28 +47,28 @@ __all__ = [
 
 if TYPE_CHECKING:
     from .conventions import NAMES as CONVENTIONS
-    from .convert import to_table
+    from .conventions.convert import to_table
+    from .conventions.table import Check, Row, Table
     from .emit.plot import plot
     from .errors import Urdf2DhError
     from .formats import render
     from .model.poe import Joint, PoeModel
-    from .table import Check, Row, Table
     from .tolerances import DEFAULT, EXACT, Tolerances
 
 _LAZY = {
-    "CONVENTIONS": ("conventions", "NAMES"),
-    "to_table": ("convert", "to_table"),
-    "render": ("formats", "render"),
-    "plot": ("emit.plot", "plot"),
-    "Urdf2DhError": ("errors", "Urdf2DhError"),
-    "Joint": ("model.poe", "Joint"),
-    "PoeModel": ("model.poe", "PoeModel"),
-    "Check": ("table", "Check"),
-    "Row": ("table", "Row"),
-    "Table": ("table", "Table"),
-    "Tolerances": ("tolerances", "Tolerances"),
-    "DEFAULT": ("tolerances", "DEFAULT"),
-    "EXACT": ("tolerances", "EXACT"),
+    "CONVENTIONS": ("urdf2dh.conventions", "NAMES"),
+    "to_table": ("urdf2dh.conventions.convert", "to_table"),
+    "render": ("urdf2dh.formats", "render"),
+    "plot": ("urdf2dh.emit.plot", "plot"),
+    "Urdf2DhError": ("urdf2dh.errors", "Urdf2DhError"),
+    "Joint": ("urdf2dh.model.poe", "Joint"),
+    "PoeModel": ("urdf2dh.model.poe", "PoeModel"),
+    "Check": ("urdf2dh.conventions.table", "Check"),
+    "Row": ("urdf2dh.conventions.table", "Row"),
+    "Table": ("urdf2dh.conventions.table", "Table"),
+    "Tolerances": ("urdf2dh.tolerances", "Tolerances"),
+    "DEFAULT": ("urdf2dh.tolerances", "DEFAULT"),
+    "EXACT": ("urdf2dh.tolerances", "EXACT"),
 }
 
 
@@ -78,7 +78,7 @@ def __getattr__(name: str) -> object:
         import importlib
 
         module, attribute = _LAZY[name]
-        return getattr(importlib.import_module(f".{module}", __name__), attribute)
+        return getattr(importlib.import_module(module), attribute)
     raise AttributeError(f"module 'urdf2dh' has no attribute {name!r}")
 
 

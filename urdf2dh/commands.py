@@ -80,7 +80,7 @@ def _write_tips(
 
 
 def _convert(args: argparse.Namespace) -> int:
-    from .convert import to_table
+    from .conventions.convert import to_table
     from .formats import render
 
     tol = tolerances(args)
@@ -94,7 +94,7 @@ def _convert(args: argparse.Namespace) -> int:
 
 
 def _convert_tips(args: argparse.Namespace, tol: Any) -> int:
-    from .convert import to_table
+    from .conventions.convert import to_table
     from .formats import render
     from .tips import FORMAT_SUFFIXES, check_stdout_format, join_tables, naming_tip
 
@@ -271,7 +271,7 @@ def _export(args: argparse.Namespace) -> int:
 def _plot(args: argparse.Namespace) -> int:
     from pathlib import Path
 
-    from .convert import to_table
+    from .conventions.convert import to_table
     from .emit.plot import FORMATS, plot
     from .emit.scene import check_size
     from .errors import InputError, UsageError, choices, shown

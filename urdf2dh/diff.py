@@ -30,10 +30,10 @@ import numpy as np
 
 from . import units
 from .conventions import Params
+from .conventions.table import Row, Table
 from .errors import InputError, UsageError, visible
 from .formats import fixed
 from .model.poe import PoeModel
-from .table import Row, Table
 from .tolerances import DIFF_LENGTH_M, DIFF_ROUND_OFF, Tolerances
 from .xacro import XacroOptions
 
@@ -262,7 +262,7 @@ def diff_sources(
     ``length_threshold`` ``None`` means :data:`~urdf2dh.tolerances.DIFF_LENGTH_M` in the
     nominal's unit.
     """
-    from .convert import to_table
+    from .conventions.convert import to_table
     from .sources import open_source
 
     models, names = [], []

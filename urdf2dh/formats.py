@@ -1,4 +1,4 @@
-"""Rendering a :class:`~urdf2dh.table.Table`: text, JSON, YAML, CSV and Markdown.
+"""Rendering a :class:`~urdf2dh.conventions.table.Table`: text, JSON, YAML, CSV and Markdown.
 
 ``json`` and ``yaml`` hold the SPEC §2 tree in radians and source units with full precision;
 ``csv`` the same numbers flat; ``text`` and ``markdown`` are for people: angles in degrees,
@@ -24,7 +24,7 @@ from .export.escape import csv_cell, markdown_text
 from .units import DECIMALS
 
 if TYPE_CHECKING:
-    from .table import Table
+    from .conventions.table import Table
 
 __all__ = ["FORMATS", "fixed", "parameter_lines", "render", "summary"]
 
@@ -34,13 +34,13 @@ FORMATS = ("text", "json", "yaml", "csv", "markdown", "urdf", "poe")
 def render(table: Table, fmt: str) -> str:
     """The table in format ``fmt`` (one of :data:`FORMATS`), ending with a newline.
 
-    Raises ``TypeError`` for a ``table`` that is not a :class:`~urdf2dh.table.Table` (a POE
-    model is converted first: :func:`urdf2dh.to_table`), :class:`~urdf2dh.errors.UsageError`
-    for an unknown format (a ``ValueError`` too), :class:`~urdf2dh.errors.ExportError` for a
-    name the format cannot carry (``urdf``: a character XML 1.0 has no way to write).
+    Raises ``TypeError`` for a ``table`` that is not a :class:`~urdf2dh.conventions.table.Table` (a
+    POE model is converted first: :func:`urdf2dh.to_table`), :class:`~urdf2dh.errors.UsageError` for
+    an unknown format (a ``ValueError`` too), :class:`~urdf2dh.errors.ExportError` for a name the
+    format cannot carry (``urdf``: a character XML 1.0 has no way to write).
     """
     from .checks import check_instance
-    from .table import Table
+    from .conventions.table import Table
 
     hint = "convert it first: urdf2dh.to_table(model, 'dh')"
     check_instance(

@@ -15,7 +15,7 @@ import numpy as np
 
 from .catalog import our_robots_dir
 from .conventions import Params
-from .convert import to_table
+from .conventions.convert import to_table
 from .model.poe import joint_from_twist
 from .sources import open_source
 from .tolerances import DEFAULT

@@ -37,9 +37,9 @@ from .errors import ChainError, Urdf2DhError, UsageError, shown
 from .tolerances import JOINTS
 
 if TYPE_CHECKING:
+    from .conventions.table import Table
     from .model.poe import PoeModel
     from .sources import Source
-    from .table import Table
     from .urdf import UrdfTree
 
 __all__ = [

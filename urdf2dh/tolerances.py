@@ -224,17 +224,17 @@ class Tolerances:
     ----------
     parallel_angle
         Radians. Consecutive lines (joint axes, the base z and the tool z) whose directions are
-        within this angle of parallel or anti-parallel, and whose exact common normal lies
-        farther than ``far_factor`` x the robot's size, are treated as exactly parallel by the
-        D-H conventions (``dh``, ``mdh``). Rounded URDF angles (``rpy="0 1.5708 0"``) leave such
-        pairs 1e-9 to 1e-4 rad apart, where the exact common normal lies 10^3 to 10^8 lengths
-        away. (Pairs tilted about their common perpendicular keep a near normal and stay
-        exact.) Each such judgement is listed in the table's ``warnings`` with the forward
-        kinematics deviation it caused. 0 means exact (``--exact``): then only float round-off
-        (``noise``) is treated as parallel. The OPW export (:mod:`urdf2dh.opw`) takes the right
-        angles and the parallel its model assumes (axes 1-2, 3-4, 4-5, 5-6 perpendicular, 2-3
-        parallel) as holding within this angle, with a warning and the deviation measured;
-        beyond it the arm is refused, naming the pair.
+        within this angle of parallel or anti-parallel, and whose exact common normal lies farther
+        than ``far_factor`` x the robot's size, are treated as exactly parallel by the D-H
+        conventions (``dh``, ``mdh``). Rounded URDF angles (``rpy="0 1.5708 0"``) leave such pairs
+        1e-9 to 1e-4 rad apart, where the exact common normal lies 10^3 to 10^8 lengths away. (Pairs
+        tilted about their common perpendicular keep a near normal and stay exact.) Each such
+        judgement is listed in the table's ``warnings`` with the forward kinematics deviation it
+        caused. 0 means exact (``--exact``): then only float round-off (``noise``) is treated as
+        parallel. The OPW export (:mod:`urdf2dh.conventions.opw`) takes the right angles and the
+        parallel its model assumes (axes 1-2, 3-4, 4-5, 5-6 perpendicular, 2-3 parallel) as holding
+        within this angle, with a warning and the deviation measured; beyond it the arm is refused,
+        naming the pair.
     meet_angle
         Radians. Below this angle from parallel the common-normal formula is ill-conditioned;
         a line that passes within ``intersect_distance`` of the pivot (the previous frame's

@@ -26,11 +26,11 @@ import numpy as np
 from numpy.typing import NDArray
 
 from . import __version__, units
+from .conventions.table import Row, Table
 from .errors import shown
 from .export.escape import xml_attribute, xml_comment
 from .export.names import Namespace, renaming_notes
 from .geometry import se3
-from .table import Row, Table
 
 __all__ = ["table_to_urdf"]
 

@@ -25,14 +25,14 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .conventions import NAMES
-from .convert import to_table
+from .conventions.convert import to_table
+from .conventions.table import Check, Table
 from .errors import InputError, shown
 from .model.fk import BLOCK, chains_errors
 from .model.mimic import Mimic, actuated
 from .model.poe import PoeModel
 from .progress import progress
 from .sources import Source
-from .table import Check, Table
 from .tolerances import DEFAULT, EPS, VERIFY_JOINTS, Tolerances
 from .urdf.chain import final_leader
 

@@ -31,10 +31,10 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 from numpy.typing import NDArray
 
+from ..conventions.table import Table
 from ..diff import Diff
 from ..errors import InputError, Urdf2DhError, UsageError, choices, shown
 from ..model.poe import PoeModel
-from ..table import Table
 from ..tolerances import DEFAULT, Tolerances
 from .chart import LEVELS, Estimate, absorbed, count
 from .identifiable import check_patterns

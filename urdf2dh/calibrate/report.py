@@ -27,10 +27,10 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
+from ..conventions.table import Table
 from ..diff import Diff
 from ..errors import UsageError, visible
 from ..model.poe import PoeModel
-from ..table import Table
 from ..tolerances import DIFF_ANGLE_DEG, POORLY_IDENTIFIED, Tolerances
 from .chart import Estimate, absorbed, local_coordinates
 from .identifiable import barely_moved
@@ -257,7 +257,7 @@ def output_table(
 ) -> tuple[str, Table | None, str | None]:
     """The output's convention, its table (``None`` for ``poe``) and, when it was chosen, why
     (module docstring of :mod:`.calibration`)."""
-    from ..convert import to_table
+    from ..conventions.convert import to_table
 
     if convention == "poe":
         return "poe", None, None
@@ -301,7 +301,7 @@ def _diff(
 ) -> Diff:
     """The ``diff`` of the nominal and the identified model (``urdf2dh diff``'s), in the output
     table's convention (for a POE model file, the convention chosen for a table)."""
-    from ..convert import to_table
+    from ..conventions.convert import to_table
     from ..diff import compare, default_length_threshold, form_changes, ill_conditioned
 
     if table is None:

@@ -219,7 +219,8 @@ class Convention(Protocol):
     """The styles it takes, the default first (see :mod:`urdf2dh.conventions.dh`)."""
 
     def from_poe(self, model: PoeModel, tol: Tolerances, style: str) -> Conversion:
-        """The table of ``model`` in this convention, unchecked (:func:`urdf2dh.convert.to_table`
+        """The table of ``model`` in this convention, unchecked
+        (:func:`urdf2dh.conventions.convert.to_table`
         checks it)."""
         ...
 

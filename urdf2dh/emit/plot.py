@@ -6,8 +6,8 @@
 
 from __future__ import annotations
 
+from ..conventions.table import Table
 from ..errors import UsageError, choices
-from ..table import Table
 from .scene import scene
 
 __all__ = ["FORMATS", "plot"]
@@ -20,8 +20,8 @@ def plot(table: Table, fmt: str = "png") -> bytes:
     :mod:`.picture` (matplotlib) or an HTML page by :mod:`.view` (plotly). A chain of more
     than :data:`~.scene.MAX_JOINTS` joints is refused (:class:`~urdf2dh.errors.InputError`).
 
-    Raises ``TypeError`` for a ``table`` that is not a :class:`~urdf2dh.table.Table` (a POE model
-    is converted first: :func:`urdf2dh.to_table`) or a ``fmt`` that is not a string.
+    Raises ``TypeError`` for a ``table`` that is not a :class:`~urdf2dh.conventions.table.Table` (a
+    POE model is converted first: :func:`urdf2dh.to_table`) or a ``fmt`` that is not a string.
     """
     from ..checks import check_instance
 

@@ -1,7 +1,7 @@
 """What a picture of a table's frames shows, whoever draws it (:mod:`.picture`, :mod:`.view`).
 
-The arm at its home pose (``q = 0``), from a checked :class:`~urdf2dh.table.Table` in any
-convention:
+The arm at its home pose (``q = 0``), from a checked :class:`~urdf2dh.conventions.table.Table` in
+any convention:
 
 * the table's frames ``0 .. n`` (frame 0 is the base transform ``B``, frame ``k`` ends row
   ``k``) and the tool frame, each with its x (red) and z (blue) axis drawn as an arrow from its
@@ -32,10 +32,10 @@ from dataclasses import dataclass, replace
 import numpy as np
 from numpy.typing import NDArray
 
+from ..conventions.table import Table
 from ..errors import InputError
 from ..formats import fixed, parameter_lines
 from ..geometry import se3
-from ..table import Table
 from ..units import DECIMALS
 
 __all__ = [

@@ -1,8 +1,8 @@
 """Controller and toolbox configuration files, each generated from a checked table.
 
 One module per target; :func:`export` is the entry point. Every target starts from
-:func:`~urdf2dh.convert.to_table` (so from a table whose forward kinematics was measured against
-the source) and only formats its parameters, or refuses the chain with the reason
+:func:`~urdf2dh.conventions.convert.to_table` (so from a table whose forward kinematics was measured
+against the source) and only formats its parameters, or refuses the chain with the reason
 (:class:`~urdf2dh.errors.ExportError`, exit 2).
 
 =================  ====================================================  ===========  ========
@@ -18,7 +18,8 @@ target             file                                                  convent
 =================  ====================================================  ===========  ========
 
 The first convention and style listed are the defaults. ``opw`` reads the POE model itself (its
-parameters come from the axis lines, :mod:`urdf2dh.opw`), so it takes no convention or style.
+parameters come from the axis lines, :mod:`urdf2dh.conventions.opw`), so it takes no convention or
+style.
 """
 
 from __future__ import annotations
@@ -30,8 +31,8 @@ from typing import TYPE_CHECKING, Any
 from ..errors import UsageError, choices
 
 if TYPE_CHECKING:
+    from ..conventions.table import Table
     from ..model.poe import PoeModel
-    from ..table import Table
     from .common import Options
 
 __all__ = ["TARGETS", "Options", "Target", "export", "export_table", "table_choices"]
@@ -180,7 +181,7 @@ def export(
     Arguments are checked as :func:`urdf2dh.to_table` checks them (``TypeError``,
     ``ValueError``; an unknown target, convention or style is a ``UsageError``)."""
     from ..checks import check_count, check_instance
-    from ..convert import to_table
+    from ..conventions.convert import to_table
     from ..model.poe import PoeModel
     from .common import Options
 

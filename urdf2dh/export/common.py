@@ -1,7 +1,7 @@
 """What every export target shares: number text, the header, the checks that refuse a table.
 
-A target is generated from a checked :class:`~urdf2dh.table.Table` only; these helpers never
-change a parameter, they format it or refuse it with the reason.
+A target is generated from a checked :class:`~urdf2dh.conventions.table.Table` only; these helpers
+never change a parameter, they format it or refuse it with the reason.
 """
 
 from __future__ import annotations
@@ -14,11 +14,11 @@ import numpy as np
 
 from ..conventions import Params, get
 from ..conventions.base import written_angle, written_length
+from ..conventions.table import Table
 from ..errors import ExportError, UsageError, shown
 from ..formats import summary
 from ..geometry.se3 import pose_errors
 from ..model.mimic import Followed
-from ..table import Table
 from ..tolerances import DECIMAL_ROUND_OFF, DEFAULT, Tolerances
 
 __all__ = [

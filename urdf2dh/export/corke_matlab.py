@@ -10,7 +10,7 @@ table's theta, or d for prismatic rows); ``base`` and ``tool`` are the table's 4
 
 from __future__ import annotations
 
-from ..table import Row, Table
+from ..conventions.table import Row, Table
 from .common import (
     Numbers,
     Options,

@@ -23,7 +23,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from ..table import Table
+from ..conventions.table import Table
 from .common import (
     Numbers,
     Options,

@@ -46,9 +46,9 @@ import numpy as np
 
 from .. import units
 from ..conventions.base import written_angle
+from ..conventions.table import Row, Table
 from ..errors import ExportError, shown, visible
 from ..geometry.se3 import dh_matrix, rot_x
-from ..table import Row, Table
 from .common import (
     Numbers,
     Options,

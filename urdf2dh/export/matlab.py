@@ -27,7 +27,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..table import Row, Table
+from ..conventions.table import Row, Table
 from .common import (
     Numbers,
     Options,

@@ -8,14 +8,14 @@ packages carry in their ``opw_parameters_*.yaml``::
     opw_kinematics_joint_offsets: [6 radians]
     opw_kinematics_joint_sign_corrections: [6 of 1 or -1]
 
-and evaluate ``F(sign_i q_i - offset_i)`` (:mod:`urdf2dh.opw`). The parameters are derived from
-the chain's screws by :func:`urdf2dh.opw.opw_from_poe`, not from a table. What OPW cannot hold
-is written beside them, in comments and in two blocks of our own that the consumers ignore:
-``urdf2dh_base_transform`` (OPW's base frame in the chain's base link, ``B``) and
-``urdf2dh_tool_transform`` (the tip link in OPW's flange frame, ``T``), each as ``xyz`` (metres)
-and ``rpy`` (radians, URDF's ``R = Rz(yaw) Ry(pitch) Rx(roll)``), so that
-``pose(q) = B . F(theta) . T``. Both are the identity when the base link's z lies on axis 1
-and the tip sits on axis 6 facing along it, as in the support packages.
+and evaluate ``F(sign_i q_i - offset_i)`` (:mod:`urdf2dh.conventions.opw`). The parameters are
+derived from the chain's screws by :func:`urdf2dh.conventions.opw.opw_from_poe`, not from a table.
+What OPW cannot hold is written beside them, in comments and in two blocks of our own that the
+consumers ignore: ``urdf2dh_base_transform`` (OPW's base frame in the chain's base link, ``B``) and
+``urdf2dh_tool_transform`` (the tip link in OPW's flange frame, ``T``), each as ``xyz`` (metres) and
+``rpy`` (radians, URDF's ``R = Rz(yaw) Ry(pitch) Rx(roll)``), so that
+``pose(q) = B . F(theta) . T``. Both are the identity when the base link's z lies on axis 1 and the
+tip sits on axis 6 facing along it, as in the support packages.
 
 Names from the source appear only in comments, each line made safe by
 :func:`~urdf2dh.export.escape.yaml_comment`.
@@ -26,11 +26,10 @@ from __future__ import annotations
 import numpy as np
 
 from .. import units
+from ..conventions.opw import GEOMETRY, OpwParameters, opw_from_poe
+from ..conventions.table import Table
 from ..geometry.se3 import rpy
 from ..model.poe import PoeModel
-from ..opw import opw_from_poe
-from ..opwmodel import GEOMETRY, OpwParameters
-from ..table import Table
 from .common import Numbers, Options, require_uncoupled, yaml_float
 from .escape import yaml_comment
 

@@ -20,7 +20,7 @@ each joint as ``ET.Rz()`` or ``ET.tz()`` with its limits, which ``Robot`` evalua
 from __future__ import annotations
 
 from ..conventions import Params
-from ..table import Row, Table
+from ..conventions.table import Row, Table
 from .common import (
     Numbers,
     Options,

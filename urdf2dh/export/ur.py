@@ -48,9 +48,9 @@ from numpy.typing import NDArray
 
 from .. import units
 from ..conventions import Params
+from ..conventions.table import Table
 from ..errors import ExportError, shown, visible
 from ..geometry.se3 import dh_matrix, rot_z, rpy
-from ..table import Table
 from ..tolerances import HASH_DECIMALS
 from .common import (
     Numbers,

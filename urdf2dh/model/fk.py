@@ -1,7 +1,7 @@
 """Forward kinematics of chains in link form: the one reference evaluation.
 
 Every table, whatever its convention, and every POE model is evaluated the same way
-(:meth:`urdf2dh.table.Table.link_form`, :meth:`urdf2dh.model.poe.PoeModel.link_form`)::
+(:meth:`urdf2dh.conventions.table.Table.link_form`, :meth:`urdf2dh.model.poe.PoeModel.link_form`)::
 
     T(q) = G_0 . Q_1(q_1) . G_1 . Q_2(q_2) ... Q_n(q_n) . G_n,    Q_i(q) = Rz(r_i q) Tz(t_i q)
 

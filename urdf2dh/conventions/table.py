@@ -19,14 +19,14 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from .checks import check_configurations, check_count, check_instance, check_real
-from .conventions import Convention, Params, get
-from .errors import shown
-from .geometry import frames, se3
-from .model._fastfk import chain_fk
-from .model.mimic import Mimic, actuated, row_positions
-from .model.poe import Joint, JointKind, JointMotion, PoeModel, check_motion
-from .tolerances import DEFAULT
+from ..checks import check_configurations, check_count, check_instance, check_real
+from ..errors import shown
+from ..geometry import frames, se3
+from ..model._fastfk import chain_fk
+from ..model.mimic import Mimic, actuated, row_positions
+from ..model.poe import Joint, JointKind, JointMotion, PoeModel, check_motion
+from ..tolerances import DEFAULT
+from . import Convention, Params, get
 
 __all__ = ["SCHEMA", "Check", "Row", "Table"]
 
@@ -68,7 +68,7 @@ class Check:
         The worst differences found there (length unit, rad).
     declared_position, declared_rotation
         The deviation the table declares, a bound that holds at every configuration (0 for an
-        exact table; see :func:`urdf2dh.convert.to_table`).
+        exact table; see :func:`urdf2dh.conventions.convert.to_table`).
     """
 
     samples: int

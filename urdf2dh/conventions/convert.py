@@ -11,15 +11,15 @@ from __future__ import annotations
 import math
 from dataclasses import replace
 
-from .checks import check_count, check_instance, check_seed
-from .conventions import REGISTRY, STYLES, Conversion, get
-from .errors import ConversionError, UsageError, choices, shown
-from .geometry.normals import Judgement
-from .geometry.se3 import pose_errors
-from .model.fk import chains_fk
-from .model.poe import PoeModel
+from ..checks import check_count, check_instance, check_seed
+from ..errors import ConversionError, UsageError, choices, shown
+from ..geometry.normals import Judgement
+from ..geometry.se3 import pose_errors
+from ..model.fk import chains_fk
+from ..model.poe import PoeModel
+from ..tolerances import DEFAULT, EPS, FK_ROUNDING, Tolerances
+from . import REGISTRY, STYLES, Conversion, get
 from .table import Check, Row, Table
-from .tolerances import DEFAULT, EPS, FK_ROUNDING, Tolerances
 
 __all__ = [
     "DEFAULT_SAMPLES",
