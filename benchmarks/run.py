@@ -27,7 +27,6 @@ sys.path[:0] = [str(ROOT), str(ROOT / "tests"), str(Path(__file__).resolve().par
 from scale import at_the_bounds, chain_lengths  # noqa: E402
 from timing import Figure, best_of, import_ms, peak_alloc, print_table, run_process  # noqa: E402
 
-from urdf2dh.catalog import ROBOTS, robot_path  # noqa: E402
 from urdf2dh.conventions import NAMES  # noqa: E402
 from urdf2dh.conventions.convert import (  # noqa: E402
     DEFAULT_SAMPLES,
@@ -36,15 +35,16 @@ from urdf2dh.conventions.convert import (  # noqa: E402
     self_check,
     to_table,
 )
-from urdf2dh.files import read_file  # noqa: E402
 from urdf2dh.geometry.se3 import pose_errors  # noqa: E402
+from urdf2dh.io.catalog import ROBOTS, robot_path  # noqa: E402
+from urdf2dh.io.files import read_file  # noqa: E402
+from urdf2dh.io.sources import open_source  # noqa: E402
+from urdf2dh.io.urdf import parse_tree, tree_to_poe  # noqa: E402
+from urdf2dh.io.urdf.parse import document, parse_xml, yourdfpy_robot  # noqa: E402 - the stages
+from urdf2dh.io.urdf.tree import build_tree  # noqa: E402
+from urdf2dh.io.urdf.validate import check_robot  # noqa: E402
 from urdf2dh.model.fk import chain_fk  # noqa: E402
-from urdf2dh.sources import open_source  # noqa: E402
 from urdf2dh.tolerances import DEFAULT  # noqa: E402
-from urdf2dh.urdf import parse_tree, tree_to_poe  # noqa: E402
-from urdf2dh.urdf.parse import document, parse_xml, yourdfpy_robot  # noqa: E402 - the stages
-from urdf2dh.urdf.tree import build_tree  # noqa: E402
-from urdf2dh.urdf.validate import check_robot  # noqa: E402
 from urdf2dh.verify import pinocchio_fk, verify  # noqa: E402
 
 ARM = "panda"  # the 7-DOF arm of the engine and batch figures
@@ -212,7 +212,7 @@ def imports() -> list[Figure]:
     pin_ms = import_ms("import pinocchio")["total"]
     cli = import_ms("import urdf2dh.cli")
     convert = import_ms(
-        "import urdf2dh.conventions.convert, urdf2dh.sources, urdf2dh.formats, urdf2dh.urdf"
+        "import urdf2dh.conventions.convert, urdf2dh.io.sources, urdf2dh.formats, urdf2dh.io.urdf"
     )
     yd = import_ms("import yourdfpy")
     hygiene = run_process(

@@ -15,12 +15,12 @@ from timing import Figure, best_of, peak_alloc, run_process
 from urdf2dh.conventions import NAMES as CONVENTIONS
 from urdf2dh.conventions.convert import to_table
 from urdf2dh.geometry.se3 import pose_errors
-from urdf2dh.sources import Source
+from urdf2dh.io.sources import Source
+from urdf2dh.io.urdf import tree_to_poe
+from urdf2dh.io.urdf.parse import document, parse_xml, yourdfpy_robot
+from urdf2dh.io.urdf.tree import UrdfTree, build_tree
+from urdf2dh.io.urdf.validate import check_robot
 from urdf2dh.tolerances import JOINTS
-from urdf2dh.urdf import tree_to_poe
-from urdf2dh.urdf.parse import document, parse_xml, yourdfpy_robot
-from urdf2dh.urdf.tree import UrdfTree, build_tree
-from urdf2dh.urdf.validate import check_robot
 from urdf2dh.verify import pinocchio_fk
 
 __all__ = ["PIN_FK_MAX", "at_the_bounds", "chain_lengths"]

@@ -38,8 +38,8 @@ from urdf2dh.calibrate.identify import moved
 from urdf2dh.calibrate.measure import perturb
 from urdf2dh.cli import main as urdf2dh_main
 from urdf2dh.geometry.se3 import from_rpy, rot_z, twist_exp
+from urdf2dh.io.poefile import poe_to_dict
 from urdf2dh.model.poe import PoeModel
-from urdf2dh.poefile import poe_to_dict
 
 
 def command(*argv: str) -> None:

@@ -31,18 +31,18 @@ sys.path.insert(0, str(ROOT / "benchmarks"))
 
 from reference import chain_fk  # noqa: E402  (benchmarks/reference.py)
 
-from urdf2dh.catalog import ROBOTS, robot_path  # noqa: E402
 from urdf2dh.conventions import NAMES  # noqa: E402
 from urdf2dh.conventions.convert import to_table  # noqa: E402
 from urdf2dh.conventions.table import Table  # noqa: E402
 from urdf2dh.errors import Urdf2DhError  # noqa: E402
 from urdf2dh.formats import render  # noqa: E402
 from urdf2dh.geometry.se3 import pose_errors  # noqa: E402
+from urdf2dh.io.catalog import ROBOTS, robot_path  # noqa: E402
 from urdf2dh.io.mappings import read_mapping  # noqa: E402
+from urdf2dh.io.sources import open_source  # noqa: E402
+from urdf2dh.io.tablefile import read_table  # noqa: E402
+from urdf2dh.io.urdf import load_tree, tree_to_poe  # noqa: E402
 from urdf2dh.model.poe import PoeModel  # noqa: E402
-from urdf2dh.sources import open_source  # noqa: E402
-from urdf2dh.tablefile import read_table  # noqa: E402
-from urdf2dh.urdf import load_tree, tree_to_poe  # noqa: E402
 
 PROMISE = 1e-14  # x robot size (position) and rad (rotation): tolerances.DEFAULT.report
 SAMPLES = 64

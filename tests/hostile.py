@@ -29,10 +29,10 @@ import yaml
 from lxml import etree
 
 from urdf2dh import cli
-from urdf2dh.catalog import ROBOTS, robot_path
 from urdf2dh.export import TARGETS
 from urdf2dh.formats import FORMATS
-from urdf2dh.sources import open_source
+from urdf2dh.io.catalog import ROBOTS, robot_path
+from urdf2dh.io.sources import open_source
 
 HERE = Path(__file__).parent
 GEOMETRIES = {  # URDF file, base link, tip link

@@ -30,9 +30,9 @@ from pathlib import Path
 
 import pytest
 
-from urdf2dh import files
-from urdf2dh.catalog import ROBOTS, our_robots_dir, robot_path
 from urdf2dh.cli import main
+from urdf2dh.io import files
+from urdf2dh.io.catalog import ROBOTS, our_robots_dir, robot_path
 
 ROOT = Path(__file__).resolve().parents[1]
 FAILURES = ("input overwritten", "half-written", "not refused", "bad refusal", "internal error")

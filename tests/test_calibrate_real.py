@@ -22,7 +22,7 @@ from urdf2dh.cli import main
 from urdf2dh.conventions import NAMES
 from urdf2dh.formats import FORMATS, render
 from urdf2dh.geometry.lie import rotation_of
-from urdf2dh.poefile import poe_to_dict
+from urdf2dh.io.poefile import poe_to_dict
 
 DATA = Path(__file__).resolve().parents[2] / "shared" / "calibration-data"
 if not DATA.is_dir():  # the worktree layout: /work/wt/NAME, the data in /work/shared

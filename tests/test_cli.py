@@ -80,7 +80,7 @@ def test_bad_input_exit_2_and_no_file(tmp_path, capsys):
 
 
 def test_default_tip_ties_are_listed(capsys, tmp_path):
-    from urdf2dh.catalog import ROBOTS, robot_path
+    from urdf2dh.io.catalog import ROBOTS, robot_path
 
     code, _, err = run(capsys, "convert", str(robot_path(ROBOTS["ur5"])))
     assert code == 2
@@ -158,7 +158,7 @@ def test_output_file_gets_the_usual_permissions(tmp_path, capsys):
 def test_verify_checks_the_written_table_at_configurations_of_its_own():
     import numpy as np
 
-    from urdf2dh.sources import open_source
+    from urdf2dh.io.sources import open_source
     from urdf2dh.verify import VERIFY_STREAM, verify
 
     source = open_source("so100")

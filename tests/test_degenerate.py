@@ -15,9 +15,9 @@ from oracle import assert_fk_matches, pin_reference
 from urdf2dh.cli import main
 from urdf2dh.conventions import NAMES as CONVENTIONS
 from urdf2dh.conventions.convert import to_table
-from urdf2dh.sources import Source, open_source
+from urdf2dh.io.sources import Source, open_source
+from urdf2dh.io.urdf import parse_tree
 from urdf2dh.tolerances import DEFAULT, EXACT
-from urdf2dh.urdf import parse_tree
 
 HALF = repr(math.pi / 2)
 PI = repr(math.pi)

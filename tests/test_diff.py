@@ -125,7 +125,7 @@ def test_diff_of_different_chains_is_an_input_error(capsys):
 def _poe_file(path, model):
     import yaml
 
-    from urdf2dh.poefile import poe_to_dict
+    from urdf2dh.io.poefile import poe_to_dict
 
     path.write_text(yaml.safe_dump(poe_to_dict(model), sort_keys=False))
     return str(path)

@@ -29,8 +29,8 @@ from oracle import assert_fk_matches, pin_reference
 from urdf2dh import units
 from urdf2dh.errors import ExportError, UsageError
 from urdf2dh.export import TARGETS, Options, export
-from urdf2dh.sources import Source, open_source
-from urdf2dh.urdf import parse_tree, tree_to_poe
+from urdf2dh.io.sources import Source, open_source
+from urdf2dh.io.urdf import parse_tree, tree_to_poe
 
 DATA = Path(__file__).parent / "data"
 AGREE = 1e-9  # the bound: every target matches Pinocchio to this

@@ -27,8 +27,8 @@ from urdf2dh.conventions.convert import to_table
 from urdf2dh.errors import ExportError, TableFileError
 from urdf2dh.export import export_table
 from urdf2dh.export.names import RENAMED, Namespace, renaming_notes
+from urdf2dh.io.sources import open_source
 from urdf2dh.model.poe import Joint, PoeModel
-from urdf2dh.sources import open_source
 
 PYKDL = real_pykdl()
 AGREE = 1e-12

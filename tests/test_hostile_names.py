@@ -48,7 +48,7 @@ from urdf2dh.emit.scene import short
 from urdf2dh.errors import ExportError, shown, visible
 from urdf2dh.export import escape as esc
 from urdf2dh.export import export_table, table_choices
-from urdf2dh.sources import open_source
+from urdf2dh.io.sources import open_source
 
 DANGEROUS = {
     "quote": "'",

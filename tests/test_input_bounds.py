@@ -17,7 +17,7 @@ from chains import random_chain_urdf
 from urdf2dh import cli, tolerances
 from urdf2dh.cli import main
 from urdf2dh.errors import MESSAGE_LENGTH, SHOWN_LENGTH, InputError, shown
-from urdf2dh.files import read_file
+from urdf2dh.io.files import read_file
 from urdf2dh.tolerances import FILE_BYTES, JOINTS
 
 

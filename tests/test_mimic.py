@@ -16,8 +16,8 @@ from urdf2dh.conventions import NAMES
 from urdf2dh.conventions.convert import to_table
 from urdf2dh.errors import ChainError
 from urdf2dh.export import TARGETS
-from urdf2dh.sources import open_source
-from urdf2dh.urdf import parse_tree, tree_to_poe
+from urdf2dh.io.sources import open_source
+from urdf2dh.io.urdf import parse_tree, tree_to_poe
 
 DATA = Path(__file__).parent / "data"
 ARM = str(DATA / "parallelogram.urdf")

@@ -13,8 +13,8 @@ import yaml
 from urdf2dh.cli import main
 from urdf2dh.conventions.convert import to_table
 from urdf2dh.errors import InputError
-from urdf2dh.poefile import read_poe
-from urdf2dh.sources import open_source
+from urdf2dh.io.poefile import read_poe
+from urdf2dh.io.sources import open_source
 
 
 def poe(joints, tool=None, **extra):

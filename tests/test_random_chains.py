@@ -9,8 +9,8 @@ from oracle import EXACT, assert_fk_matches, pin_reference
 
 from urdf2dh.conventions import NAMES as CONVENTIONS
 from urdf2dh.conventions.convert import to_table
-from urdf2dh.sources import Source
-from urdf2dh.urdf import parse_tree, tree_to_poe
+from urdf2dh.io.sources import Source
+from urdf2dh.io.urdf import parse_tree, tree_to_poe
 
 
 def source_of(text: str) -> Source:

@@ -18,7 +18,7 @@ from urdf2dh.conventions.convert import (
     to_table,
 )
 from urdf2dh.geometry.se3 import pose_errors
-from urdf2dh.sources import open_source
+from urdf2dh.io.sources import open_source
 from urdf2dh.tolerances import DEFAULT
 
 

@@ -21,10 +21,11 @@ import numpy as np
 import pytest
 import yaml
 
-from urdf2dh import files, verify
+from urdf2dh import verify
 from urdf2dh.cli import main
 from urdf2dh.conventions import NAMES
 from urdf2dh.errors import shown
+from urdf2dh.io import files
 from urdf2dh.tips import FORMAT_SUFFIXES
 
 
@@ -530,7 +531,7 @@ def test_export_writes_one_file_per_tip_with_the_targets_suffix(capsys, tmp_path
 
 def test_the_written_tables_match_their_chains(capsys, tree, tmp_path):
     """Each file of -o DIR, read back as a SOURCE, has the FK of its own chain."""
-    from urdf2dh.sources import open_source
+    from urdf2dh.io.sources import open_source
 
     out_dir = tmp_path / "out"
     assert (

@@ -16,9 +16,9 @@ from pathlib import Path
 
 import pytest
 
-from urdf2dh.catalog import example_robot_data_dir
 from urdf2dh.cli import main
 from urdf2dh.conventions import NAMES
+from urdf2dh.io.catalog import example_robot_data_dir
 
 #: (file under example-robot-data's robots/, whether some chain holds a mimic joint)
 ROBOTS = [

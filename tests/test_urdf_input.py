@@ -13,9 +13,9 @@ import pytest
 
 from urdf2dh.cli import main
 from urdf2dh.errors import InputError
+from urdf2dh.io.urdf import parse_tree, tree_to_poe
+from urdf2dh.io.urdf.validate import numbers
 from urdf2dh.tolerances import LARGEST_URDF_NUMBER as LARGEST
-from urdf2dh.urdf import parse_tree, tree_to_poe
-from urdf2dh.urdf.validate import numbers
 
 LIMIT = 'lower="-1" upper="1" effort="1" velocity="1"'
 
@@ -336,7 +336,7 @@ def test_a_base_far_from_the_root_is_verified_to_pinocchios_resolution(offset, c
     near = text.replace(f'xyz="0 {offset} 0"', 'xyz="0 2 0"')
     tree = parse_tree(near.encode(), "w.urdf")
     model = tree_to_poe(tree, "base", "tool")
-    from urdf2dh.sources import Source
+    from urdf2dh.io.sources import Source
     from urdf2dh.verify import _oracle_rounding
 
     rounding = _oracle_rounding(Source("urdf", "w.urdf", "r", tree, tree.xml), model)

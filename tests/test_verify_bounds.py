@@ -16,8 +16,8 @@ from chains import random_chain_urdf
 
 from urdf2dh import verify as verify_module
 from urdf2dh.cli import main
-from urdf2dh.poefile import read_poe
-from urdf2dh.sources import Source, open_source
+from urdf2dh.io.poefile import read_poe
+from urdf2dh.io.sources import Source, open_source
 from urdf2dh.tolerances import EPS, VERIFY_JOINTS
 from urdf2dh.verify import _frame_poser, pinocchio_fk
 

@@ -25,7 +25,7 @@ from view_reader import read_page
 from urdf2dh.cli import main
 from urdf2dh.conventions.convert import to_table
 from urdf2dh.emit.scene import ARROW, MAX_JOINTS, NAME_CHARS, TOOL_ARROW
-from urdf2dh.sources import open_source
+from urdf2dh.io.sources import open_source
 
 CASES = (
     [("panda", c, "wu") for c in ("dh", "mdh", "cpc", "hayati")]

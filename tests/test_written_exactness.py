@@ -19,8 +19,8 @@ from urdf2dh.conventions.cpc import r_rows
 from urdf2dh.formats import render
 from urdf2dh.geometry import frames, se3
 from urdf2dh.geometry.se3 import pose_errors
+from urdf2dh.io.sources import open_source
 from urdf2dh.model.poe import Joint, PoeModel
-from urdf2dh.sources import open_source
 from urdf2dh.tolerances import DEFAULT, EPS
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -11,7 +11,7 @@ import pytest
 
 from urdf2dh.cli import main
 from urdf2dh.errors import InputError
-from urdf2dh.sources import open_source
+from urdf2dh.io.sources import open_source
 from urdf2dh.verify import verify
 
 DATA = Path(__file__).parent / "data" / "xacro"

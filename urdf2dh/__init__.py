@@ -116,7 +116,7 @@ def load(
         not a bool).
     """
     from .checks import check_flag, check_optional_name, check_source
-    from .sources import open_source
+    from .io.sources import open_source
 
     source = check_source(source, "load: source")
     base = check_optional_name(base, "load: base")

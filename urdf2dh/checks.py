@@ -75,7 +75,7 @@ def check_optional_name(value: Any, where: str) -> str | None:
 
 def check_source(value: Any, where: str) -> str:
     """A SOURCE: a file path (``str`` or ``os.PathLike``) or a bundled robot's name, as text.
-    (Whether it names anything is :func:`urdf2dh.sources.open_source`'s to say.)"""
+    (Whether it names anything is :func:`urdf2dh.io.sources.open_source`'s to say.)"""
     if isinstance(value, os.PathLike):
         value = os.fspath(value)
     if not isinstance(value, str):

@@ -15,9 +15,10 @@ import sys
 import warnings
 from typing import Any
 
-from . import __version__, files, interrupts
+from . import __version__
 from .errors import MESSAGE_LENGTH, Urdf2DhError
-from .files import drop_stdout, flush_stdout, write_stdout
+from .io import files, interrupts
+from .io.files import drop_stdout, flush_stdout, write_stdout
 
 __all__ = ["console", "get_argument_parser", "main", "version_text"]
 
@@ -56,7 +57,7 @@ class _Version(argparse.Action):
 class ArgumentParser(argparse.ArgumentParser):
     """argparse's parser, except that help, usage and version text that cannot be written to
     stdout (a full disk, ``> /dev/full``) is an error, as any other failed write
-    (:func:`urdf2dh.files.write_stdout`); argparse itself ignores it. Every command's parser is
+    (:func:`urdf2dh.io.files.write_stdout`); argparse itself ignores it. Every command's parser is
     one (``add_subparsers`` makes its parsers of the parent's class)."""
 
     def _print_message(self, message: str, file: Any = None) -> None:
@@ -261,7 +262,8 @@ def main(argv: list[str] | None = None) -> int:
     """Run the command line; returns the exit code.
 
     Ctrl-C and ``SIGTERM`` end the run with 130 and 143 and leave every output as it was
-    (:mod:`urdf2dh.interrupts`); no output replaces a file the run read (:mod:`urdf2dh.files`).
+    (:mod:`urdf2dh.io.interrupts`); no output replaces a file the run read
+    (:mod:`urdf2dh.io.files`).
     """
     return _main(argv, restore=True)
 

@@ -11,14 +11,14 @@ import sys
 from typing import Any
 
 from .calibrate.cli import COMMANDS as calibration_commands
-from .files import write_output, write_stdout
+from .io.files import write_output, write_stdout
 from .options import tolerances, xacro_options
 
 __all__ = ["COMMANDS"]
 
 
 def _open(args: argparse.Namespace, tol: Any = None) -> Any:
-    from .sources import open_source
+    from .io.sources import open_source
     from .tolerances import DEFAULT
 
     return open_source(args.source, tol or DEFAULT, xacro=xacro_options(args))
@@ -72,7 +72,7 @@ def _write_tips(
     args: argparse.Namespace, source: Any, texts: list[tuple[Any, str]], suffix: str
 ) -> None:
     """Write ``(model, text)`` pairs as ``-o DIR/<tip><suffix>``, all or nothing."""
-    from .files import write_directory
+    from .io.files import write_directory
     from .tips import file_names
 
     names = file_names(source.display, [m.tip_link for m, _ in texts], suffix)
@@ -295,7 +295,7 @@ def _plot(args: argparse.Namespace) -> int:
 
 
 def _robots(args: argparse.Namespace) -> int:
-    from .catalog import ROBOTS
+    from .io.catalog import ROBOTS
 
     width = max(len(n) for n in ROBOTS)
     lines = []

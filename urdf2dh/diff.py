@@ -33,9 +33,9 @@ from .conventions import Params
 from .conventions.table import Row, Table
 from .errors import InputError, UsageError, visible
 from .formats import fixed
+from .io.xacro import XacroOptions
 from .model.poe import PoeModel
 from .tolerances import DIFF_LENGTH_M, DIFF_ROUND_OFF, Tolerances
-from .xacro import XacroOptions
 
 __all__ = [
     "SCHEMA",
@@ -263,7 +263,7 @@ def diff_sources(
     nominal's unit.
     """
     from .conventions.convert import to_table
-    from .sources import open_source
+    from .io.sources import open_source
 
     models, names = [], []
     for text in (nominal_source, actual_source):

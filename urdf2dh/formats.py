@@ -66,7 +66,7 @@ def render(table: Table, fmt: str) -> str:
     if fmt == "poe":
         import yaml
 
-        from .poefile import poe_to_dict
+        from .io.poefile import poe_to_dict
 
         return yaml.safe_dump(poe_to_dict(table.to_poe()), sort_keys=False, default_flow_style=None)
     raise UsageError(f"unknown format '{fmt}'; valid: {choices(FORMATS)}")

@@ -5,8 +5,8 @@ from __future__ import annotations
 from collections import Counter
 
 from .errors import ChainError, choices, visible
+from .io.sources import Source
 from .model.poe import PoeModel
-from .sources import Source
 
 __all__ = ["describe", "identifiability"]
 

@@ -211,8 +211,8 @@ def tolerances(args: argparse.Namespace) -> Any:
 
 
 def xacro_options(args: argparse.Namespace) -> Any:
-    """The :class:`~urdf2dh.xacro.XacroOptions` the xacro options ask for."""
-    from .xacro import XacroOptions
+    """The :class:`~urdf2dh.io.xacro.XacroOptions` the xacro options ask for."""
+    from .io.xacro import XacroOptions
 
     return XacroOptions(
         dict(args.package_path), dict(args.xacro_arg), args.xacro_timeout, args.xacro_memory

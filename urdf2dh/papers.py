@@ -13,11 +13,11 @@ from typing import Any
 
 import numpy as np
 
-from .catalog import our_robots_dir
 from .conventions import Params
 from .conventions.convert import to_table
+from .io.catalog import our_robots_dir
+from .io.sources import open_source
 from .model.poe import joint_from_twist
-from .sources import open_source
 from .tolerances import DEFAULT
 
 __all__ = ["Cell", "agrees", "sumenkov_table3", "wu2019_table2"]

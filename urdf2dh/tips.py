@@ -38,9 +38,9 @@ from .tolerances import JOINTS
 
 if TYPE_CHECKING:
     from .conventions.table import Table
+    from .io.sources import Source
+    from .io.urdf import UrdfTree
     from .model.poe import PoeModel
-    from .sources import Source
-    from .urdf import UrdfTree
 
 __all__ = [
     "DIRECTORY_HINT",
@@ -116,7 +116,7 @@ def chain_tips(
         )
     base = base or (source.bundled.base if source.bundled else None) or tree.root
     if base not in tree.links:
-        from .urdf.tree import names
+        from .io.urdf.tree import names
 
         raise ChainError(
             f"{tree.path}: unknown base link {shown(base)}; links are {names(tree.links)}"

@@ -8,7 +8,7 @@ URDF has no helical joint and no joint scale:
 
 * a helical joint is written as a revolute joint followed by a coaxial prismatic joint
   ``<name>_lead`` that mimics it with ``multiplier = pitch`` (exact; Pinocchio builds it with
-  ``mimic=True``, and :mod:`urdf2dh.urdf` reads the pair back as one helical joint);
+  ``mimic=True``, and :mod:`urdf2dh.io.urdf` reads the pair back as one helical joint);
 * a joint with ``scale`` other than +-1 moves by ``s = scale q``: the URDF joint's position is
   ``|scale| q`` (its limits scaled alike), and a comment and the returned notes say so.
 

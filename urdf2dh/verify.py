@@ -28,13 +28,13 @@ from .conventions import NAMES
 from .conventions.convert import to_table
 from .conventions.table import Check, Table
 from .errors import InputError, shown
+from .io.sources import Source
+from .io.urdf.chain import final_leader
 from .model.fk import BLOCK, chains_errors
 from .model.mimic import Mimic, actuated
 from .model.poe import PoeModel
 from .progress import progress
-from .sources import Source
 from .tolerances import DEFAULT, EPS, VERIFY_JOINTS, Tolerances
-from .urdf.chain import final_leader
 
 __all__ = [
     "Result",

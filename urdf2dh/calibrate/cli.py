@@ -12,7 +12,7 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import InputError, UsageError, choices, shown
-from ..files import check_outputs, write_outputs
+from ..io.files import check_outputs, write_outputs
 
 __all__ = ["COMMANDS", "add_parsers", "calibrate_command", "measure_command", "plan_command"]
 
@@ -358,8 +358,8 @@ def add_parsers(sub: Any) -> None:
 
 
 def _model(args: argparse.Namespace, tol: Any = None) -> Any:
+    from ..io.sources import open_source
     from ..options import xacro_options
-    from ..sources import open_source
     from ..tolerances import DEFAULT
 
     source = open_source(args.source, tol or DEFAULT, xacro=xacro_options(args))
@@ -538,7 +538,7 @@ def _model_text(cal: Any, fmt: str) -> str:
         return render(cal.table, fmt)
     import json
 
-    from ..poefile import poe_to_dict
+    from ..io.poefile import poe_to_dict
 
     tree = poe_to_dict(cal.model)
     if fmt == "json":

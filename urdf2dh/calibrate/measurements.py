@@ -51,7 +51,7 @@ from numpy.typing import NDArray
 from .. import units
 from ..errors import InputError, UsageError, choices, shown
 from ..export.escape import csv_cell, csv_names
-from ..files import read_file
+from ..io.files import read_file
 from ..tolerances import QUATERNION_NORM
 
 __all__ = [

@@ -523,7 +523,7 @@ def _finite(x: float) -> float | None:
 
 def to_dict(cal: Calibration) -> dict[str, Any]:
     """The ``--report`` JSON tree (docs/calibration-report.md)."""
-    from ..poefile import poe_to_dict
+    from ..io.poefile import poe_to_dict
 
     sel = cal.selection
     return {

@@ -1,4 +1,4 @@
-"""The xacro expansion process (``docs/security.md``): run as a script by :mod:`urdf2dh.xacro`,
+"""The xacro expansion process (``docs/security.md``): run as a script by :mod:`urdf2dh.io.xacro`,
 ``python -I -S -B -X utf8 xacro_child.py``, so that nothing from the working directory,
 ``PYTHONPATH`` or the user's site-packages can be imported.
 

@@ -15,9 +15,9 @@ from dataclasses import dataclass, replace
 import numpy as np
 from numpy.typing import NDArray
 
-from ..errors import ChainError, shown
-from ..model.mimic import Mimic
-from ..model.poe import Joint, JointKind, PoeModel
+from ...errors import ChainError, shown
+from ...model.mimic import Mimic
+from ...model.poe import Joint, JointKind, PoeModel
 from .tree import UrdfJoint, UrdfTree, names
 
 __all__ = ["KINDS", "final_leader", "tree_to_poe"]

@@ -12,7 +12,7 @@ import sys
 from dataclasses import dataclass
 from pathlib import Path
 
-from .errors import InputError
+from ..errors import InputError
 
 __all__ = ["ROBOTS", "Bundled", "example_robot_data_dir", "our_robots_dir", "robot_path"]
 
@@ -226,7 +226,7 @@ def example_robot_data_dir() -> Path:
 def our_robots_dir() -> Path:
     """This project's ``robots/``: installed as ``urdf2dh/robots``, or beside the package in a
     source checkout (where ``python -m pytest`` imports the package from)."""
-    here = Path(__file__).resolve().parent
+    here = Path(__file__).resolve().parents[1]  # the urdf2dh package
     for candidate in (here / "robots", here.parent / "robots"):
         if (candidate / "puma560-nominal.yaml").is_file():
             return candidate

@@ -14,14 +14,14 @@ from typing import Any
 
 import numpy as np
 
-from .conventions import NAMES, Convention, Params, get
-from .conventions.base import Part, Value, unit_direction
-from .conventions.table import SCHEMA, Check, Row, Table
-from .errors import InputError, TableFileError, choices, shown
-from .io.fields import check_joint_count, check_leaders, check_number, check_vector, read_mimic
-from .model.poe import KINDS
-from .tolerances import DEFAULT, Tolerances
-from .units import metres_per
+from ..conventions import NAMES, Convention, Params, get
+from ..conventions.base import Part, Value, unit_direction
+from ..conventions.table import SCHEMA, Check, Row, Table
+from ..errors import InputError, TableFileError, choices, shown
+from ..model.poe import KINDS
+from ..tolerances import DEFAULT, Tolerances
+from ..units import metres_per
+from .fields import check_joint_count, check_leaders, check_number, check_vector, read_mimic
 
 __all__ = ["read_table"]
 

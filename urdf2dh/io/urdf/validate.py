@@ -28,8 +28,8 @@ import re
 import sys
 from typing import Any
 
-from ..errors import InputError, choices, shown
-from ..tolerances import LARGEST_URDF_ANGLE, LARGEST_URDF_NUMBER
+from ...errors import InputError, choices, shown
+from ...tolerances import LARGEST_URDF_ANGLE, LARGEST_URDF_NUMBER
 
 __all__ = ["JOINT_TYPES", "MOVING_TYPES", "check_robot", "numbers"]
 

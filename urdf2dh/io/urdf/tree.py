@@ -1,7 +1,7 @@
 """The kinematic tree of a URDF file: its links, its joints, and who hangs below whom.
 
 :func:`build_tree` makes a :class:`UrdfTree` from yourdfpy's ``Robot`` of a document that
-:func:`urdf2dh.urdf.validate.check_robot` has passed, so it trusts names, links and numbers and
+:func:`urdf2dh.io.urdf.validate.check_robot` has passed, so it trusts names, links and numbers and
 checks only what a tree must be: each link the child of at most one joint, one root, every link
 reached from it.
 """
@@ -16,7 +16,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from ..errors import ChainError, InputError, choices, shown
+from ...errors import ChainError, InputError, choices, shown
 from .validate import JOINT_TYPES, MOVING_TYPES
 
 __all__ = ["UrdfJoint", "UrdfTree", "build_tree", "names"]
@@ -44,7 +44,7 @@ class UrdfJoint:
     Attributes
     ----------
     name, type, parent, child
-        As in the file (``type`` one of :data:`~urdf2dh.urdf.validate.JOINT_TYPES`).
+        As in the file (``type`` one of :data:`~urdf2dh.io.urdf.validate.JOINT_TYPES`).
     origin
         ``(4, 4)`` read-only transform from the parent link's frame to the joint's frame.
     axis

@@ -26,12 +26,12 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from . import units
-from .errors import InputError, choices, shown
-from .geometry import se3
-from .io.fields import check_joint_count, check_leaders, check_name, check_number, read_mimic
-from .model.poe import KINDS, PoeModel, joint_from_twist
-from .tolerances import DEFAULT, JOINT_SCALES, Tolerances
+from .. import units
+from ..errors import InputError, choices, shown
+from ..geometry import se3
+from ..model.poe import KINDS, PoeModel, joint_from_twist
+from ..tolerances import DEFAULT, JOINT_SCALES, Tolerances
+from .fields import check_joint_count, check_leaders, check_name, check_number, read_mimic
 
 __all__ = ["check_matrix", "poe_to_dict", "read_poe"]
 

@@ -17,7 +17,7 @@ Outputs go to stdout or to files, all of a run's together (:func:`write_outputs`
   that are the same file (but for a device or FIFO) are refused, before anything is written.
 
 All or nothing: every file is written to its temporary file first; only then are they renamed
-into place, with Ctrl-C and ``SIGTERM`` held off (:func:`urdf2dh.interrupts.committing`); should
+into place, with Ctrl-C and ``SIGTERM`` held off (:func:`urdf2dh.io.interrupts.committing`); should
 a rename fail, those done are undone, the replaced files restored from hard links where the file
 system makes them. A failed or interrupted run (an error, Ctrl-C, ``SIGTERM``) leaves every file
 as it was, and no temporary file behind. A failed write, to stdout included (a full disk,
@@ -46,9 +46,9 @@ from contextvars import ContextVar
 from dataclasses import dataclass
 from pathlib import Path
 
+from ..errors import InputError
+from ..tolerances import FILE_BYTES
 from . import interrupts
-from .errors import InputError
-from .tolerances import FILE_BYTES
 
 __all__ = [
     "check_outputs",

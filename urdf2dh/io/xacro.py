@@ -14,7 +14,7 @@ xacro evaluates them, and bounded in time and memory (:class:`XacroOptions`: 20 
 default, ``--xacro-timeout`` and ``--xacro-memory`` to raise them) and in what it prints
 (:data:`URDF_LIMIT`, :data:`MESSAGES_LIMIT`). Hitting a bound, or an expression refused, is a
 one-line error naming it. Everything the child starts is killed when it ends. The files the
-expansion read are inputs of the run (:func:`urdf2dh.files.note_input`): no output replaces them.
+expansion read are inputs of the run (:func:`urdf2dh.io.files.note_input`): no output replaces them.
 """
 
 from __future__ import annotations
@@ -29,13 +29,13 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from .errors import InputError
+from ..errors import InputError
+from ..tolerances import FILE_BYTES
 from .files import note_input
-from .io.xacro_child import OUT_OF_MEMORY
-from .tolerances import FILE_BYTES
+from .xacro_child import OUT_OF_MEMORY
 
 if TYPE_CHECKING:
-    from .io.child import Finished
+    from .child import Finished
 
 __all__ = ["MESSAGES_LIMIT", "URDF_LIMIT", "PackageNotFound", "XacroOptions", "expand"]
 
@@ -80,7 +80,7 @@ class PackageNotFound(InputError):
         self.package = package
 
 
-CHILD = Path(__file__).resolve().parent / "io" / "xacro_child.py"
+CHILD = Path(__file__).resolve().parent / "xacro_child.py"
 UNDEFINED_ARG = "Undefined substitution argument "  # xacro's words for a missing $(arg)
 INSTALL_HINT = "pip install xacro"
 READ_ROLE = "a file the xacro SOURCE read"
@@ -124,7 +124,7 @@ def _environment() -> dict[str, str]:
 def expand(path: Path, display: str, options: XacroOptions | None = None) -> bytes:
     """The URDF text of the xacro file ``path``, expanded in a confined child process within the
     time and memory of ``options`` (see the module docstring)."""
-    from .io import child
+    from . import child
 
     options = options or XacroOptions()
     dirs = _module_dirs(display)

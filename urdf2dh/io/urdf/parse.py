@@ -1,11 +1,11 @@
-"""URDF text -> checked :class:`~urdf2dh.urdf.tree.UrdfTree`, in one parse.
+"""URDF text -> checked :class:`~urdf2dh.io.urdf.tree.UrdfTree`, in one parse.
 
-The bytes are checked for emptiness and binary content (:func:`urdf2dh.text.check_text`), turned
-into one UTF-8 document (:func:`document`), parsed by lxml once, checked element by element by
-:func:`~urdf2dh.urdf.validate.check_robot` (always: every fault is named there), and handed, as
-the same element tree, to yourdfpy's element parsers, which make its ``Robot`` (joint origins as
-4x4 matrices, axes, limits, mimic relations). Meshes are never loaded: a URDF whose mesh files
-are absent loads all the same.
+The bytes are checked for emptiness and binary content (:func:`urdf2dh.io.encodings.check_text`),
+turned into one UTF-8 document (:func:`document`), parsed by lxml once, checked element by element
+by :func:`~urdf2dh.io.urdf.validate.check_robot` (always: every fault is named there), and handed,
+as the same element tree, to yourdfpy's element parsers, which make its ``Robot`` (joint origins as
+4x4 matrices, axes, limits, mimic relations). Meshes are never loaded: a URDF whose mesh files are
+absent loads all the same.
 """
 
 from __future__ import annotations
@@ -15,10 +15,10 @@ import re
 from pathlib import Path
 from typing import Any
 
-from ..errors import InputError, shown
+from ...errors import InputError, shown
+from ...tolerances import JOINTS
+from ..encodings import check_text, sniff
 from ..files import read_file
-from ..text import check_text, sniff
-from ..tolerances import JOINTS
 from .tree import UrdfTree, build_tree
 from .validate import check_robot
 

@@ -10,13 +10,13 @@ from collections.abc import Mapping
 from dataclasses import dataclass, replace
 from pathlib import Path
 
+from ..errors import SHOWN_LENGTH, InputError, SourceError, UsageError, choices, shown
+from ..model.poe import PoeModel
+from ..tolerances import DEFAULT, Tolerances
 from .catalog import ROBOTS, Bundled, robot_path
-from .errors import SHOWN_LENGTH, InputError, SourceError, UsageError, choices, shown
+from .encodings import check_text, first_character
 from .files import SOURCE_ROLE, read_file
-from .io.mappings import read_mapping
-from .model.poe import PoeModel
-from .text import check_text, first_character
-from .tolerances import DEFAULT, Tolerances
+from .mappings import read_mapping
 from .urdf import UrdfTree, parse_tree, tree_to_poe
 from .xacro import XacroOptions
 

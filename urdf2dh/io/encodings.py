@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import codecs
 
-from .errors import InputError
+from ..errors import InputError
 
 __all__ = ["BOMS", "check_text", "first_character", "sniff"]
 
