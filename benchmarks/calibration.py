@@ -62,7 +62,7 @@ from urdf2dh.calibrate.measurements import (  # noqa: E402
 )
 from urdf2dh.calibrate.start import Options, placement  # noqa: E402
 from urdf2dh.conventions.convert import to_table  # noqa: E402
-from urdf2dh.formats import render  # noqa: E402
+from urdf2dh.emit.formats import render  # noqa: E402
 from urdf2dh.geometry.lie import log_so3, rotation_of  # noqa: E402
 from urdf2dh.io.catalog import ROBOTS, robot_path  # noqa: E402
 from urdf2dh.model.poe import PoeModel, joint_from_twist  # noqa: E402

@@ -212,7 +212,8 @@ def imports() -> list[Figure]:
     pin_ms = import_ms("import pinocchio")["total"]
     cli = import_ms("import urdf2dh.cli")
     convert = import_ms(
-        "import urdf2dh.conventions.convert, urdf2dh.io.sources, urdf2dh.formats, urdf2dh.io.urdf"
+        "import urdf2dh.conventions.convert, urdf2dh.io.sources, urdf2dh.emit.formats, "
+        "urdf2dh.io.urdf"
     )
     yd = import_ms("import yourdfpy")
     hygiene = run_process(

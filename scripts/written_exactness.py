@@ -34,8 +34,8 @@ from reference import chain_fk  # noqa: E402  (benchmarks/reference.py)
 from urdf2dh.conventions import NAMES  # noqa: E402
 from urdf2dh.conventions.convert import to_table  # noqa: E402
 from urdf2dh.conventions.table import Table  # noqa: E402
+from urdf2dh.emit.formats import render  # noqa: E402
 from urdf2dh.errors import Urdf2DhError  # noqa: E402
-from urdf2dh.formats import render  # noqa: E402
 from urdf2dh.geometry.se3 import pose_errors  # noqa: E402
 from urdf2dh.io.catalog import ROBOTS, robot_path  # noqa: E402
 from urdf2dh.io.mappings import read_mapping  # noqa: E402

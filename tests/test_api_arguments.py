@@ -292,7 +292,7 @@ def test_every_public_callable_is_tried_here():
 
 
 def test_export_checks_its_arguments():
-    from urdf2dh.export import export
+    from urdf2dh.emit.export import export
 
     refuses(lambda: export("ur5", "rtb"), TypeError, "export: model", "str 'ur5'")
     refuses(lambda: export(MODEL, None), TypeError, "export: target must be a str, not None")

@@ -21,8 +21,8 @@ from urdf2dh.calibrate.measurements import Measurements
 from urdf2dh.calibrate.report import to_dict
 from urdf2dh.calibrate.start import Options, placement
 from urdf2dh.conventions.convert import to_table
-from urdf2dh.export import Options as ExportOptions
-from urdf2dh.export import export_table
+from urdf2dh.emit.export import Options as ExportOptions
+from urdf2dh.emit.export import export_table
 from urdf2dh.geometry.lie import quaternion_of
 from urdf2dh.geometry.se3 import pose_errors, twist_exp
 from urdf2dh.io.catalog import our_robots_dir

@@ -20,7 +20,7 @@ from urdf2dh.calibrate.measurements import Reading, read_measurements
 from urdf2dh.calibrate.report import to_dict
 from urdf2dh.cli import main
 from urdf2dh.conventions import NAMES
-from urdf2dh.formats import FORMATS, render
+from urdf2dh.emit.formats import FORMATS, render
 from urdf2dh.geometry.lie import rotation_of
 from urdf2dh.io.poefile import poe_to_dict
 

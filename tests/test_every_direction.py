@@ -12,10 +12,10 @@ from oracle import assert_fk_matches, pin_reference
 from urdf2dh.cli import main
 from urdf2dh.conventions import NAMES as CONVENTIONS
 from urdf2dh.conventions.convert import to_table
+from urdf2dh.emit.urdf import table_to_urdf
 from urdf2dh.geometry.se3 import rpy
 from urdf2dh.info import identifiability
 from urdf2dh.io.sources import open_source
-from urdf2dh.urdfwrite import table_to_urdf
 
 ROBOTS = ["ur5", "panda", "stanford", "scara", "tiago-arm", "puma560-actual", "puma560-nominal"]
 

@@ -21,9 +21,9 @@ from consumers import report
 from oracle import EXACT, assert_fk_matches, pin_reference
 
 from urdf2dh.conventions.opw import OpwParameters, opw_fk, opw_from_poe
+from urdf2dh.emit.escape import yaml_comment
+from urdf2dh.emit.export import Options, export
 from urdf2dh.errors import ExportError, UsageError
-from urdf2dh.export import Options, export
-from urdf2dh.export.escape import yaml_comment
 from urdf2dh.geometry.se3 import from_rpy, inv, rot_x, rot_y, rot_z, trans
 from urdf2dh.io.catalog import ROBOTS, our_robots_dir
 from urdf2dh.io.sources import open_source
@@ -411,7 +411,7 @@ def test_cli_writes_the_file_and_refuses_non_opw_arms(tmp_path, capsys):
 def test_a_table_exports_the_same_parameters_as_its_source():
     """``export_table(table, "opw")`` reads the table's POE model: the same arm."""
     from urdf2dh.conventions.convert import to_table
-    from urdf2dh.export import export_table
+    from urdf2dh.emit.export import export_table
 
     model = open_source("fanuc-m20ia").model()
     want = yaml.safe_load(export(model, "opw"))

@@ -12,9 +12,9 @@ from oracle import assert_fk_matches, pin_reference
 
 import urdf2dh
 from urdf2dh.conventions.convert import to_table
+from urdf2dh.emit.export import export, export_table
+from urdf2dh.emit.export.ur import calibration_hash, hash_bytes, hash_text, hashed_rows
 from urdf2dh.errors import ExportError, UsageError
-from urdf2dh.export import export, export_table
-from urdf2dh.export.ur import calibration_hash, hash_bytes, hash_text, hashed_rows
 from urdf2dh.io.sources import open_source
 
 # Published: the hash in Universal_Robots_ROS2_Description's config/<type>/default_kinematics.yaml

@@ -27,8 +27,8 @@ from consumers import (
 from oracle import assert_fk_matches, pin_reference
 
 from urdf2dh import units
+from urdf2dh.emit.export import TARGETS, Options, export
 from urdf2dh.errors import ExportError, UsageError
-from urdf2dh.export import TARGETS, Options, export
 from urdf2dh.io.sources import Source, open_source
 from urdf2dh.io.urdf import parse_tree, tree_to_poe
 

@@ -14,7 +14,7 @@ from pathlib import Path
 import pytest
 
 from urdf2dh.conventions.convert import to_table
-from urdf2dh.export import TARGETS, Options, export, export_table, table_choices
+from urdf2dh.emit.export import TARGETS, Options, export, export_table, table_choices
 from urdf2dh.io.sources import open_source
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -18,13 +18,13 @@ from urdf2dh.cli import main
 from urdf2dh.conventions.convert import to_table
 from urdf2dh.conventions.dh import DhLink
 from urdf2dh.conventions.hayati import HayatiLink
+from urdf2dh.emit.export import export_table
+from urdf2dh.emit.urdf import table_to_urdf
 from urdf2dh.errors import UsageError
-from urdf2dh.export import export_table
 from urdf2dh.geometry import se3
 from urdf2dh.io.catalog import ROBOTS
 from urdf2dh.io.sources import open_source
 from urdf2dh.model.poe import Joint, PoeModel
-from urdf2dh.urdfwrite import table_to_urdf
 
 SANE = 2.0  # every |a|, |d| within this x robot size
 

@@ -44,10 +44,10 @@ from safety import FORMULA, judge
 
 from urdf2dh import cli
 from urdf2dh.conventions.convert import to_table
+from urdf2dh.emit import escape as esc
+from urdf2dh.emit.export import export_table, table_choices
 from urdf2dh.emit.scene import short
 from urdf2dh.errors import ExportError, shown, visible
-from urdf2dh.export import escape as esc
-from urdf2dh.export import export_table, table_choices
 from urdf2dh.io.sources import open_source
 
 DANGEROUS = {

@@ -14,7 +14,7 @@ from oracle import assert_fk_matches, pin_reference
 from test_exports import AGREE, genser_cases
 
 from urdf2dh import units
-from urdf2dh.export import Options, export
+from urdf2dh.emit.export import Options, export
 
 pytestmark = pytest.mark.skipif(
     not real_linuxcnc(),

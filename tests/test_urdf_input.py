@@ -287,7 +287,7 @@ def test_large_values_within_the_bound_agree_with_pinocchio(slot, value, capsys,
 
 def helical(multiplier: str) -> str:
     """A revolute joint 'j' with its lead 'm' (coaxial prismatic mimicking it): one helical
-    joint of pitch ``multiplier`` (as urdfwrite writes it), then a revolute joint."""
+    joint of pitch ``multiplier`` (as urdf2dh.emit.urdf writes it), then a revolute joint."""
     links = "".join(f'<link name="{n}"/>' for n in ("base", "l1", "l2", "l3", "tool"))
     return (
         f'<robot name="h">{links}'

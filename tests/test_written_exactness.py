@@ -16,7 +16,7 @@ import pytest
 
 from urdf2dh.conventions.convert import to_table
 from urdf2dh.conventions.cpc import r_rows
-from urdf2dh.formats import render
+from urdf2dh.emit.formats import render
 from urdf2dh.geometry import frames, se3
 from urdf2dh.geometry.se3 import pose_errors
 from urdf2dh.io.sources import open_source

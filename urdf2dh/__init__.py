@@ -13,7 +13,7 @@ The pipeline, in the public names of this package:
 :data:`CONVENTIONS` and checks its forward kinematics against the model's; :func:`render`
 writes it; :func:`plot` draws its frames (a picture, or an interactive view as an HTML page).
 :meth:`Table.to_poe` goes back. Pinocchio cross-checks live in :mod:`urdf2dh.verify`,
-controller files in :mod:`urdf2dh.export`, the conventions themselves in
+controller files in :mod:`urdf2dh.emit.export`, the conventions themselves in
 :mod:`urdf2dh.conventions`.
 
 Twists are ``[w, v]`` (angular first); angles are radians; lengths are in the source's unit
@@ -49,16 +49,16 @@ if TYPE_CHECKING:
     from .conventions import NAMES as CONVENTIONS
     from .conventions.convert import to_table
     from .conventions.table import Check, Row, Table
+    from .emit.formats import render
     from .emit.plot import plot
     from .errors import Urdf2DhError
-    from .formats import render
     from .model.poe import Joint, PoeModel
     from .tolerances import DEFAULT, EXACT, Tolerances
 
 _LAZY = {
     "CONVENTIONS": ("urdf2dh.conventions", "NAMES"),
     "to_table": ("urdf2dh.conventions.convert", "to_table"),
-    "render": ("urdf2dh.formats", "render"),
+    "render": ("urdf2dh.emit.formats", "render"),
     "plot": ("urdf2dh.emit.plot", "plot"),
     "Urdf2DhError": ("urdf2dh.errors", "Urdf2DhError"),
     "Joint": ("urdf2dh.model.poe", "Joint"),

@@ -76,8 +76,8 @@ def get_argument_parser() -> argparse.ArgumentParser:
     # imported here, not with this module: main() handles Ctrl-C from its first line on
     from . import options
     from .conventions import NAMES, STYLES
-    from .export import TARGETS
-    from .formats import FORMATS
+    from .emit.export import TARGETS
+    from .emit.formats import FORMATS
     from .tolerances import DIFF_ANGLE_DEG, DIFF_LENGTH_M
 
     parser = ArgumentParser(

@@ -81,7 +81,7 @@ def _write_tips(
 
 def _convert(args: argparse.Namespace) -> int:
     from .conventions.convert import to_table
-    from .formats import render
+    from .emit.formats import render
 
     tol = tolerances(args)
     if _several(args):
@@ -95,7 +95,7 @@ def _convert(args: argparse.Namespace) -> int:
 
 def _convert_tips(args: argparse.Namespace, tol: Any) -> int:
     from .conventions.convert import to_table
-    from .formats import render
+    from .emit.formats import render
     from .tips import FORMAT_SUFFIXES, check_stdout_format, join_tables, naming_tip
 
     directory = _to_directory(args)
@@ -226,8 +226,8 @@ def _info(args: argparse.Namespace) -> int:
 
 
 def _export(args: argparse.Namespace) -> int:
+    from .emit.export import TARGETS, Options, export, table_choices
     from .errors import UsageError
-    from .export import TARGETS, Options, export, table_choices
 
     if args.units is not None and args.to != "linuxcnc":
         raise UsageError(f"--units applies to --to linuxcnc, not --to {args.to}")

@@ -31,8 +31,8 @@ import numpy as np
 from . import units
 from .conventions import Params
 from .conventions.table import Row, Table
+from .emit.formats import fixed
 from .errors import InputError, UsageError, visible
-from .formats import fixed
 from .io.xacro import XacroOptions
 from .model.poe import PoeModel
 from .tolerances import DIFF_LENGTH_M, DIFF_ROUND_OFF, Tolerances

@@ -238,7 +238,7 @@ def check_stdout_format(fmt: str) -> None:
 
 def join_tables(tables: Sequence[Table], fmt: str) -> str:
     """Several tables as one stdout text in ``fmt`` (one of :data:`STDOUT_FORMATS`)."""
-    from .formats import render
+    from .emit.formats import render
 
     check_stdout_format(fmt)
     if fmt == "json":

@@ -55,8 +55,8 @@ __all__ = [
 EPS = sys.float_info.epsilon  # float64's; not numpy's, so that `urdf2dh --help` needs no numpy
 
 # Decimals kept of each D-H value before Universal Robots' calibration hash is taken
-# (export/ur.py): an exact table carries round-off (theta = -4.9e-12 where UR writes 0, a length
-# one ulp off its decimal) that would change the hash's %g text; 1e-10 is far below the 6
+# (emit/export/ur.py): an exact table carries round-off (theta = -4.9e-12 where UR writes 0, a
+# length one ulp off its decimal) that would change the hash's %g text; 1e-10 is far below the 6
 # significant digits the hash sees and far above round-off.
 HASH_DECIMALS = 10
 # Exported files write a length as the shortest decimal within this x robot size of it: the

@@ -187,10 +187,10 @@ def _model_from_urdf(
     whether it is driven by every joint's position (``True``) or by the actuated ones only.
 
     Pinocchio couples mimic joints itself (a mimicking joint has no coordinate of its own), and
-    helical joints arrive as a revolute joint and a prismatic one mimicking it (urdfwrite.py).
-    Where Pinocchio cannot build a URDF's mimic joints (a leader it has not met yet, as in
-    Romeo's hands) and the chain has no helical joint, it is built without them and every joint
-    of the chain is set to the position the coupling gives it.
+    helical joints arrive as a revolute joint and a prismatic one mimicking it
+    (:mod:`urdf2dh.emit.urdf`). Where Pinocchio cannot build a URDF's mimic joints (a leader it has
+    not met yet, as in Romeo's hands) and the chain has no helical joint, it is built without them
+    and every joint of the chain is set to the position the coupling gives it.
     """
     helical = any(j.kind == "helical" for j in poe.joints)
     mimic = helical or any(j.mimic is not None for j in poe.joints)

@@ -111,7 +111,7 @@ def add_parsers(sub: Any) -> None:
     """Add ``measure``, ``calibrate`` and ``plan`` to the ``urdf2dh`` subparsers."""
     from .. import options as main  # its option helpers
     from ..conventions import NAMES, STYLES
-    from ..formats import FORMATS
+    from ..emit.formats import FORMATS
 
     p = sub.add_parser("measure", help="synthetic measurements of a model (for calibrate)")
     main.add_chain(p)
@@ -532,7 +532,7 @@ def calibrate_command(args: argparse.Namespace) -> int:
 
 def _model_text(cal: Any, fmt: str) -> str:
     """The identified model in the chosen convention and format."""
-    from ..formats import render
+    from ..emit.formats import render
 
     if cal.table is not None:
         return render(cal.table, fmt)

@@ -11,7 +11,7 @@ any convention:
   its far end from that frame's z arrow;
 * the base link's own axes, short and black;
 * what hovering a frame shows: its row's parameters in the table's convention, with the
-  units and decimals of the text table (:func:`urdf2dh.formats.parameter_lines`).
+  units and decimals of the text table (:func:`urdf2dh.emit.formats.parameter_lines`).
 
 Every label is attached to what it names: it starts :data:`LABEL_GAP` arrow lengths beyond
 the end of its arrow (or joint axis), on that arrow's line, and a drawing may only slide it
@@ -22,7 +22,7 @@ the one of a few dozen from which the labels stand farthest apart.
 Bounds, so that no input takes minutes: a picture shows at most :data:`MAX_JOINTS` joints
 (a longer chain is refused with one line; its frames could not be told apart anyway), and a
 name is shown cut to :data:`NAME_CHARS` characters. Names are kept as text here; each drawing
-escapes them for its language (:mod:`urdf2dh.export.escape`).
+escapes them for its language (:mod:`urdf2dh.emit.escape`).
 """
 
 from __future__ import annotations
@@ -34,9 +34,9 @@ from numpy.typing import NDArray
 
 from ..conventions.table import Table
 from ..errors import InputError
-from ..formats import fixed, parameter_lines
 from ..geometry import se3
 from ..units import DECIMALS
+from .formats import fixed, parameter_lines
 
 __all__ = [
     "ARROW",

@@ -3,7 +3,7 @@
 Each moving joint's axis and origin at the home pose, expressed in the base frame, give its
 screw: direction ``R axis`` through the joint frame's origin. Fixed joints only carry the frame
 along. A revolute joint followed by a coaxial prismatic joint that mimics it with offset 0 is one
-helical joint whose pitch is the multiplier: that is how :mod:`urdf2dh.urdfwrite` writes a
+helical joint whose pitch is the multiplier: that is how :mod:`urdf2dh.emit.urdf` writes a
 helical joint, since URDF has none.
 """
 

@@ -19,8 +19,9 @@ each joint as ``ET.Rz()`` or ``ET.tz()`` with its limits, which ``Robot`` evalua
 
 from __future__ import annotations
 
-from ..conventions import Params
-from ..conventions.table import Row, Table
+from ...conventions import Params
+from ...conventions.table import Row, Table
+from ..escape import python_docstring, python_string
 from .common import (
     Numbers,
     Options,
@@ -28,7 +29,6 @@ from .common import (
     header,
     require,
 )
-from .escape import python_docstring, python_string
 
 __all__ = ["render"]
 

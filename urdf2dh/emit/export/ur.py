@@ -46,12 +46,13 @@ import math
 import numpy as np
 from numpy.typing import NDArray
 
-from .. import units
-from ..conventions import Params
-from ..conventions.table import Table
-from ..errors import ExportError, shown, visible
-from ..geometry.se3 import dh_matrix, rot_z, rpy
-from ..tolerances import HASH_DECIMALS
+from ... import units
+from ...conventions import Params
+from ...conventions.table import Table
+from ...errors import ExportError, shown, visible
+from ...geometry.se3 import dh_matrix, rot_z, rpy
+from ...tolerances import HASH_DECIMALS
+from ..escape import yaml_comment
 from .common import (
     Numbers,
     Options,
@@ -62,7 +63,6 @@ from .common import (
     require_convention,
     yaml_float,
 )
-from .escape import yaml_comment
 
 __all__ = [
     "LINKS",

@@ -23,7 +23,9 @@ from __future__ import annotations
 
 from typing import Any
 
-from ..conventions.table import Table
+from ...conventions.table import Table
+from ..escape import python_docstring, python_string
+from ..names import Namespace, renaming_notes
 from .common import (
     Numbers,
     Options,
@@ -31,8 +33,6 @@ from .common import (
     header,
     require,
 )
-from .escape import python_docstring, python_string
-from .names import Namespace, renaming_notes
 
 __all__ = ["render"]
 

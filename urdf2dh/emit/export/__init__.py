@@ -28,11 +28,11 @@ import importlib
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
-from ..errors import UsageError, choices
+from ...errors import UsageError, choices
 
 if TYPE_CHECKING:
-    from ..conventions.table import Table
-    from ..model.poe import PoeModel
+    from ...conventions.table import Table
+    from ...model.poe import PoeModel
     from .common import Options
 
 __all__ = ["TARGETS", "Options", "Target", "export", "export_table", "table_choices"]
@@ -45,7 +45,7 @@ def __getattr__(name: str) -> Any:
         from .common import Options
 
         return Options
-    raise AttributeError(f"module 'urdf2dh.export' has no attribute {name!r}")
+    raise AttributeError(f"module 'urdf2dh.emit.export' has no attribute {name!r}")
 
 
 @dataclass(frozen=True, slots=True)
@@ -65,11 +65,11 @@ class Target:
         return not self.conventions
 
     def render(self, table: Table, opts: Options) -> str:
-        mod = importlib.import_module(f"urdf2dh.export.{self.module}")
+        mod = importlib.import_module(f"urdf2dh.emit.export.{self.module}")
         return str(mod.render(table, opts))
 
     def render_model(self, model: PoeModel, opts: Options, samples: int | None = None) -> str:
-        mod = importlib.import_module(f"urdf2dh.export.{self.module}")
+        mod = importlib.import_module(f"urdf2dh.emit.export.{self.module}")
         return str(mod.render_model(model, opts, samples))
 
 
@@ -180,9 +180,9 @@ def export(
     ``samples``: configurations of the table's (or OPW's) check, ``None`` for its default.
     Arguments are checked as :func:`urdf2dh.to_table` checks them (``TypeError``,
     ``ValueError``; an unknown target, convention or style is a ``UsageError``)."""
-    from ..checks import check_count, check_instance
-    from ..conventions.convert import to_table
-    from ..model.poe import PoeModel
+    from ...checks import check_count, check_instance
+    from ...conventions.convert import to_table
+    from ...model.poe import PoeModel
     from .common import Options
 
     check_instance(model, PoeModel, "export: model", "urdf2dh.load(SOURCE) reads one")

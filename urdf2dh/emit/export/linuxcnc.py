@@ -44,11 +44,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .. import units
-from ..conventions.base import written_angle
-from ..conventions.table import Row, Table
-from ..errors import ExportError, shown, visible
-from ..geometry.se3 import dh_matrix, rot_x
+from ... import units
+from ...conventions.base import written_angle
+from ...conventions.table import Row, Table
+from ...errors import ExportError, shown, visible
+from ...geometry.se3 import dh_matrix, rot_x
+from ..escape import hal_comment
 from .common import (
     Numbers,
     Options,
@@ -59,7 +60,6 @@ from .common import (
     require,
     require_convention,
 )
-from .escape import hal_comment
 
 __all__ = ["JOINTS", "UNITS", "Genser", "Joint", "Link", "genser", "render"]
 

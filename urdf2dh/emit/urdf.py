@@ -14,7 +14,7 @@ URDF has no helical joint and no joint scale:
 
 The base and tip links and the joints keep their names; the links between them
 (``<joint>_link``, ``<joint>_lead_link``), the lead joints (``<joint>_lead``) and the tip's fixed
-joint (``<tip>_joint``) are made up and keep clear of those (:mod:`urdf2dh.export.names`: a
+joint (``<tip>_joint``) are made up and keep clear of those (:mod:`urdf2dh.emit.names`: a
 suffix ``_2`` where the robot has the name, stated in a comment).
 """
 
@@ -25,12 +25,12 @@ import math
 import numpy as np
 from numpy.typing import NDArray
 
-from . import __version__, units
-from .conventions.table import Row, Table
-from .errors import shown
-from .export.escape import xml_attribute, xml_comment
-from .export.names import Namespace, renaming_notes
-from .geometry import se3
+from .. import __version__, units
+from ..conventions.table import Row, Table
+from ..errors import shown
+from ..geometry import se3
+from .escape import xml_attribute, xml_comment
+from .names import Namespace, renaming_notes
 
 __all__ = ["table_to_urdf"]
 

@@ -10,7 +10,8 @@ table's theta, or d for prismatic rows); ``base`` and ``tool`` are the table's 4
 
 from __future__ import annotations
 
-from ..conventions.table import Row, Table
+from ...conventions.table import Row, Table
+from ..escape import matlab_comment, matlab_string
 from .common import (
     Numbers,
     Options,
@@ -19,7 +20,6 @@ from .common import (
     matlab_matrix,
     require,
 )
-from .escape import matlab_comment, matlab_string
 
 __all__ = ["render"]
 

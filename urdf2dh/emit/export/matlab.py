@@ -27,7 +27,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..conventions.table import Row, Table
+from ...conventions.table import Row, Table
+from ..escape import matlab_comment, matlab_string
+from ..names import Namespace, renaming_notes
 from .common import (
     Numbers,
     Options,
@@ -36,8 +38,6 @@ from .common import (
     matlab_matrix,
     require,
 )
-from .escape import matlab_comment, matlab_string
-from .names import Namespace, renaming_notes
 
 __all__ = ["render"]
 

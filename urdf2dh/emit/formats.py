@@ -3,12 +3,12 @@
 ``json`` and ``yaml`` hold the SPEC §2 tree in radians and source units with full precision;
 ``csv`` the same numbers flat; ``text`` and ``markdown`` are for people: angles in degrees,
 helix pitch in length per degree (the units of Wu 2019 Table II), units in the headers.
-Names from the source go through :mod:`urdf2dh.export.escape`: JSON and YAML escape them
-themselves, CSV writes them as :func:`~urdf2dh.export.escape.csv_cell` does (visible text, no
+Names from the source go through :mod:`urdf2dh.emit.escape`: JSON and YAML escape them
+themselves, CSV writes them as :func:`~urdf2dh.emit.escape.csv_cell` does (visible text, no
 formula), text shows them as :func:`~urdf2dh.errors.visible` text (one line, no terminal control
 characters) and Markdown escapes its markup too.
 ``urdf`` and ``poe`` write the table's kinematics as a model instead: a URDF in metres
-(:mod:`urdf2dh.urdfwrite`) or a POE model file (SPEC §4, YAML).
+(:mod:`urdf2dh.emit.urdf`) or a POE model file (SPEC §4, YAML).
 """
 
 from __future__ import annotations
@@ -18,13 +18,13 @@ import math
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
-from .conventions import Params, columns, get
-from .errors import UsageError, choices, visible
-from .export.escape import csv_cell, markdown_text
-from .units import DECIMALS
+from ..conventions import Params, columns, get
+from ..errors import UsageError, choices, visible
+from ..units import DECIMALS
+from .escape import csv_cell, markdown_text
 
 if TYPE_CHECKING:
-    from .conventions.table import Table
+    from ..conventions.table import Table
 
 __all__ = ["FORMATS", "fixed", "parameter_lines", "render", "summary"]
 
@@ -39,8 +39,8 @@ def render(table: Table, fmt: str) -> str:
     an unknown format (a ``ValueError`` too), :class:`~urdf2dh.errors.ExportError` for a name the
     format cannot carry (``urdf``: a character XML 1.0 has no way to write).
     """
-    from .checks import check_instance
-    from .conventions.table import Table
+    from ..checks import check_instance
+    from ..conventions.table import Table
 
     hint = "convert it first: urdf2dh.to_table(model, 'dh')"
     check_instance(
@@ -60,13 +60,13 @@ def render(table: Table, fmt: str) -> str:
     if fmt == "markdown":
         return _markdown(table)
     if fmt == "urdf":
-        from .urdfwrite import table_to_urdf
+        from .urdf import table_to_urdf
 
         return table_to_urdf(table)[0]
     if fmt == "poe":
         import yaml
 
-        from .io.poefile import poe_to_dict
+        from ..io.poefile import poe_to_dict
 
         return yaml.safe_dump(poe_to_dict(table.to_poe()), sort_keys=False, default_flow_style=None)
     raise UsageError(f"unknown format '{fmt}'; valid: {choices(FORMATS)}")
