@@ -27,6 +27,7 @@ sys.path[:0] = [str(ROOT), str(ROOT / "tests"), str(Path(__file__).resolve().par
 from scale import at_the_bounds, chain_lengths  # noqa: E402
 from timing import Figure, best_of, import_ms, peak_alloc, print_table, run_process  # noqa: E402
 
+from urdf2dh.check.verify import pinocchio_fk, verify  # noqa: E402
 from urdf2dh.conventions import NAMES  # noqa: E402
 from urdf2dh.conventions.convert import (  # noqa: E402
     DEFAULT_SAMPLES,
@@ -45,7 +46,6 @@ from urdf2dh.io.urdf.tree import build_tree  # noqa: E402
 from urdf2dh.io.urdf.validate import check_robot  # noqa: E402
 from urdf2dh.model.fk import chain_fk  # noqa: E402
 from urdf2dh.tolerances import DEFAULT  # noqa: E402
-from urdf2dh.verify import pinocchio_fk, verify  # noqa: E402
 
 ARM = "panda"  # the 7-DOF arm of the engine and batch figures
 

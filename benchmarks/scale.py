@@ -12,6 +12,7 @@ from chains import random_chain_urdf  # tests/chains.py: seeded random URDF chai
 from reference import chain_fk
 from timing import Figure, best_of, peak_alloc, run_process
 
+from urdf2dh.check.verify import pinocchio_fk
 from urdf2dh.conventions import NAMES as CONVENTIONS
 from urdf2dh.conventions.convert import to_table
 from urdf2dh.geometry.se3 import pose_errors
@@ -21,7 +22,6 @@ from urdf2dh.io.urdf.parse import document, parse_xml, yourdfpy_robot
 from urdf2dh.io.urdf.tree import UrdfTree, build_tree
 from urdf2dh.io.urdf.validate import check_robot
 from urdf2dh.tolerances import JOINTS
-from urdf2dh.verify import pinocchio_fk
 
 __all__ = ["PIN_FK_MAX", "at_the_bounds", "chain_lengths"]
 

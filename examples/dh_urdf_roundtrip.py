@@ -18,10 +18,10 @@ from pathlib import Path
 
 import numpy as np
 
+from urdf2dh.check.verify import pinocchio_fk
 from urdf2dh.conventions.convert import to_table
 from urdf2dh.emit.urdf import table_to_urdf
 from urdf2dh.io.sources import open_source
-from urdf2dh.verify import pinocchio_fk
 
 # Universal Robots UR5: (theta, d, alpha, a); theta offsets 0
 UR5 = [

@@ -13,11 +13,11 @@ import sys
 
 import numpy as np
 
+from urdf2dh.check.papers import sumenkov_table3
 from urdf2dh.conventions.convert import to_table
 from urdf2dh.emit.formats import render
 from urdf2dh.geometry.se3 import pose_errors
 from urdf2dh.io.sources import open_source
-from urdf2dh.papers import sumenkov_table3
 
 
 def compare(label: str, cells: list) -> int:

@@ -20,6 +20,7 @@ from urdf2dh.calibrate.measure import marker_layout, perturb, synthesize
 from urdf2dh.calibrate.measurements import Measurements
 from urdf2dh.calibrate.report import to_dict
 from urdf2dh.calibrate.start import Options, placement
+from urdf2dh.check.papers import agrees
 from urdf2dh.conventions.convert import to_table
 from urdf2dh.emit.export import Options as ExportOptions
 from urdf2dh.emit.export import export_table
@@ -27,7 +28,6 @@ from urdf2dh.geometry.lie import quaternion_of
 from urdf2dh.geometry.se3 import pose_errors, twist_exp
 from urdf2dh.io.catalog import our_robots_dir
 from urdf2dh.model.poe import Joint, PoeModel
-from urdf2dh.papers import agrees
 from urdf2dh.tolerances import DEFAULT
 
 NOISE_POS, NOISE_ROT = 0.01, 1e-5  # mm and rad: issue 15's levels

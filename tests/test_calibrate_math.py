@@ -21,6 +21,7 @@ from urdf2dh.calibrate.chart import (
     retract,
 )
 from urdf2dh.calibrate.residuals import Data, evaluate, model_poses
+from urdf2dh.check.info import identifiability
 from urdf2dh.conventions.convert import to_table
 from urdf2dh.geometry.lie import (
     exp_so3,
@@ -32,7 +33,6 @@ from urdf2dh.geometry.lie import (
     rotation_of,
 )
 from urdf2dh.geometry.se3 import twist_exp
-from urdf2dh.info import identifiability
 from urdf2dh.model.poe import Joint, PoeModel
 
 

@@ -158,8 +158,8 @@ def test_output_file_gets_the_usual_permissions(tmp_path, capsys):
 def test_verify_checks_the_written_table_at_configurations_of_its_own():
     import numpy as np
 
+    from urdf2dh.check.verify import VERIFY_STREAM, verify
     from urdf2dh.io.sources import open_source
-    from urdf2dh.verify import VERIFY_STREAM, verify
 
     source = open_source("so100")
     model = source.model()

@@ -9,12 +9,12 @@ import numpy as np
 import pytest
 from oracle import assert_fk_matches, pin_reference
 
+from urdf2dh.check.info import identifiability
 from urdf2dh.cli import main
 from urdf2dh.conventions import NAMES as CONVENTIONS
 from urdf2dh.conventions.convert import to_table
 from urdf2dh.emit.urdf import table_to_urdf
 from urdf2dh.geometry.se3 import rpy
-from urdf2dh.info import identifiability
 from urdf2dh.io.sources import open_source
 
 ROBOTS = ["ur5", "panda", "stanford", "scara", "tiago-arm", "puma560-actual", "puma560-nominal"]

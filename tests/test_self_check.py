@@ -78,7 +78,7 @@ def test_the_default_catches_a_slightly_wrong_table(robot, param, relative):
 def test_verify_never_exceeds_the_declared_bound(robot):
     """The bound is one for every configuration, not a sample maximum: Pinocchio, at 20,000
     configurations other than the check's, stays within it (with no allowance beyond it)."""
-    from urdf2dh.verify import pinocchio_fk
+    from urdf2dh.check.verify import pinocchio_fk
 
     source = open_source(robot)
     model = source.model()

@@ -21,7 +21,7 @@ import numpy as np
 import pytest
 import yaml
 
-from urdf2dh import verify
+from urdf2dh.check import verify
 from urdf2dh.cli import main
 from urdf2dh.conventions import NAMES
 from urdf2dh.errors import shown

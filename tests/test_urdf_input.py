@@ -336,8 +336,8 @@ def test_a_base_far_from_the_root_is_verified_to_pinocchios_resolution(offset, c
     near = text.replace(f'xyz="0 {offset} 0"', 'xyz="0 2 0"')
     tree = parse_tree(near.encode(), "w.urdf")
     model = tree_to_poe(tree, "base", "tool")
+    from urdf2dh.check.verify import _oracle_rounding
     from urdf2dh.io.sources import Source
-    from urdf2dh.verify import _oracle_rounding
 
     rounding = _oracle_rounding(Source("urdf", "w.urdf", "r", tree, tree.xml), model)
     assert 0 < rounding < 1e-13  # an ordinary world offset: nothing allowed beyond the check

@@ -14,12 +14,12 @@ import pinocchio as pin
 import pytest
 from chains import random_chain_urdf
 
-from urdf2dh import verify as verify_module
+from urdf2dh.check import verify as verify_module
+from urdf2dh.check.verify import _frame_poser, pinocchio_fk
 from urdf2dh.cli import main
 from urdf2dh.io.poefile import read_poe
 from urdf2dh.io.sources import Source, open_source
 from urdf2dh.tolerances import EPS, VERIFY_JOINTS
-from urdf2dh.verify import _frame_poser, pinocchio_fk
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -117,8 +117,8 @@ def test_a_poe_chain_beyond_the_bound_is_refused_naming_it():
     }
     poe = read_poe(data, "long.yaml")
     source = Source("poe", "long.yaml", "long", poe=poe)
+    from urdf2dh.check.verify import verify
     from urdf2dh.errors import InputError
-    from urdf2dh.verify import verify
 
     with pytest.raises(InputError, match=r"^long\.yaml: the chain has 2,001 joints; verify "):
         verify(source, poe, samples=10)

@@ -9,10 +9,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from urdf2dh.check.verify import verify
 from urdf2dh.cli import main
 from urdf2dh.errors import InputError
 from urdf2dh.io.sources import open_source
-from urdf2dh.verify import verify
 
 DATA = Path(__file__).parent / "data" / "xacro"
 XACRO = str(DATA / "demo_arm.urdf.xacro")

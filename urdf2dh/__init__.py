@@ -12,7 +12,7 @@ The pipeline, in the public names of this package:
 :class:`PoeModel`; :func:`to_table` converts it to a :class:`Table` in one of
 :data:`CONVENTIONS` and checks its forward kinematics against the model's; :func:`render`
 writes it; :func:`plot` draws its frames (a picture, or an interactive view as an HTML page).
-:meth:`Table.to_poe` goes back. Pinocchio cross-checks live in :mod:`urdf2dh.verify`,
+:meth:`Table.to_poe` goes back. Pinocchio cross-checks live in :mod:`urdf2dh.check.verify`,
 controller files in :mod:`urdf2dh.emit.export`, the conventions themselves in
 :mod:`urdf2dh.conventions`.
 

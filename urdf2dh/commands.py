@@ -162,8 +162,8 @@ def _verify(args: argparse.Namespace) -> int:
 
 def _verify_chain(args: argparse.Namespace, source: Any, model: Any, tol: Any) -> bool:
     """Verify one chain and print its report; whether every model agrees with Pinocchio."""
+    from .check.verify import verify
     from .errors import visible as v
-    from .verify import verify
 
     results = verify(source, model, args.samples, args.seed, tol, check_samples=args.check_samples)
     unit, size = v(model.length_unit), model.size()
@@ -196,7 +196,7 @@ def _verify_chain(args: argparse.Namespace, source: Any, model: Any, tol: Any) -
 def _diff(args: argparse.Namespace) -> int:
     import math
 
-    from .diff import diff_sources, render_diff
+    from .check.diff import diff_sources, render_diff
 
     info, changes, pairs, forms = diff_sources(
         args.nominal,
@@ -218,7 +218,7 @@ def _diff(args: argparse.Namespace) -> int:
 
 
 def _info(args: argparse.Namespace) -> int:
-    from .info import describe
+    from .check.info import describe
 
     source = _open(args)
     write_stdout(describe(source, args.base, args.tip, args.ignore_mimic))

@@ -31,8 +31,8 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 from numpy.typing import NDArray
 
+from ..check.diff import Diff
 from ..conventions.table import Table
-from ..diff import Diff
 from ..errors import InputError, Urdf2DhError, UsageError, choices, shown
 from ..model.poe import PoeModel
 from ..tolerances import DEFAULT, Tolerances

@@ -27,8 +27,8 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
+from ..check.diff import Diff
 from ..conventions.table import Table
-from ..diff import Diff
 from ..errors import UsageError, visible
 from ..model.poe import PoeModel
 from ..tolerances import DIFF_ANGLE_DEG, POORLY_IDENTIFIED, Tolerances
@@ -301,8 +301,8 @@ def _diff(
 ) -> Diff:
     """The ``diff`` of the nominal and the identified model (``urdf2dh diff``'s), in the output
     table's convention (for a POE model file, the convention chosen for a table)."""
+    from ..check.diff import compare, default_length_threshold, form_changes, ill_conditioned
     from ..conventions.convert import to_table
-    from ..diff import compare, default_length_threshold, form_changes, ill_conditioned
 
     if table is None:
         _, table, _ = output_table(model, None, style, tol, None)

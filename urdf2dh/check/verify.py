@@ -24,17 +24,17 @@ from typing import Any, TypeVar
 import numpy as np
 from numpy.typing import NDArray
 
-from .conventions import NAMES
-from .conventions.convert import to_table
-from .conventions.table import Check, Table
-from .errors import InputError, shown
-from .io.sources import Source
-from .io.urdf.chain import final_leader
-from .model.fk import BLOCK, chains_errors
-from .model.mimic import Mimic, actuated
-from .model.poe import PoeModel
-from .progress import progress
-from .tolerances import DEFAULT, EPS, VERIFY_JOINTS, Tolerances
+from ..conventions import NAMES
+from ..conventions.convert import to_table
+from ..conventions.table import Check, Table
+from ..errors import InputError, shown
+from ..io.sources import Source
+from ..io.urdf.chain import final_leader
+from ..model.fk import BLOCK, chains_errors
+from ..model.mimic import Mimic, actuated
+from ..model.poe import PoeModel
+from ..progress import progress
+from ..tolerances import DEFAULT, EPS, VERIFY_JOINTS, Tolerances
 
 __all__ = [
     "Result",

@@ -13,12 +13,12 @@ from typing import Any
 
 import numpy as np
 
-from .conventions import Params
-from .conventions.convert import to_table
-from .io.catalog import our_robots_dir
-from .io.sources import open_source
-from .model.poe import joint_from_twist
-from .tolerances import DEFAULT
+from ..conventions import Params
+from ..conventions.convert import to_table
+from ..io.catalog import our_robots_dir
+from ..io.sources import open_source
+from ..model.poe import joint_from_twist
+from ..tolerances import DEFAULT
 
 __all__ = ["Cell", "agrees", "sumenkov_table3", "wu2019_table2"]
 
@@ -44,7 +44,7 @@ def agrees(value: float, printed: str) -> bool:
 
 
 def _reference(name: str) -> Any:
-    from .io.mappings import read_mapping
+    from ..io.mappings import read_mapping
 
     path = our_robots_dir() / name
     return read_mapping(path, name, path.read_bytes())

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 from collections import Counter
 
-from .errors import ChainError, choices, visible
-from .io.sources import Source
-from .model.poe import PoeModel
+from ..errors import ChainError, choices, visible
+from ..io.sources import Source
+from ..model.poe import PoeModel
 
 __all__ = ["describe", "identifiability"]
 

@@ -28,14 +28,14 @@ from typing import Any
 
 import numpy as np
 
-from . import units
-from .conventions import Params
-from .conventions.table import Row, Table
-from .emit.formats import fixed
-from .errors import InputError, UsageError, visible
-from .io.xacro import XacroOptions
-from .model.poe import PoeModel
-from .tolerances import DIFF_LENGTH_M, DIFF_ROUND_OFF, Tolerances
+from .. import units
+from ..conventions import Params
+from ..conventions.table import Row, Table
+from ..emit.formats import fixed
+from ..errors import InputError, UsageError, visible
+from ..io.xacro import XacroOptions
+from ..model.poe import PoeModel
+from ..tolerances import DIFF_LENGTH_M, DIFF_ROUND_OFF, Tolerances
 
 __all__ = [
     "SCHEMA",
@@ -177,8 +177,8 @@ def _pairs(
 
 def _link(params: Params) -> np.ndarray:
     """The record's link transform at ``q = 0`` (its constant transforms composed)."""
-    from .geometry.frames import compose
-    from .geometry.se3 import matrix_of
+    from ..geometry.frames import compose
+    from ..geometry.se3 import matrix_of
 
     before, after = params.around_joint()
     return matrix_of(after if before is None else compose(before, after))
@@ -262,8 +262,8 @@ def diff_sources(
     ``length_threshold`` ``None`` means :data:`~urdf2dh.tolerances.DIFF_LENGTH_M` in the
     nominal's unit.
     """
-    from .conventions.convert import to_table
-    from .io.sources import open_source
+    from ..conventions.convert import to_table
+    from ..io.sources import open_source
 
     models, names = [], []
     for text in (nominal_source, actual_source):
