@@ -186,8 +186,8 @@ def _argv(ws: Workspace, command: list[str], option: str, target: str, n: int) -
     if option == "-o DIR":
         out = ws.dir / f"out{n}"
         out.mkdir(exist_ok=True)
+        from urdf2dh.cli.chains import FORMAT_SUFFIXES
         from urdf2dh.emit.export import TARGETS
-        from urdf2dh.tips import FORMAT_SUFFIXES
 
         suffix = FORMAT_SUFFIXES["urdf"] if command[0] == "convert" else TARGETS["kdl"].suffix
         tip = "tool" + suffix  # the tip of arm.urdf

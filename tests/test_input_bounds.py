@@ -14,9 +14,9 @@ from pathlib import Path
 import pytest
 from chains import random_chain_urdf
 
-from urdf2dh import cli, tolerances
+from urdf2dh import tolerances
 from urdf2dh.cli import main
-from urdf2dh.errors import MESSAGE_LENGTH, SHOWN_LENGTH, InputError, shown
+from urdf2dh.errors import MESSAGE_LENGTH, SHOWN_LENGTH, InputError, one_line, shown
 from urdf2dh.io.files import read_file
 from urdf2dh.tolerances import FILE_BYTES, JOINTS
 
@@ -139,11 +139,11 @@ def test_a_name_of_megabytes_is_shortened_in_the_message(tmp_path, capsys, chara
 
 def test_the_command_line_cuts_any_error_line_beyond_its_bound():
     long = "a: " + "x" * 50_000 + " :end"
-    line = cli._one_line(long)
+    line = one_line(long)
     assert len(line) <= MESSAGE_LENGTH + 40
     assert line.startswith("a: xxx") and line.endswith("xxx :end")
     assert "(50,008 characters)" in line
-    assert cli._one_line("short\nmessage") == "short\\nmessage"
+    assert one_line("short\nmessage") == "short\\nmessage"
 
 
 def test_the_limits_page_example_runs():

@@ -23,10 +23,10 @@ import yaml
 
 from urdf2dh.check import verify
 from urdf2dh.cli import main
+from urdf2dh.cli.chains import FORMAT_SUFFIXES
 from urdf2dh.conventions import NAMES
 from urdf2dh.errors import shown
 from urdf2dh.io import files
-from urdf2dh.tips import FORMAT_SUFFIXES
 
 
 def tree_urdf(

@@ -22,6 +22,7 @@ __all__ = [
     "UsageError",
     "VerificationError",
     "choices",
+    "one_line",
     "shown",
     "visible",
 ]
@@ -96,7 +97,12 @@ def visible(text: str) -> str:
 
 
 def _escape_char(ch: str) -> str:
-    return "\\\\" if ch == "\\" else ch if ch.isprintable() else repr(ch)[1:-1]
+    return "\\\\" if ch == "\\" else ch if ch.isprintable() else _escape(ch)
+
+
+def _escape(ch: str) -> str:
+    """An unprintable character as Python writes it in a string literal (``\\n``, ``\\x1b``)."""
+    return repr(ch)[1:-1]
 
 
 def shown(name: object) -> str:
@@ -115,3 +121,16 @@ def shown(name: object) -> str:
     if len(name) <= SHOWN_LENGTH:
         return repr(name)
     return f"{name[:SHOWN_LENGTH]!r}... ({len(name)} characters)"
+
+
+def one_line(text: str) -> str:
+    """A message as the command line prints it: line breaks and other characters Python does
+    not print written as their escapes (backslashes kept as they are: the names in a message
+    are escaped already, :func:`shown`), so that it stays one line, and at most
+    :data:`MESSAGE_LENGTH` characters, its middle cut out beyond (the last guard against a
+    library's message quoting a whole input)."""
+    line = "".join(c if c.isprintable() else _escape(c) for c in text)
+    if len(line) <= MESSAGE_LENGTH:
+        return line
+    keep = MESSAGE_LENGTH // 2
+    return f"{line[:keep]} ... ({len(line):,} characters) ... {line[-keep:]}"

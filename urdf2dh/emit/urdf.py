@@ -25,7 +25,8 @@ import math
 import numpy as np
 from numpy.typing import NDArray
 
-from .. import __version__, units
+from .. import units
+from .._version import __version__
 from ..conventions.table import Row, Table
 from ..errors import shown
 from ..geometry import se3

@@ -1,12 +1,12 @@
-"""Several chains of one URDF tree in one run (SPEC §5, "Trees"): ``--all-tips`` or ``--tip``
-given more than once.
+"""Several chains of one URDF tree in one run: ``--all-tips`` or ``--tip`` given more than once
+(``convert``, ``verify``, ``export``).
 
 :func:`chain_tips` says which tips; :func:`chain_models` builds one POE model per tip, every
 error naming its tip (:class:`TipError`); :func:`file_names` turns the tips into the file names
 of ``-o DIR``, refusing a link name that cannot be one; :func:`join_tables` puts several tables
 on stdout where a format can hold them.
 
-The rules (README, "Commands"):
+The rules:
 
 * The base is ``--base``, else a bundled robot's own base, else the URDF's root link.
 * ``--all-tips``: every leaf below the base, in the file's link order, except leaves whose chain
@@ -33,14 +33,17 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from .errors import ChainError, Urdf2DhError, UsageError, shown
-from .tolerances import JOINTS
+from ..errors import ChainError, Urdf2DhError, UsageError, shown
+from ..io.files import write_directory
+from ..tolerances import JOINTS
 
 if TYPE_CHECKING:
-    from .conventions.table import Table
-    from .io.sources import Source
-    from .io.urdf import UrdfTree
-    from .model.poe import PoeModel
+    import argparse
+
+    from ..conventions.table import Table
+    from ..io.sources import Source
+    from ..io.urdf import UrdfTree
+    from ..model.poe import PoeModel
 
 __all__ = [
     "DIRECTORY_HINT",
@@ -49,13 +52,19 @@ __all__ = [
     "TipError",
     "chain_models",
     "chain_tips",
+    "chains_of",
     "check_stdout_format",
     "file_names",
     "heading",
     "join_tables",
     "names_directory",
     "naming_tip",
+    "one_tip",
+    "per_chain",
     "several",
+    "several_of",
+    "to_directory",
+    "write_tips",
 ]
 
 #: ``convert --format`` -> the suffix of each file in ``-o DIR``.
@@ -116,7 +125,7 @@ def chain_tips(
         )
     base = base or (source.bundled.base if source.bundled else None) or tree.root
     if base not in tree.links:
-        from .io.urdf.tree import names
+        from ..io.urdf.tree import names
 
         raise ChainError(
             f"{tree.path}: unknown base link {shown(base)}; links are {names(tree.links)}"
@@ -238,7 +247,7 @@ def check_stdout_format(fmt: str) -> None:
 
 def join_tables(tables: Sequence[Table], fmt: str) -> str:
     """Several tables as one stdout text in ``fmt`` (one of :data:`STDOUT_FORMATS`)."""
-    from .emit.formats import render
+    from ..emit.formats import render
 
     check_stdout_format(fmt)
     if fmt == "json":
@@ -249,3 +258,47 @@ def join_tables(tables: Sequence[Table], fmt: str) -> str:
         return "\n".join(f"==> {heading(t.tip_link)} <==\n{render(t, fmt)}" for t in tables)
     # markdown
     return "\n".join(f"## {heading(t.tip_link)}\n\n{render(t, fmt)}" for t in tables)
+
+
+# --------------------------------------------------------------------------- a command's run
+
+
+def one_tip(args: argparse.Namespace) -> str | None:
+    """The tip of a single-chain run of a command that takes several (``args.tips``)."""
+    return args.tips[0] if args.tips else None
+
+
+def several_of(args: argparse.Namespace) -> bool:
+    """Whether the command's options ask for several chains."""
+    return several(args.all_tips, args.tips)
+
+
+def chains_of(
+    args: argparse.Namespace, source: Source, suffix: str | None = None
+) -> list[PoeModel]:
+    """The models of a run over several chains; ``suffix``: of the files of ``-o DIR/``, whose
+    names are checked before any conversion."""
+    base, tips = chain_tips(source, args.base, args.tips, args.all_tips)
+    if suffix is not None:
+        file_names(source.display, tips, suffix)
+    return chain_models(source, base, tips, args.ignore_mimic)
+
+
+def per_chain(models: list[PoeModel], what: str) -> Iterator[PoeModel]:
+    """The chains of a run, with a progress bar on a terminal."""
+    from ..progress import progress
+
+    return progress(models, len(models), what)
+
+
+def to_directory(args: argparse.Namespace) -> bool:
+    """Whether a run over several chains writes one file per chain (``-o DIR/``)."""
+    return args.output is not None and names_directory(args.output)
+
+
+def write_tips(
+    args: argparse.Namespace, source: Source, texts: list[tuple[PoeModel, str]], suffix: str
+) -> None:
+    """Write ``(model, text)`` pairs as ``-o DIR/<tip><suffix>``, all or nothing."""
+    names = file_names(source.display, [m.tip_link for m, _ in texts], suffix)
+    write_directory({names[m.tip_link]: text for m, text in texts}, args.output)

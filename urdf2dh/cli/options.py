@@ -1,34 +1,52 @@
 """The command line's shared options: value types that say what they take and what they got,
-and the option groups every chain command has (SOURCE, --base/--tip, mimic and xacro options,
-the tolerance judgements). :mod:`urdf2dh.cli` and :mod:`urdf2dh.calibrate.cli` build their
-parsers from these."""
+and the option groups several commands have (SOURCE, --base/--tip, mimic and xacro options, the
+tolerance judgements; calibration's levels, markers and measurement files). Each command's
+module builds its parser from these."""
 
 from __future__ import annotations
 
 import argparse
-from typing import Any
+from typing import TYPE_CHECKING
 
-from .tolerances import MAX_SAMPLES, MAX_SEED
+from ..errors import InputError, shown
+from ..tolerances import MAX_SAMPLES, MAX_SEED
+
+if TYPE_CHECKING:
+    from ..io.sources import Source
+    from ..io.xacro import XacroOptions
+    from ..model.poe import PoeModel
+    from ..tolerances import Tolerances
 
 __all__ = [
-    "MAX_SAMPLES",
+    "LEVELS",
+    "MAX_MARKERS",
     "add_chain",
     "add_chain_options",
+    "add_markers",
+    "add_reading",
     "add_tolerances",
+    "fraction",
     "integer",
+    "names",
+    "nominal",
     "nonnegative_float",
     "package_path",
     "parallel_angle",
     "positive_float",
     "positive_int",
+    "prior",
+    "renames",
     "samples",
     "seed",
+    "source",
     "tolerances",
     "xacro_arg",
     "xacro_options",
 ]
 
 MAX_PARALLEL_ANGLE = 0.1  # rad: beyond, "nearly parallel" would take in perpendicular axes
+LEVELS = ("auto", "base-tool", "offsets", "geometry", "full")  # calibrate's --identify
+MAX_MARKERS = 100  # markers on one tool (more add nothing a calibration could use)
 
 
 def integer(text: str, low: int, high: int) -> int:
@@ -165,7 +183,7 @@ def add_chain_options(p: argparse.ArgumentParser, several: bool = False) -> None
 
 
 def add_tolerances(p: argparse.ArgumentParser) -> None:
-    from .tolerances import DEFAULT
+    from ..tolerances import DEFAULT
 
     g = p.add_argument_group("tolerance judgements (D-H conventions)")
     g.add_argument(
@@ -198,11 +216,11 @@ def add_tolerances(p: argparse.ArgumentParser) -> None:
     )
 
 
-def tolerances(args: argparse.Namespace) -> Any:
+def tolerances(args: argparse.Namespace) -> Tolerances:
     """The :class:`~urdf2dh.tolerances.Tolerances` the tolerance options ask for."""
     from dataclasses import replace
 
-    from .tolerances import DEFAULT
+    from ..tolerances import DEFAULT
 
     tol = replace(
         DEFAULT, parallel_angle=args.parallel_angle, intersect_distance=args.intersect_distance
@@ -210,10 +228,122 @@ def tolerances(args: argparse.Namespace) -> Any:
     return tol.with_exact() if args.exact else tol
 
 
-def xacro_options(args: argparse.Namespace) -> Any:
+def xacro_options(args: argparse.Namespace) -> XacroOptions:
     """The :class:`~urdf2dh.io.xacro.XacroOptions` the xacro options ask for."""
-    from .io.xacro import XacroOptions
+    from ..io.xacro import XacroOptions
 
     return XacroOptions(
         dict(args.package_path), dict(args.xacro_arg), args.xacro_timeout, args.xacro_memory
     )
+
+
+def source(args: argparse.Namespace, tol: Tolerances | None = None) -> Source:
+    """The SOURCE the options name, opened with their xacro options (and ``tol`` for reading a
+    POE or table file)."""
+    from ..io.sources import open_source
+    from ..tolerances import DEFAULT
+
+    return open_source(args.source, tol or DEFAULT, xacro=xacro_options(args))
+
+
+# --------------------------------------------------------------------------- calibration
+
+
+def fraction(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError as e:
+        raise argparse.ArgumentTypeError(f"'{text}' is not a number") from e
+    if not 0.0 <= value < 1.0:
+        raise argparse.ArgumentTypeError(f"must be in [0, 1), not {text}")
+    return value
+
+
+def names(text: str) -> tuple[str, ...]:
+    return tuple(n.strip() for n in text.split(",") if n.strip())
+
+
+def renames(text: str) -> tuple[tuple[str, str], ...]:
+    out = []
+    for item in names(text):
+        old, sep, new = item.partition("=")
+        if not sep or not old.strip() or not new.strip():
+            raise argparse.ArgumentTypeError(f"'{item}' is not OLD=NEW")
+        out.append((old.strip(), new.strip()))
+    return tuple(out)
+
+
+def prior(text: str) -> tuple[float, float]:
+    parts = text.split(",")
+    if len(parts) != 2:
+        raise argparse.ArgumentTypeError(f"'{text}' is not LENGTH,ANGLE")
+    try:
+        length, angle = float(parts[0]), float(parts[1])
+    except ValueError as e:
+        raise argparse.ArgumentTypeError(f"'{text}' is not LENGTH,ANGLE (two numbers)") from e
+    if not (length > 0.0 and angle > 0.0 and length < float("inf") and angle < float("inf")):
+        raise argparse.ArgumentTypeError(f"both deviations must be > 0, not {text}")
+    return length, angle
+
+
+def add_reading(p: argparse.ArgumentParser) -> None:
+    g = p.add_argument_group("reading measurement files as they come")
+    g.add_argument(
+        "--rename",
+        type=renames,
+        action="append",
+        default=[],
+        metavar="OLD=NEW,...",
+        help="read the file's column OLD as NEW (a joint's name, x, qw, roll, ...; repeatable)",
+    )
+    g.add_argument(
+        "--ignore",
+        type=names,
+        action="append",
+        default=[],
+        metavar="COLUMNS",
+        help="skip these columns: names or shell patterns, comma-separated (repeatable)",
+    )
+    g.add_argument(
+        "--degrees",
+        action="store_true",
+        help="joint angles and roll, pitch, yaw are in degrees (default radians)",
+    )
+    g.add_argument(
+        "--length-unit",
+        metavar="UNIT",
+        help="the file's length unit, converted to the nominal's (default: the nominal's)",
+    )
+    g.add_argument(
+        "--euler",
+        default="xyz",
+        metavar="SEQ",
+        help="rotation sequence of roll, pitch, yaw (or FIGAROH's phix1..phiz1), scipy's "
+        "notation: lower case fixed axes, upper case moving (default xyz: URDF's "
+        "R = Rz(yaw) Ry(pitch) Rx(roll))",
+    )
+
+
+def add_markers(p: argparse.ArgumentParser, help_text: str) -> None:
+
+    p.add_argument(
+        "--markers",
+        type=lambda text: integer(text, 1, MAX_MARKERS),
+        default=None,
+        metavar="K",
+        help=help_text,
+    )
+
+
+def nominal(args: argparse.Namespace, tol: Tolerances | None = None) -> PoeModel:
+    """The nominal model of a calibration command: the chain the options name, none of whose
+    joints mimics another (calibration identifies each joint on its own)."""
+    model = source(args, tol).model(args.base, args.tip, args.ignore_mimic)
+    coupled = [f"{shown(j.name)} (mimics {shown(j.mimic.joint)})" for j in model.joints if j.mimic]
+    if coupled:
+        raise InputError(
+            f"{args.source}: joints {', '.join(coupled)} follow another joint; calibration "
+            "identifies every joint's screw and scale on its own (--ignore-mimic makes them "
+            "independent)"
+        )
+    return model

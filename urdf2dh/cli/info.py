@@ -1,0 +1,23 @@
+"""``urdf2dh info``: what a SOURCE holds, the chain that would be converted, identifiability."""
+
+from __future__ import annotations
+
+import argparse
+
+from ..io.files import write_stdout
+from . import options
+
+NAME = "info"
+HELP = "links, joints, the chain, candidate tips, identifiability"
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    options.add_chain(p)
+
+
+def run(args: argparse.Namespace) -> int:
+    from ..check.info import describe
+
+    source = options.source(args)
+    write_stdout(describe(source, args.base, args.tip, args.ignore_mimic))
+    return 0
