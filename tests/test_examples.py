@@ -9,11 +9,14 @@ from pathlib import Path
 
 import pytest
 
-EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+ROOT = Path(__file__).resolve().parents[1]
+EXAMPLES = ROOT / "examples"
 
 
 def run(script: str, *args: str, tmp: Path | None = None) -> str:
-    env = None if tmp is None else {**os.environ, "TMPDIR": str(tmp)}
+    """Run an example on this checkout's urdf2dh (not an installed one)."""
+    path = os.pathsep.join(p for p in (str(ROOT), os.environ.get("PYTHONPATH", "")) if p)
+    env = {**os.environ, "PYTHONPATH": path, **({} if tmp is None else {"TMPDIR": str(tmp)})}
     proc = subprocess.run(
         [sys.executable, str(EXAMPLES / script), *args],
         capture_output=True,
