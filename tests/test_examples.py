@@ -13,10 +13,14 @@ ROOT = Path(__file__).resolve().parents[1]
 EXAMPLES = ROOT / "examples"
 
 
-def run(script: str, *args: str, tmp: Path | None = None) -> str:
-    """Run an example on this checkout's urdf2dh (not an installed one)."""
+def checkout_env() -> dict[str, str]:
+    """The environment that runs an example on this checkout's urdf2dh (not an installed one)."""
     path = os.pathsep.join(p for p in (str(ROOT), os.environ.get("PYTHONPATH", "")) if p)
-    env = {**os.environ, "PYTHONPATH": path, **({} if tmp is None else {"TMPDIR": str(tmp)})}
+    return {**os.environ, "PYTHONPATH": path}
+
+
+def run(script: str, *args: str, tmp: Path | None = None) -> str:
+    env = {**checkout_env(), **({} if tmp is None else {"TMPDIR": str(tmp)})}
     proc = subprocess.run(
         [sys.executable, str(EXAMPLES / script), *args],
         capture_output=True,
