@@ -71,7 +71,7 @@ def test_calibrate_ur5(tmp_path, keep):
         capture_output=True,
         text=True,
         timeout=300,
-        env={**os.environ, "TMPDIR": str(scratch)},
+        env={**checkout_env(), "TMPDIR": str(scratch)},
     )
     assert proc.returncode == 0, proc.stdout + proc.stderr
     out = proc.stdout
