@@ -25,10 +25,10 @@ from lxml import etree
 from matlab_reader import Call, Chars, MatlabSyntaxError, Str, read_matlab
 from view_reader import read_page
 
-from urdf2dh.emit.escape import html_text
 from urdf2dh.emit.names import RENAMED
 from urdf2dh.emit.scene import short
 from urdf2dh.errors import visible
+from urdf2dh.escape import html_text
 
 LANGUAGE = {
     "rtb": "python",

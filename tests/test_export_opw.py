@@ -21,9 +21,9 @@ from consumers import report
 from oracle import EXACT, assert_fk_matches, pin_reference
 
 from urdf2dh.conventions.opw import OpwParameters, opw_fk, opw_from_poe
-from urdf2dh.emit.escape import yaml_comment
 from urdf2dh.emit.export import Options, export
 from urdf2dh.errors import ExportError, UsageError
+from urdf2dh.escape import yaml_comment
 from urdf2dh.geometry.se3 import from_rpy, inv, rot_x, rot_y, rot_z, trans
 from urdf2dh.io.catalog import ROBOTS, our_robots_dir
 from urdf2dh.io.sources import open_source

@@ -49,8 +49,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .. import units
-from ..emit.escape import csv_cell, csv_names
 from ..errors import InputError, UsageError, choices, shown
+from ..escape import csv_cell, csv_names
 from ..io.files import read_file
 from ..tolerances import QUATERNION_NORM
 
@@ -531,7 +531,7 @@ def read_configurations(
 
 def write_measurements(m: Measurements) -> str:
     """The CSV text of ``m`` (every number as the shortest text that reads back exactly, joint
-    names as :func:`~urdf2dh.emit.escape.csv_cell` writes them)."""
+    names as :func:`~urdf2dh.escape.csv_cell` writes them)."""
     out = io.StringIO()
     writer = csv.writer(out, lineterminator="\n")
     header = [*(csv_cell(j) for j in m.joints), *POINT]
@@ -552,7 +552,7 @@ def write_measurements(m: Measurements) -> str:
 
 def write_configurations(joints: tuple[str, ...], q: Mat) -> str:
     """The CSV text of configurations: a column per joint (names as
-    :func:`~urdf2dh.emit.escape.csv_cell` writes them)."""
+    :func:`~urdf2dh.escape.csv_cell` writes them)."""
     out = io.StringIO()
     writer = csv.writer(out, lineterminator="\n")
     out.write(",".join(csv_cell(j) for j in joints) + "\n")

@@ -1,7 +1,7 @@
 """Pictures of a calibration (``calibrate --plot FILE``): PNG through matplotlib, or one
 self-contained interactive HTML page through plotly, written as every urdf2dh page is
 (:func:`urdf2dh.emit.html.offline_page`: plotly.js in the page, nothing fetched when it is
-opened, every name written with :func:`~urdf2dh.emit.escape.html_text`).
+opened, every name written with :func:`~urdf2dh.escape.html_text`).
 
 Three panels:
 
@@ -18,9 +18,9 @@ from __future__ import annotations
 import io
 from typing import TYPE_CHECKING, Any
 
-from ..emit.escape import html_text, matplotlib_text
 from ..emit.html import offline_page, plotly_objects
 from ..errors import InputError, UsageError
+from ..escape import html_text, matplotlib_text
 
 if TYPE_CHECKING:
     from .calibration import Calibration

@@ -7,8 +7,8 @@ and as controller and toolbox files.
 * :mod:`.plot`: a table's frames drawn (:mod:`.scene` decides what is shown, :mod:`.picture`
   draws it with matplotlib, :mod:`.view` with plotly, :mod:`.html` writes any plotly figure as a
   page that fetches nothing);
-* :mod:`.escape`: names from files escaped for every language written, one function per
-  language; :mod:`.names`: names made up for a file, kept clear of the robot's own.
+* :mod:`.names`: names made up for a file, kept clear of the robot's own (names from files
+  are escaped for every language written by :mod:`urdf2dh.escape`).
 
 Nothing is imported here, so that the command line's ``--help`` imports no numpy.
 """

@@ -3,8 +3,8 @@
 ``json`` and ``yaml`` hold the SPEC §2 tree in radians and source units with full precision;
 ``csv`` the same numbers flat; ``text`` and ``markdown`` are for people: angles in degrees,
 helix pitch in length per degree (the units of Wu 2019 Table II), units in the headers.
-Names from the source go through :mod:`urdf2dh.emit.escape`: JSON and YAML escape them
-themselves, CSV writes them as :func:`~urdf2dh.emit.escape.csv_cell` does (visible text, no
+Names from the source go through :mod:`urdf2dh.escape`: JSON and YAML escape them
+themselves, CSV writes them as :func:`~urdf2dh.escape.csv_cell` does (visible text, no
 formula), text shows them as :func:`~urdf2dh.errors.visible` text (one line, no terminal control
 characters) and Markdown escapes its markup too.
 ``urdf`` and ``poe`` write the table's kinematics as a model instead: a URDF in metres
@@ -20,8 +20,8 @@ from typing import TYPE_CHECKING
 
 from ..conventions import Params, columns, get
 from ..errors import UsageError, choices, visible
+from ..escape import csv_cell, markdown_text
 from ..units import DECIMALS
-from .escape import csv_cell, markdown_text
 
 if TYPE_CHECKING:
     from ..conventions.table import Table

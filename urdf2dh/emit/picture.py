@@ -19,7 +19,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import InputError, UsageError, choices
-from .escape import matplotlib_text
+from ..escape import matplotlib_text
 from .scene import Label, Scene, screen_axes
 
 __all__ = ["COLOURS", "FORMATS", "LABEL_SPACE", "Placed", "draw", "picture"]

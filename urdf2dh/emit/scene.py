@@ -22,7 +22,7 @@ the one of a few dozen from which the labels stand farthest apart.
 Bounds, so that no input takes minutes: a picture shows at most :data:`MAX_JOINTS` joints
 (a longer chain is refused with one line; its frames could not be told apart anyway), and a
 name is shown cut to :data:`NAME_CHARS` characters. Names are kept as text here; each drawing
-escapes them for its language (:mod:`urdf2dh.emit.escape`).
+escapes them for its language (:mod:`urdf2dh.escape`).
 """
 
 from __future__ import annotations

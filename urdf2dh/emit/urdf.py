@@ -29,8 +29,8 @@ from .. import units
 from .._version import __version__
 from ..conventions.table import Row, Table
 from ..errors import shown
+from ..escape import xml_attribute, xml_comment
 from ..geometry import se3
-from .escape import xml_attribute, xml_comment
 from .names import Namespace, renaming_notes
 
 __all__ = ["table_to_urdf"]

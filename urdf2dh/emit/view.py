@@ -12,7 +12,7 @@ legend shows the names and hides or shows a trace on a click):
 ``labels``       every label at its scene anchor, its text and colour per point
 
 Every text from the source reaches the figure through
-:func:`urdf2dh.emit.escape.html_text` (plotly reads text as HTML).
+:func:`urdf2dh.escape.html_text` (plotly reads text as HTML).
 """
 
 from __future__ import annotations
@@ -22,7 +22,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from .escape import html_text
+from ..escape import html_text
 from .html import offline_page, plotly_objects
 from .picture import COLOURS
 from .scene import Arrow, Scene, screen_axes

@@ -11,7 +11,7 @@ table's theta, or d for prismatic rows); ``base`` and ``tool`` are the table's 4
 from __future__ import annotations
 
 from ...conventions.table import Row, Table
-from ..escape import matlab_comment, matlab_string
+from ...escape import matlab_comment, matlab_string
 from .common import (
     Numbers,
     Options,

@@ -24,7 +24,7 @@ from __future__ import annotations
 from typing import Any
 
 from ...conventions.table import Table
-from ..escape import python_docstring, python_string
+from ...escape import python_docstring, python_string
 from ..names import Namespace, renaming_notes
 from .common import (
     Numbers,

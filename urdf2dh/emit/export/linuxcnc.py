@@ -48,8 +48,8 @@ from ... import units
 from ...conventions.base import written_angle
 from ...conventions.table import Row, Table
 from ...errors import ExportError, shown, visible
+from ...escape import hal_comment
 from ...geometry.se3 import dh_matrix, rot_x
-from ..escape import hal_comment
 from .common import (
     Numbers,
     Options,

@@ -28,7 +28,7 @@ from __future__ import annotations
 import numpy as np
 
 from ...conventions.table import Row, Table
-from ..escape import matlab_comment, matlab_string
+from ...escape import matlab_comment, matlab_string
 from ..names import Namespace, renaming_notes
 from .common import (
     Numbers,

@@ -18,7 +18,7 @@ consumers ignore: ``urdf2dh_base_transform`` (OPW's base frame in the chain's ba
 tip sits on axis 6 facing along it, as in the support packages.
 
 Names from the source appear only in comments, each line made safe by
-:func:`~urdf2dh.emit.escape.yaml_comment`.
+:func:`~urdf2dh.escape.yaml_comment`.
 """
 
 from __future__ import annotations
@@ -28,9 +28,9 @@ import numpy as np
 from ... import units
 from ...conventions.opw import GEOMETRY, OpwParameters, opw_from_poe
 from ...conventions.table import Table
+from ...escape import yaml_comment
 from ...geometry.se3 import rpy
 from ...model.poe import PoeModel
-from ..escape import yaml_comment
 from .common import Numbers, Options, require_uncoupled, yaml_float
 
 __all__ = ["render", "render_model"]

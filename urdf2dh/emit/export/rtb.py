@@ -21,7 +21,7 @@ from __future__ import annotations
 
 from ...conventions import Params
 from ...conventions.table import Row, Table
-from ..escape import python_docstring, python_string
+from ...escape import python_docstring, python_string
 from .common import (
     Numbers,
     Options,

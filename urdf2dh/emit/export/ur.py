@@ -50,9 +50,9 @@ from ... import units
 from ...conventions import Params
 from ...conventions.table import Table
 from ...errors import ExportError, shown, visible
+from ...escape import yaml_comment
 from ...geometry.se3 import dh_matrix, rot_z, rpy
 from ...tolerances import HASH_DECIMALS
-from ..escape import yaml_comment
 from .common import (
     Numbers,
     Options,

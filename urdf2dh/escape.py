@@ -43,7 +43,7 @@ import html
 import re
 from collections.abc import Iterable
 
-from ..errors import ExportError, shown, visible
+from .errors import ExportError, shown, visible
 
 __all__ = [
     "FORMULA",
