@@ -30,8 +30,8 @@ import numpy as np
 
 from .. import units
 from ..conventions import Params
+from ..conventions.grid import fixed
 from ..conventions.table import Row, Table
-from ..emit.formats import fixed
 from ..errors import InputError, UsageError, visible
 from ..io.xacro import XacroOptions
 from ..model.poe import PoeModel

@@ -32,11 +32,11 @@ from dataclasses import dataclass, replace
 import numpy as np
 from numpy.typing import NDArray
 
+from ..conventions.grid import fixed, parameter_lines
 from ..conventions.table import Table
 from ..errors import InputError
 from ..geometry import se3
 from ..units import DECIMALS
-from .formats import fixed, parameter_lines
 
 __all__ = [
     "ARROW",

@@ -14,12 +14,12 @@ import numpy as np
 
 from ...conventions import Params, get
 from ...conventions.base import written_angle, written_length
+from ...conventions.grid import summary
 from ...conventions.table import Table
 from ...errors import ExportError, UsageError, shown
 from ...geometry.se3 import pose_errors
 from ...model.mimic import Followed
 from ...tolerances import DECIMAL_ROUND_OFF, DEFAULT, Tolerances
-from ..formats import summary
 
 __all__ = [
     "Numbers",
