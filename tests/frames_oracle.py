@@ -58,7 +58,7 @@ def anchor(table: Table, frames: dict[str, np.ndarray], what: str, which: str):
     size = span(frames) or table.size
     arrow = ARROW * size
     if what == "J":
-        f = table.frames()[int(which) - 1]
+        f = table.joint_frames()[int(which) - 1]
         return f[:3, 3], -f[:3, 2], JOINT_AXIS * size + LABEL_GAP * arrow
     f = frames[which]
     length = (TOOL_ARROW if which == "tool" else 1.0) * arrow

@@ -66,7 +66,7 @@ def test_frames_follow_the_table():
     for got, want in zip(frames, fk_frames(table).values(), strict=True):
         np.testing.assert_allclose(got, want, atol=1e-15)
     # standard D-H: frame k-1's z is joint k's axis
-    for f, g in zip(frames[:-2], table.frames()[:-1], strict=True):
+    for f, g in zip(frames[:-2], table.joint_frames()[:-1], strict=True):
         np.testing.assert_allclose(f, g, atol=1e-15)
 
 

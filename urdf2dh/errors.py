@@ -22,6 +22,7 @@ __all__ = [
     "UsageError",
     "VerificationError",
     "choices",
+    "missing",
     "one_line",
     "shown",
     "visible",
@@ -134,3 +135,10 @@ def one_line(text: str) -> str:
         return line
     keep = MESSAGE_LENGTH // 2
     return f"{line[:keep]} ... ({len(line):,} characters) ... {line[-keep:]}"
+
+
+def missing(what: str, package: str, extra: str | None = None) -> InputError:
+    """The error for an optional dependency that is not installed: what needs it (``"the
+    picture"``) and how to install it (``extra``: urdf2dh's optional dependency that brings it)."""
+    also = f" (or pip install 'urdf2dh[{extra}]')" if extra else ""
+    return InputError(f"{what} needs {package}; install it with: pip install {package}{also}")

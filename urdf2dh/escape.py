@@ -41,7 +41,7 @@ from __future__ import annotations
 
 import html
 import re
-from collections.abc import Iterable
+from collections.abc import Iterable, Sequence
 
 from .errors import ExportError, shown, visible
 
@@ -53,6 +53,7 @@ __all__ = [
     "csv_text",
     "hal_comment",
     "html_text",
+    "markdown_table",
     "markdown_text",
     "matlab_comment",
     "matlab_string",
@@ -256,6 +257,14 @@ def markdown_text(text: str) -> str:
     left = len(text) - len(text.lstrip(" "))
     right = len(text) - len(text.rstrip(" ")) if body else 0
     return "&#32;" * left + body + "&#32;" * right
+
+
+def markdown_table(head: Sequence[str], body: Iterable[Sequence[str]], texts: int = 1) -> list[str]:
+    """The lines of a Markdown (GitHub) table: ``head`` and the rows of ``body`` as given (each
+    cell Markdown already: a name through :func:`markdown_text`), the first ``texts`` columns
+    left-aligned, the others (numbers) right-aligned."""
+    align = "|" + "|".join("---" if i < texts else "---:" for i in range(len(head))) + "|"
+    return ["| " + " | ".join(head) + " |", align, *("| " + " | ".join(r) + " |" for r in body)]
 
 
 # what spreadsheets read as the start of a formula (OWASP, "CSV Injection"), the full-width

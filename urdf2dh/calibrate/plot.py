@@ -19,7 +19,8 @@ import io
 from typing import TYPE_CHECKING, Any
 
 from ..emit.html import offline_page, plotly_objects
-from ..errors import InputError, UsageError
+from ..emit.picture import matplotlib_figure
+from ..errors import UsageError
 from ..escape import html_text, matplotlib_text
 
 if TYPE_CHECKING:
@@ -64,13 +65,7 @@ def _panels(cal: Calibration) -> dict[str, Any]:
 
 
 def _png(cal: Calibration) -> bytes:
-    try:
-        from matplotlib.backends.backend_agg import FigureCanvasAgg
-        from matplotlib.figure import Figure
-    except ImportError as e:  # pragma: no cover - matplotlib is a test dependency
-        raise InputError(
-            "calibrate --plot FILE.png needs matplotlib; install it with: pip install matplotlib"
-        ) from e
+    Figure, FigureCanvasAgg = matplotlib_figure("the calibration's picture")
     d = _panels(cal)
     unit = matplotlib_text(d["unit"])
     fig = Figure(figsize=(13, 4.6), layout="constrained")
@@ -106,7 +101,7 @@ def _png(cal: Calibration) -> bytes:
 
 
 def _html(cal: Calibration) -> bytes:
-    go = plotly_objects("calibrate --plot FILE.html")
+    go = plotly_objects("the calibration's interactive page")
     from plotly.subplots import make_subplots
 
     d = _panels(cal)

@@ -30,12 +30,12 @@ import numpy as np
 
 from .. import units
 from ..conventions import Params
-from ..conventions.grid import fixed
 from ..conventions.table import Row, Table
 from ..errors import InputError, UsageError, visible
 from ..io.xacro import XacroOptions
 from ..model.poe import PoeModel
 from ..tolerances import DIFF_LENGTH_M, DIFF_ROUND_OFF, Tolerances
+from ..units import fixed
 
 __all__ = [
     "SCHEMA",

@@ -13,15 +13,14 @@ from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 from ..errors import visible
-from ..escape import markdown_text
-from ..units import DECIMALS
+from ..escape import markdown_table, markdown_text
+from ..units import DECIMALS, fixed
 from . import Params, columns, get
 
 if TYPE_CHECKING:
     from .table import Table
 
 __all__ = [
-    "fixed",
     "flat_columns",
     "flat_params",
     "markdown",
@@ -76,14 +75,6 @@ def _forms(table: Table) -> bool:
 
 
 # --------------------------------------------------------------------------- for people
-
-
-def fixed(value: float, decimals: int, sign: str = "") -> str:
-    """``value`` with ``decimals`` decimals, never printed as ``-0.000``."""
-    text = f"{value:{sign}.{decimals}f}"
-    if float(text) == 0.0:
-        return f"{0.0:{sign}.{decimals}f}"
-    return text
 
 
 def _cell(quantity: str, value: float, unit: str) -> str:
@@ -200,10 +191,7 @@ def markdown(table: Table) -> str:
     head, body = _grid(table, markdown_text)
     head[0] = "row"
     out = [f"**{_title(table, markdown_text)}** — {get(table.convention).title}", ""]
-    out.append("| " + " | ".join(head) + " |")
-    texts = 4 if _forms(table) else 3
-    out.append("|" + "|".join("---" if i < texts else "---:" for i in range(len(head))) + "|")
-    out.extend("| " + " | ".join(r) + " |" for r in body)
+    out += markdown_table(head, body, 4 if _forms(table) else 3)
     lines = summary(table)
     if lines:
         out.append("")

@@ -20,13 +20,14 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..checks import check_configurations, check_count, check_instance, check_real
-from ..errors import shown
+from ..errors import missing, shown
 from ..geometry import frames, se3
 from ..model._fastfk import chain_fk
 from ..model.mimic import Mimic, actuated, row_positions
 from ..model.poe import Joint, JointKind, JointMotion, PoeModel, check_motion
 from ..tolerances import DEFAULT
 from . import Convention, Params, get
+from .grid import flat_columns, markdown, records
 
 __all__ = ["SCHEMA", "Check", "Row", "Table"]
 
@@ -198,9 +199,9 @@ class Table:
         q = check_configurations(q, self.dof, "Table.fk: q")
         return se3.fk_of_stack(self._fk_batch, q, self.dof)
 
-    def frames(self) -> list[Mat]:
-        """Home-pose frames ``(4, 4)``: for each joint, the frame whose z axis is its axis
-        (``B A_1``, ...), then the tool."""
+    def joint_frames(self) -> list[Mat]:
+        """Home-pose frames ``(4, 4)``: for each joint, the frame whose z axis is its axis (the
+        frame just before ``Q_i``: ``B A_1``, ...), then the tool."""
         links = self.link_form()[0]
         out, f = [], np.eye(4)
         for g in links[:-1]:
@@ -212,7 +213,7 @@ class Table:
     def to_poe(self) -> PoeModel:
         """The equivalent POE model: joint ``i`` moves about the z axis of the frame just before
         ``Q_i``, and ``M`` is the home pose (Sumenkov §III-B; Wu 2019 §II)."""
-        poses = self.frames()
+        poses = self.joint_frames()
         joints = tuple(
             Joint(r.name, r.kind, f[:3, 2].copy(), f[:3, 3].copy(), r.pitch, r.scale, r.lower,
                   r.upper, r.mimic)
@@ -230,6 +231,35 @@ class Table:
         unit = np.abs(np.abs(out[:3, :3]) - 1.0) <= within
         out[:3, :3] = np.where(unit, np.sign(out[:3, :3]), out[:3, :3])
         return (out + 0.0).tolist()
+
+    def _repr_markdown_(self) -> str:
+        """In a notebook: the table as ``--format markdown`` writes it (names escaped)."""
+        return markdown(self)
+
+    def to_dataframe(self) -> Any:
+        """The table as a ``pandas.DataFrame``: a row each for the base, the joints and the tool,
+        the columns of ``--format csv`` (``row``, ``joint``, ``type``, ``pitch``, ``scale``,
+        then every parameter, vectors as ``_x``, ``_y``, ``_z``), in radians and the table's
+        length unit; a parameter a row does not have is ``NaN``.
+
+        Raises
+        ------
+        InputError
+            pandas is not installed (it is an optional dependency: ``pip install pandas``).
+        """
+        try:
+            import pandas as pd
+        except ImportError as e:
+            raise missing("Table.to_dataframe", "pandas", "dataframe") from e
+        cols = [name for name, _ in flat_columns(self)]
+        data = [
+            {"row": label, "joint": joint, "type": kind, "pitch": pitch, "scale": scale,
+             **{c: params.get(c, np.nan) for c in cols}}
+            for label, joint, kind, pitch, scale, params, _ in records(self)
+        ]  # fmt: skip
+        frame = pd.DataFrame(data, columns=["row", "joint", "type", "pitch", "scale", *cols])
+        frame.attrs.update(convention=self.convention, length_unit=self.length_unit)
+        return frame
 
     def to_dict(self) -> dict[str, Any]:
         """The SPEC §2 tree (what ``--format json`` and ``--format yaml`` write)."""

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from ..errors import InputError
+from ..errors import missing
 from ..escape import html_text
 
 __all__ = ["CSP", "DIV_ID", "offline_page", "plotly_objects"]
@@ -50,10 +50,7 @@ def plotly_objects(what: str) -> Any:
     try:
         import plotly.graph_objects as go
     except ImportError as e:
-        raise InputError(
-            f"{what} needs plotly; install it with: pip install plotly "
-            "(or pip install 'urdf2dh[plot]')"
-        ) from e
+        raise missing(what, "plotly", "plot") from e
     return go
 
 

@@ -32,11 +32,11 @@ from dataclasses import dataclass, replace
 import numpy as np
 from numpy.typing import NDArray
 
-from ..conventions.grid import fixed, parameter_lines
+from ..conventions.grid import parameter_lines
 from ..conventions.table import Table
 from ..errors import InputError
 from ..geometry import se3
-from ..units import DECIMALS
+from ..units import DECIMALS, fixed
 
 __all__ = [
     "ARROW",
@@ -249,7 +249,7 @@ def _joints(table: Table, span: float, length: float) -> tuple[list[JointAxis], 
     """Each joint's axis through the frame whose z axis it is, labelled at its far end from
     that frame's z arrow."""
     joints, labels = [], []
-    for i, (row, f) in enumerate(zip(table.rows, table.frames()[:-1], strict=True), 1):
+    for i, (row, f) in enumerate(zip(table.rows, table.joint_frames()[:-1], strict=True), 1):
         p, z = f[:3, 3], f[:3, 2]
         ends = np.array([p - JOINT_AXIS * span * z, p + JOINT_AXIS * span * z])
         joints.append(JointAxis(i, short(row.name), row.kind, ends))

@@ -58,7 +58,7 @@ def table_to_urdf(table: Table) -> tuple[str, list[str]]:
     """URDF text for ``table`` (in metres, as URDF requires) and the notes about what URDF
     could not say directly."""
     metres = units.metres_per(table.length_unit)
-    frames = [f.copy() for f in table.frames()]
+    frames = [f.copy() for f in table.joint_frames()]
     for f in frames:
         f[:3, 3] *= metres
     link_names = Namespace("urdf", "link", [n for n in (table.base_link, table.tip_link) if n])

@@ -31,8 +31,10 @@ from ..checks import (
     check_seed,
 )
 from ..errors import InputError, shown
+from ..escape import markdown_table, markdown_text
 from ..geometry import frames, se3
 from ..tolerances import JOINT_POSITIONS, RIGID_INPUT
+from ..units import DECIMALS, fixed
 from ._fastfk import chain_fk
 from .mimic import Mimic, actuated, row_positions
 
@@ -210,6 +212,34 @@ class PoeModel:
                     f"joint {shown(j.name)} mimics {shown(j.mimic.joint)}, not an actuated joint "
                     "of the chain"
                 )
+
+    def _repr_markdown_(self) -> str:
+        """In a notebook: the joints as a table (axis, a point on it, pitch, scale, limits,
+        whom a joint mimics) and the tip's home pose; names escaped."""
+        unit, text = self.length_unit, markdown_text
+        places = DECIMALS.get(unit, 6)
+
+        def vector(v: NDArray[np.float64] | None, decimals: int) -> str:
+            return "" if v is None else "(" + ", ".join(fixed(float(x), decimals) for x in v) + ")"
+
+        head = ["", "joint", "type", "axis", f"point [{text(unit)}]", f"pitch [{text(unit)}/rad]",
+                "scale", "limits", "mimics (q = m q_leader + o)"]  # fmt: skip
+        body = []
+        for i, j in enumerate(self.joints, 1):
+            limits = "" if j.lower is None or j.upper is None else f"[{j.lower:.6g}, {j.upper:.6g}]"
+            m = j.mimic
+            follows = "" if m is None else f"{text(m.joint)} m={m.multiplier:g} o={m.offset:g}"
+            body.append([str(i), text(j.name), j.kind, vector(j.axis, 6), vector(j.point, places),
+                         f"{j.pitch:.6g}" if j.kind == "helical" else "", f"{j.scale:.8g}",
+                         limits, follows])  # fmt: skip
+        chain = f" {text(self.base_link)} -> {text(self.tip_link)}" if self.base_link else ""
+        out = [f"**{text(self.name or 'POE model')}**{chain}: POE model, {self.n} joints", ""]
+        out += markdown_table(head, body, 3)
+        home = self.home
+        out += ["", f"tip at home: origin {vector(home[:3, 3], places)} {text(unit)}, z axis "
+                f"{vector(home[:3, 2], 6)}"]  # fmt: skip
+        out += [f"- {text(w)}" for w in self.warnings]
+        return "\n".join(out) + "\n"
 
     def _once(self, key: str, compute: Callable[[], _T]) -> _T:
         """``compute()``, computed once for this model (its fields are frozen)."""
