@@ -348,7 +348,7 @@ def verify_run(samples: int, runs: int, repeat: int) -> list[Figure]:
         q = model.sample(count, 3)
 
         def ours_only(count: int = count) -> object:
-            return verify(source, model, count)
+            return verify(source, samples=count)
 
         def pinocchio_only(q: np.ndarray = q) -> object:
             return pinocchio_fk(source, model, q)

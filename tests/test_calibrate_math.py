@@ -21,7 +21,6 @@ from urdf2dh.calibrate.chart import (
     retract,
 )
 from urdf2dh.calibrate.residuals import Data, evaluate, model_poses
-from urdf2dh.check.info import identifiability
 from urdf2dh.conventions.convert import to_table
 from urdf2dh.geometry.lie import (
     exp_so3,
@@ -33,6 +32,7 @@ from urdf2dh.geometry.lie import (
     rotation_of,
 )
 from urdf2dh.geometry.se3 import twist_exp
+from urdf2dh.model.identifiability import Identifiability
 from urdf2dh.model.poe import Joint, PoeModel
 
 
@@ -209,7 +209,7 @@ def test_pose_count_is_wu_eq_23_and_the_jacobian_has_that_rank(robot):
     added as further parameters leave the rank unchanged: the model absorbs them."""
     model = urdf2dh.load(robot)
     est = estimate(model)
-    assert count(est) == identifiability(model)["maximum"]
+    assert count(est) == Identifiability.of(j.kind for j in model.joints).maximum
     q = model.sample(30, 6)
     poses = model_poses(est, q)
     data = Data(q, poses[:, :3, 3], poses[:, :3, :3])

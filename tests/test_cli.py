@@ -158,14 +158,12 @@ def test_output_file_gets_the_usual_permissions(tmp_path, capsys):
 def test_verify_checks_the_written_table_at_configurations_of_its_own():
     import numpy as np
 
-    from urdf2dh.check.verify import VERIFY_STREAM, verify
-    from urdf2dh.io.sources import open_source
+    from urdf2dh.check.verify import VERIFY_STREAM
 
-    source = open_source("so100")
-    model = source.model()
-    results = verify(source, model, samples=300, seed=0, check_samples=150)
-    assert [r.table.check.samples for r in results[1:]] == [150] * len(CONVENTIONS)
-    assert all(r.ok for r in results)
+    model = urdf2dh.load("so100")
+    report = urdf2dh.verify("so100", samples=300, seed=0, check_samples=150)
+    assert [c.table.check.samples for c in report.checks[1:]] == [150] * len(CONVENTIONS)
+    assert report.ok
     ours = model.sample(300, (0, VERIFY_STREAM))
     checks = model.sample(300, 0)
     assert not np.allclose(ours, checks)

@@ -9,13 +9,14 @@ import numpy as np
 import pytest
 from oracle import assert_fk_matches, pin_reference
 
-from urdf2dh.check.info import identifiability
+import urdf2dh
 from urdf2dh.cli import main
 from urdf2dh.conventions import NAMES as CONVENTIONS
 from urdf2dh.conventions.convert import to_table
 from urdf2dh.emit.urdf import table_to_urdf
 from urdf2dh.geometry.se3 import rpy
 from urdf2dh.io.sources import open_source
+from urdf2dh.model.identifiability import BASE, TOOL
 
 ROBOTS = ["ur5", "panda", "stanford", "scara", "tiago-arm", "puma560-actual", "puma560-nominal"]
 
@@ -99,11 +100,13 @@ def test_rpy_round_trip_including_gimbal_lock():
 
 def test_identifiability_counts():
     # Wu 2019 eq. (23) and (22): PUMA actual has r = 2, h = 4
-    ident = identifiability(open_source("puma560-actual").model())
-    assert (ident["maximum"], ident["conventional"]) == (5 * 4 + 4 * 2 + 6 + 6, 4 * 6 + 6)
-    ident = identifiability(open_source("stanford").model())  # 5 revolute, 1 prismatic
-    assert (ident["maximum"], ident["conventional"]) == (4 * 5 + 2 + 6 + 6, 4 * 5 + 2 + 6)
-    assert (ident["base"], ident["tool"]) == (4, 2)
+    ident = urdf2dh.info("puma560-actual").identifiable
+    assert ident is not None
+    assert (ident.maximum, ident.conventional) == (5 * 4 + 4 * 2 + 6 + 6, 4 * 6 + 6)
+    ident = urdf2dh.info("stanford").identifiable  # 5 revolute, 1 prismatic
+    assert ident is not None
+    assert (ident.maximum, ident.conventional) == (4 * 5 + 2 + 6 + 6, 4 * 5 + 2 + 6)
+    assert (BASE, TOOL) == (4, 2)
 
 
 def test_table_file_errors(tmp_path, capsys):

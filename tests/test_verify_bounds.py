@@ -14,6 +14,7 @@ import pinocchio as pin
 import pytest
 from chains import random_chain_urdf
 
+import urdf2dh
 from urdf2dh.check import verify as verify_module
 from urdf2dh.check.verify import _frame_poser, pinocchio_fk
 from urdf2dh.cli import main
@@ -117,11 +118,10 @@ def test_a_poe_chain_beyond_the_bound_is_refused_naming_it():
     }
     poe = read_poe(data, "long.yaml")
     source = Source("poe", "long.yaml", "long", poe=poe)
-    from urdf2dh.check.verify import verify
     from urdf2dh.errors import InputError
 
     with pytest.raises(InputError, match=r"^long\.yaml: the chain has 2,001 joints; verify "):
-        verify(source, poe, samples=10)
+        urdf2dh.verify(source, samples=10)
 
 
 @pytest.mark.parametrize("robot", ["puma560-actual", "tiago-arm", "kinova"])

@@ -9,10 +9,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from urdf2dh.check.verify import verify
+import urdf2dh
 from urdf2dh.cli import main
 from urdf2dh.errors import InputError
 from urdf2dh.io.sources import open_source
+from urdf2dh.io.xacro import XacroOptions
 
 DATA = Path(__file__).parent / "data" / "xacro"
 XACRO = str(DATA / "demo_arm.urdf.xacro")
@@ -29,9 +30,8 @@ def test_xacro_gives_the_same_chain_as_its_expansion():
 
 
 def test_xacro_source_verifies_against_pinocchio():
-    source = open_source(XACRO, package_paths=PACKAGES)
-    results = verify(source, source.model(), samples=100)
-    assert all(r.ok for r in results), [(r.label, r.position, r.rotation) for r in results]
+    report = urdf2dh.verify(XACRO, samples=100, xacro=XacroOptions(packages=PACKAGES))
+    assert report.ok, [(c.label, c.position, c.rotation) for c in report.checks]
 
 
 def test_missing_package_names_it_and_the_option(capsys, tmp_path):

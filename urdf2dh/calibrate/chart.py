@@ -58,6 +58,7 @@ from numpy.typing import NDArray
 from ..errors import InputError
 from ..geometry.lie import cross3, cross_rows, exp_so3, left_jacobian, log_se3
 from ..geometry.se3 import twist_exp
+from ..model.identifiability import LINE_PARAMETERS
 from ..model.poe import Joint
 
 __all__ = [
@@ -297,7 +298,7 @@ class Estimate:
 
 
 def _joint_size(kind: str, level: Level) -> int:
-    lines = {"revolute": 4, "helical": 5, "prismatic": 2}[kind] if level.lines else 0
+    lines = LINE_PARAMETERS[kind] if level.lines else 0
     return lines + int(level.offsets) + int(level.scales)
 
 

@@ -30,6 +30,7 @@ from numpy.typing import NDArray
 from ..check.diff import Diff
 from ..conventions.table import Table
 from ..errors import UsageError, visible
+from ..model.identifiability import LINE_PARAMETERS
 from ..model.poe import PoeModel
 from ..tolerances import DIFF_ANGLE_DEG, POORLY_IDENTIFIED, Tolerances
 from .chart import Estimate, absorbed, local_coordinates
@@ -63,12 +64,8 @@ def formula(est: Estimate) -> str:
     if level.base:
         terms.append(("base 6", "6", 6))
     if level.lines:
-        for label, size, kind in (
-            ("5h", 5, "helical"),
-            ("4r", 4, "revolute"),
-            ("2t", 2, "prismatic"),
-        ):
-            terms.append((label, f"{size}*{kinds[kind]}", size * kinds[kind]))
+        for kind, size in LINE_PARAMETERS.items():
+            terms.append((f"{size}{kind[0]}", f"{size}*{kinds[kind]}", size * kinds[kind]))
     if level.offsets:
         terms.append(("offsets n", str(est.n), est.n))
     if level.scales:

@@ -24,12 +24,22 @@ from typing import Any, TypeVar
 import numpy as np
 from numpy.typing import NDArray
 
+from ..checks import (
+    check_count,
+    check_flag,
+    check_instance,
+    check_optional_name,
+    check_seed,
+    check_source,
+)
 from ..conventions import NAMES
 from ..conventions.convert import to_table
-from ..conventions.table import Check, Table
-from ..errors import InputError, shown
-from ..io.sources import Source
+from ..conventions.table import Table
+from ..errors import InputError, shown, visible
+from ..escape import markdown_table, markdown_text
+from ..io.sources import Source, open_source
 from ..io.urdf.chain import final_leader
+from ..io.xacro import XacroOptions
 from ..model.fk import BLOCK, chains_errors
 from ..model.mimic import Mimic, actuated
 from ..model.poe import PoeModel
@@ -37,8 +47,10 @@ from ..progress import progress
 from ..tolerances import DEFAULT, EPS, VERIFY_JOINTS, Tolerances
 
 __all__ = [
-    "Result",
+    "ModelCheck",
+    "VerifyReport",
     "check_verifiable",
+    "compare_with_pinocchio",
     "native_stderr",
     "pinocchio_evaluator",
     "pinocchio_fk",
@@ -337,8 +349,22 @@ def _oracle_rounding(source: Source, poe: PoeModel) -> float:
 
 
 @dataclass(frozen=True, slots=True)
-class Result:
-    """Worst errors of one model against Pinocchio, and whether they are within tolerance."""
+class ModelCheck:
+    """One model (the POE model, or a convention's table) against Pinocchio: its worst errors
+    and what it was allowed.
+
+    Attributes
+    ----------
+    label
+        ``POE model``, or the table's convention.
+    position, rotation
+        The worst position error (length unit) and rotation error (rad) over the configurations.
+    allowed_position, allowed_rotation
+        What was allowed: ``check_position`` x size and ``check_rotation``, plus the deviation
+        the table declared, plus Pinocchio's own rounding far from the URDF's root.
+    table
+        The table checked (``None`` for the POE model): as ``convert`` writes it.
+    """
 
     label: str
     position: float
@@ -349,10 +375,98 @@ class Result:
 
     @property
     def ok(self) -> bool:
+        """Whether both errors are within what was allowed."""
         return self.position <= self.allowed_position and self.rotation <= self.allowed_rotation
 
 
-def verify(
+@dataclass(frozen=True, slots=True)
+class VerifyReport:
+    """The result of :func:`verify`: every model of one chain against Pinocchio.
+
+    Attributes
+    ----------
+    robot, source
+        The SOURCE's name and file.
+    base_link, tip_link
+        The chain's links (empty for a POE or table file).
+    joints
+        Its movable joints.
+    length_unit, size
+        Its length unit and size (what position errors are measured against).
+    samples, seed
+        The configurations compared: how many, and the seed they were drawn with.
+    checks
+        The POE model's check, then each convention's.
+    """
+
+    robot: str
+    source: str
+    base_link: str
+    tip_link: str
+    joints: int
+    length_unit: str
+    size: float
+    samples: int
+    seed: int
+    checks: tuple[ModelCheck, ...]
+
+    @property
+    def ok(self) -> bool:
+        """Whether every model agrees with Pinocchio."""
+        return all(c.ok for c in self.checks)
+
+    @property
+    def failed(self) -> tuple[str, ...]:
+        """The labels of the models that do not."""
+        return tuple(c.label for c in self.checks if not c.ok)
+
+    @property
+    def chain(self) -> str:
+        """``base -> tip`` (names as :func:`~urdf2dh.errors.visible` text), or ``""``."""
+        v = visible
+        return f"{v(self.base_link)} -> {v(self.tip_link)}" if self.base_link else ""
+
+    def warnings(self) -> tuple[str, ...]:
+        """The tables' warnings, in order."""
+        return tuple(w for c in self.checks if c.table is not None for w in c.table.warnings)
+
+    def lines(self) -> list[str]:
+        """The report ``urdf2dh verify`` prints for the chain (names as
+        :func:`~urdf2dh.errors.visible` text)."""
+        v = visible
+        unit = v(self.length_unit)
+        chain = f"{self.chain}, " if self.chain else ""
+        out = [
+            f"{v(self.robot)}: {chain}{self.joints} joints; against Pinocchio at {self.samples} "
+            f"configurations (seed {self.seed}); robot size {self.size:.4g} {unit}",
+            f"  {'model':<10} {'position error':>16} {'relative':>10} {'rotation error':>16}  "
+            "result",
+        ]
+        for c in self.checks:
+            out.append(
+                f"  {c.label:<10} {c.position:>13.2e} {unit:<2} {c.position / self.size:>10.2e} "
+                f"{c.rotation:>12.2e} rad  {'ok' if c.ok else 'FAILED'}"
+            )
+        out.extend(f"  warning: {v(w)}" for w in self.warnings())
+        return out
+
+    def _repr_markdown_(self) -> str:
+        """In a notebook: each model's errors against Pinocchio as a table (names escaped)."""
+        t, unit = markdown_text, markdown_text(self.length_unit)
+        chain = f" {t(self.base_link)} -> {t(self.tip_link)}" if self.base_link else ""
+        out = [f"**{t(self.robot)}**{chain}: against Pinocchio at {self.samples} configurations "
+               f"(seed {self.seed}), robot size {self.size:.4g} {unit}", ""]  # fmt: skip
+        rows = [[c.label, f"{c.position:.2e}", f"{c.position / self.size:.2e}",
+                 f"{c.rotation:.2e}", f"{c.allowed_position:.2g}", "ok" if c.ok else "**FAILED**"]
+                for c in self.checks]  # fmt: skip
+        out += markdown_table(
+            ["model", f"position error [{unit}]", "relative", "rotation error [rad]",
+             f"allowed [{unit}]", "result"], rows)  # fmt: skip
+        out += [f"- {t(w)}" for w in self.warnings()]
+        return "\n".join(out) + "\n"
+
+
+def compare_with_pinocchio(
     source: Source,
     poe: PoeModel,
     samples: int = 1000,
@@ -360,8 +474,8 @@ def verify(
     tol: Tolerances = DEFAULT,
     conventions: tuple[str, ...] = NAMES,
     check_samples: int | None = None,
-) -> list[Result]:
-    """The source's POE model and each convention's table against Pinocchio.
+) -> tuple[ModelCheck, ...]:
+    """The source's POE model ``poe`` and each convention's table against Pinocchio.
 
     The tables are the ones ``convert`` writes (their own self-check included); Pinocchio is
     asked at configurations from a separate random stream, so that a declared deviation is
@@ -384,11 +498,81 @@ def verify(
     (model_pos, model_rot), *table_errors = ((float(p), float(r)) for p, r in worst)
     base_pos = tol.check_position * poe.size() + _oracle_rounding(source, poe)
     base_rot = tol.check_rotation
-    results = [Result("POE model", model_pos, model_rot, base_pos, base_rot, None)]
+    checks = [ModelCheck("POE model", model_pos, model_rot, base_pos, base_rot, None)]
     for table, (pos, rot) in zip(tables, table_errors, strict=True):
-        declared = table.check or Check(0, 0.0, 0.0)
-        results.append(Result(
-            table.convention, pos, rot,
-            base_pos + declared.declared_position, base_rot + declared.declared_rotation, table,
-        ))  # fmt: skip
-    return results
+        check = table.check
+        declared = (0.0, 0.0) if check is None else (check.declared_position,
+                                                     check.declared_rotation)  # fmt: skip
+        checks.append(ModelCheck(table.convention, pos, rot, base_pos + declared[0],
+                                 base_rot + declared[1], table))  # fmt: skip
+    return tuple(checks)
+
+
+def verify(
+    source: str | os.PathLike[str] | Source,
+    base: str | None = None,
+    tip: str | None = None,
+    ignore_mimic: bool = False,
+    *,
+    samples: int = 1000,
+    seed: int = 0,
+    tol: Tolerances = DEFAULT,
+    conventions: tuple[str, ...] = NAMES,
+    check_samples: int | None = None,
+    xacro: XacroOptions | None = None,
+) -> VerifyReport:
+    """The chain ``base -> tip`` of a SOURCE and each convention's table of it, against
+    Pinocchio's forward kinematics at ``samples`` seeded configurations within the joint limits.
+
+    For a URDF, Pinocchio parses the same URDF text itself, so the check covers the URDF's
+    loading too; for a POE or table file, its model is assembled joint by joint from the screws.
+
+    Parameters
+    ----------
+    source
+        A URDF or ``.xacro`` file, a POE model file, a table file, a bundled robot's name, or a
+        SOURCE already opened (:func:`urdf2dh.io.sources.open_source`).
+    base, tip, ignore_mimic
+        The chain, as :func:`urdf2dh.load` takes them.
+    samples, seed
+        Configurations compared (1 to :data:`~urdf2dh.tolerances.MAX_SAMPLES`) and their seed
+        (drawn apart from each table's self-check).
+    tol
+        The tolerances of the conversions and of the comparison.
+    conventions
+        The conventions whose tables are checked (default: all).
+    check_samples
+        Configurations of each table's self-check (default: :func:`urdf2dh.to_table`'s).
+    xacro
+        How ``.xacro`` sources are expanded.
+
+    Returns
+    -------
+    VerifyReport
+        Every model's worst errors and what it was allowed; ``ok`` when all agree.
+
+    Raises
+    ------
+    Urdf2DhError
+        A SOURCE or chain that cannot be read (:class:`~urdf2dh.errors.InputError`,
+        :class:`~urdf2dh.errors.ChainError`), a chain beyond
+        :data:`~urdf2dh.tolerances.VERIFY_JOINTS` joints, or a table that failed its own check
+        (:class:`~urdf2dh.errors.ConversionError`).
+    TypeError, ValueError
+        An argument of the wrong type or out of range.
+    """
+    check_count(samples, "verify: samples")
+    check_seed(seed, "verify: seed")
+    check_instance(tol, Tolerances, "verify: tol", "urdf2dh.Tolerances(...) or urdf2dh.DEFAULT")
+    if not isinstance(source, Source):
+        source = open_source(check_source(source, "verify: source"), tol, xacro=xacro)
+    model = source.model(
+        check_optional_name(base, "verify: base"),
+        check_optional_name(tip, "verify: tip"),
+        check_flag(ignore_mimic, "verify: ignore_mimic"),
+    )
+    checks = compare_with_pinocchio(source, model, samples, seed, tol, conventions, check_samples)
+    return VerifyReport(
+        source.name, source.display, model.base_link, model.tip_link, model.n, model.length_unit,
+        model.size(), samples, seed, checks,
+    )  # fmt: skip

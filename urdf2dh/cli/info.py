@@ -16,8 +16,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..check.info import describe
+    from ..check.info import info
 
-    source = options.source(args)
-    write_stdout(describe(source, args.base, args.tip, args.ignore_mimic))
+    write_stdout(info(options.source(args), args.base, args.tip, args.ignore_mimic).text())
     return 0

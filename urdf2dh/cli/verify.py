@@ -13,7 +13,6 @@ from .run import say
 
 if TYPE_CHECKING:
     from ..io.sources import Source
-    from ..model.poe import PoeModel
     from ..tolerances import Tolerances
 
 NAME = "verify"
@@ -43,8 +42,7 @@ def run(args: argparse.Namespace) -> int:
     tol = options.tolerances(args)
     source = options.source(args, tol)
     if not several_of(args):
-        model = source.model(args.base, one_tip(args), args.ignore_mimic)
-        if _verify_chain(args, source, model, tol):
+        if _verify_chain(args, source, args.base, one_tip(args), tol):
             say("verify: all conventions agree with Pinocchio")
             return 0
         return 1
@@ -58,7 +56,7 @@ def run(args: argparse.Namespace) -> int:
             say()
         try:
             with naming_tip(model.tip_link):
-                ok = _verify_chain(args, source, model, tol)
+                ok = _verify_chain(args, source, model.base_link, model.tip_link, tol)
         except TipError as e:
             if e.exit_code != 1:
                 raise
@@ -78,35 +76,25 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _verify_chain(
-    args: argparse.Namespace, source: Source, model: PoeModel, tol: Tolerances
+    args: argparse.Namespace, source: Source, base: str | None, tip: str | None, tol: Tolerances
 ) -> bool:
     """Verify one chain and print its report; whether every model agrees with Pinocchio."""
     from ..check.verify import verify
-    from ..errors import visible as v
+    from ..errors import visible
 
-    results = verify(source, model, args.samples, args.seed, tol, check_samples=args.check_samples)
-    unit, size = v(model.length_unit), model.size()
-    chain = f"{v(model.base_link)} -> {v(model.tip_link)}, " if model.base_link else ""
-    say(
-        f"{v(source.name)}: {chain}{model.n} joints; against Pinocchio at {args.samples} "
-        f"configurations (seed {args.seed}); robot size {size:.4g} {unit}"
+    report = verify(
+        source, base, tip, args.ignore_mimic, samples=args.samples, seed=args.seed, tol=tol,
+        check_samples=args.check_samples,
+    )  # fmt: skip
+    for line in report.lines():
+        say(line)
+    if report.ok:
+        return True
+    where = f" on {report.chain}" if report.chain and several_of(args) else ""
+    print(
+        f"verify: FAILED{where} for {', '.join(report.failed)} (allowed "
+        f"{report.checks[0].allowed_position:.2g} {visible(report.length_unit)} + declared "
+        "deviations)",
+        file=sys.stderr,
     )
-    say(f"  {'model':<10} {'position error':>16} {'relative':>10} {'rotation error':>16}  result")
-    for r in results:
-        say(
-            f"  {r.label:<10} {r.position:>13.2e} {unit:<2} {r.position / size:>10.2e} "
-            f"{r.rotation:>12.2e} rad  {'ok' if r.ok else 'FAILED'}"
-        )
-    for r in results:
-        for w in r.table.warnings if r.table is not None else ():
-            say(f"  warning: {v(w)}")
-    failed = [r.label for r in results if not r.ok]
-    if failed:
-        where = f" on {chain[:-2]}" if chain and several_of(args) else ""
-        print(
-            f"verify: FAILED{where} for {', '.join(failed)} (allowed "
-            f"{results[0].allowed_position:.2g} {unit} + declared deviations)",
-            file=sys.stderr,
-        )
-        return False
-    return True
+    return False
