@@ -52,15 +52,15 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 import urdf2dh  # noqa: E402
-from urdf2dh.calibrate.calibration import calibrate  # noqa: E402
-from urdf2dh.calibrate.identify import identify  # noqa: E402
-from urdf2dh.calibrate.measure import perturb, synthesize  # noqa: E402
-from urdf2dh.calibrate.measurements import (  # noqa: E402
+from urdf2dh.calibration.calibration import calibrate  # noqa: E402
+from urdf2dh.calibration.identify import identify  # noqa: E402
+from urdf2dh.calibration.measure import perturb, synthesize  # noqa: E402
+from urdf2dh.calibration.measurements import (  # noqa: E402
     Measurements,
     read_measurements,
     write_measurements,
 )
-from urdf2dh.calibrate.start import Options, placement  # noqa: E402
+from urdf2dh.calibration.start import Options, placement  # noqa: E402
 from urdf2dh.conventions.convert import to_table  # noqa: E402
 from urdf2dh.emit.formats import render  # noqa: E402
 from urdf2dh.geometry.lie import log_so3, rotation_of  # noqa: E402

@@ -34,8 +34,8 @@ import numpy as np
 import yaml
 
 import urdf2dh
-from urdf2dh.calibrate.identify import moved
-from urdf2dh.calibrate.measure import perturb
+from urdf2dh.calibration.identify import moved
+from urdf2dh.calibration.measure import perturb
 from urdf2dh.cli import main as urdf2dh_main
 from urdf2dh.geometry.se3 import from_rpy, rot_z, twist_exp
 from urdf2dh.io.poefile import poe_to_dict

@@ -13,13 +13,13 @@ import yaml
 from consumers import ur_description_urdf
 
 import urdf2dh
-from urdf2dh.calibrate.calibration import calibrate
-from urdf2dh.calibrate.chart import Estimate, line_point, local_coordinates
-from urdf2dh.calibrate.identify import identify, moved
-from urdf2dh.calibrate.measure import marker_layout, perturb, synthesize
-from urdf2dh.calibrate.measurements import Measurements
-from urdf2dh.calibrate.report import to_dict
-from urdf2dh.calibrate.start import Options, placement
+from urdf2dh.calibration.calibration import calibrate
+from urdf2dh.calibration.chart import Estimate, line_point, local_coordinates
+from urdf2dh.calibration.identify import identify, moved
+from urdf2dh.calibration.measure import marker_layout, perturb, synthesize
+from urdf2dh.calibration.measurements import Measurements
+from urdf2dh.calibration.report import to_dict
+from urdf2dh.calibration.start import Options, placement
 from urdf2dh.check.papers import agrees
 from urdf2dh.conventions.convert import to_table
 from urdf2dh.emit.export import Options as ExportOptions

@@ -10,7 +10,7 @@ import pytest
 import yaml
 
 import urdf2dh
-from urdf2dh.calibrate.measurements import read_layout, read_measurements
+from urdf2dh.calibration.measurements import read_layout, read_measurements
 from urdf2dh.cli import main
 from urdf2dh.geometry.se3 import pose_errors
 

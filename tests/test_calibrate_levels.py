@@ -13,13 +13,13 @@ import numpy as np
 import pytest
 
 import urdf2dh
-from urdf2dh.calibrate.calibration import calibrate
-from urdf2dh.calibrate.chart import OFFSETS, Estimate, absorbed
-from urdf2dh.calibrate.measure import marker_layout, perturb, synthesize
-from urdf2dh.calibrate.measurements import MAX_MEASUREMENTS, Measurements, write_measurements
-from urdf2dh.calibrate.plot import plot_calibration
-from urdf2dh.calibrate.prior import Prior
-from urdf2dh.calibrate.residuals import model_poses
+from urdf2dh.calibration.calibration import calibrate
+from urdf2dh.calibration.chart import OFFSETS, Estimate, absorbed
+from urdf2dh.calibration.measure import marker_layout, perturb, synthesize
+from urdf2dh.calibration.measurements import MAX_MEASUREMENTS, Measurements, write_measurements
+from urdf2dh.calibration.plot import plot_calibration
+from urdf2dh.calibration.prior import Prior
+from urdf2dh.calibration.residuals import model_poses
 from urdf2dh.cli import main
 from urdf2dh.errors import InputError, UsageError
 from urdf2dh.geometry.se3 import pose_errors
@@ -312,9 +312,9 @@ def test_planned_configurations_identify_better_than_random_ones(ur5):
     """Over five robots as built: 15 configurations planned for the full model (D-optimal)
     against 15 random ones, the same noise: the planned ones leave smaller errors, at new
     configurations and in the parameters (the geometric mean of their deviations)."""
-    from urdf2dh.calibrate.identify import identify
-    from urdf2dh.calibrate.plan import plan
-    from urdf2dh.calibrate.start import Options
+    from urdf2dh.calibration.identify import identify
+    from urdf2dh.calibration.plan import plan
+    from urdf2dh.calibration.start import Options
 
     chosen = plan(ur5, 15, level="full", noise_pos=NOISE, noise_rot=NOISE, seed=0)
     assert chosen.configurations.shape == (15, 6) and chosen.candidates >= 500

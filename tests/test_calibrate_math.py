@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import urdf2dh
-from urdf2dh.calibrate.chart import (
+from urdf2dh.calibration.chart import (
     BASE_TOOL,
     FULL,
     GEOMETRY,
@@ -20,7 +20,7 @@ from urdf2dh.calibrate.chart import (
     local_coordinates,
     retract,
 )
-from urdf2dh.calibrate.residuals import Data, evaluate, model_poses
+from urdf2dh.calibration.residuals import Data, evaluate, model_poses
 from urdf2dh.conventions.convert import to_table
 from urdf2dh.geometry.lie import (
     exp_so3,

@@ -15,9 +15,9 @@ import pytest
 import yaml
 
 import urdf2dh
-from urdf2dh.calibrate.calibration import calibrate, holdout_split
-from urdf2dh.calibrate.measurements import Reading, read_measurements
-from urdf2dh.calibrate.report import to_dict
+from urdf2dh.calibration.calibration import calibrate, holdout_split
+from urdf2dh.calibration.measurements import Reading, read_measurements
+from urdf2dh.calibration.report import to_dict
 from urdf2dh.cli import main
 from urdf2dh.conventions import NAMES
 from urdf2dh.emit.formats import FORMATS, render

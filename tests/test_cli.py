@@ -11,6 +11,7 @@ import sys
 import pytest
 import yaml
 
+import urdf2dh
 from urdf2dh.cli import main
 from urdf2dh.conventions import NAMES as CONVENTIONS
 

@@ -74,10 +74,10 @@ __all__ = [
 ]
 
 if TYPE_CHECKING:
-    from .calibrate.calibration import Calibration, calibrate
-    from .calibrate.measure import measure
-    from .calibrate.measurements import Measurements
-    from .calibrate.plan import Plan, plan
+    from .calibration.calibration import Calibration, calibrate
+    from .calibration.measure import measure
+    from .calibration.measurements import Measurements
+    from .calibration.plan import Plan, plan
     from .check.diff import Diff, diff
     from .check.info import Info, info
     from .check.verify import ModelCheck, VerifyReport, verify
@@ -98,14 +98,14 @@ _LAZY = {
     "CONVENTIONS": ("urdf2dh.conventions", "NAMES"),
     "DEFAULT": ("urdf2dh.tolerances", "DEFAULT"),
     "EXACT": ("urdf2dh.tolerances", "EXACT"),
-    "Calibration": ("urdf2dh.calibrate.calibration", "Calibration"),
+    "Calibration": ("urdf2dh.calibration.calibration", "Calibration"),
     "Check": ("urdf2dh.conventions.table", "Check"),
     "Diff": ("urdf2dh.check.diff", "Diff"),
     "Info": ("urdf2dh.check.info", "Info"),
     "Joint": ("urdf2dh.model.poe", "Joint"),
-    "Measurements": ("urdf2dh.calibrate.measurements", "Measurements"),
+    "Measurements": ("urdf2dh.calibration.measurements", "Measurements"),
     "ModelCheck": ("urdf2dh.check.verify", "ModelCheck"),
-    "Plan": ("urdf2dh.calibrate.plan", "Plan"),
+    "Plan": ("urdf2dh.calibration.plan", "Plan"),
     "PoeModel": ("urdf2dh.model.poe", "PoeModel"),
     "Row": ("urdf2dh.conventions.table", "Row"),
     "Table": ("urdf2dh.conventions.table", "Table"),
@@ -113,13 +113,13 @@ _LAZY = {
     "Urdf2DhError": ("urdf2dh.errors", "Urdf2DhError"),
     "VerifyReport": ("urdf2dh.check.verify", "VerifyReport"),
     "XacroOptions": ("urdf2dh.io.xacro", "XacroOptions"),
-    "calibrate": ("urdf2dh.calibrate.calibration", "calibrate"),
+    "calibrate": ("urdf2dh.calibration.calibration", "calibrate"),
     "diff": ("urdf2dh.check.diff", "diff"),
     "export": ("urdf2dh.emit.export", "export"),
     "info": ("urdf2dh.check.info", "info"),
     "load": ("urdf2dh.io.sources", "load"),
-    "measure": ("urdf2dh.calibrate.measure", "measure"),
-    "plan": ("urdf2dh.calibrate.plan", "plan"),
+    "measure": ("urdf2dh.calibration.measure", "measure"),
+    "plan": ("urdf2dh.calibration.plan", "plan"),
     "plot": ("urdf2dh.emit.plot", "plot"),
     "render": ("urdf2dh.emit.formats", "render"),
     "to_table": ("urdf2dh.conventions.convert", "to_table"),

@@ -81,7 +81,7 @@ DIFF_ROUND_OFF = 1e-12
 # scaled, truncated to fewer digits or not one at all does not.
 QUATERNION_NORM = 1e-2
 
-# Identification (urdf2dh/calibrate/identify.py) has converged when the next Gauss-Newton step
+# Identification (urdf2dh/calibration/identify.py) has converged when the next Gauss-Newton step
 # would move no modelled tool point by more than CALIBRATION_STEP x robot size and no tool
 # orientation by more than CALIBRATION_STEP rad (below that, steps only chase round-off: forward
 # kinematics is itself good to ~1e-15 relative), or when every column of the (column-normalised)

@@ -187,7 +187,7 @@ def _helical(text: str, joints: tuple[str, ...]) -> tuple[str, ...]:
 
 
 def _reading(args: argparse.Namespace) -> Any:
-    from ..calibrate.measurements import Reading
+    from ..calibration.measurements import Reading
 
     return Reading(
         rename=tuple(pair for group in args.rename for pair in group),
@@ -200,10 +200,10 @@ def _reading(args: argparse.Namespace) -> Any:
 
 def run(args: argparse.Namespace) -> int:
     """``urdf2dh calibrate``: identify, convert, report (docs/calibration.md)."""
-    from ..calibrate.calibration import calibrate, check_noise
-    from ..calibrate.measurements import read_layout, read_measurements
-    from ..calibrate.prior import Prior
-    from ..calibrate.report import summary, to_dict
+    from ..calibration.calibration import calibrate, check_noise
+    from ..calibration.measurements import read_layout, read_measurements
+    from ..calibration.prior import Prior
+    from ..calibration.report import summary, to_dict
     from .options import tolerances
 
     tol = tolerances(args)
@@ -286,7 +286,7 @@ def run(args: argparse.Namespace) -> int:
 
         outputs.append((args.report, json.dumps(to_dict(cal), indent=2) + "\n"))
     if args.plot:
-        from ..calibrate.plot import plot_calibration
+        from ..calibration.plot import plot_calibration
 
         plot = plot_calibration(cal, Path(args.plot).suffix.lower().lstrip("."))
         outputs.append((args.plot, plot))

@@ -62,8 +62,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """``urdf2dh measure``: write synthetic measurements (module :mod:`.measure`)."""
-    from ..calibrate.measure import measure
-    from ..calibrate.measurements import read_configurations, write_layout, write_measurements
+    from ..calibration.measure import measure
+    from ..calibration.measurements import read_configurations, write_layout, write_measurements
 
     model = options.nominal(args)
     pose = args.measure != "position" and args.markers is None

@@ -62,8 +62,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """``urdf2dh plan``: choose configurations to measure (module :mod:`.plan`)."""
-    from ..calibrate.measurements import read_configurations, write_configurations
-    from ..calibrate.plan import plan
+    from ..calibration.measurements import read_configurations, write_configurations
+    from ..calibration.plan import plan
 
     model = options.nominal(args)
     joints = tuple(j.name for j in model.joints)

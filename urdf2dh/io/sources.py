@@ -6,10 +6,12 @@ model of the chain between the requested links.
 
 from __future__ import annotations
 
+import os
 from collections.abc import Mapping
 from dataclasses import dataclass, replace
 from pathlib import Path
 
+from ..checks import check_flag, check_instance, check_optional_name, check_source
 from ..errors import SHOWN_LENGTH, InputError, SourceError, UsageError, choices, shown
 from ..model.poe import PoeModel
 from ..tolerances import DEFAULT, Tolerances
@@ -20,7 +22,7 @@ from .mappings import read_mapping
 from .urdf import UrdfTree, parse_tree, tree_to_poe
 from .xacro import XacroOptions
 
-__all__ = ["Source", "open_source"]
+__all__ = ["Source", "load", "open_source"]
 
 
 @dataclass(frozen=True, slots=True)
@@ -139,3 +141,53 @@ def _exists(path: Path) -> bool:
         return path.exists()
     except (OSError, ValueError):
         return False
+
+
+def load(
+    source: str | os.PathLike[str],
+    base: str | None = None,
+    tip: str | None = None,
+    ignore_mimic: bool = False,
+    *,
+    tol: Tolerances = DEFAULT,
+    xacro: XacroOptions | None = None,
+) -> PoeModel:
+    """The POE model of the serial chain in a SOURCE.
+
+    Parameters
+    ----------
+    source
+        A URDF or ``.xacro`` file, a POE model file (docs/formats/poe-file.md), a table file
+        (docs/formats/table-file.md), or the name of a bundled robot (``urdf2dh robots``).
+    base, tip
+        Links that bound the chain (URDF sources). The base defaults to the bundled robot's
+        own, else the URDF's root link; the tip to the bundled robot's own, else the single
+        deepest leaf below the base (a tie between leaves is an error naming them).
+    ignore_mimic
+        Treat mimic joints on the chain as independent joints (with a warning).
+    tol
+        The tolerances of reading a POE or table file (how far from orthonormal a typed
+        rotation may be; round-off).
+    xacro
+        How ``.xacro`` sources are expanded (ROS packages, arguments, time and memory).
+
+    Returns
+    -------
+    PoeModel
+        The movable joints' screws at the home pose, ``(4, 4)`` home pose of the tip.
+
+    Raises
+    ------
+    Urdf2DhError
+        A one-line message naming the file, link or joint at fault (:class:`SourceError` for
+        a SOURCE that is empty or names neither a file nor a bundled robot).
+    TypeError
+        An argument of the wrong type (``source`` neither text nor a path, ``ignore_mimic``
+        not a bool).
+    """
+    source = check_source(source, "load: source")
+    base = check_optional_name(base, "load: base")
+    tip = check_optional_name(tip, "load: tip")
+    ignore_mimic = check_flag(ignore_mimic, "load: ignore_mimic")
+    check_instance(tol, Tolerances, "load: tol", "urdf2dh.Tolerances(...) or urdf2dh.DEFAULT")
+    return open_source(source, tol, xacro=xacro).model(base, tip, ignore_mimic)

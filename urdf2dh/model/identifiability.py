@@ -17,10 +17,12 @@ from collections import Counter
 from collections.abc import Iterable
 from dataclasses import dataclass
 
-__all__ = ["BASE", "LINE_PARAMETERS", "PLACEMENT", "TOOL", "Identifiability"]
+__all__ = ["BASE", "LINE_PARAMETERS", "PLACEMENT", "SYMBOLS", "TOOL", "Identifiability"]
 
 #: Parameters of a joint's line, by kind.
 LINE_PARAMETERS = {"helical": 5, "revolute": 4, "prismatic": 2}
+#: Wu's symbols for the numbers of joints of each kind.
+SYMBOLS = {"helical": "h", "revolute": "r", "prismatic": "t"}
 #: Parameters of the base and tool placement; of them, those in the base and in the tool.
 PLACEMENT, BASE, TOOL = 6, 4, 2
 

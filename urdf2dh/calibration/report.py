@@ -30,7 +30,7 @@ from numpy.typing import NDArray
 from ..check.diff import Diff
 from ..conventions.table import Table
 from ..errors import UsageError, visible
-from ..model.identifiability import LINE_PARAMETERS
+from ..model.identifiability import LINE_PARAMETERS, SYMBOLS
 from ..model.poe import PoeModel
 from ..tolerances import DIFF_ANGLE_DEG, POORLY_IDENTIFIED, Tolerances
 from .chart import Estimate, absorbed, local_coordinates
@@ -65,7 +65,7 @@ def formula(est: Estimate) -> str:
         terms.append(("base 6", "6", 6))
     if level.lines:
         for kind, size in LINE_PARAMETERS.items():
-            terms.append((f"{size}{kind[0]}", f"{size}*{kinds[kind]}", size * kinds[kind]))
+            terms.append((f"{size}{SYMBOLS[kind]}", f"{size}*{kinds[kind]}", size * kinds[kind]))
     if level.offsets:
         terms.append(("offsets n", str(est.n), est.n))
     if level.scales:

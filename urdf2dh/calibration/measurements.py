@@ -500,7 +500,7 @@ def read_configurations(
     sliding: tuple[str, ...] = (),
 ) -> Mat:
     """``(N, n)`` joint values from a CSV file with a column per joint (others are skipped):
-    candidate configurations for :func:`urdf2dh.calibrate.plan.plan`, or its own output."""
+    candidate configurations for :func:`urdf2dh.calibration.plan.plan`, or its own output."""
     display = display or str(path)
     rows = _rows(_text(path, display))
     first = next(rows, None)
