@@ -26,6 +26,7 @@ __all__ = [
     "DEFAULT",
     "DIFF_ANGLE_DEG",
     "DIFF_LENGTH_M",
+    "DIFF_PARALLEL_DEG",
     "DIFF_ROUND_OFF",
     "EXACT",
     "FILE_BYTES",
@@ -69,6 +70,9 @@ DECIMAL_ROUND_OFF = 4 * EPS
 # 10-50 um); Wu 2019 Table II marks jumps instead (60 deg, 30 mm).
 DIFF_ANGLE_DEG = 0.01
 DIFF_LENGTH_M = 1e-4
+# ... and names consecutive axes this close to parallel (deg) in either model as ill-conditioned
+# for D-H: there the common normal, and with it d, a and theta, jump under small changes.
+DIFF_PARALLEL_DEG = 5.0
 # ... and shows a change too small for its printed precision in full (``+2e-09 m``) only beyond
 # this (rad, or x robot size): a table read back and converted again moves its parameters by
 # round-off of up to ~1e-14 x size, which is no change.

@@ -29,10 +29,10 @@ from numpy.typing import NDArray
 
 from ..check.diff import Diff
 from ..conventions.table import Table
-from ..errors import UsageError, visible
+from ..errors import visible
 from ..model.identifiability import LINE_PARAMETERS, SYMBOLS
 from ..model.poe import PoeModel
-from ..tolerances import DIFF_ANGLE_DEG, POORLY_IDENTIFIED, Tolerances
+from ..tolerances import DIFF_ANGLE_DEG, DIFF_PARALLEL_DEG, POORLY_IDENTIFIED, Tolerances
 from .chart import Estimate, absorbed, local_coordinates
 from .identifiable import barely_moved
 from .identify import Fit, Identified
@@ -296,9 +296,10 @@ def _insane(table: Table, tol: Tolerances) -> str | None:
 def _diff(
     nominal: PoeModel, model: PoeModel, table: Table | None, style: str, tol: Tolerances
 ) -> Diff:
-    """The ``diff`` of the nominal and the identified model (``urdf2dh diff``'s), in the output
-    table's convention (for a POE model file, the convention chosen for a table)."""
-    from ..check.diff import compare, default_length_threshold, form_changes, ill_conditioned
+    """The ``diff`` of the nominal and the identified model (``urdf2dh diff``'s, with its
+    default thresholds), in the output table's convention (for a POE model file, the
+    convention chosen for a table)."""
+    from ..check.diff import compare_tables, default_length_threshold
     from ..conventions.convert import to_table
 
     if table is None:
@@ -307,23 +308,14 @@ def _diff(
     theirs = to_table(
         nominal, table.convention, tol, style=style if table.convention != "hayati" else "wu"
     )
-    try:
-        length = default_length_threshold(model.length_unit)
-    except UsageError:
-        length = math.inf  # unknown unit: nothing is marked
-    angle = math.radians(DIFF_ANGLE_DEG)  # as `urdf2dh diff` marks by default
-    return Diff(
-        table.convention,
-        nominal.name,
-        model.name,
-        model.length_unit,
-        nominal.size(),
-        angle,
-        length,
-        tuple(w for t in (theirs, table) for w in t.warnings),
-        tuple(compare(theirs, table, angle, length)),
-        tuple(form_changes(theirs, table, angle, length)),
-        tuple(ill_conditioned(nominal, model, math.radians(5.0))),
+    return compare_tables(
+        theirs,
+        table,
+        nominal,
+        model,
+        math.radians(DIFF_ANGLE_DEG),
+        default_length_threshold(model.length_unit),
+        math.radians(DIFF_PARALLEL_DEG),
     )
 
 
@@ -591,7 +583,7 @@ def to_dict(cal: Calibration) -> dict[str, Any]:
         "convention": cal.convention,
         "convention_reason": cal.convention_reason,
         "model": poe_to_dict(cal.model),
-        "diff": cal.diff.tree(),
+        "diff": cal.diff.to_dict(),
         "warnings": list(cal.warnings),
     }
 

@@ -23,18 +23,33 @@ back. Modified D-H uses the same common normals and shares the problem.
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass
+import os
+from collections.abc import Callable
+from dataclasses import asdict, dataclass, replace
 from typing import Any
 
 import numpy as np
 
 from .. import units
+from ..checks import check_source
 from ..conventions import Params
+from ..conventions.convert import to_table
 from ..conventions.table import Row, Table
-from ..errors import InputError, UsageError, visible
+from ..errors import InputError, UsageError, choices, shown, visible
+from ..escape import markdown_table, markdown_text
+from ..geometry.frames import compose
+from ..geometry.se3 import matrix_of
+from ..io.sources import open_source
 from ..io.xacro import XacroOptions
 from ..model.poe import PoeModel
-from ..tolerances import DIFF_LENGTH_M, DIFF_ROUND_OFF, Tolerances
+from ..tolerances import (
+    DEFAULT,
+    DIFF_ANGLE_DEG,
+    DIFF_LENGTH_M,
+    DIFF_PARALLEL_DEG,
+    DIFF_ROUND_OFF,
+    Tolerances,
+)
 from ..units import fixed
 
 __all__ = [
@@ -44,11 +59,10 @@ __all__ = [
     "FormChange",
     "IllPair",
     "compare",
-    "diff_sources",
-    "diff_tree",
+    "compare_tables",
+    "diff",
     "form_changes",
     "ill_conditioned",
-    "render_diff",
 ]
 
 SCHEMA = "urdf2dh-diff/1"
@@ -92,8 +106,8 @@ class FormChange:
     row: str
     nominal_form: str
     actual_form: str
-    nominal: dict[str, Any]
-    actual: dict[str, Any]
+    nominal: dict[str, float | list[float]]
+    actual: dict[str, float | list[float]]
     nominal_link: list[list[float]]
     actual_link: list[list[float]]
     length: float
@@ -177,9 +191,6 @@ def _pairs(
 
 def _link(params: Params) -> np.ndarray:
     """The record's link transform at ``q = 0`` (its constant transforms composed)."""
-    from ..geometry.frames import compose
-    from ..geometry.se3 import matrix_of
-
     before, after = params.around_joint()
     return matrix_of(after if before is None else compose(before, after))
 
@@ -240,61 +251,6 @@ def default_length_threshold(unit: str) -> float:
     return DIFF_LENGTH_M / units.metres_per(unit)
 
 
-def diff_sources(
-    nominal_source: str,
-    actual_source: str,
-    convention: str,
-    tol: Tolerances,
-    angle_threshold: float,
-    length_threshold: float | None,
-    parallel_within: float,
-    base: str | None = None,
-    tip: str | None = None,
-    ignore_mimic: bool = False,
-    style: str = "wu",
-    samples: int = 1000,
-    xacro: XacroOptions | None = None,
-) -> tuple[dict[str, Any], list[Change], list[IllPair], list[FormChange]]:
-    """Both SOURCEs as tables of ``convention`` (ACTUAL in NOMINAL's length unit), compared.
-
-    Returns the report's header fields, the parameter changes, the ill-conditioned pairs and the
-    rows that changed form.
-    ``length_threshold`` ``None`` means :data:`~urdf2dh.tolerances.DIFF_LENGTH_M` in the
-    nominal's unit.
-    """
-    from ..conventions.convert import to_table
-    from ..io.sources import open_source
-
-    models, names = [], []
-    for text in (nominal_source, actual_source):
-        source = open_source(text, tol, xacro=xacro)
-        models.append(source.model(base, tip, ignore_mimic))
-        names.append(source.name)
-    nominal, actual = models
-    if actual.length_unit != nominal.length_unit:
-        actual = actual.scaled(
-            units.factor(actual.length_unit, nominal.length_unit), nominal.length_unit
-        )
-    tables = [to_table(m, convention, tol, samples=samples, style=style) for m in (nominal, actual)]
-    length = (
-        default_length_threshold(nominal.length_unit)
-        if length_threshold is None
-        else length_threshold
-    )
-    info = {
-        "convention": convention,
-        "nominal": names[0],
-        "actual": names[1],
-        "units": {"length": nominal.length_unit, "angle": "rad"},
-        "size": nominal.size(),
-        "thresholds": {"angle": angle_threshold, "length": length},
-        "warnings": [w for t in tables for w in t.warnings],
-    }
-    changes = compare(tables[0], tables[1], angle_threshold, length)
-    forms = form_changes(tables[0], tables[1], angle_threshold, length)
-    return info, changes, ill_conditioned(nominal, actual, parallel_within), forms
-
-
 RECOMMENDATION = (
     "D-H parameters jump near (nearly) parallel axes (Wu 2019 §V-B): identify with CPC or the "
     "POE model and convert back for compensation; modified D-H uses the same common normals and "
@@ -302,14 +258,14 @@ RECOMMENDATION = (
 )
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Diff:
-    """A comparison of two parameter sets in one convention (what ``urdf2dh diff`` reports).
+    """A comparison of two parameter sets in one convention (:func:`diff`).
 
     Attributes
     ----------
     convention, nominal, actual
-        The convention and the two sources' names.
+        The convention and the two models' names.
     length_unit
         The tables' length unit (the nominal's).
     size
@@ -335,9 +291,15 @@ class Diff:
     forms: tuple[FormChange, ...]
     pairs: tuple[IllPair, ...]
 
-    def info(self) -> dict[str, Any]:
-        """The report's header fields (:func:`render_diff`'s ``info``)."""
+    @property
+    def marked(self) -> int:
+        """How many parameters changed beyond the thresholds."""
+        return sum(c.marked for c in self.changes)
+
+    def to_dict(self) -> dict[str, Any]:
+        """The JSON report as a tree (docs/diff.md gives its shape)."""
         return {
+            "schema": SCHEMA,
             "convention": self.convention,
             "nominal": self.nominal,
             "actual": self.actual,
@@ -345,51 +307,159 @@ class Diff:
             "size": self.size,
             "thresholds": {"angle": self.angle_threshold, "length": self.length_threshold},
             "warnings": list(self.warnings),
+            "parameters": [asdict(c) for c in self.changes],
+            "changed_form": [asdict(f) for f in self.forms],
+            "ill_conditioned": [asdict(p) for p in self.pairs],
+            "recommendation": RECOMMENDATION if self.pairs else None,
         }
 
-    def tree(self) -> dict[str, Any]:
-        """The JSON report as a tree (docs/diff.md)."""
-        return diff_tree(self.info(), list(self.changes), list(self.pairs), self.forms)
+    def render(self, fmt: str = "text") -> str:
+        """The report as ``urdf2dh diff`` writes it: ``text`` (angles in degrees) or ``json``
+        (radians)."""
+        if fmt == "json":
+            import json
 
-    @property
-    def marked(self) -> int:
-        """How many parameters changed beyond the thresholds."""
-        return sum(c.marked for c in self.changes)
+            return json.dumps(self.to_dict(), indent=2) + "\n"
+        if fmt != "text":
+            raise UsageError(
+                f"unknown diff format {shown(fmt)}; valid: {choices(('text', 'json'))}"
+            )
+        return _text(self)
+
+    def _repr_markdown_(self) -> str:
+        """In a notebook: the changed parameters as a table, marked ones in bold (names
+        escaped)."""
+        t, unit = markdown_text, markdown_text(self.length_unit)
+        out = [f"**diff ({self.convention})**: {t(self.nominal)} -> {t(self.actual)}; "
+               f"{self.marked} parameters changed beyond {math.degrees(self.angle_threshold):g}"
+               f" deg or {self.length_threshold:g} {unit}", ""]  # fmt: skip
+        shown_value = _shown_value(self)
+        rows = [
+            [t(c.row), c.param, shown_value(c.nominal, c.kind), shown_value(c.actual, c.kind),
+             _delta(self, c) + (" **\\***" if c.marked else "")]
+            for c in self.changes if not (c.kind in ("pitch", "scale") and c.change == 0.0)
+        ]  # fmt: skip
+        out += markdown_table(["row", "param", "nominal", "actual", "change"], rows, 2)
+        out += [f"- {t(f.row)}: changed form, {f.nominal_form} -> {f.actual_form}"
+                for f in self.forms]  # fmt: skip
+        if self.pairs:
+            out += ["", RECOMMENDATION]
+        return "\n".join(out) + "\n"
 
 
-def diff_tree(
-    info: dict[str, Any],
-    changes: list[Change],
-    pairs: list[IllPair],
-    forms: list[FormChange] | tuple[FormChange, ...] = (),
-) -> dict[str, Any]:
-    """The JSON report as a tree (docs/diff.md gives its shape)."""
-    return {
-        "schema": SCHEMA,
-        **info,
-        "parameters": [asdict(c) for c in changes],
-        "changed_form": [asdict(f) for f in forms],
-        "ill_conditioned": [asdict(p) for p in pairs],
-        "recommendation": RECOMMENDATION if pairs else None,
-    }
+def compare_tables(
+    nominal: Table,
+    actual: Table,
+    nominal_model: PoeModel,
+    actual_model: PoeModel,
+    angle_threshold: float,
+    length_threshold: float,
+    parallel_within: float,
+) -> Diff:
+    """Two tables of one convention and unit compared (:func:`diff`); their models name the
+    ill-conditioned axis pairs."""
+    return Diff(
+        nominal.convention,
+        nominal_model.name,
+        actual_model.name,
+        nominal.length_unit,
+        nominal_model.size(),
+        angle_threshold,
+        length_threshold,
+        (*nominal.warnings, *actual.warnings),
+        tuple(compare(nominal, actual, angle_threshold, length_threshold)),
+        tuple(form_changes(nominal, actual, angle_threshold, length_threshold)),
+        tuple(ill_conditioned(nominal_model, actual_model, parallel_within)),
+    )
 
 
-def render_diff(
-    info: dict[str, Any],
-    changes: list[Change],
-    pairs: list[IllPair],
-    fmt: str,
-    forms: list[FormChange] | tuple[FormChange, ...] = (),
-) -> str:
-    """Text (angles in degrees) or JSON (radians) report."""
-    if fmt == "json":
-        import json
+def diff(
+    nominal: str | os.PathLike[str] | PoeModel,
+    actual: str | os.PathLike[str] | PoeModel,
+    convention: str = "dh",
+    *,
+    style: str = "wu",
+    tol: Tolerances = DEFAULT,
+    angle_threshold: float = math.radians(DIFF_ANGLE_DEG),
+    length_threshold: float | None = None,
+    parallel_within: float = math.radians(DIFF_PARALLEL_DEG),
+    base: str | None = None,
+    tip: str | None = None,
+    ignore_mimic: bool = False,
+    samples: int | None = None,
+    xacro: XacroOptions | None = None,
+) -> Diff:
+    """Two parameter sets side by side: both models as tables of ``convention`` (ACTUAL in
+    NOMINAL's length unit), compared row by row (module docstring).
 
-        return json.dumps(diff_tree(info, changes, pairs, forms), indent=2) + "\n"
-    unit = info["units"]["length"]
-    # lengths to a micrometre or finer, angles to 1e-4 deg; a change too small for that is
-    # shown in full (3 digits) rather than as +0.0000
-    decimals = max(units.DECIMALS.get(unit, 6), round(-math.log10(1e-6 / units.metres_per(unit))))
+    Parameters
+    ----------
+    nominal, actual
+        Each a SOURCE (as :func:`urdf2dh.load` reads it, the chain ``base -> tip``) or a
+        :class:`~urdf2dh.model.poe.PoeModel`.
+    convention, style
+        The tables compared (:func:`urdf2dh.to_table`).
+    tol, samples
+        The tolerances of the conversions, and the configurations of their self-checks.
+    angle_threshold
+        Radians: angle changes beyond this, modulo pi, are marked (default 0.01 deg).
+    length_threshold
+        Length changes beyond this, in the nominal's unit, are marked (default 0.1 mm in it).
+    parallel_within
+        Radians: consecutive axes this close to parallel in either model are named as
+        ill-conditioned for D-H (default 5 deg).
+    base, tip, ignore_mimic, xacro
+        How a SOURCE's chain is read.
+
+    Returns
+    -------
+    Diff
+        Its :meth:`~Diff.render` is what ``urdf2dh diff`` writes.
+
+    Raises
+    ------
+    Urdf2DhError
+        A SOURCE that cannot be read, tables whose joint counts differ, a table that failed its
+        own check.
+    TypeError, ValueError
+        An argument of the wrong type or out of range.
+    """
+    models = []
+    for what, given in (("nominal", nominal), ("actual", actual)):
+        if isinstance(given, PoeModel):
+            models.append(given)
+            continue
+        source = open_source(check_source(given, f"diff: {what}"), tol, xacro=xacro)
+        model = source.model(base, tip, ignore_mimic)
+        models.append(replace(model, name=source.name))
+    nominal_model, actual_model = models
+    if actual_model.length_unit != nominal_model.length_unit:
+        actual_model = actual_model.scaled(
+            units.factor(actual_model.length_unit, nominal_model.length_unit),
+            nominal_model.length_unit,
+        )
+    tables = [
+        to_table(m, convention, tol, samples=samples, style=style)
+        for m in (nominal_model, actual_model)
+    ]
+    length = (
+        default_length_threshold(nominal_model.length_unit)
+        if length_threshold is None
+        else length_threshold
+    )
+    return compare_tables(tables[0], tables[1], nominal_model, actual_model,
+                          angle_threshold, length, parallel_within)  # fmt: skip
+
+
+def _decimals(unit: str) -> int:
+    """Decimals of a length: to a micrometre or finer."""
+    return max(units.DECIMALS.get(unit, 6), round(-math.log10(1e-6 / units.metres_per(unit))))
+
+
+def _shown_value(d: Diff) -> Callable[[Any, str], str]:
+    """How the report writes a parameter's value of a kind (angles in degrees, pitch per
+    degree)."""
+    decimals = _decimals(d.length_unit)
 
     def show(value: Any, kind: str) -> str:
         if isinstance(value, list | tuple):
@@ -401,58 +471,65 @@ def render_diff(
             return f"{value * math.pi / 180:.6g}"
         return f"{value:.6g}" if kind == "scale" else fixed(value, decimals)
 
-    def signed(x: float, places: int, exact: float) -> str:
-        """``x`` to ``places``; a change under that but beyond round-off (``exact``) in full."""
-        text = fixed(x, places, "+")
-        return f"{x:+.3g}" if float(text) == 0.0 and abs(x) > exact else text
+    return show
 
-    exact = DIFF_ROUND_OFF  # rad, or x size: below it, round-off of the conversions
 
-    def delta(c: Change) -> str:
-        if c.kind in ("angle", "direction"):
-            return f"{signed(math.degrees(c.change), 4, math.degrees(exact))} deg"
-        if c.kind == "pitch":
-            return f"{c.change * math.pi / 180:+.3g} {unit}/deg"
-        if c.kind == "scale":
-            return f"{c.change:+.6g}"
-        return f"{signed(c.change, decimals, exact * info['size'])} {unit}"
+def _signed(x: float, places: int, exact: float) -> str:
+    """``x`` to ``places``; a change under that but beyond round-off (``exact``) in full (3
+    digits) rather than as +0.0000."""
+    text = fixed(x, places, "+")
+    return f"{x:+.3g}" if float(text) == 0.0 and abs(x) > exact else text
 
-    rows = [visible(c.row) for c in changes]
-    width = max(map(len, [*rows, *(visible(f.row) for f in forms), "row"]))
-    thresholds = info["thresholds"]
+
+def _delta(d: Diff, c: Change) -> str:
+    """A change as the report writes it (angles in degrees, to 1e-4 deg)."""
+    exact, unit = DIFF_ROUND_OFF, visible(d.length_unit)  # below it: the conversions' round-off
+    if c.kind in ("angle", "direction"):
+        return f"{_signed(math.degrees(c.change), 4, math.degrees(exact))} deg"
+    if c.kind == "pitch":
+        return f"{c.change * math.pi / 180:+.3g} {unit}/deg"
+    if c.kind == "scale":
+        return f"{c.change:+.6g}"
+    return f"{_signed(c.change, _decimals(d.length_unit), exact * d.size)} {unit}"
+
+
+def _text(d: Diff) -> str:
+    """The text report (angles in degrees)."""
+    unit, show, exact = d.length_unit, _shown_value(d), DIFF_ROUND_OFF
+    rows = [visible(c.row) for c in d.changes]
+    width = max(map(len, [*rows, *(visible(f.row) for f in d.forms), "row"]))
     out = [
-        f"diff ({info['convention']}): {visible(info['nominal'])} -> {visible(info['actual'])}; "
-        "marked (*): "
-        f"changes over {math.degrees(thresholds['angle']):g} deg (modulo 180) or "
-        f"{thresholds['length']:g} {unit}",
+        f"diff ({d.convention}): {visible(d.nominal)} -> {visible(d.actual)}; marked (*): "
+        f"changes over {math.degrees(d.angle_threshold):g} deg (modulo 180) or "
+        f"{d.length_threshold:g} {unit}",
         f"{'row':<{width}}  {'param':<6} {'nominal':>28} {'actual':>28}  change",
     ]
-    for c, row in zip(changes, rows, strict=True):
+    for c, row in zip(d.changes, rows, strict=True):
         if c.kind in ("pitch", "scale") and c.change == 0.0:
             continue
         out.append(
             f"{row:<{width}}  {c.param:<6} {show(c.nominal, c.kind):>28} "
-            f"{show(c.actual, c.kind):>28}  {delta(c)}{'  *' if c.marked else ''}"
+            f"{show(c.actual, c.kind):>28}  {_delta(d, c)}{'  *' if c.marked else ''}"
         )
-    for f in forms:
+    for f in d.forms:
         out.append(
             f"{visible(f.row):<{width}}  form   {f.nominal_form:>28} {f.actual_form:>28}  "
-            f"link moved {signed(f.length, decimals, exact * info['size'])} {unit}, "
-            f"{signed(math.degrees(f.angle), 4, math.degrees(exact))} deg"
+            f"link moved {_signed(f.length, _decimals(unit), exact * d.size)} {unit}, "
+            f"{_signed(math.degrees(f.angle), 4, math.degrees(exact))} deg"
             + ("  *" if f.marked else "")
         )
-    marked = sum(c.marked for c in changes)
+    marked = d.marked
     out.append(f"{marked} parameter{'' if marked == 1 else 's'} changed beyond the thresholds")
-    if forms:
+    if d.forms:
         out.append(
-            f"{len(forms)} row{'' if len(forms) == 1 else 's'} changed form (parameters of "
+            f"{len(d.forms)} row{'' if len(d.forms) == 1 else 's'} changed form (parameters of "
             "different kinds: compared by the link transform each gives)"
         )
-    if pairs:
+    if d.pairs:
         names = ", ".join(
             f"({visible(p.first)}, {visible(p.second)}) {math.degrees(p.nominal_angle):.3f} / "
             f"{math.degrees(p.actual_angle):.3f} deg"
-            for p in pairs
+            for p in d.pairs
         )
         out.append(f"ill-conditioned axis pairs (nearly parallel; nominal / actual): {names}")
         out.append(RECOMMENDATION)

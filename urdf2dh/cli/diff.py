@@ -15,7 +15,7 @@ HELP = "compare two parameter sets (calibration: nominal vs actual)"
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
     from ..conventions import NAMES, STYLES
-    from ..tolerances import DIFF_ANGLE_DEG, DIFF_LENGTH_M
+    from ..tolerances import DIFF_ANGLE_DEG, DIFF_LENGTH_M, DIFF_PARALLEL_DEG
 
     p.add_argument("nominal", metavar="NOMINAL", help="URDF, POE model, table file or robot")
     p.add_argument("actual", metavar="ACTUAL", help="URDF, POE model, table file or robot")
@@ -45,7 +45,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--parallel-within",
         type=options.nonnegative_float,
-        default=5.0,
+        default=DIFF_PARALLEL_DEG,
         metavar="DEG",
         help="name axis pairs this close to parallel in either model as "
         "ill-conditioned for D-H (default %(default)g)",
@@ -56,22 +56,22 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..check.diff import diff_sources, render_diff
+    from ..check.diff import diff
 
-    info, changes, pairs, forms = diff_sources(
+    result = diff(
         args.nominal,
         args.actual,
         args.convention,
-        options.tolerances(args),
+        style=args.style,
+        tol=options.tolerances(args),
         angle_threshold=math.radians(args.angle_threshold),
         length_threshold=args.length_threshold,
         parallel_within=math.radians(args.parallel_within),
         base=args.base,
         tip=args.tip,
         ignore_mimic=args.ignore_mimic,
-        style=args.style,
         samples=args.check_samples,
         xacro=options.xacro_options(args),
     )
-    write_output(render_diff(info, changes, pairs, args.format, forms), args.output)
+    write_output(result.render(args.format), args.output)
     return 0
