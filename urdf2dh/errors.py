@@ -33,7 +33,7 @@ MESSAGE_LENGTH = 2000  # characters of an error line the command line prints, at
 
 
 class Urdf2DhError(Exception):
-    """Root of all urdf2dh errors. ``exit_code`` is what the CLI returns (SPEC §1)."""
+    """Root of all urdf2dh errors. ``exit_code`` is what the CLI returns (2; docs/commands/index.md)."""
 
     exit_code = 2
 
@@ -56,7 +56,7 @@ class ChainError(InputError):
 
 
 class TableFileError(InputError):
-    """A table file (SPEC §2) that is malformed or contradicts itself."""
+    """A table file (docs/formats/table-file.md) that is malformed or contradicts itself."""
 
 
 class ExportError(InputError):

@@ -262,7 +262,8 @@ class Tolerances:
     cpc_reverse_below
         CPC's R(b) is singular at b = -z. A CPC frame whose axis direction has
         ``b_z < cpc_reverse_below`` in the previous frame is reversed (its joint gets
-        ``scale = -scale``), as SPEC §2 allows.
+        ``scale = -scale``), which keeps the table's forward kinematics
+        (docs/conventions/cpc.md).
     cpc_singular_margin
         When the tool z would point against the last CPC frame's z, a run of last frames is
         reversed; the frame pair that then turns round must stay this far (in ``b_z``) from

@@ -201,7 +201,8 @@ class Conversion:
 
 
 class Convention(Protocol):
-    """A kinematic parameter convention (SPEC §2)."""
+    """A kinematic parameter convention: its name, its table's parameters and forward kinematics
+    (docs/conventions/dh.md, mdh.md, cpc.md, hayati.md), and the conversion from a POE model."""
 
     name: str
     """Its name in the table file, on the command line and in the registry (``dh``)."""

@@ -1,5 +1,5 @@
 """The Table value type shared by every convention: rows, base and tool, its forward kinematics,
-its POE model, and its JSON / YAML tree (SPEC §2).
+its POE model, and its JSON / YAML tree (docs/formats/table-file.md).
 
 Whatever the convention, a table's forward kinematics has the shape::
 
@@ -39,7 +39,7 @@ Mat = NDArray[np.float64]
 @dataclass(frozen=True, slots=True)
 class Row(JointMotion):
     """One movable joint's row: its motion (kind, pitch, scale), limits and parameters, and
-    whom it follows if it mimics another row's joint (SPEC §5: the table is driven by the rows
+    whom it follows if it mimics another row's joint (docs/trees-mimic.md: the table is driven by the rows
     without ``mimic``, in order)."""
 
     name: str
@@ -262,7 +262,7 @@ class Table:
         return frame
 
     def to_dict(self) -> dict[str, Any]:
-        """The SPEC §2 tree (what ``--format json`` and ``--format yaml`` write)."""
+        """The table file tree, docs/formats/table-file.md (what ``--format json`` and ``--format yaml`` write)."""
         joints = []
         for r in self.rows:
             entry: dict[str, Any] = {

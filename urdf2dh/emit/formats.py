@@ -1,6 +1,6 @@
 """Rendering a :class:`~urdf2dh.conventions.table.Table`: text, JSON, YAML, CSV and Markdown.
 
-``json`` and ``yaml`` hold the SPEC §2 tree in radians and source units with full precision;
+``json`` and ``yaml`` hold the table file tree (docs/formats/table-file.md) in radians and source units with full precision;
 ``csv`` the same numbers flat; ``text`` and ``markdown`` are for people: angles in degrees,
 helix pitch in length per degree (the units of Wu 2019 Table II), units in the headers.
 Names from the source go through :mod:`urdf2dh.escape`: JSON and YAML escape them
@@ -8,7 +8,7 @@ themselves, CSV writes them as :func:`~urdf2dh.escape.csv_cell` does (visible te
 formula), text shows them as :func:`~urdf2dh.errors.visible` text (one line, no terminal control
 characters) and Markdown escapes its markup too.
 ``urdf`` and ``poe`` write the table's kinematics as a model instead: a URDF in metres
-(:mod:`urdf2dh.emit.urdf`) or a POE model file (SPEC §4, YAML).
+(:mod:`urdf2dh.emit.urdf`) or a POE model file (YAML, docs/formats/poe-file.md).
 """
 
 from __future__ import annotations

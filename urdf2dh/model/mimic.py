@@ -1,4 +1,4 @@
-"""Joints that follow others (URDF ``<mimic>``, SPEC §5): the relation, and the positions of a
+"""Joints that follow others (URDF ``<mimic>``, docs/trees-mimic.md): the relation, and the positions of a
 chain's every joint from its actuated ones.
 
 A chain's configuration ``q`` holds the positions of the joints that move on their own, in

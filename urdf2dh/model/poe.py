@@ -117,7 +117,7 @@ class Joint(JointMotion):
     point
         ``(3,)`` a point on the axis line. ``None`` only for a prismatic joint whose line
         location is free (POE sources): conversions then place it through the previous frame's
-        origin (SPEC §3).
+        origin (docs/conventions/dh.md).
     pitch
         Helix pitch, length per radian of ``s`` (0 for revolute and prismatic joints).
     scale

@@ -171,7 +171,7 @@ def tree_to_poe(
         The URDF's kinematic tree.
     base, tip
         Link names; ``base`` defaults to the root link and ``tip`` to the single deepest leaf
-        below it (SPEC §1).
+        below it (ties are an error).
     ignore_mimic
         Treat a mimic joint on the chain as an independent joint (with a warning) instead of
         keeping it coupled to its leader; the lead of a helical joint is read as such either way.
