@@ -33,7 +33,8 @@ MESSAGE_LENGTH = 2000  # characters of an error line the command line prints, at
 
 
 class Urdf2DhError(Exception):
-    """Root of all urdf2dh errors. ``exit_code`` is what the CLI returns (2; docs/commands/index.md)."""
+    """Root of all urdf2dh errors. ``exit_code`` is what the CLI returns (2;
+    docs/commands/index.md)."""
 
     exit_code = 2
 

@@ -11,7 +11,8 @@ expressed in the frame built so far (the adjoint step) and Lemmas 1-3
 (:mod:`urdf2dh.geometry.normals`) give the next link.
 
 Styles choose among the equally exact tables (for each common normal, which of its two
-directions is the x axis): ``wu`` follows Wu 2019 §III (``a >= 0``; docs/conventions/dh.md); ``ur`` prefers
+directions is the x axis): ``wu`` follows Wu 2019 §III (``a >= 0``; docs/conventions/dh.md);
+``ur`` prefers
 zero ``theta`` offsets and turns a free x axis (coincident axes) so that the next ``alpha`` is
 positive, as Universal Robots' own tables do, and a free last x (the tool z on the last axis)
 is the tool's own x, as UR's flange is D-H frame 6; ``zero`` prefers zero ``theta`` offsets

@@ -39,8 +39,8 @@ Mat = NDArray[np.float64]
 @dataclass(frozen=True, slots=True)
 class Row(JointMotion):
     """One movable joint's row: its motion (kind, pitch, scale), limits and parameters, and
-    whom it follows if it mimics another row's joint (docs/trees-mimic.md: the table is driven by the rows
-    without ``mimic``, in order)."""
+    whom it follows if it mimics another row's joint (the table is driven by the rows without
+    ``mimic``, in order; docs/trees-mimic.md)."""
 
     name: str
     kind: JointKind
@@ -262,7 +262,8 @@ class Table:
         return frame
 
     def to_dict(self) -> dict[str, Any]:
-        """The table file tree, docs/formats/table-file.md (what ``--format json`` and ``--format yaml`` write)."""
+        """The table file tree (what ``--format json`` and ``--format yaml`` write;
+        docs/formats/table-file.md)."""
         joints = []
         for r in self.rows:
             entry: dict[str, Any] = {

@@ -1,6 +1,7 @@
 """Rendering a :class:`~urdf2dh.conventions.table.Table`: text, JSON, YAML, CSV and Markdown.
 
-``json`` and ``yaml`` hold the table file tree (docs/formats/table-file.md) in radians and source units with full precision;
+``json`` and ``yaml`` hold the table file tree (docs/formats/table-file.md) in radians and
+source units with full precision;
 ``csv`` the same numbers flat; ``text`` and ``markdown`` are for people: angles in degrees,
 helix pitch in length per degree (the units of Wu 2019 Table II), units in the headers.
 Names from the source go through :mod:`urdf2dh.escape`: JSON and YAML escape them

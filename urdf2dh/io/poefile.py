@@ -1,4 +1,5 @@
-"""POE model files (docs/formats/poe-file.md): YAML or JSON, twists ``[w, v]`` in the base frame at home.
+"""POE model files (docs/formats/poe-file.md): YAML or JSON, twists ``[w, v]`` in the base
+frame at home.
 
 ::
 

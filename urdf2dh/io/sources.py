@@ -1,4 +1,5 @@
-"""SOURCE resolution (docs/commands/index.md): a URDF file, a POE model file, a table file, or a bundled robot.
+"""SOURCE resolution (docs/commands/index.md): a URDF file, a POE model file, a table file, or
+a bundled robot.
 
 :func:`open_source` reads and checks the file once; :meth:`Source.model` then builds the POE
 model of the chain between the requested links.

@@ -130,7 +130,8 @@ class UrdfTree:
         return sorted(k for k in self.subtree(below or self.root) if k not in self.children)
 
     def default_tip(self, base: str) -> str:
-        """The single deepest leaf below ``base``, the default tip of a chain; ties are an error listing them."""
+        """The single deepest leaf below ``base``, the default tip of a chain; ties are an error
+        listing them."""
         depths = {leaf: self.depth(leaf) for leaf in self.leaves(base)}
         deepest = max(depths.values())
         tied = [leaf for leaf, d in depths.items() if d == deepest]
