@@ -173,6 +173,9 @@ VERIFY_JOINTS = 2_000
 MAX_SAMPLES = 1_000_000
 MAX_SEED = 2**63 - 1
 
+# Markers on one tool in position measurements (more add nothing a calibration could use).
+MAX_MARKERS = 100
+
 # No number a POE or table file holds is larger: 1e12 of any length unit urdf2dh knows is over a
 # million kilometres, and angles, scales and limits are far smaller. Beyond it, products and sums
 # of squares in the geometry would overflow, so such a number is an input error.

@@ -32,8 +32,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..check.diff import Diff
+from ..checks import check_count, check_instance, check_seed
 from ..conventions.table import Table
 from ..errors import InputError, Urdf2DhError, UsageError, choices, shown
+from ..escape import markdown_table, markdown_text
 from ..model.poe import PoeModel
 from ..tolerances import DEFAULT, Tolerances
 from .chart import LEVELS, Estimate, absorbed, count
@@ -73,6 +75,8 @@ AUTO = "auto"  # choose the level by cross-validation
 # they can only be a unit mistake or garbage.
 MAX_JOINT_TURN = 1e4  # rad
 MAX_EXTENT = 1e4  # x the robot's size (points, sliding joints)
+
+MEASUREMENTS_HINT = "urdf2dh.measure(model, N) makes some"
 
 
 class NotConverged(Urdf2DhError):
@@ -289,10 +293,35 @@ class Calibration:
         return next((c for c in self.comparisons if c.name == name), None)
 
     def _repr_markdown_(self) -> str:
-        """In a notebook: the text ``urdf2dh calibrate`` prints."""
-        from .report import summary
+        """In a notebook: the residuals before and after on each set, and the identified
+        parameters, as tables (names escaped)."""
+        t, unit = markdown_text, markdown_text(self.model.length_unit)
+        c = self.counts
+        out = [
+            f"**{t(self.nominal.name)}** calibrated at level {self.level} ({self.chosen_by}) "
+            f"from {t(self.measurements)}: {c.measurements} {self.measure} measurements at "
+            f"{c.configurations} configurations, {c.parameters} parameters (rank {c.rank}), "
+            f"{'converged' if self.converged else 'NOT converged'} in {self.iterations} "
+            f"iterations",
+            "",
+        ]
 
-        return "```text\n" + summary(self) + "```\n"
+        def rms(r: Residuals) -> list[str]:
+            rot = "" if r.rms_rotation is None else f"{r.rms_rotation:.3g}"
+            return [f"{r.rms_position:.3g}", f"{r.max_position:.3g}", rot]
+
+        rows = [[k.name, str(k.before.count), *rms(k.before), *rms(k.after)]
+                for k in self.comparisons]  # fmt: skip
+        out += markdown_table(
+            ["set", "measurements", f"RMS before [{unit}]", f"max before [{unit}]",
+             "RMS rot. before [rad]", f"RMS after [{unit}]", f"max after [{unit}]",
+             "RMS rot. after [rad]"], rows)  # fmt: skip
+        out.append("")
+        rows = [[t(q.name), f"{q.change:.3g}", "" if q.std is None else f"{q.std:.3g}",
+                 t(q.unit), t(q.flag or "")] for q in self.parameters]  # fmt: skip
+        out += markdown_table(["parameter", "change", "std", "unit", "note"], rows)
+        out += [f"- {t(w)}" for w in self.warnings]
+        return "\n".join(out) + "\n"
 
 
 def holdout_split(
@@ -452,6 +481,14 @@ def calibrate(
     """
     from threadpoolctl import threadpool_limits
 
+    check_instance(nominal, PoeModel, "calibrate: nominal", "urdf2dh.load(SOURCE) reads one")
+    check_instance(measurements, Measurements, "calibrate: measurements", MEASUREMENTS_HINT)
+    if validation is not None:
+        check_instance(validation, Measurements, "calibrate: validation", MEASUREMENTS_HINT)
+    check_seed(seed, "calibrate: seed")
+    check_count(folds, "calibrate: folds", 2)
+    check_count(max_iterations, "calibrate: max_iterations")
+    check_instance(identify_level, str, "calibrate: identify_level")
     if identify_level != AUTO and identify_level not in LEVELS:
         raise UsageError(f"unknown level {identify_level!r}; valid: {choices((AUTO, *LEVELS))}")
     m = measurements

@@ -77,7 +77,7 @@ def run(args: argparse.Namespace) -> int:
     if args.configurations:
         joints = tuple(j.name for j in model.joints)
         configurations = read_configurations(args.configurations, joints)
-    m, layout = measure(
+    m = measure(
         model,
         args.configs or 0,
         args.noise_pos,
@@ -88,7 +88,7 @@ def run(args: argparse.Namespace) -> int:
         configurations,
     )
     outputs = [(args.output, write_measurements(m))]
-    if args.marker_layout and layout is not None:
-        outputs.append((args.marker_layout, write_layout(layout)))
+    if args.marker_layout and m.layout is not None:
+        outputs.append((args.marker_layout, write_layout(m.layout)))
     write_outputs(outputs)
     return 0
