@@ -314,7 +314,7 @@ def test_planned_configurations_identify_better_than_random_ones(ur5):
     configurations and in the parameters (the geometric mean of their deviations)."""
     from urdf2dh.calibration.identify import identify
     from urdf2dh.calibration.plan import plan
-    from urdf2dh.calibration.start import Options
+    from urdf2dh.calibration.start import FitOptions
 
     chosen = plan(ur5, 15, level="full", noise_pos=NOISE, noise_rot=NOISE, seed=0)
     assert chosen.configurations.shape == (15, 6) and chosen.candidates >= 500
@@ -329,7 +329,7 @@ def test_planned_configurations_identify_better_than_random_ones(ur5):
         errors = []
         for q in (chosen.configurations, ur5.sample(15, (seed, 99))):
             m = synthesize(actual, 15, NOISE, NOISE, seed=40 + seed, configurations=q)
-            result = identify(ur5, m, Options(level="full", noise_pos=NOISE, noise_rot=NOISE))
+            result = identify(ur5, m, FitOptions(level="full", noise_pos=NOISE, noise_rot=NOISE))
             model, truth = result.model.fk_batch(fresh), actual.fk_batch(fresh)
             errors.append(float(np.sqrt(np.mean(np.sum((model - truth)[:, :3, 3] ** 2, axis=1)))))
         wins += errors[0] < errors[1]

@@ -21,7 +21,7 @@ from consumers import report
 from oracle import EXACT, assert_fk_matches, pin_reference
 
 from urdf2dh.conventions.opw import OpwParameters, opw_fk, opw_from_poe
-from urdf2dh.emit.export import Options, export
+from urdf2dh.emit.export import ExportOptions, export
 from urdf2dh.errors import ExportError, UsageError
 from urdf2dh.escape import yaml_comment
 from urdf2dh.geometry.se3 import from_rpy, inv, rot_x, rot_y, rot_z, trans
@@ -330,7 +330,7 @@ def test_a_nearly_parallel_pair_is_judged_reported_and_refused_with_exact():
         rot=1.5 * rot,
     )
     with pytest.raises(ExportError, match="are not parallel"):
-        export(model, "opw", opts=Options(tol=EXACT_TOL))
+        export(model, "opw", opts=ExportOptions(tol=EXACT_TOL))
 
 
 def test_parameters_are_validated():

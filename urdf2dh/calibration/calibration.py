@@ -46,7 +46,7 @@ from .outliers import Suspect, suspects
 from .prior import Prior
 from .residuals import evaluate
 from .select import FOLDS, Selection, cross_validate
-from .start import MAX_ITERATIONS, Options, to_data
+from .start import MAX_ITERATIONS, FitOptions, to_data
 
 __all__ = [
     "AUTO",
@@ -517,7 +517,7 @@ def calibrate(
     _check_markers(m, pose, layout)
     if not 0.0 <= holdout < 1.0:
         raise UsageError(f"the held-out fraction must be in [0, 1), not {holdout}")
-    opts = Options(
+    opts = FitOptions(
         pose=pose,
         level="base-tool" if identify_level == AUTO else identify_level,
         fixed=fixed,
@@ -539,7 +539,7 @@ def calibrate(
         )  # fmt: skip
 
 
-def _levels(identify_level: str, opts: Options) -> tuple[str, ...]:
+def _levels(identify_level: str, opts: FitOptions) -> tuple[str, ...]:
     if identify_level != AUTO:
         return ("base-tool", identify_level) if identify_level != "base-tool" else ("base-tool",)
     levels = tuple(LEVELS)
@@ -551,7 +551,7 @@ def _levels(identify_level: str, opts: Options) -> tuple[str, ...]:
 def _calibrate(
     nominal: PoeModel,
     m: Measurements,
-    opts: Options,
+    opts: FitOptions,
     identify_level: str,
     holdout: float,
     validation: Measurements | None,

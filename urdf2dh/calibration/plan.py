@@ -257,8 +257,16 @@ def plan(
     seed
         Seeds the candidates, the random comparison and the markers.
 
+    Returns
+    -------
+    Plan
+        The chosen configurations ``(configs, n)`` and each parameter's expected standard
+        deviation, beside that of as many random configurations.
+
     Raises
     ------
+    TypeError, ValueError
+        A wrong argument (an unknown level is a ``UsageError``).
     InputError
         More configurations asked than there are candidates.
     """

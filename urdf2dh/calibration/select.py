@@ -48,7 +48,7 @@ from .identifiable import redundant
 from .identify import Fit, level_start, solve_level
 from .measurements import Measurements
 from .residuals import Data, evaluate
-from .start import Options, to_data
+from .start import FitOptions, to_data
 
 __all__ = [
     "FOLDS",
@@ -177,7 +177,7 @@ def _rms(values: Mat) -> tuple[float, float]:
 def level_fits(
     nominal: PoeModel,
     fit: Measurements,
-    opts: Options,
+    opts: FitOptions,
     ids: list[int],
     before: Fit,
     levels: tuple[str, ...],
@@ -216,7 +216,7 @@ def _starts(
     nominal: PoeModel,
     before: Fit,
     previous: Estimate,
-    opts: Options,
+    opts: FitOptions,
     ids: list[int],
     structure: NDArray[np.bool_] | None,
 ) -> tuple[Estimate, Estimate]:
@@ -233,7 +233,7 @@ def _starts(
 def fold_errors(
     nominal: PoeModel,
     fit: Measurements,
-    opts: Options,
+    opts: FitOptions,
     ids: list[int],
     before: Fit,
     fits: dict[str, Fit],
@@ -298,7 +298,7 @@ def fold_errors(
 def cross_validate(
     nominal: PoeModel,
     fit: Measurements,
-    opts: Options,
+    opts: FitOptions,
     ids: list[int],
     before: Fit,
     levels: tuple[str, ...],
@@ -386,7 +386,7 @@ def _refit(
     template: Fit,
     est: Estimate,
     data: Data,
-    opts: Options,
+    opts: FitOptions,
     size: float,
     reference: Estimate | None = None,
 ) -> Fit:

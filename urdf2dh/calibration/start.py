@@ -27,7 +27,7 @@ from .prior import Prior
 from .residuals import Data
 
 __all__ = [
-    "Options",
+    "FitOptions",
     "layout_points",
     "moved",
     "nominal_points",
@@ -43,7 +43,7 @@ MAX_ITERATIONS = 200  # Levenberg-Marquardt iterations of one solve at most: a s
 
 
 @dataclass(frozen=True, slots=True)
-class Options:
+class FitOptions:
     """What to identify and how (the ``calibrate`` command's options).
 
     Attributes
@@ -128,13 +128,13 @@ def moved(model_joints: tuple[Joint, ...], g: Mat) -> tuple[Joint, ...]:
     return tuple(out)
 
 
-def layout_points(opts: Options, ids: list[int]) -> Mat:
+def layout_points(opts: FitOptions, ids: list[int]) -> Mat:
     if opts.layout is None:
         return np.zeros((len(ids), 3))
     return np.array([opts.layout[k] for k in ids])
 
 
-def nominal_points(nominal: PoeModel, m: Measurements, opts: Options, ids: list[int]) -> Mat:
+def nominal_points(nominal: PoeModel, m: Measurements, opts: FitOptions, ids: list[int]) -> Mat:
     """The nominal's tool points at the measured configurations (in its base frame)."""
     poses = nominal.fk_batch(m.q)
     if opts.pose:
@@ -158,14 +158,14 @@ def _measured_points(m: Measurements, size: float, pose: bool) -> Mat:
     return pose_points(poses, size)
 
 
-def placement(nominal: PoeModel, m: Measurements, opts: Options, ids: list[int]) -> Mat:
+def placement(nominal: PoeModel, m: Measurements, opts: FitOptions, ids: list[int]) -> Mat:
     """The rigid fit of the nominal's tool points to the measured ones (step 1)."""
     return fit_rigid(
         nominal_points(nominal, m, opts, ids), _measured_points(m, nominal.size(), opts.pose)
     )
 
 
-def start_estimate(nominal: PoeModel, g: Mat, opts: Options, ids: list[int]) -> Estimate:
+def start_estimate(nominal: PoeModel, g: Mat, opts: FitOptions, ids: list[int]) -> Estimate:
     """The nominal placed in the device frame by ``g`` (:func:`placement`)."""
     helical = set(opts.helical)
     joints = tuple(

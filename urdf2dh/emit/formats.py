@@ -30,12 +30,31 @@ FORMATS = ("text", "json", "yaml", "csv", "markdown", "urdf", "poe")
 
 
 def render(table: Table, fmt: str) -> str:
-    """The table in format ``fmt`` (one of :data:`FORMATS`), ending with a newline.
+    """The table in format ``fmt``, ending with a newline.
 
-    Raises ``TypeError`` for a ``table`` that is not a :class:`~urdf2dh.conventions.table.Table` (a
-    POE model is converted first: :func:`urdf2dh.to_table`), :class:`~urdf2dh.errors.UsageError` for
-    an unknown format (a ``ValueError`` too), :class:`~urdf2dh.errors.ExportError` for a name the
-    format cannot carry (``urdf``: a character XML 1.0 has no way to write).
+    Parameters
+    ----------
+    table
+        A checked table (:func:`urdf2dh.to_table`).
+    fmt
+        One of :data:`FORMATS`: ``json`` and ``yaml`` (the table file: radians, the source's
+        length unit, full precision), ``csv``, ``text`` and ``markdown`` (degrees, for people),
+        ``urdf`` (metres) or ``poe`` (a POE model file).
+
+    Returns
+    -------
+    str
+        The file's text.
+
+    Raises
+    ------
+    TypeError
+        ``table`` is not a :class:`~urdf2dh.conventions.table.Table` (a POE model is converted
+        first: :func:`urdf2dh.to_table`), or ``fmt`` is not a string.
+    UsageError
+        An unknown format (a ``ValueError`` too).
+    ExportError
+        A name the format cannot carry (``urdf``: a character XML 1.0 has no way to write).
     """
     from ..checks import check_instance
     from ..conventions.table import Table

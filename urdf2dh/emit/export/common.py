@@ -22,8 +22,8 @@ from ...model.mimic import Followed
 from ...tolerances import DECIMAL_ROUND_OFF, DEFAULT, Tolerances
 
 __all__ = [
+    "ExportOptions",
     "Numbers",
-    "Options",
     "close_to",
     "floats",
     "header",
@@ -38,7 +38,7 @@ __all__ = [
 
 
 @dataclass(frozen=True, slots=True)
-class Options:
+class ExportOptions:
     """What a user may choose beyond the table: the length unit of targets that fix one
     (``None``: the target's default), and the tolerances that decide what counts as zero."""
 

@@ -51,8 +51,8 @@ from ...errors import ExportError, shown, visible
 from ...escape import hal_comment
 from ...geometry.se3 import dh_matrix, rot_x
 from .common import (
+    ExportOptions,
     Numbers,
-    Options,
     close_to,
     floats,
     header,
@@ -104,7 +104,7 @@ def _refuse(why: str) -> ExportError:
     return ExportError(f"linuxcnc: genserkins {why}; this chain cannot be written for it")
 
 
-def _flips(table: Table, alpha: float, a: float, opts: Options) -> bool | None:
+def _flips(table: Table, alpha: float, a: float, opts: ExportOptions) -> bool | None:
     """Whether ``Rx(alpha) Tx(a)`` is the identity (False) or a half turn about x (True),
     within the table's exactness; ``None`` when it is neither."""
     m = dh_matrix(0.0, 0.0, alpha, a)
@@ -119,7 +119,7 @@ def _wrap(angle: float) -> float:
     return math.remainder(angle, 2 * math.pi)
 
 
-def genser(table: Table, opts: Options) -> Genser:
+def genser(table: Table, opts: ExportOptions) -> Genser:
     """genserkins' view of an ``mdh`` table (see the module docstring), or the reason it
     cannot hold the chain."""
     rows = [floats(r.params) for r in table.rows]
@@ -243,7 +243,7 @@ def _frame_notes(table: Table, g: Genser, numbers: Numbers, unit: str) -> list[s
     return notes
 
 
-def render(table: Table, opts: Options) -> str:
+def render(table: Table, opts: ExportOptions) -> str:
     """HAL lines for genserkins and the joint zeros (see the module docstring)."""
     require_convention(table, "linuxcnc", ("mdh",))
     if table.n > JOINTS:
