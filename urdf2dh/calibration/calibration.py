@@ -398,6 +398,22 @@ def _check_markers(m: Measurements, pose: bool, layout: dict[int, Mat] | None) -
         )
 
 
+def _level(selection: Selection, identify_level: str, source: str) -> str:
+    """The level to identify: the one asked for, or the one cross-validation chose."""
+    if identify_level != AUTO:
+        return identify_level
+    if selection.chosen is None:
+        why = selection.score("base-tool").failure or ""
+        if "converge" in why:
+            raise NotConverged(f"{source}: the fit of the base and tool {why}; nothing written")
+        raise InputError(
+            f"{source}: {selection.configurations} configurations are too few to judge any "
+            f"level on configurations it was not fitted to ({why}); measure more "
+            "configurations, or choose the level"
+        )
+    return selection.chosen
+
+
 def calibrate(
     nominal: PoeModel,
     measurements: Measurements,
@@ -586,16 +602,7 @@ def _calibrate(
         ]
         check_patterns(opts.fixed, probes, ids)
     selection, fits = cross_validate(nominal, fit, opts, ids, before, levels, folds, seed, rule)
-    if identify_level == AUTO and selection.chosen is None:
-        why = selection.score("base-tool").failure or ""
-        if "converge" in why:
-            raise NotConverged(f"{m.source}: the fit of the base and tool {why}; nothing written")
-        raise InputError(
-            f"{m.source}: {selection.configurations} configurations are too few to judge any "
-            f"level on configurations it was not fitted to ({why}); measure more "
-            "configurations, or choose the level"
-        )
-    level = selection.chosen if identify_level == AUTO else identify_level
+    level = _level(selection, identify_level, m.source)
     if level not in fits:
         raise InputError(
             f"{m.source}: the {level} level cannot be identified: {selection.score(level).failure}"
@@ -608,7 +615,7 @@ def _calibrate(
         fit = m.subset(fit_rows)
         start, before = fit_before(nominal, fit, opts, ids)
         selection, fits = cross_validate(nominal, fit, opts, ids, before, levels, folds, seed, rule)
-        level = selection.chosen if identify_level == AUTO else identify_level
+        level = _level(selection, identify_level, m.source)
     result = identify(nominal, fit, replace(opts, level=level), ids, (start, before), fits[level])
     if not result.solution.converged:
         raise NotConverged(

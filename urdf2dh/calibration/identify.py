@@ -376,4 +376,5 @@ def _identified_points(est: Estimate, data: Data) -> Mat:
     assert est.markers is not None and data.marker_rows is not None
     last = prefix_products(est, data.q)[-1]
     c = est.markers[data.marker_rows]
-    return np.einsum("nij,nj->ni", last[:, :3, :3], c) + last[:, :3, 3]
+    points: Mat = np.einsum("nij,nj->ni", last[:, :3, :3], c) + last[:, :3, 3]
+    return points

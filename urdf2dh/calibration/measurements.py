@@ -346,8 +346,8 @@ def _layout(names: list[str | None], joints: tuple[str, ...], display: str) -> _
             f"{display}: an orientation goes with one point per row (a pose), not "
             f"{len(points)} markers"
         )
-    marker = seen.get(MARKER)
-    if marker is not None and len(points) > 1:
+    marker_column = seen.get(MARKER)
+    if marker_column is not None and len(points) > 1:
         raise InputError(
             f"{display}: a 'marker' column goes with one point per row, not numbered points"
         )
@@ -357,7 +357,7 @@ def _layout(names: list[str | None], joints: tuple[str, ...], display: str) -> _
         tuple(ids),
         quat,
         euler if euler is not None else figaroh,
-        marker,
+        marker_column,
     )
 
 

@@ -195,7 +195,7 @@ def _std(rows: Mat) -> Mat:
     info = flat.T @ flat
     try:
         cov = np.linalg.inv(info)
-        out = np.sqrt(np.clip(np.diag(cov), 0.0, None))
+        out: Mat = np.sqrt(np.clip(np.diag(cov), 0.0, None))
     except np.linalg.LinAlgError:
         return np.full(rows.shape[2], math.inf)
     s = np.linalg.svd(flat, compute_uv=False)

@@ -83,7 +83,7 @@ def _errors(est: Estimate, m: Measurements, pose: bool, ids: list[int]) -> Mat:
     data = to_data(m, pose, ids)
     r, _ = evaluate(absorbed(est), data, 1.0, 1.0, jacobian=False)
     rows = r.reshape(len(data), data.rows)
-    out = np.linalg.norm(rows[:, :3], axis=1, keepdims=True)
+    out: Mat = np.linalg.norm(rows[:, :3], axis=1, keepdims=True)
     if pose:
         out = np.hstack([out, np.linalg.norm(rows[:, 3:], axis=1, keepdims=True)])
     return out

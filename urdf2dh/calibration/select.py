@@ -150,7 +150,7 @@ def _squared_errors(est: Estimate, m: Measurements, pose: bool, ids: list[int]) 
     data = to_data(m, pose, ids)
     r, _ = evaluate(absorbed(est), data, 1.0, 1.0, jacobian=False)
     rows = r.reshape(len(data), data.rows)
-    out = np.sum(rows[:, :3] ** 2, axis=1, keepdims=True)
+    out: Mat = np.sum(rows[:, :3] ** 2, axis=1, keepdims=True)
     if pose:
         out = np.hstack([out, np.sum(rows[:, 3:] ** 2, axis=1, keepdims=True)])
     return out
@@ -161,7 +161,8 @@ def per_configuration(squared: Mat, index: NDArray[np.int64], count: int) -> Mat
     sums = np.zeros((count, squared.shape[1]))
     np.add.at(sums, index, squared)
     rows = np.bincount(index, minlength=count).astype(float)
-    return sums / np.maximum(rows, 1.0)[:, None]
+    means: Mat = sums / np.maximum(rows, 1.0)[:, None]
+    return means
 
 
 def _rms(values: Mat) -> tuple[float, float]:

@@ -145,7 +145,8 @@ def nominal_points(nominal: PoeModel, m: Measurements, opts: FitOptions, ids: li
         if m.markers is None
         else np.searchsorted(np.array(ids), m.markers)
     )
-    return np.einsum("nij,nj->ni", poses[:, :3, :3], local[rows]) + poses[:, :3, 3]
+    points: Mat = np.einsum("nij,nj->ni", poses[:, :3, :3], local[rows]) + poses[:, :3, 3]
+    return points
 
 
 def _measured_points(m: Measurements, size: float, pose: bool) -> Mat:

@@ -281,7 +281,8 @@ def pinocchio_evaluator(source: Source, poe: PoeModel) -> Callable[[Mat], Mat]:
         tip = poses(tip_f, configs)
         if np.array_equal(base_inverse, np.eye(4)):  # the base link is Pinocchio's root
             return tip
-        return base_inverse @ tip
+        moved: Mat = base_inverse @ tip
+        return moved
 
     return evaluate
 

@@ -230,7 +230,8 @@ class Table:
         out[:3, 3] = np.where(np.abs(m[:3, 3]) <= within * self.size, 0.0, m[:3, 3])
         unit = np.abs(np.abs(out[:3, :3]) - 1.0) <= within
         out[:3, :3] = np.where(unit, np.sign(out[:3, :3]), out[:3, :3])
-        return (out + 0.0).tolist()
+        rows: list[list[float]] = (out + 0.0).tolist()
+        return rows
 
     def _repr_markdown_(self) -> str:
         """In a notebook: the table as ``--format markdown`` writes it (names escaped)."""

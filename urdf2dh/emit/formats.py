@@ -69,7 +69,7 @@ def render(table: Table, fmt: str) -> str:
     if fmt == "yaml":
         import yaml
 
-        return yaml.safe_dump(table.to_dict(), sort_keys=False, default_flow_style=None)
+        return str(yaml.safe_dump(table.to_dict(), sort_keys=False, default_flow_style=None))
     if fmt == "csv":
         return _csv(table)
     if fmt == "text":
@@ -85,7 +85,8 @@ def render(table: Table, fmt: str) -> str:
 
         from ..io.poefile import poe_to_dict
 
-        return yaml.safe_dump(poe_to_dict(table.to_poe()), sort_keys=False, default_flow_style=None)
+        tree = poe_to_dict(table.to_poe())
+        return str(yaml.safe_dump(tree, sort_keys=False, default_flow_style=None))
     raise UsageError(f"unknown format '{fmt}'; valid: {choices(FORMATS)}")
 
 

@@ -54,7 +54,8 @@ def expi(x: Mat) -> Complexes:
     its reach (``|x| <= 2^20 h``, about 1600 rad), else from numpy's ``exp``."""
     k = np.rint(x * (1.0 / (H_HIGH + H_LOW)))
     if not np.abs(k).max(initial=0.0) <= REACH_STEPS:  # also false for NaN
-        return np.exp(1j * x)
+        out: Complexes = np.exp(1j * x)
+        return out
     r = (x - k * H_HIGH) - k * H_LOW  # |r| <= h / 2
     r2 = r * r
     small = np.empty(x.shape, dtype=np.complex128)
