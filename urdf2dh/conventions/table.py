@@ -270,12 +270,7 @@ class Table:
             entry: dict[str, Any] = {
                 "name": r.name, "type": r.kind, "pitch": float(r.pitch),
                 "scale": float(r.scale), "params": r.params.to_dict(),
-            }  # fmt: skip
-            if r.lower is not None and r.upper is not None:
-                entry["limits"] = [float(r.lower), float(r.upper)]
-            if r.mimic is not None:
-                entry["mimic"] = {"joint": r.mimic.joint, "multiplier": r.mimic.multiplier,
-                                  "offset": r.mimic.offset}  # fmt: skip
+            } | r.file_fields()  # fmt: skip
             joints.append(entry)
         return {
             "schema": SCHEMA,

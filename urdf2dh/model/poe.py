@@ -90,6 +90,20 @@ class JointMotion:
     __slots__ = ()
     kind: JointKind
     pitch: float
+    lower: float | None
+    upper: float | None
+    mimic: Mimic | None
+
+    def file_fields(self) -> dict[str, Any]:
+        """The joint's ``limits`` (when both are set) and ``mimic`` as table and POE model
+        files write them."""
+        out: dict[str, Any] = {}
+        if self.lower is not None and self.upper is not None:
+            out["limits"] = [float(self.lower), float(self.upper)]
+        if self.mimic is not None:
+            m = self.mimic
+            out["mimic"] = {"joint": m.joint, "multiplier": m.multiplier, "offset": m.offset}
+        return out
 
     @property
     def rotation(self) -> float:
