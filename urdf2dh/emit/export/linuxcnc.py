@@ -49,6 +49,7 @@ from ...conventions.base import written_angle
 from ...conventions.table import Row, Table
 from ...errors import ExportError, shown, visible
 from ...escape import hal_comment
+from ...geometry.frames import wrap_angle
 from ...geometry.se3 import dh_matrix, rot_x
 from .common import (
     ExportOptions,
@@ -115,10 +116,6 @@ def _flips(table: Table, alpha: float, a: float, opts: ExportOptions) -> bool | 
     return None
 
 
-def _wrap(angle: float) -> float:
-    return math.remainder(angle, 2 * math.pi)
-
-
 def genser(table: Table, opts: ExportOptions) -> Genser:
     """genserkins' view of an ``mdh`` table (see the module docstring), or the reason it
     cannot hold the chain."""
@@ -141,7 +138,7 @@ def genser(table: Table, opts: ExportOptions) -> Genser:
     last, joint = links[-1], joints[-1]
     flip = _flips(table, tool["alpha"], tool["a"], opts)
     if flip is True:
-        links[-1] = Link(last.a, _wrap(last.alpha + math.pi), tool["d"] - last.d)
+        links[-1] = Link(last.a, wrap_angle(last.alpha + math.pi), tool["d"] - last.d)
         joints[-1] = Joint(-joint.sign, tool["theta"] - joint.offset)
         return Genser(tuple(links), tuple(joints), world)
     if flip is False:
@@ -254,7 +251,9 @@ def render(table: Table, opts: ExportOptions) -> str:
         raise ExportError(f"linuxcnc: --units must be mm or inch, not '{opts.units}'")
     g = genser(table, opts)
     numbers = Numbers.of(table, opts.tol, units.factor(table.length_unit, unit))
-    joints = [Joint(j.sign, written_angle(_wrap(j.offset), opts.tol.written)) for j in g.joints]
+    joints = [
+        Joint(j.sign, written_angle(wrap_angle(j.offset), opts.tol.written)) for j in g.joints
+    ]
     maps = {i: j for i, j in enumerate(joints) if j != Joint()}
     notes = header(table, "LinuxCNC genserkins parameters")
     notes.append(
