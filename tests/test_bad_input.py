@@ -254,7 +254,7 @@ def test_missing_files_directories_and_outputs(tmp_path, capsys):
     assert main(["convert", "ur5", "-o", str(tmp_path / "no" / "dir" / "x.txt")]) == 2
     assert "does not exist" in capsys.readouterr().err
     assert main(["convert", "puma560-actual", "--base", "x"]) == 2
-    assert "--base/--tip apply to URDF sources" in capsys.readouterr().err
+    assert "base and tip links apply to URDF sources" in capsys.readouterr().err
 
 
 @pytest.mark.parametrize(
@@ -284,4 +284,4 @@ def test_bad_usage_exits_2(argv, capsys):
 
 def test_style_ur_with_cpc_is_a_usage_error(capsys):
     assert main(["convert", "ur5", "--convention", "cpc", "--style", "ur"]) == 2
-    assert "--style ur applies to dh, mdh tables, not cpc" in capsys.readouterr().err
+    assert "style ur applies to dh, mdh tables, not cpc" in capsys.readouterr().err

@@ -403,8 +403,8 @@ def test_cli_writes_the_file_and_refuses_non_opw_arms(tmp_path, capsys):
     assert err.count("\n") == 1 and "wrist axes do not intersect: offset wrist" in err
     assert "Traceback" not in err and not bad.exists()
     assert main(["export", "fanuc-m20ia", "--to", "opw", "--convention", "mdh"]) == 2
-    assert "--to opw is written from the POE model" in capsys.readouterr().err
-    with pytest.raises(UsageError, match="takes no --convention or --style"):
+    assert "export target opw is written from the POE model" in capsys.readouterr().err
+    with pytest.raises(UsageError, match="takes no convention or style"):
         export(_kuka(), "opw", style="ur")
 
 

@@ -307,7 +307,7 @@ def test_targets_refuse_other_conventions_and_styles():
     model = open_source("ur5").model()
     refusal = (
         r"linuxcnc takes mdh tables, not dh \(row 'shoulder_pan_joint' is a D-H row: "
-        r"theta, d, alpha, a\); export with --convention mdh"
+        r"theta, d, alpha, a\)$"
     )
     with pytest.raises(UsageError, match=refusal):
         export(model, "linuxcnc", "dh")

@@ -201,7 +201,8 @@ def test_other_targets_refuse_naming_a_hayati_row(target):
         export_table(table, target)
     message = str(e.value)
     assert f"row {odd.name!r} is a Hayati row: theta, a, alpha, beta" in message
-    assert "export with --convention" in message and "\n" not in message
+    assert e.value.remedy is not None and e.value.remedy.argument == "convention"
+    assert "--" not in message and "\n" not in message
 
 
 def test_the_hayati_row_is_rz_tx_rx_ry():

@@ -158,3 +158,15 @@ def test_the_jobs_refuse_wrong_arguments(call, error, words):
     with pytest.raises(error) as e:
         call()
     assert words in str(e.value) and "\n" not in str(e.value)
+
+
+def test_library_messages_say_what_is_wrong_and_the_command_adds_the_option(capsys):
+    from urdf2dh.cli import main
+
+    with pytest.raises(urdf2dh.Urdf2DhError) as e:
+        urdf2dh.export(MODEL, "linuxcnc", "dh")
+    assert "--" not in str(e.value) and e.value.remedy is not None
+    assert e.value.remedy.argument == "convention" and e.value.remedy.value == "mdh"
+    assert main(["export", "ur5", "--to", "linuxcnc", "--convention", "dh"]) == 2
+    err = capsys.readouterr().err
+    assert err == f"urdf2dh: error: {e.value}; export with --convention mdh\n"

@@ -40,7 +40,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 from numpy.typing import NDArray
 
-from ..errors import ConversionError, ExportError, shown
+from ..errors import ConversionError, ExportError, Remedy, shown
 from ..geometry.frames import unit, wrap_angle
 from ..geometry.se3 import pose_errors
 from ..model.poe import PoeModel
@@ -173,7 +173,8 @@ class _Judge:
         if off > self.angle:
             raise ExportError(
                 f"opw: {what}: axes {self.axes(i, k)} are not {ideal} ({math.degrees(off):.4g} "
-                f"deg off; --parallel-angle {self.tol.parallel_angle:g} rad)"
+                f"deg off; the parallel angle tolerance is {self.tol.parallel_angle:g} rad)",
+                remedy=Remedy("tol.parallel_angle", "{} allows more", "RAD"),
             )
         if off > self.tol.noise:
             treated = f"opw: axes {self.axes(i, k)} are {off:.3g} rad off {ideal}; treated as such"
@@ -184,7 +185,9 @@ class _Judge:
         not a format string: the text holds names from the file, braces and all)."""
         if gap > self.distance:
             raise ExportError(
-                f"opw: {fault(f'{gap:.4g} {self.unit}')}; --intersect-distance {self.distance:.3g}"
+                f"opw: {fault(f'{gap:.4g} {self.unit}')}; the intersect distance is "
+                f"{self.distance:.3g}",
+                remedy=Remedy("tol.intersect_distance", "{} allows more", "LENGTH"),
             )
         if gap > self.noise_length:
             self.made.append((f"opw: {treated} ({gap:.3g} {self.unit} off)", 0.0, gap))

@@ -49,7 +49,7 @@ class Source:
         if self.tree is None:
             if base or tip:
                 raise UsageError(
-                    f"{self.display}: --base/--tip apply to URDF sources; a {self.kind} file "
+                    f"{self.display}: base and tip links apply to URDF sources; a {self.kind} file "
                     "is already a single chain"
                 )
             assert self.poe is not None

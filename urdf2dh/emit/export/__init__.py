@@ -151,13 +151,14 @@ def table_choices(target: str, convention: str | None, style: str | None) -> tup
     if t.reads_model:
         if convention or style:
             raise UsageError(
-                f"--to {target} is written from the POE model; it takes no --convention or --style"
+                f"export target {target} is written from the POE model; it takes no convention "
+                "or style"
             )
         return "", ""
     convention = convention or t.conventions[0]
     style = style or t.styles[0]
     if style not in t.styles:
-        raise UsageError(f"--to {target} takes --style {' or '.join(t.styles)}, not {style}")
+        raise UsageError(f"export target {target} takes style {' or '.join(t.styles)}, not {style}")
     return convention, style
 
 

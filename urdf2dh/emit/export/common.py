@@ -16,7 +16,7 @@ from ...conventions import Params, get
 from ...conventions.base import written_angle, written_length
 from ...conventions.grid import summary
 from ...conventions.table import Table
-from ...errors import ExportError, UsageError, shown
+from ...errors import ExportError, Remedy, UsageError, shown
 from ...geometry.se3 import pose_errors
 from ...model.mimic import Followed
 from ...tolerances import DECIMAL_ROUND_OFF, DEFAULT, Tolerances
@@ -183,7 +183,8 @@ def require_uncoupled(joints: Iterable[Followed], target: str) -> None:
     if coupled:
         raise ExportError(
             f"{target}: joints {', '.join(coupled)} follow another joint; {target} has no coupled "
-            "joints (--format urdf keeps the coupling; --ignore-mimic treats them as independent)"
+            "joints (the urdf format keeps the coupling)",
+            remedy=Remedy("ignore_mimic", "{} treats them as independent"),
         )
 
 
@@ -220,6 +221,6 @@ def require_convention(table: Table, target: str, allowed: Iterable[str]) -> Non
         f" (row {shown(odd.name)} is a {odd.params.form or table.convention} row: "
         f"{', '.join(odd.params.values())})")  # fmt: skip
     raise UsageError(
-        f"{target} takes {' or '.join(allowed)} tables, not {table.convention}{row}; export "
-        f"with --convention {allowed[0]}"
+        f"{target} takes {' or '.join(allowed)} tables, not {table.convention}{row}",
+        remedy=Remedy("convention", "export with {}", allowed[0]),
     )

@@ -248,7 +248,7 @@ def render(table: Table, opts: ExportOptions) -> str:
     require(table, "linuxcnc", ("mdh",), ("revolute",))
     unit = UNITS.get(opts.units or "mm")
     if unit is None:
-        raise ExportError(f"linuxcnc: --units must be mm or inch, not '{opts.units}'")
+        raise ExportError(f"linuxcnc: the length unit must be mm or inch, not '{opts.units}'")
     g = genser(table, opts)
     numbers = Numbers.of(table, opts.tol, units.factor(table.length_unit, unit))
     joints = [

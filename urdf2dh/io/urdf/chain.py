@@ -14,7 +14,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 from numpy.typing import NDArray
 
-from ...errors import ChainError, shown
+from ...errors import ChainError, Remedy, shown
 from ...geometry.frames import unit
 from ...model.mimic import Mimic
 from ...model.poe import Joint, JointKind, PoeModel
@@ -144,7 +144,8 @@ def _followed(
             else:  # a multiplier of 0: a constant position, of no joint
                 raise ChainError(
                     f"{tree.path}: joint {shown(m.name)} mimics {shown(relation.joint)} with "
-                    "multiplier 0; pass --ignore-mimic to treat it as an independent joint"
+                    "multiplier 0",
+                    remedy=Remedy("ignore_mimic", "pass {} to treat it as an independent joint"),
                 )
         out.append(m if relation == m.mimic else replace(m, mimic=relation))
     return out

@@ -16,7 +16,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from ...errors import ChainError, InputError, choices, shown
+from ...errors import ChainError, InputError, Remedy, choices, shown
 from .validate import JOINT_TYPES, MOVING_TYPES
 
 __all__ = ["UrdfJoint", "UrdfTree", "build_tree", "names"]
@@ -138,7 +138,8 @@ class UrdfTree:
         if len(tied) > 1:
             raise ChainError(
                 f"{self.path}: several leaves tie as the deepest below {shown(base)}: "
-                f"{names(tied)}; choose one with --tip"
+                f"{names(tied)}",
+                remedy=Remedy("tip", "choose one with {}"),
             )
         return tied[0]
 
