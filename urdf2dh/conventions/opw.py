@@ -268,7 +268,7 @@ def opw_from_poe(
     if c2 <= judge.distance:
         raise ExportError(
             f"opw: not an ortho-parallel base: axes {judge.axes(1, 2)} coincide ({c2:.4g} "
-            f"{model.length_unit} apart; --intersect-distance {judge.distance:.3g})"
+            f"{model.length_unit} apart, within the intersect distance {judge.distance:.3g})"
         )
     up = between / c2  # the upper arm at home: OPW's z at joint 2's zero
     w4 = _across(d[3], y)  # forearm: from the elbow towards the wrist centre (c3 >= 0)
