@@ -52,7 +52,11 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 import urdf2dh  # noqa: E402
-from urdf2dh.calibration.calibration import calibrate  # noqa: E402
+from urdf2dh import (  # noqa: E402
+    calibrate,
+    render,
+    to_table,
+)
 from urdf2dh.calibration.identify import identify  # noqa: E402
 from urdf2dh.calibration.measure import perturb, synthesize  # noqa: E402
 from urdf2dh.calibration.measurements import (  # noqa: E402
@@ -61,8 +65,6 @@ from urdf2dh.calibration.measurements import (  # noqa: E402
     write_measurements,
 )
 from urdf2dh.calibration.start import FitOptions, placement  # noqa: E402
-from urdf2dh.conventions.convert import to_table  # noqa: E402
-from urdf2dh.emit.formats import render  # noqa: E402
 from urdf2dh.geometry.lie import log_so3, rotation_of  # noqa: E402
 from urdf2dh.io.catalog import ROBOTS, robot_path  # noqa: E402
 from urdf2dh.model.poe import PoeModel, joint_from_twist  # noqa: E402
