@@ -43,10 +43,10 @@ from ..geometry.se3 import inv
 from ..model.poe import PoeModel
 from ..tolerances import NOISE_FLOOR, NOISE_RATIO, Tolerances
 from .chart import LEVELS, Estimate, absorbed, count, names
-from .frames import anchor_base, fit_rigid, pose_points, tool_on_last_axis
 from .identifiable import free_coordinates
 from .measurements import Measurements
 from .residuals import Data, model_poses, prefix_products
+from .rigid import anchor_base, fit_rigid, pose_points, tool_on_last_axis
 from .solver import Problem, Solution, Statistics, solve, statistics
 from .start import (
     FitOptions,

@@ -21,10 +21,10 @@ from ..geometry.lie import rotation_of
 from ..model.poe import Joint, PoeModel
 from ..tolerances import DEFAULT, Tolerances
 from .chart import BASE_TOOL, LEVELS, Estimate, line_point
-from .frames import fit_rigid, pose_points
 from .measurements import Measurements
 from .prior import Prior
 from .residuals import Data
+from .rigid import fit_rigid, pose_points
 
 __all__ = [
     "FitOptions",
