@@ -10,6 +10,8 @@ from ..io.files import write_output
 from . import options
 from .chains import one_tip, several_of, to_directory
 
+__all__ = ["HELP", "NAME", "add_arguments", "run"]
+
 NAME = "export"
 HELP = "write a controller or toolbox configuration file"
 

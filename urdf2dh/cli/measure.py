@@ -8,6 +8,8 @@ from ..errors import UsageError
 from ..io.files import write_outputs
 from . import options
 
+__all__ = ["HELP", "NAME", "add_arguments", "run"]
+
 NAME = "measure"
 HELP = "synthetic measurements of a model (for calibrate)"
 

@@ -15,6 +15,8 @@ if TYPE_CHECKING:
     from ..io.sources import Source
     from ..tolerances import Tolerances
 
+__all__ = ["HELP", "NAME", "add_arguments", "run"]
+
 NAME = "verify"
 HELP = "compare every convention's FK with Pinocchio's"
 

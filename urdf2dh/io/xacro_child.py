@@ -37,6 +37,20 @@ from pathlib import Path
 from types import ModuleType
 from typing import Any
 
+__all__ = [
+    "FORMATTING",
+    "OUT_OF_MEMORY",
+    "PACKAGE_URL",
+    "REFUSED_CALLS",
+    "REFUSED_SYNTAX",
+    "SHOWN_EXPRESSION",
+    "PackageMissing",
+    "RefusedExpression",
+    "expand",
+    "main",
+    "refusal",
+]
+
 OUT_OF_MEMORY = 3
 PACKAGE_URL = "package://"
 SHOWN_EXPRESSION = 120  # characters of a refused expression shown in the message
