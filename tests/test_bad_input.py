@@ -213,7 +213,7 @@ def test_info_reports_chain_problems_without_failing(case, tmp_path, capsys):
         ),
         ("format: poe\njoints: []\n", ".yaml", "'tool' must give either"),
         ("schema: urdf2dh/1\nconvention: xyz\n", ".yaml", "convention must be one of"),
-        # issue 12: none of these may be an internal error, a hang or a memory blow-up
+        # none of these may be an internal error, a hang or a memory blow-up
         ('{"format": "poe", "n": ' + "9" * 5000 + "}", ".json", "malformed JSON (Exceeds"),
         ("[" * 100_000 + "]" * 100_000, ".json", "nested too deeply"),
         ("[" * 100_000 + "]" * 100_000, ".yaml", "nested too deeply"),

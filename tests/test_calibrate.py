@@ -1,4 +1,4 @@
-"""Calibration on real models (issue 15's "Done when"): Wu 2019's PUMA 560 from its nominal to its
+"""Calibration on real models: Wu 2019's PUMA 560 from its nominal to its
 actual model, noise at the noise floor with honest standard deviations, position-only
 measurements with one and three markers, SCARA and Stanford (prismatic) arms, helical joints,
 and a UR5 identified into a file UR's description takes."""
@@ -29,7 +29,7 @@ from urdf2dh.io.catalog import our_robots_dir
 from urdf2dh.model.poe import Joint, PoeModel
 from urdf2dh.tolerances import DEFAULT
 
-NOISE_POS, NOISE_ROT = 0.01, 1e-5  # mm and rad: issue 15's levels
+NOISE_POS, NOISE_ROT = 0.01, 1e-5  # mm and rad
 
 
 @pytest.fixture(scope="module")

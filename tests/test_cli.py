@@ -1,4 +1,4 @@
-"""The urdf2dh command line (SPEC §1): output, formats, files, exit codes."""
+"""The urdf2dh command line (docs/commands/index.md): output, formats, files, exit codes."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""The hayati convention (issue 13 part 1): every table exact (1e-12 x size) and sane (every
+"""The hayati convention: every table exact (1e-12 x size) and sane (every
 |a| and |d| within 2 x size) on real robots and on chains whose axes are 1e-12 ... 1e-1 rad from
 parallel, where D-H tables are either inexact or kilometres long; each row's form stated; its
 table files, URDF and roboticstoolbox exports."""

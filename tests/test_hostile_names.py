@@ -1,4 +1,4 @@
-"""Hostile names (issue 12, security): a robot, link or joint name (or a file name) can no longer
+"""Hostile names (security): a robot, link or joint name (or a file name) can no longer
 turn an exported file against its reader.
 
 Every target and format is run on robots whose names hold each character that ends a string,

@@ -1,4 +1,4 @@
-"""Mimic joints kept coupled (issue 13 part 2): a joint on the chain that mimics another carries
+"""Mimic joints kept coupled: a joint on the chain that mimics another carries
 ``mimic: {joint, multiplier, offset}``, tables are driven by the actuated joints only, and
 Pinocchio, coupling the URDF's mimic joints itself, agrees."""
 

@@ -1,4 +1,4 @@
-"""POE model files (SPEC §4): un-normalised twists, scale factors, pitch, prismatic joints,
+"""POE model files (docs/formats/poe-file.md): un-normalised twists, scale factors, pitch, prismatic joints,
 type checks, and the --format poe round trip."""
 
 from __future__ import annotations

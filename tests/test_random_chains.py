@@ -52,7 +52,7 @@ def test_chains_of_one_relation(relation):
 
 
 def test_parallel_rule_d_is_zero():
-    """Wu 2019 / SPEC §3: for parallel consecutive axes the D-H offset d is 0."""
+    """Wu 2019 (docs/conventions/dh.md): for parallel consecutive axes the D-H offset d is 0."""
     text, _drawn = random_chain_urdf(3, 6, relations=("parallel",), tool=False)
     model = tree_to_poe(source_of(text).tree, "base", "link6")
     table = to_table(model, "dh")

@@ -1,4 +1,4 @@
-"""Table files carry no round-off (issue 12): no -0.0, no 2.4e-33 where the geometry says 0, no
+"""Table files carry no round-off: no -0.0, no 2.4e-33 where the geometry says 0, no
 1.5707963267948968 where it says pi/2 -- and the self-check is of the numbers as written."""
 
 from __future__ import annotations
