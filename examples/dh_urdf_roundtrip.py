@@ -3,7 +3,8 @@ like it, and reading that URDF back gives the same table.
 
     python examples/dh_urdf_roundtrip.py [OUT.urdf]
 
-The table is Universal Robots' published UR5 table, typed in as a table file (docs/formats/table-file.md). Its
+The table is Universal Robots' published UR5 table, typed in as a table file
+(docs/formats/table-file.md). Its
 forward kinematics is evaluated here straight from the D-H formula, independently of urdf2dh,
 and compared with Pinocchio's on the written URDF.
 """

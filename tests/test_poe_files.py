@@ -1,5 +1,5 @@
-"""POE model files (docs/formats/poe-file.md): un-normalised twists, scale factors, pitch, prismatic joints,
-type checks, and the --format poe round trip."""
+"""POE model files (docs/formats/poe-file.md): un-normalised twists, scale factors, pitch,
+prismatic joints, type checks, and the --format poe round trip."""
 
 from __future__ import annotations
 
