@@ -38,9 +38,25 @@ Mat = NDArray[np.float64]
 
 @dataclass(frozen=True, slots=True)
 class Row(JointMotion):
-    """One movable joint's row: its motion (kind, pitch, scale), limits and parameters, and
-    whom it follows if it mimics another row's joint (the table is driven by the rows without
-    ``mimic``, in order; docs/trees-mimic.md)."""
+    """One movable joint's row of a table.
+
+    Attributes
+    ----------
+    name
+        The joint's name.
+    kind
+        ``revolute``, ``prismatic`` or ``helical``.
+    params
+        The convention's record for the row (:class:`~urdf2dh.conventions.dh.DhLink`, ...):
+        angles in radians, lengths in the table's length unit.
+    pitch, scale
+        The helix pitch (length per radian) and ``s = scale * q``, as :class:`~urdf2dh.Joint`.
+    lower, upper
+        The joint's limits (radians or length unit), or ``None``.
+    mimic
+        Whom it follows if it mimics another row's joint (the table is driven by the rows
+        without ``mimic``, in order; docs/trees-mimic.md), else ``None``.
+    """
 
     name: str
     kind: JointKind

@@ -39,8 +39,16 @@ __all__ = [
 
 @dataclass(frozen=True, slots=True)
 class ExportOptions:
-    """What a user may choose beyond the table: the length unit of targets that fix one
-    (``None``: the target's default), and the tolerances that decide what counts as zero."""
+    """What a user may choose beyond the table (:func:`urdf2dh.export`).
+
+    Attributes
+    ----------
+    units
+        The length unit of targets that fix one (``mm`` or ``inch`` for ``linuxcnc``; ``None``:
+        the target's default).
+    tol
+        The tolerances that decide what counts as zero, and the table's self-check.
+    """
 
     units: str | None = None
     tol: Tolerances = DEFAULT
