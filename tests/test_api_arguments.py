@@ -20,10 +20,10 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import urdf2dh
+from urdf2dh import Joint, PoeModel
 from urdf2dh.conventions.dh import DhLink
 from urdf2dh.conventions.table import Check, Row
 from urdf2dh.errors import SourceError, UsageError
-from urdf2dh.model.poe import Joint, PoeModel
 
 MODEL = urdf2dh.load("ur5")
 TABLE = urdf2dh.to_table(MODEL, "dh")

@@ -5,8 +5,7 @@ from __future__ import annotations
 import pytest
 from oracle import EXACT, assert_fk_matches, pin_reference
 
-from urdf2dh.conventions import NAMES as CONVENTIONS
-from urdf2dh.conventions.convert import to_table
+from urdf2dh import CONVENTIONS, to_table
 from urdf2dh.io.catalog import ROBOTS
 from urdf2dh.io.sources import open_source
 from urdf2dh.tolerances import EXACT as EXACT_TOL

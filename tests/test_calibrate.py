@@ -13,7 +13,7 @@ import yaml
 from consumers import ur_description_urdf
 
 import urdf2dh
-from urdf2dh.calibration.calibration import calibrate
+from urdf2dh import DEFAULT, Joint, PoeModel, calibrate, to_table
 from urdf2dh.calibration.chart import Estimate, line_point, local_coordinates
 from urdf2dh.calibration.identify import identify, moved
 from urdf2dh.calibration.measure import marker_layout, perturb, synthesize
@@ -21,13 +21,10 @@ from urdf2dh.calibration.measurements import Measurements
 from urdf2dh.calibration.report import to_dict
 from urdf2dh.calibration.start import FitOptions, placement
 from urdf2dh.check.papers import agrees
-from urdf2dh.conventions.convert import to_table
 from urdf2dh.emit.export import ExportOptions, export_table
 from urdf2dh.geometry.lie import quaternion_of
 from urdf2dh.geometry.se3 import pose_errors, twist_exp
 from urdf2dh.io.catalog import our_robots_dir
-from urdf2dh.model.poe import Joint, PoeModel
-from urdf2dh.tolerances import DEFAULT
 
 NOISE_POS, NOISE_ROT = 0.01, 1e-5  # mm and rad
 

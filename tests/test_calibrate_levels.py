@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 import urdf2dh
-from urdf2dh.calibration.calibration import calibrate
+from urdf2dh import PoeModel, calibrate
 from urdf2dh.calibration.chart import OFFSETS, Estimate, absorbed
 from urdf2dh.calibration.measure import marker_layout, perturb, synthesize
 from urdf2dh.calibration.measurements import MAX_MEASUREMENTS, Measurements, write_measurements
@@ -23,7 +23,6 @@ from urdf2dh.calibration.residuals import model_poses
 from urdf2dh.cli import main
 from urdf2dh.errors import InputError, UsageError
 from urdf2dh.geometry.se3 import pose_errors
-from urdf2dh.model.poe import PoeModel
 
 NOISE = 1e-4  # m and rad
 

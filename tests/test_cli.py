@@ -12,8 +12,8 @@ import pytest
 import yaml
 
 import urdf2dh
+from urdf2dh import CONVENTIONS
 from urdf2dh.cli import main
-from urdf2dh.conventions import NAMES as CONVENTIONS
 
 
 def run(capsys, *argv):

@@ -20,14 +20,13 @@ import yaml
 from consumers import report
 from oracle import EXACT, assert_fk_matches, pin_reference
 
+from urdf2dh import ExportOptions, Joint, PoeModel, export
 from urdf2dh.conventions.opw import OpwParameters, opw_fk, opw_from_poe
-from urdf2dh.emit.export import ExportOptions, export
 from urdf2dh.errors import ExportError, UsageError
 from urdf2dh.escape import yaml_comment
 from urdf2dh.geometry.se3 import from_rpy, inv, rot_x, rot_y, rot_z, trans
 from urdf2dh.io.catalog import ROBOTS, our_robots_dir
 from urdf2dh.io.sources import open_source
-from urdf2dh.model.poe import Joint, PoeModel
 from urdf2dh.tolerances import EXACT as EXACT_TOL
 from urdf2dh.units import factor as length_factor
 

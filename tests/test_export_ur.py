@@ -11,7 +11,7 @@ from consumers import report, ur_description_urdf
 from oracle import assert_fk_matches, pin_reference
 
 import urdf2dh
-from urdf2dh.conventions.convert import to_table
+from urdf2dh import to_table
 from urdf2dh.emit.export import export, export_table
 from urdf2dh.emit.export.ur import calibration_hash, hash_bytes, hash_text, hashed_rows
 from urdf2dh.errors import ExportError, UsageError

@@ -13,7 +13,7 @@ from pathlib import Path
 
 import pytest
 
-from urdf2dh.conventions.convert import to_table
+from urdf2dh import to_table
 from urdf2dh.emit.export import TARGETS, ExportOptions, export, export_table, table_choices
 from urdf2dh.io.sources import open_source
 

@@ -14,8 +14,8 @@ from hypothesis import strategies as st
 from oracle import EXACT, assert_fk_matches, pin_reference
 from test_fk import product_of_exponentials
 
+from urdf2dh import Joint, PoeModel, to_table
 from urdf2dh.cli import main
-from urdf2dh.conventions.convert import to_table
 from urdf2dh.conventions.dh import DhLink
 from urdf2dh.conventions.hayati import HayatiLink
 from urdf2dh.emit.export import export_table
@@ -24,7 +24,6 @@ from urdf2dh.errors import UsageError
 from urdf2dh.geometry import se3
 from urdf2dh.io.catalog import ROBOTS
 from urdf2dh.io.sources import open_source
-from urdf2dh.model.poe import Joint, PoeModel
 
 SANE = 2.0  # every |a|, |d| within this x robot size
 

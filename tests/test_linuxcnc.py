@@ -13,8 +13,7 @@ from consumers import genserkins_hal, real_linuxcnc, report, run_linuxcnc
 from oracle import assert_fk_matches, pin_reference
 from test_exports import AGREE, genser_cases
 
-from urdf2dh import units
-from urdf2dh.emit.export import ExportOptions, export
+from urdf2dh import ExportOptions, export, units
 
 pytestmark = pytest.mark.skipif(
     not real_linuxcnc(),

@@ -11,9 +11,9 @@ import numpy as np
 import pytest
 from oracle import assert_fk_matches, pin_reference
 
+from urdf2dh import to_table
 from urdf2dh.cli import main
 from urdf2dh.conventions import NAMES
-from urdf2dh.conventions.convert import to_table
 from urdf2dh.emit.export import TARGETS
 from urdf2dh.errors import ChainError
 from urdf2dh.io.sources import open_source

@@ -7,8 +7,7 @@ import pytest
 from chains import random_chain_urdf
 from oracle import EXACT, assert_fk_matches, pin_reference
 
-from urdf2dh.conventions import NAMES as CONVENTIONS
-from urdf2dh.conventions.convert import to_table
+from urdf2dh import CONVENTIONS, to_table
 from urdf2dh.io.sources import Source
 from urdf2dh.io.urdf import parse_tree, tree_to_poe
 

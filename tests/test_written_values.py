@@ -9,12 +9,12 @@ import math
 import numpy as np
 import pytest
 
+from urdf2dh import DEFAULT
 from urdf2dh.cli import main
 from urdf2dh.conventions import NAMES
 from urdf2dh.conventions.convert import build_table, self_check, to_table
 from urdf2dh.io.catalog import ROBOTS
 from urdf2dh.io.sources import open_source
-from urdf2dh.tolerances import DEFAULT
 
 ROUND_OFF = DEFAULT.written
 
