@@ -57,7 +57,7 @@ def test_package_url_is_resolved_too(tmp_path):
     with pytest.raises(InputError, match="needs ROS package 'demo_description'") as e:
         open_source(str(path))
     assert "--" not in str(e.value)  # the library says what is wrong; the CLI names the option
-    assert e.value.remedy == Remedy("xacro.packages", "point at its directory with {}",
+    assert e.value.remedy == Remedy("xacro.packages", "; point at its directory with {}",
                                     "demo_description=DIR")  # fmt: skip
     assert open_source(str(path), package_paths=PACKAGES).model().n == 4
 
@@ -160,9 +160,9 @@ def test_a_missing_argument_is_named_with_the_option(capsys):
         (
             "${9**9**9}",
             ["--xacro-timeout", "2"],
-            "took longer than 2 s; --xacro-timeout SECONDS allows more",
+            "took longer than 2 s (--xacro-timeout SECONDS allows more)",
         ),
-        ("${len('x'*10**10)}", [], "needs more than 1024 MiB of memory; --xacro-memory MIB allows"),
+        ("${len('x'*10**10)}", [], "needs more than 1024 MiB of memory (--xacro-memory MIB allows"),
         ("${len('x'*10**8)}", ["--xacro-memory", "64"], "needs more than 64 MiB"),
     ],
 )

@@ -41,7 +41,8 @@ MESSAGE_LENGTH = 2000  # characters of an error line the command line prints, at
 class Remedy:
     """A way past an error: the argument ``argument`` of the Python API (``ignore_mimic``,
     ``tip``, ``xacro.timeout``), given ``value`` where it takes one; ``then`` says what to do,
-    with ``{}`` where the argument (or the command line's option) goes."""
+    from its first character on (``"; choose one with {}"``), with ``{}`` where the argument (or
+    the command line's option) goes: the command line prints it right after the message."""
 
     argument: str
     then: str

@@ -102,7 +102,7 @@ def _with_option(e: Urdf2DhError) -> str:
     """The error's message, and the option that gets past it."""
     if e.remedy is None:
         return str(e)
-    return f"{e}; {e.remedy.said(OPTIONS.get(e.remedy.argument, e.remedy.argument))}"
+    return f"{e}{e.remedy.said(OPTIONS.get(e.remedy.argument, e.remedy.argument))}"
 
 
 def _report(e: Exception) -> int:

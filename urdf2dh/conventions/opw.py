@@ -174,7 +174,7 @@ class _Judge:
             raise ExportError(
                 f"opw: {what}: axes {self.axes(i, k)} are not {ideal} ({math.degrees(off):.4g} "
                 f"deg off; the parallel angle tolerance is {self.tol.parallel_angle:g} rad)",
-                remedy=Remedy("tol.parallel_angle", "{} allows more", "RAD"),
+                remedy=Remedy("tol.parallel_angle", " ({} allows more)", "RAD"),
             )
         if off > self.tol.noise:
             treated = f"opw: axes {self.axes(i, k)} are {off:.3g} rad off {ideal}; treated as such"
@@ -187,7 +187,7 @@ class _Judge:
             raise ExportError(
                 f"opw: {fault(f'{gap:.4g} {self.unit}')}; the intersect distance is "
                 f"{self.distance:.3g}",
-                remedy=Remedy("tol.intersect_distance", "{} allows more", "LENGTH"),
+                remedy=Remedy("tol.intersect_distance", " ({} allows more)", "LENGTH"),
             )
         if gap > self.noise_length:
             self.made.append((f"opw: {treated} ({gap:.3g} {self.unit} off)", 0.0, gap))

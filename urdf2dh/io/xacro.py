@@ -74,8 +74,8 @@ class PackageNotFound(InputError):
 
     def __init__(self, display: str, package: str) -> None:
         super().__init__(
-            f"{display}: xacro needs ROS package '{package}', whose directory is not given",
-            remedy=Remedy("xacro.packages", "point at its directory with {}", f"{package}=DIR"),
+            f"{display}: xacro needs ROS package '{package}'",
+            remedy=Remedy("xacro.packages", "; point at its directory with {}", f"{package}=DIR"),
         )
         self.package = package
 
@@ -151,7 +151,7 @@ def expand(path: Path, display: str, options: XacroOptions | None = None) -> byt
     except child.TimedOut:
         raise InputError(
             f"{display}: xacro expansion took longer than {options.timeout:g} s",
-            remedy=Remedy("xacro.timeout", "{} allows more", "SECONDS"),
+            remedy=Remedy("xacro.timeout", " ({} allows more)", "SECONDS"),
         ) from None
     except child.Overflow as e:
         what = "expanded URDF" if e.stream == "stdout" else "messages"
@@ -162,7 +162,7 @@ def expand(path: Path, display: str, options: XacroOptions | None = None) -> byt
     if done.returncode == OUT_OF_MEMORY:
         raise InputError(
             f"{display}: xacro expansion needs more than {options.memory} MiB of memory",
-            remedy=Remedy("xacro.memory", "{} allows more", "MIB"),
+            remedy=Remedy("xacro.memory", " ({} allows more)", "MIB"),
         )
     header, _, text = done.stdout.partition(b"\n")
     try:
@@ -208,7 +208,7 @@ def _error(display: str, result: Mapping[str, str]) -> InputError:
     remedy = None
     if text.startswith(UNDEFINED_ARG):
         name = text[len(UNDEFINED_ARG) :].split()[0]
-        remedy = Remedy("xacro.args", "pass it as {}", f"{name}:=VALUE")
+        remedy = Remedy("xacro.args", "; pass it as {}", f"{name}:=VALUE")
     return InputError(f"{display}: xacro cannot expand it ({text})", remedy=remedy)
 
 

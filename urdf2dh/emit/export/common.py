@@ -192,7 +192,7 @@ def require_uncoupled(joints: Iterable[Followed], target: str) -> None:
         raise ExportError(
             f"{target}: joints {', '.join(coupled)} follow another joint; {target} has no coupled "
             "joints (the urdf format keeps the coupling)",
-            remedy=Remedy("ignore_mimic", "{} treats them as independent"),
+            remedy=Remedy("ignore_mimic", "; {} treats them as independent"),
         )
 
 
@@ -230,5 +230,5 @@ def require_convention(table: Table, target: str, allowed: Iterable[str]) -> Non
         f"{', '.join(odd.params.values())})")  # fmt: skip
     raise UsageError(
         f"{target} takes {' or '.join(allowed)} tables, not {table.convention}{row}",
-        remedy=Remedy("convention", "export with {}", allowed[0]),
+        remedy=Remedy("convention", "; export with {}", allowed[0]),
     )

@@ -145,7 +145,7 @@ def _followed(
                 raise ChainError(
                     f"{tree.path}: joint {shown(m.name)} mimics {shown(relation.joint)} with "
                     "multiplier 0",
-                    remedy=Remedy("ignore_mimic", "pass {} to treat it as an independent joint"),
+                    remedy=Remedy("ignore_mimic", "; pass {} to treat it as an independent joint"),
                 )
         out.append(m if relation == m.mimic else replace(m, mimic=relation))
     return out

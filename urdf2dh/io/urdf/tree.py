@@ -139,7 +139,7 @@ class UrdfTree:
             raise ChainError(
                 f"{self.path}: several leaves tie as the deepest below {shown(base)}: "
                 f"{names(tied)}",
-                remedy=Remedy("tip", "choose one with {}"),
+                remedy=Remedy("tip", "; choose one with {}"),
             )
         return tied[0]
 
