@@ -121,7 +121,7 @@ def test_a_tool_off_the_flange_is_refused():
 
 
 def test_ur_takes_only_the_ur_style_dh_table():
-    with pytest.raises(UsageError, match="--style ur"):
+    with pytest.raises(UsageError, match="export target ur takes style ur, not wu"):
         export(urdf2dh.load("ur5"), "ur", style="wu")
     with pytest.raises(UsageError, match="dh tables"):
         export(urdf2dh.load("ur5"), "ur", convention="mdh")
