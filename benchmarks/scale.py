@@ -12,16 +12,16 @@ from chains import random_chain_urdf  # tests/chains.py: seeded random URDF chai
 from reference import chain_fk
 from timing import Figure, best_of, peak_alloc, run_process
 
-from urdf2dh.bounds import JOINTS
+from urdf2dh.check.verify import pinocchio_fk
 from urdf2dh.conventions import NAMES as CONVENTIONS
-from urdf2dh.convert import sample_configurations, to_table
-from urdf2dh.se3 import pose_errors
-from urdf2dh.sources import Source
-from urdf2dh.urdf import tree_to_poe
-from urdf2dh.urdf.parse import document, parse_xml, yourdfpy_robot
-from urdf2dh.urdf.tree import UrdfTree, build_tree
-from urdf2dh.urdf.validate import check_robot
-from urdf2dh.verify import pinocchio_fk
+from urdf2dh.conventions.convert import to_table
+from urdf2dh.geometry.se3 import pose_errors
+from urdf2dh.io.sources import Source
+from urdf2dh.io.urdf import tree_to_poe
+from urdf2dh.io.urdf.parse import document, parse_xml, yourdfpy_robot
+from urdf2dh.io.urdf.tree import UrdfTree, build_tree
+from urdf2dh.io.urdf.validate import check_robot
+from urdf2dh.tolerances import JOINTS
 
 __all__ = ["PIN_FK_MAX", "at_the_bounds", "chain_lengths"]
 
@@ -70,7 +70,7 @@ def chain_lengths(sizes: list[int], accuracy_samples: int) -> tuple[list[Figure]
         )
         tree = _tree(data, robot)
         model = tree_to_poe(tree, "base", "tool")
-        q = sample_configurations(model, accuracy_samples, 1)
+        q = model.sample(accuracy_samples, 1)
         exact = chain_fk(text, "base", "tool", q).astype(float)  # rounding: < 1 ulp
         size = model.size()
         ours_err = [pose_errors(model.fk_batch(q), exact)]
@@ -136,7 +136,7 @@ def _fits(sizes: list[int], times: list[float], errors: list[tuple]) -> list[str
 
 
 def at_the_bounds(directory: Path, quick: bool) -> list[str]:
-    """Whole commands (new processes) on random chains up to the bounds (urdf2dh/bounds.py):
+    """Whole commands (new processes) on random chains up to the bounds (urdf2dh/tolerances.py):
     convert at 1,000 joints and at the bound, time and peak memory, and how time scales (a
     linear cost gives 10 times the time beyond start-up for 10 times the joints); verify's peak
     memory at 100 and 1,000 joints. Goals: convert at the bound within 15 s and 2 GiB, verify of

@@ -42,10 +42,10 @@ sys.path.insert(0, str(ROOT / "tests"))
 
 from chains import random_chain_urdf  # noqa: E402  (tests/chains.py)
 
-from urdf2dh.bounds import FILE_BYTES, JOINTS, MAPPING_VALUES, VERIFY_JOINTS  # noqa: E402
+from urdf2dh.check.verify import native_stderr  # noqa: E402
 from urdf2dh.cli import main as cli  # noqa: E402
 from urdf2dh.errors import MESSAGE_LENGTH  # noqa: E402
-from urdf2dh.verify import native_stderr  # noqa: E402
+from urdf2dh.tolerances import FILE_BYTES, JOINTS, MAPPING_VALUES, VERIFY_JOINTS  # noqa: E402
 
 SECONDS = 60.0  # a run taking longer breaks the "bounded" invariant
 Rng = np.random.Generator

@@ -31,18 +31,18 @@ sys.path.insert(0, str(ROOT / "benchmarks"))
 
 from reference import chain_fk  # noqa: E402  (benchmarks/reference.py)
 
-from urdf2dh.catalog import ROBOTS, robot_path  # noqa: E402
 from urdf2dh.conventions import NAMES  # noqa: E402
-from urdf2dh.convert import sample_configurations, to_table  # noqa: E402
+from urdf2dh.conventions.convert import to_table  # noqa: E402
+from urdf2dh.conventions.table import Table  # noqa: E402
+from urdf2dh.emit.formats import render  # noqa: E402
 from urdf2dh.errors import Urdf2DhError  # noqa: E402
-from urdf2dh.formats import render  # noqa: E402
+from urdf2dh.geometry.se3 import pose_errors  # noqa: E402
+from urdf2dh.io.catalog import ROBOTS, robot_path  # noqa: E402
 from urdf2dh.io.mappings import read_mapping  # noqa: E402
-from urdf2dh.screws import PoeModel  # noqa: E402
-from urdf2dh.se3 import pose_errors  # noqa: E402
-from urdf2dh.sources import open_source  # noqa: E402
-from urdf2dh.table import Table  # noqa: E402
-from urdf2dh.tablefile import read_table  # noqa: E402
-from urdf2dh.urdf import load_tree, tree_to_poe  # noqa: E402
+from urdf2dh.io.sources import open_source  # noqa: E402
+from urdf2dh.io.tablefile import read_table  # noqa: E402
+from urdf2dh.io.urdf import load_tree, tree_to_poe  # noqa: E402
+from urdf2dh.model.poe import PoeModel  # noqa: E402
 
 PROMISE = 1e-14  # x robot size (position) and rad (rotation): tolerances.DEFAULT.report
 SAMPLES = 64
@@ -107,7 +107,7 @@ def chains(path: Path) -> Iterator[tuple[str, PoeModel, Reference | None]]:
             continue
         reference = None
         if not any(j.mimic is not None for j in model.joints):
-            q = sample_configurations(model, SAMPLES, SEED)
+            q = model.sample(SAMPLES, SEED)
             try:
                 reference = chain_fk(text, tree.root, leaf, q).astype(float)
             except (KeyError, AttributeError, ValueError):  # joints it does not model
@@ -125,7 +125,7 @@ def measure(path: Path) -> tuple[list[Measured], int]:
     """Every chain of the file in every convention, and how many conversions were refused."""
     out, refused = [], 0
     for label, model, reference in chains(path):
-        q = sample_configurations(model, SAMPLES, SEED)
+        q = model.sample(SAMPLES, SEED)
         size = model.size()
         if reference is None:
             reference = model.fk_batch(q)

@@ -11,10 +11,10 @@ from pathlib import Path
 import pytest
 from chains import random_chain_urdf
 
+from urdf2dh import to_table
 from urdf2dh.cli import main
-from urdf2dh.convert import to_table
 from urdf2dh.emit.scene import scene
-from urdf2dh.sources import open_source
+from urdf2dh.io.sources import open_source
 
 DOC = Path(__file__).resolve().parents[1] / "docs" / "plot.md"
 TEXT = DOC.read_text(encoding="utf-8")

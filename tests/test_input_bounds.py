@@ -1,5 +1,5 @@
-"""Every input is bounded (urdf2dh/bounds.py, docs/limits.md): sources that are not regular files
-are refused before a byte is read, files and chains beyond the bounds are refused in one line
+"""Every input is bounded (urdf2dh/tolerances.py, docs/limits.md): sources that are not regular
+files are refused before a byte is read, files and chains beyond the bounds are refused in one line
 naming the bound, libxml2's own limits are said as what they are, and a name of megabytes is
 shortened in every message."""
 
@@ -14,11 +14,11 @@ from pathlib import Path
 import pytest
 from chains import random_chain_urdf
 
-from urdf2dh import bounds, cli
-from urdf2dh.bounds import FILE_BYTES, JOINTS
+from urdf2dh import tolerances
 from urdf2dh.cli import main
-from urdf2dh.errors import MESSAGE_LENGTH, SHOWN_LENGTH, InputError, shown
-from urdf2dh.files import read_file
+from urdf2dh.errors import MESSAGE_LENGTH, SHOWN_LENGTH, InputError, one_line, shown
+from urdf2dh.io.files import read_file
+from urdf2dh.tolerances import FILE_BYTES, JOINTS
 
 
 def one_line_error(capsys, argv: list[str]) -> str:
@@ -139,11 +139,11 @@ def test_a_name_of_megabytes_is_shortened_in_the_message(tmp_path, capsys, chara
 
 def test_the_command_line_cuts_any_error_line_beyond_its_bound():
     long = "a: " + "x" * 50_000 + " :end"
-    line = cli._one_line(long)
+    line = one_line(long)
     assert len(line) <= MESSAGE_LENGTH + 40
     assert line.startswith("a: xxx") and line.endswith("xxx :end")
     assert "(50,008 characters)" in line
-    assert cli._one_line("short\nmessage") == "short\\nmessage"
+    assert one_line("short\nmessage") == "short\\nmessage"
 
 
 def test_the_limits_page_example_runs():
@@ -157,10 +157,10 @@ def test_the_limits_page_example_runs():
 
 def test_the_limits_page_names_every_bound():
     text = (Path(__file__).resolve().parents[1] / "docs" / "limits.md").read_text()
-    for name in bounds.__all__:
-        if name != "PINOCCHIO_STACK":
-            assert f"`{name}`" in text, name
-    assert "16 MiB" in text and f"{bounds.JOINTS:,}" in text and f"{bounds.VERIFY_JOINTS:,}" in text
+    for name in tolerances.BOUNDS:
+        assert f"`{name}`" in text, name
+    assert "16 MiB" in text and f"{tolerances.JOINTS:,}" in text
+    assert f"{tolerances.VERIFY_JOINTS:,}" in text
 
 
 def comb_urdf(n: int) -> str:

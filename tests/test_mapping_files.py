@@ -13,7 +13,7 @@ import pytest
 from urdf2dh.cli import main
 from urdf2dh.errors import InputError
 from urdf2dh.io.mappings import read_mapping
-from urdf2dh.sources import open_source
+from urdf2dh.io.sources import open_source
 
 POE = """format: poe
 name: arm

@@ -1,4 +1,4 @@
-"""Every chain of a tree (issue 13 part 3, SPEC §5 "Trees"): which tips ``--all-tips`` and a
+"""Every chain of a tree (docs/trees-mimic.md): which tips ``--all-tips`` and a
 repeated ``--tip`` take, what several tables look like on stdout, ``-o DIR`` written all or
 nothing, tip names that cannot be file names, ``verify`` and ``export`` over several chains.
 
@@ -21,11 +21,12 @@ import numpy as np
 import pytest
 import yaml
 
-from urdf2dh import files, verify
+from urdf2dh.check import verify
 from urdf2dh.cli import main
+from urdf2dh.cli.chains import FORMAT_SUFFIXES
 from urdf2dh.conventions import NAMES
 from urdf2dh.errors import shown
-from urdf2dh.tips import FORMAT_SUFFIXES
+from urdf2dh.io import files
 
 
 def tree_urdf(
@@ -329,7 +330,7 @@ def test_a_failing_tip_leaves_an_existing_directory_as_it_was(capsys, tmp_path):
 def test_a_table_failing_its_self_check_fails_the_run(capsys, tree, tmp_path, monkeypatch):
     """Exit 1, naming the tip, and nothing written (the failing check is forced: no real chain
     of this tree fails it)."""
-    from urdf2dh import convert
+    from urdf2dh.conventions import convert
     from urdf2dh.errors import ConversionError
 
     real = convert.to_table
@@ -530,7 +531,7 @@ def test_export_writes_one_file_per_tip_with_the_targets_suffix(capsys, tmp_path
 
 def test_the_written_tables_match_their_chains(capsys, tree, tmp_path):
     """Each file of -o DIR, read back as a SOURCE, has the FK of its own chain."""
-    from urdf2dh.sources import open_source
+    from urdf2dh.io.sources import open_source
 
     out_dir = tmp_path / "out"
     assert (

@@ -14,14 +14,13 @@ import pinocchio as pin
 import pytest
 from chains import random_chain_urdf
 
-from urdf2dh import verify as verify_module
-from urdf2dh.bounds import VERIFY_JOINTS
+import urdf2dh
+from urdf2dh.check import verify as verify_module
+from urdf2dh.check.verify import _frame_poser, pinocchio_fk
 from urdf2dh.cli import main
-from urdf2dh.convert import sample_configurations
-from urdf2dh.poefile import read_poe
-from urdf2dh.sources import Source, open_source
-from urdf2dh.tolerances import EPS
-from urdf2dh.verify import _frame_poser, pinocchio_fk
+from urdf2dh.io.poefile import read_poe
+from urdf2dh.io.sources import Source, open_source
+from urdf2dh.tolerances import EPS, VERIFY_JOINTS
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -50,7 +49,7 @@ def test_mimic_joints_follow_their_leader_as_in_pinocchio():
     """tests/data/parallelogram.urdf: a mimic chain, built by Pinocchio with mimic=True."""
     source = open_source(str(ROOT / "tests" / "data" / "parallelogram.urdf"))
     poe = source.model()
-    q = sample_configurations(poe, 30, 2)
+    q = poe.sample(30, 2)
     assert np.abs(pinocchio_fk(source, poe, q) - poe.fk_batch(q)).max() < 1e-12
 
 
@@ -120,10 +119,9 @@ def test_a_poe_chain_beyond_the_bound_is_refused_naming_it():
     poe = read_poe(data, "long.yaml")
     source = Source("poe", "long.yaml", "long", poe=poe)
     from urdf2dh.errors import InputError
-    from urdf2dh.verify import verify
 
     with pytest.raises(InputError, match=r"^long\.yaml: the chain has 2,001 joints; verify "):
-        verify(source, poe, samples=10)
+        urdf2dh.verify(source, samples=10)
 
 
 @pytest.mark.parametrize("robot", ["puma560-actual", "tiago-arm", "kinova"])
@@ -132,7 +130,7 @@ def test_both_ways_to_pinocchio_s_poses_agree_on_poe_and_urdf_models(robot, monk
     own Pinocchio model), a prismatic one, continuous joints of a URDF."""
     source = open_source(robot)
     poe = source.model()
-    q = sample_configurations(poe, 25, 6)
+    q = poe.sample(25, 6)
     by_data = pinocchio_fk(source, poe, q)
     monkeypatch.setattr(verify_module, "DATA_JOINTS", 0)
     by_joint = pinocchio_fk(source, poe, q)

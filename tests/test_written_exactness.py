@@ -14,13 +14,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from urdf2dh import frames, se3
+from urdf2dh import Joint, PoeModel, to_table
 from urdf2dh.conventions.cpc import r_rows
-from urdf2dh.convert import sample_configurations, to_table
-from urdf2dh.formats import render
-from urdf2dh.screws import Joint, PoeModel
-from urdf2dh.se3 import pose_errors
-from urdf2dh.sources import open_source
+from urdf2dh.emit.formats import render
+from urdf2dh.geometry import frames, se3
+from urdf2dh.geometry.se3 import pose_errors
+from urdf2dh.io.sources import open_source
 from urdf2dh.tolerances import DEFAULT, EPS
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -67,7 +66,7 @@ def test_techman_cpc_directions_are_unit_vectors_as_written(name):
         assert abs(math.hypot(*b) - 1.0) <= 2 * EPS, b
         assert all(c == 0.0 or abs(c) > DEFAULT.written for c in b), b
     assert any(0.0 < abs(1.0 - abs(c)) < 1e-12 for b in directions for c in b)  # kept, not 1
-    q = sample_configurations(model, 200, 3)
+    q = model.sample(200, 3)
     pos, rot = pose_errors(table.fk_batch(q), model.fk_batch(q))
     assert pos <= PROMISE * model.size() and rot <= PROMISE
 
@@ -84,7 +83,7 @@ def test_a_joint_on_the_previous_axis_turned_by_round_off_meets_it_at_its_origin
     table = to_table(model, "dh")
     assert table.warnings == ()
     assert table.base.d == pytest.approx(0.15675, abs=1e-15)
-    q = sample_configurations(model, 100, 1)
+    q = model.sample(100, 1)
     pos, rot = pose_errors(table.fk_batch(q), model.fk_batch(q))
     assert pos <= PROMISE * model.size() and rot <= PROMISE
     again = to_table(table.to_poe(), "dh")  # the same rule again: the same table
@@ -110,7 +109,7 @@ def test_round_off_parallel_axes_are_declared_by_dh_and_exact_in_hayati(angle):
     exactness promised that is a reported judgement with its deviation declared. Hayati is
     exact there and declares nothing."""
     model = _near_parallel_pair(angle)
-    q = sample_configurations(model, 200, 2)
+    q = model.sample(200, 2)
     dh = to_table(model, "dh")
     pos, rot = pose_errors(dh.fk_batch(q), model.fk_batch(q))
     assert pos <= PROMISE * model.size() + dh.check.declared_position
@@ -133,7 +132,7 @@ def test_far_reaching_rows_declare_their_rounding():
     assert any("float64 evaluation of its FK may round by up to" in w for w in table.warnings)
     declared = table.check.declared_position
     assert declared > PROMISE * model.size()
-    q = sample_configurations(model, 500, 4)
+    q = model.sample(500, 4)
     pos, _ = pose_errors(table.fk_batch(q), model.fk_batch(q))
     assert pos <= PROMISE * model.size() + declared
 

@@ -14,9 +14,9 @@ POE model files and table files are YAML or JSON. Their numbers are read as JSON
 
 A key that appears twice in one mapping, in YAML or JSON, is an error naming the key (and for
 YAML its line); YAML 1.1's merge key (``<<: *defaults``) still merges, its keys overridden by
-the mapping's own. A tree holds at most :data:`~urdf2dh.bounds.MAPPING_VALUES` values (nodes as
+the mapping's own. A tree holds at most :data:`~urdf2dh.tolerances.MAPPING_VALUES` values (nodes as
 written, and again with aliases counted each time they are used) and is nested at most
-:data:`~urdf2dh.bounds.MAPPING_DEPTH` levels deep.
+:data:`~urdf2dh.tolerances.MAPPING_DEPTH` levels deep.
 """
 
 from __future__ import annotations
@@ -27,8 +27,8 @@ import re
 from pathlib import Path
 from typing import Any, ClassVar
 
-from ..bounds import MAPPING_DEPTH, MAPPING_VALUES
 from ..errors import InputError, shown
+from ..tolerances import MAPPING_DEPTH, MAPPING_VALUES
 
 __all__ = ["read_mapping", "yaml_text"]
 
@@ -121,8 +121,8 @@ def yaml_text(text: str, display: str) -> Any:
 
 
 def _scan(yaml: Any, text: str, display: str, loader: type) -> None:
-    """Refuse a document nested deeper than :data:`~urdf2dh.bounds.MAPPING_DEPTH` or of more than
-    :data:`~urdf2dh.bounds.MAPPING_VALUES` nodes, from its parser's events (a stream, in
+    """Refuse a document nested deeper than :data:`~urdf2dh.tolerances.MAPPING_DEPTH` or of more
+    than :data:`~urdf2dh.tolerances.MAPPING_VALUES` nodes, from its parser's events (a stream, in
     constant memory), before the loader builds them: libyaml's composer recurses once per level
     and holds every node."""
     depth = nodes = 0
