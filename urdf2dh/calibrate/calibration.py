@@ -38,12 +38,13 @@ from ..table import Table
 from ..tolerances import DEFAULT, Tolerances
 from .chart import LEVELS, Estimate, absorbed, count
 from .identifiable import check_patterns
-from .identify import check_equations, fit_before, identify, level_start
+from .identify import check_equations, fit_before, has_prior, identify, level_start
 from .measurements import MAX_MEASUREMENTS, Measurements
 from .outliers import Suspect, suspects
+from .prior import AUTO as AUTO_PRIOR
 from .prior import Prior
 from .residuals import evaluate
-from .select import FOLDS, Selection, cross_validate
+from .select import Selection, cross_validate
 from .start import MAX_ITERATIONS, Options, to_data
 
 __all__ = [
@@ -376,11 +377,11 @@ def calibrate(
     identify_level: str = AUTO,
     pose: bool | None = None,
     fixed: tuple[str, ...] = (),
-    prior: Prior | None = None,
+    prior: Prior | str = AUTO_PRIOR,
     holdout: float = 0.0,
     validation: Measurements | None = None,
     seed: int = 0,
-    folds: int = FOLDS,
+    folds: int | None = None,
     rule: str = "simplest",
     noise_pos: float | None = None,
     noise_rot: float | None = None,
@@ -411,13 +412,15 @@ def calibrate(
     fixed
         Parameters held at the nominal's values: names or shell-style patterns.
     prior
-        Deviations of the joints' parameters about the nominal (:mod:`.prior`).
+        The prior on the joints' parameters (:mod:`.prior`): ``auto`` (the deviations of
+        greatest evidence, at the geometry and full levels), ``none``, or stated deviations.
     holdout, validation, seed
         A fraction of the configurations held out of the fit (drawn with ``seed``), and a
         separate set, both judged.
     folds, rule
-        Folds of the cross-validation and its rule (:mod:`.select`): the ``simplest`` level
-        within its uncertainty of the best, or the ``best``.
+        How the levels are judged (:mod:`.select`): each configuration left out in turn
+        (``None``), or ``folds`` seeded folds of them; the ``simplest`` level within one
+        standard error of the best, or the ``best``.
     noise_pos, noise_rot
         Noise levels that weigh the residuals (default: estimated).
     helical
@@ -519,7 +522,7 @@ def _calibrate(
     holdout: float,
     validation: Measurements | None,
     seed: int,
-    folds: int,
+    folds: int | None,
     rule: str,
     reject: bool,
     convention: str | None,
@@ -541,7 +544,8 @@ def _calibrate(
         )
     if identify_level != AUTO:  # fewer equations than its parameters: say so now
         est, _, _ = level_start(nominal, before.solution.estimate, opts, ids)
-        check_equations(count(est), to_data(fit, opts.pose, ids), fit.source, opts.pose)
+        if not has_prior(est, opts):
+            check_equations(count(est), to_data(fit, opts.pose, ids), fit.source, opts.pose)
     if opts.fixed:
         probes = [
             level_start(nominal, before.solution.estimate, replace(opts, level=lv), ids)[0]

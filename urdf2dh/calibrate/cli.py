@@ -44,10 +44,12 @@ def _renames(text: str) -> tuple[tuple[str, str], ...]:
     return tuple(out)
 
 
-def _prior(text: str) -> tuple[float, float]:
+def _prior(text: str) -> tuple[float, float] | str:
+    if text in ("auto", "none"):  # .prior.CHOICES (not imported here: --help stays fast)
+        return text
     parts = text.split(",")
     if len(parts) != 2:
-        raise argparse.ArgumentTypeError(f"'{text}' is not LENGTH,ANGLE")
+        raise argparse.ArgumentTypeError(f"'{text}' is not auto, none or LENGTH,ANGLE")
     try:
         length, angle = float(parts[0]), float(parts[1])
     except ValueError as e:
@@ -177,7 +179,8 @@ def add_parsers(sub: Any) -> None:
         choices=LEVEL_CHOICES,
         default="auto",
         help="how much to identify: base and tool only, and joint offsets, and every joint's "
-        "line, and joint scales; auto (default) chooses by cross-validation",
+        "line, and joint scales; auto (default) chooses the level that best predicts "
+        "configurations left out of the fit",
     )
     p.add_argument(
         "--fix",
@@ -191,9 +194,12 @@ def add_parsers(sub: Any) -> None:
     p.add_argument(
         "--prior",
         type=_prior,
-        metavar="LENGTH,ANGLE",
-        help="pull the joints' parameters toward the nominal's with these standard deviations "
-        "(lengths in the nominal's unit; angles in rad, also for scales)",
+        default="auto",
+        metavar="auto|none|LENGTH,ANGLE",
+        help="pull the joints' parameters toward the nominal's as errors of its links: auto "
+        "(default) with the deviations the measurements support, at the geometry and full "
+        "levels; none; or these standard deviations at every level (lengths in the nominal's "
+        "unit; angles in rad, also for scales)",
     )
     p.add_argument(
         "--convention",
@@ -234,21 +240,22 @@ def add_parsers(sub: Any) -> None:
         type=main.seed,
         default=0,
         metavar="S",
-        help="seed of the held-out draw and of the cross-validation's folds (default 0)",
+        help="seed of the held-out draw and of --folds (default 0)",
     )
     p.add_argument(
         "--folds",
         type=lambda text: main.integer(text, 2, 1000),
-        default=5,
+        default=None,
         metavar="K",
-        help="folds of the cross-validation over configurations (default %(default)s)",
+        help="judge the levels by leaving out K seeded folds of configurations in turn "
+        "(default: each configuration alone)",
     )
     p.add_argument(
         "--choose",
         choices=("simplest", "best"),
         default="simplest",
-        help="with --identify auto: the simplest level whose cross-validated error is within "
-        "its uncertainty of the best (default), or the best",
+        help="with --identify auto: the simplest level whose error on left-out configurations "
+        "is within one standard error of the best's (default), or the best",
     )
     p.add_argument(
         "--reject-outliers",
@@ -494,7 +501,7 @@ def calibrate_command(args: argparse.Namespace) -> int:
         identify_level=args.identify,
         pose=pose,
         fixed=tuple(name for group in args.fix for name in group),
-        prior=None if args.prior is None else Prior(*args.prior),
+        prior=args.prior if isinstance(args.prior, str) else Prior(*args.prior),
         holdout=args.holdout,
         validation=validation,
         seed=args.seed,

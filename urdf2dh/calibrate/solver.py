@@ -49,7 +49,7 @@ from ..tolerances import (
     RANK_RELATIVE,
 )
 from .chart import Estimate, retract
-from .prior import Prior, prior_rows
+from .prior import Regulariser
 from .residuals import Data, evaluate
 
 __all__ = ["Problem", "Solution", "Statistics", "solve", "statistics"]
@@ -72,23 +72,21 @@ class Problem:
         The measurements.
     sigma_pos, sigma_rot
         The noise levels that weigh position and rotation residuals.
-    prior, reference
-        The prior and the estimate it is centred on (both or neither).
+    prior
+        The prior's rows (:class:`.prior.Regulariser`), or ``None``.
     """
 
     data: Data
     sigma_pos: float
     sigma_rot: float
-    prior: Prior | None = None
-    reference: Estimate | None = None
+    prior: Regulariser | None = None
 
     def evaluate(self, est: Estimate, jacobian: bool = True) -> tuple[Mat, Mat | None]:
         """Residuals (the measurements', then the prior's) and their Jacobian."""
         r, jac = evaluate(est, self.data, self.sigma_pos, self.sigma_rot, jacobian)
         if self.prior is None:
             return r, jac
-        assert self.reference is not None
-        rp, jp = prior_rows(est, self.reference, self.prior, jacobian)
+        rp, jp = self.prior.rows(est, jacobian)
         r = np.concatenate([r, rp])
         if jac is not None:
             assert jp is not None
@@ -100,7 +98,7 @@ class Problem:
         return len(self.data) * self.data.rows
 
     def with_noise(self, sigma_pos: float, sigma_rot: float) -> Problem:
-        return Problem(self.data, sigma_pos, sigma_rot, self.prior, self.reference)
+        return Problem(self.data, sigma_pos, sigma_rot, self.prior)
 
 
 @dataclass(frozen=True, slots=True)

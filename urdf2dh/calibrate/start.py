@@ -23,7 +23,7 @@ from .chart import BASE_TOOL, LEVELS, Estimate, line_point
 from .frames import fit_rigid, pose_points
 from .lie import rotation_of
 from .measurements import Measurements
-from .prior import Prior
+from .prior import CHOICES, NONE, Prior
 from .residuals import Data
 
 __all__ = [
@@ -56,7 +56,8 @@ class Options:
         Parameters held at the nominal's values: names or shell-style patterns
         (``*.scale``, ``arm_7_joint.*``).
     prior
-        Deviations of the joints' parameters about the nominal (:mod:`.prior`), or ``None``.
+        The prior (:mod:`.prior`): stated deviations, ``auto`` (estimated at the geometry and
+        full levels) or ``none``.
     helical
         Revolute joints whose pitch is identified too (``("all",)`` for every one).
     keep_scale
@@ -78,7 +79,7 @@ class Options:
     pose: bool = True
     level: str = "full"
     fixed: tuple[str, ...] = ()
-    prior: Prior | None = None
+    prior: Prior | str = NONE
     helical: tuple[str, ...] = ()
     keep_scale: bool = False
     keep_tool_axis: bool = False
@@ -94,6 +95,8 @@ class Options:
             raise UsageError(f"frame must be device or nominal, not {self.frame!r}")
         if self.level not in LEVELS:
             raise UsageError(f"unknown level {self.level!r}; valid: {choices(LEVELS)}")
+        if not isinstance(self.prior, Prior) and self.prior not in CHOICES:
+            raise UsageError(f"unknown prior {self.prior!r}; valid: {choices(CHOICES)} or a Prior")
         if self.pose and (self.noise_pos is None) != (self.noise_rot is None):
             raise UsageError("give both noise levels (position and rotation) or neither")
 
