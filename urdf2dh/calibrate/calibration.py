@@ -38,7 +38,14 @@ from ..table import Table
 from ..tolerances import DEFAULT, Tolerances
 from .chart import LEVELS, Estimate, absorbed, count
 from .identifiable import check_patterns
-from .identify import check_equations, fit_before, has_prior, identify, level_start
+from .identify import (
+    check_equations,
+    fit_before,
+    has_prior,
+    identify,
+    level_start,
+    with_statistics,
+)
 from .measurements import MAX_MEASUREMENTS, Measurements
 from .outliers import Suspect, suspects
 from .prior import AUTO as AUTO_PRIOR
@@ -567,6 +574,7 @@ def _calibrate(
         raise InputError(
             f"{m.source}: the {level} level cannot be identified: {selection.score(level).failure}"
         )
+    fits[level] = with_statistics(fits[level], to_data(fit, opts.pose, ids))
     found = [
         replace(s, row=int(fit_rows[s.row])) for s in suspects(fit, fits[level], opts.pose, ids)
     ]

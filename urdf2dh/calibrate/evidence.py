@@ -37,6 +37,8 @@ Mat = NDArray[np.float64]
 
 _LOWEST, _HIGHEST = 1e-9, 1.0  # the deviations searched, rad (and x the robot's size)
 _RIDGE = 1e-12  # x the mean diagonal, added to H before its Cholesky factor
+_SETTLED = 1e-7  # L-BFGS-B stops when f changes by less than this x |f| (its ftol): far below
+# what moves a deviation by a per cent
 
 
 @dataclass(frozen=True)
@@ -51,7 +53,7 @@ class Linearised:
     shape, offset
         ``G`` ``(k, p)`` and ``y0`` ``(k,)``: the prior's projected coordinates.
     parts
-        ``M_j`` ``(k, k)`` of each group of errors, at unit deviation.
+        ``(groups, k, k)``: ``M_j`` of each group of errors, at unit deviation.
     """
 
     gram: tuple[Mat, ...]
@@ -60,16 +62,20 @@ class Linearised:
     count: tuple[int, ...]
     shape: Mat
     offset: Mat
-    parts: tuple[Mat, ...]
+    parts: Mat
 
 
 def linearised(
-    residuals: Mat, jacobian: Mat, rows: int, errors: LinkErrors, tangent: Mat, deviations: Mat,
-    parts: list[Mat],
-) -> Linearised:  # fmt: skip
+    residuals: Mat,
+    jacobian: Mat,
+    rows: int,
+    prior: tuple[LinkErrors, Mat, Mat, list[Mat]] | None = None,
+) -> Linearised:
     """The level at a point: the measurements' unweighted residuals ``(N * rows,)`` and their
-    Jacobian, the prior's :meth:`~.prior.LinkErrors.tangent` and
-    :meth:`~.prior.LinkErrors.deviations` there, and its :meth:`~.prior.LinkErrors.parts`."""
+    Jacobian and, with a prior, its link errors with their
+    :meth:`~.prior.LinkErrors.tangent` and :meth:`~.prior.LinkErrors.deviations` there and
+    their :meth:`~.prior.LinkErrors.parts` (without one, only the noise levels are left to
+    estimate: Förstner's variance components, reached at once)."""
     res = residuals.reshape(-1, rows)
     jac = jacobian.reshape(len(res), rows, -1)
     kinds = [slice(0, 3)] + ([slice(3, 6)] if rows == 6 else [])
@@ -81,6 +87,13 @@ def linearised(
         cross.append(j.T @ r)
         square.append(float(r @ r))
         count.append(len(r))
+    if prior is None:
+        p = jac.shape[2]
+        return Linearised(
+            tuple(gram), tuple(cross), tuple(square), tuple(count),
+            np.zeros((0, p)), np.zeros(0), np.zeros((0, 0, 0)),
+        )  # fmt: skip
+    errors, tangent, deviations, parts = prior
     return Linearised(
         tuple(gram),
         tuple(cross),
@@ -88,69 +101,107 @@ def linearised(
         tuple(count),
         errors.project @ tangent,
         errors.project @ deviations,
-        tuple(parts),
+        np.array(parts),
     )
 
 
 def _objective(theta: Mat, lin: Linearised) -> tuple[float, Mat]:
     """``f`` and its gradient by ``theta``: the log noise levels, then the log deviations of
-    the groups (module docstring)."""
+    the groups (module docstring). With ``u = M^-1 y(x)`` and ``P_j = M_j``, the gradient by
+    ``log t_j`` is ``t_j^2 sum(P_j * (M^-1 - M^-1 G H^-1 G^T M^-1 - u u^T))``. LAPACK's
+    Cholesky routines directly: the matrices are small and called for often."""
     kinds = len(lin.gram)
     sigma2 = np.exp(2.0 * theta[:kinds])
+    if not len(lin.offset):
+        return _noise_only(sigma2, lin)
     tau2 = np.exp(2.0 * theta[kinds:])
-    m = sum(t * part for t, part in zip(tau2, lin.parts, strict=True))
-    m = m + np.eye(len(m)) * (_RIDGE * float(np.trace(m)) / max(len(m), 1))
-    lm = np.linalg.cholesky(m)
-    minv_g = _cho_solve(lm, lin.shape)
-    minv_y = _cho_solve(lm, lin.offset)
-    h = sum(g / s for g, s in zip(lin.gram, sigma2, strict=True)) + lin.shape.T @ minv_g
-    h = h + np.eye(len(h)) * (_RIDGE * float(np.trace(h)) / max(len(h), 1))
-    b = sum(c / s for c, s in zip(lin.cross, sigma2, strict=True)) + lin.shape.T @ minv_y
-    lh = np.linalg.cholesky(h)
-    x = -_cho_solve(lh, b)
+    m = np.einsum("g,gij->ij", tau2, lin.parts)
+    m[np.diag_indices_from(m)] += _RIDGE * float(np.trace(m)) / max(len(m), 1)
+    lm = _factor(m)
+    minv_g = _solve(lm, lin.shape)
+    gram = [g / s for g, s in zip(lin.gram, sigma2, strict=True)]
+    h = sum(gram) + lin.shape.T @ minv_g
+    h[np.diag_indices_from(h)] += _RIDGE * float(np.trace(h)) / max(len(h), 1)
+    b = sum(c / s for c, s in zip(lin.cross, sigma2, strict=True))
+    b = b + minv_g.T @ lin.offset
+    lh = _factor(h)
+    x = -_solve(lh, b)
     errors = [
         sq + 2.0 * float(c @ x) + float(x @ g @ x)
         for sq, c, g in zip(lin.square, lin.cross, lin.gram, strict=True)
     ]
     v = lin.offset + lin.shape @ x
-    minv_v = _cho_solve(lm, v)
-    chi2 = sum(e / s for e, s in zip(errors, sigma2, strict=True)) + float(v @ minv_v)
+    u = _solve(lm, v)
+    chi2 = sum(e / s for e, s in zip(errors, sigma2, strict=True)) + float(v @ u)
     logdet = 2.0 * float(np.sum(np.log(np.diag(lh)))) + 2.0 * float(np.sum(np.log(np.diag(lm))))
     noise = sum(n * math.log(s) for n, s in zip(lin.count, sigma2, strict=True))
     value = 0.5 * (chi2 + logdet + noise)
-    h_inv = _cho_solve(lh, np.eye(len(h)))
+    h_inv = _inverse(lh)
+    spread = minv_g @ h_inv @ minv_g.T
+    rest = _inverse(lm) - spread - np.outer(u, u)
     grad = np.empty(len(theta))
     for g in range(kinds):
-        grad[g] = 0.5 * (
-            -2.0 * errors[g] / sigma2[g]
-            - 2.0 * float(np.sum(h_inv * lin.gram[g])) / sigma2[g]
-            + 2.0 * lin.count[g]
-        )
-    spread = minv_g @ h_inv @ minv_g.T  # M^-1 G H^-1 G^T M^-1
-    m_inv = _cho_solve(lm, np.eye(len(m)))
-    for k, (t, unit) in enumerate(zip(tau2, lin.parts, strict=True)):
-        part = 2.0 * t * unit
-        grad[kinds + k] = 0.5 * (
-            -float(minv_v @ part @ minv_v)
-            - float(np.sum(spread * part))
-            + float(np.sum(m_inv * part))
-        )
+        grad[g] = -errors[g] / sigma2[g] - float(np.sum(h_inv * gram[g])) + lin.count[g]
+    grad[kinds:] = tau2 * np.einsum("gij,ij->g", lin.parts, rest)
     return value, grad
 
 
-def _cho_solve(factor: Mat, b: Mat) -> Mat:
-    """``A^-1 b`` from the lower Cholesky factor of ``A``."""
-    from scipy.linalg import cho_solve
+def _noise_only(sigma2: Mat, lin: Linearised) -> tuple[float, Mat]:
+    """:func:`_objective` without a prior."""
+    gram = [g / s for g, s in zip(lin.gram, sigma2, strict=True)]
+    h = sum(gram)
+    h[np.diag_indices_from(h)] += _RIDGE * float(np.trace(h)) / max(len(h), 1)
+    lh = _factor(h)
+    x = -_solve(lh, sum(c / s for c, s in zip(lin.cross, sigma2, strict=True)))
+    errors = [
+        sq + 2.0 * float(c @ x) + float(x @ g @ x)
+        for sq, c, g in zip(lin.square, lin.cross, lin.gram, strict=True)
+    ]
+    chi2 = sum(e / s for e, s in zip(errors, sigma2, strict=True))
+    noise = sum(n * math.log(s) for n, s in zip(lin.count, sigma2, strict=True))
+    value = 0.5 * (chi2 + 2.0 * float(np.sum(np.log(np.diag(lh)))) + noise)
+    h_inv = _inverse(lh)
+    grad = np.array(
+        [
+            -e / s - float(np.sum(h_inv * g)) + n
+            for e, s, g, n in zip(errors, sigma2, gram, lin.count, strict=True)
+        ]
+    )
+    return value, grad
 
-    return cho_solve((factor, True), b, check_finite=False)
+
+def _factor(a: Mat) -> Mat:
+    """The lower Cholesky factor of the symmetric positive definite ``a``."""
+    from scipy.linalg.lapack import dpotrf
+
+    factor, info = dpotrf(a, lower=1, clean=1)
+    if info:
+        raise np.linalg.LinAlgError("not positive definite")
+    return factor
+
+
+def _solve(factor: Mat, b: Mat) -> Mat:
+    """``A^-1 b`` from the lower Cholesky factor of ``A``."""
+    from scipy.linalg.lapack import dpotrs
+
+    return dpotrs(factor, b, lower=1)[0]
+
+
+def _inverse(factor: Mat) -> Mat:
+    """``A^-1`` from the lower Cholesky factor of ``A``."""
+    from scipy.linalg.lapack import dpotri
+
+    low = dpotri(factor, lower=1)[0]
+    return np.tril(low) + np.tril(low, -1).T
 
 
 def maximise(
     lin: Linearised, noise: tuple[float, ...], deviations: Mat, floors: tuple[float, ...]
-) -> tuple[tuple[float, ...], Mat]:
+) -> tuple[tuple[float, ...], Mat, Mat]:
     """The noise levels (positions, then rotations) and the groups' deviations of greatest
     evidence, from ``noise`` and ``deviations``; the noise levels kept above ``floors`` (fixed
-    where a floor is the level itself: given noise)."""
+    where a floor is the level itself: given noise); and the linearised model's solution with
+    them (a Gauss-Newton step from the linearisation point: where the solve starts)."""
     from scipy.optimize import minimize
 
     kinds = len(lin.gram)
@@ -159,5 +210,28 @@ def maximise(
         (math.log(f), math.log(f) if f == level else None)
         for f, level in zip(floors, noise, strict=True)
     ] + [(math.log(_LOWEST), math.log(_HIGHEST))] * len(deviations)
-    result = minimize(_objective, theta0, args=(lin,), jac=True, method="L-BFGS-B", bounds=bounds)
-    return tuple(np.exp(result.x[:kinds]).tolist()), np.exp(result.x[kinds:])
+    result = minimize(
+        _objective, theta0, args=(lin,), jac=True, method="L-BFGS-B", bounds=bounds,
+        options={"ftol": _SETTLED},
+    )  # fmt: skip
+    return (
+        tuple(np.exp(result.x[:kinds]).tolist()),
+        np.exp(result.x[kinds:]),
+        _step(result.x, lin),
+    )
+
+
+def _step(theta: Mat, lin: Linearised) -> Mat:
+    """The minimising ``x`` of the linearised objective at ``theta``."""
+    kinds = len(lin.gram)
+    sigma2 = np.exp(2.0 * theta[:kinds])
+    h = sum(g / s for g, s in zip(lin.gram, sigma2, strict=True))
+    b = sum(c / s for c, s in zip(lin.cross, sigma2, strict=True))
+    if len(lin.offset):
+        m = np.einsum("g,gij->ij", np.exp(2.0 * theta[kinds:]), lin.parts)
+        m[np.diag_indices_from(m)] += _RIDGE * float(np.trace(m)) / max(len(m), 1)
+        minv_g = _solve(_factor(m), lin.shape)
+        h = h + lin.shape.T @ minv_g
+        b = b + minv_g.T @ lin.offset
+    h[np.diag_indices_from(h)] += _RIDGE * float(np.trace(h)) / max(len(h), 1)
+    return -_solve(_factor(h), b)

@@ -42,7 +42,7 @@ from ..errors import InputError
 from ..screws import PoeModel
 from ..se3 import inv
 from ..tolerances import NOISE_FLOOR, NOISE_RATIO, Tolerances
-from .chart import LEVELS, Estimate, absorbed, count, names
+from .chart import LEVELS, Estimate, absorbed, count, names, retract
 from .evidence import linearised, maximise
 from .frames import anchor_base, fit_rigid, pose_points, tool_on_last_axis
 from .identifiable import free_coordinates
@@ -62,6 +62,7 @@ __all__ = [
     "joint_locations",
     "level_start",
     "solve_level",
+    "with_statistics",
 ]
 
 Mat = NDArray[np.float64]
@@ -70,19 +71,37 @@ _WEIGHT_ROUNDS = 10  # variance-component rounds at most
 _WEIGHT_SETTLED = 0.01  # ... stopping when their ratio changes by no more than this fraction
 _EVIDENCE_ROUNDS = 5  # rounds of the deviations' estimate at most (each from a new solution)
 _EVIDENCE_SETTLED = 0.05  # ... stopping when no estimate changes by more than this (in log)
-_DEVIATION_START = 0.1  # rad (and x the robot's size): a prior too weak to pull, the start
+_DEVIATION_START = 0.1  # rad (and x the robot's size): a prior too weak to pull: the search's start
+_DEVIATION_NEGLIGIBLE = 1e-6  # rad: deviations below this count as this in the settling test
 
 
 @dataclass(frozen=True)
 class Fit:
-    """A solved level: the solution, its statistics and the noise levels that weighed it."""
+    """A solved level: the solution, the noise levels and the prior that weighed it, and its
+    statistics (``None`` until asked for: :func:`with_statistics`)."""
 
     solution: Solution
-    stats: Statistics
+    stats: Statistics | None
     sigma_pos: float
     sigma_rot: float
     notes: tuple[str, ...] = ()
     prior: Regulariser | None = None
+
+    def problem(self, data: Data) -> Problem:
+        """What the fit minimised, on ``data``."""
+        return Problem(data, self.sigma_pos, self.sigma_rot, self.prior)
+
+    @property
+    def statistics(self) -> Statistics:
+        assert self.stats is not None, "the fit's statistics were not computed"
+        return self.stats
+
+
+def with_statistics(fit: Fit, data: Data) -> Fit:
+    """``fit`` with its statistics (:func:`.solver.statistics`) at its solution on ``data``."""
+    if fit.stats is not None:
+        return fit
+    return replace(fit, stats=statistics(fit.solution.estimate, fit.problem(data)))
 
 
 @dataclass(frozen=True)
@@ -181,13 +200,15 @@ def solve_level(
     noise: tuple[float, float] | None = None,
     locations: Mat | None = None,
     deviations: Deviations | None = None,
+    stats: bool = True,
 ) -> Fit:
     """Solve ``est``'s level on ``data``, weighting as ``opts`` says (module docstring, step 3).
 
     ``noise`` is where the estimation of the noise levels starts (a previous fit's levels);
     ``reference`` is the prior's centre and ``locations`` ``(n, 3)`` the joints' locations in
     the device frame (:func:`joint_locations`), for a level with a prior; ``deviations``,
-    where their estimate starts (a simpler level's: nested levels continue from there)."""
+    where their estimate starts (a simpler level's: nested levels continue from there);
+    ``stats``: whether to compute the solution's statistics (:func:`with_statistics`)."""
     notes: list[str] = []
     given = opts.noise_pos is not None
     sp, sr = (
@@ -197,33 +218,40 @@ def solve_level(
     )
     errors, stated = prior_of(est, opts, reference, locations)
     if errors is not None and stated is None:
-        return _solve_with_evidence(est, data, opts, size, errors, (sp, sr), deviations, notes)
+        fit = _solve_with_evidence(est, data, opts, size, errors, (sp, sr), deviations, notes)
+        return with_statistics(fit, data) if stats else fit
     prior = None if errors is None or stated is None else Regulariser.of(errors, stated)
     problem = Problem(data, sp, sr, prior)
+    floors = (NOISE_FLOOR * size, NOISE_FLOOR)
     if count(est) == 0:
         sol = Solution(est, 0, True, 0.0)
     else:
         sol = solve(est, problem, size, opts.max_iterations)
     rounds = 0
-    while not given and sol.converged and rounds < _WEIGHT_ROUNDS:
-        # variance components: without a prior only the ratio of the levels changes the
-        # solution (and positions alone have none); with one, their size does too
+    step = np.zeros(0)
+    while not given and sol.converged and count(est) and rounds < _WEIGHT_ROUNDS:
         rounds += 1
-        stats = statistics(sol.estimate, problem, exact=False)
-        new_sp, new_sr = _components(data, stats, sp, sr)
-        new_sp, new_sr = bounded_noise(new_sp, new_sr if opts.pose else sr, size)
-        if prior is not None:
-            settled = max(abs(new_sp / sp - 1.0), abs(new_sr / sr - 1.0)) <= _WEIGHT_SETTLED
-        else:
-            settled = not opts.pose or abs((new_sr / new_sp) / (sr / sp) - 1.0) <= _WEIGHT_SETTLED
+        if prior is None and opts.pose:  # only their ratio matters: that of greatest evidence
+            r0, jac = evaluate(sol.estimate, data, 1.0, 1.0)
+            assert jac is not None
+            found, _, step = maximise(linearised(r0, jac, data.rows), (sp, sr), np.zeros(0), floors)
+            new_sp, new_sr = bounded_noise(found[0], found[1], size)
+            settled = abs((new_sr / new_sp) / (sr / sp) - 1.0) <= _WEIGHT_SETTLED
+        else:  # variance components (positions alone: the level of the residuals, once)
+            stats = statistics(sol.estimate, problem, exact=False)
+            new_sp, new_sr = _components(data, stats, sp, sr)
+            new_sp, new_sr = bounded_noise(new_sp, new_sr if opts.pose else sr, size)
+            settled = prior is None or (
+                max(abs(new_sp / sp - 1.0), abs(new_sr / sr - 1.0)) <= _WEIGHT_SETTLED
+            )
         sp, sr = new_sp, new_sr
         problem = problem.with_noise(sp, sr)
-        if settled or not count(est):
+        if settled:
             break
-        again = solve(sol.estimate, problem, size, opts.max_iterations)
+        again = solve(_stepped(sol.estimate, step, problem), problem, size, opts.max_iterations)
         sol = replace(again, iterations=sol.iterations + again.iterations)
-    stats = statistics(sol.estimate, problem)
-    return Fit(sol, stats, sp, sr, tuple(notes), prior)
+    fit = Fit(sol, None, sp, sr, tuple(notes), prior)
+    return with_statistics(fit, data) if stats else fit
 
 
 def _solve_with_evidence(
@@ -237,19 +265,18 @@ def _solve_with_evidence(
     notes: list[str],
 ) -> Fit:
     """Solve with the deviations (and, unless given, the noise levels) of greatest evidence
-    (:mod:`.evidence`): first with a prior too weak to pull (unless ``deviations``, a simpler
-    level's, give a start), then estimated at a linearisation, the level solved with them, and
-    again from the new solution until no estimate changes by more than
-    :data:`_EVIDENCE_SETTLED`."""
+    (:mod:`.evidence`): estimated at a linearisation at ``est`` (their search starting from a
+    prior too weak to pull, or from ``deviations``, a simpler level's), the level solved with
+    them from the linearised model's solution, and again from the new solution until no
+    estimate changes by more than :data:`_EVIDENCE_SETTLED` (the solution at the previous
+    estimates then stands)."""
     given = opts.noise_pos is not None
     sp, sr = noise
     present = errors.present()
     weak = np.full(errors.links + 2, _DEVIATION_START)
     sol = Solution(est, 0, True, 0.0)
-    if deviations is None:  # first (nearly) as the measurements alone lead: their basin
+    if deviations is None:
         deviations = Deviations.of_groups(weak, errors.links, size)
-        problem = Problem(data, sp, sr, Regulariser.of(errors, deviations))
-        sol = solve(est, problem, size, opts.max_iterations)
     values = deviations.groups()
     if len(values) != len(weak):  # a simpler level's: its links and offsets, weak scales
         values = np.append(values[: errors.links + 1], _DEVIATION_START)
@@ -258,32 +285,52 @@ def _solve_with_evidence(
     for _ in range(_EVIDENCE_ROUNDS):
         r0, jac = evaluate(sol.estimate, data, 1.0, 1.0)
         assert jac is not None
-        lin = linearised(
-            r0, jac, data.rows, errors, errors.tangent(sol.estimate),
-            errors.deviations(sol.estimate), parts,
-        )  # fmt: skip
+        here = (errors, errors.tangent(sol.estimate), errors.deviations(sol.estimate), parts)
+        lin = linearised(r0, jac, data.rows, here)
         levels = (sp, sr) if opts.pose else (sp,)
         floors = levels if given else (NOISE_FLOOR * size, NOISE_FLOOR)[: len(levels)]
-        found, estimated = maximise(lin, levels, values[present], floors)
+        found, estimated, step = maximise(lin, levels, values[present], floors)
         new_sp, new_sr = (found[0], found[1]) if opts.pose else (found[0], sr)
         if not given:
             new_sp, new_sr = bounded_noise(new_sp, new_sr, size)
         new_values = values.copy()
         new_values[present] = estimated
+        floor = _DEVIATION_NEGLIGIBLE
         change = max(
-            float(np.max(np.abs(np.log(new_values[present] / values[present])))),
+            float(
+                np.max(
+                    np.abs(
+                        np.log(
+                            np.maximum(new_values[present], floor)
+                            / np.maximum(values[present], floor)
+                        )
+                    )
+                )
+            ),
             abs(math.log(new_sp / sp)),
             abs(math.log(new_sr / sr)),
         )
+        if change <= _EVIDENCE_SETTLED and problem.prior is not None:
+            break  # the solution at the previous estimates stands
         sp, sr, values = new_sp, new_sr, new_values
         deviations = Deviations.of_groups(values, errors.links, size)
         problem = Problem(data, sp, sr, Regulariser.of(errors, deviations))
-        again = solve(sol.estimate, problem, size, opts.max_iterations)
+        again = solve(_stepped(sol.estimate, step, problem), problem, size, opts.max_iterations)
         sol = replace(again, iterations=sol.iterations + again.iterations)
-        if change <= _EVIDENCE_SETTLED or not sol.converged:
+        if not sol.converged:
             break
-    stats = statistics(sol.estimate, problem)
-    return Fit(sol, stats, sp, sr, tuple(notes), problem.prior)
+    return Fit(sol, None, sp, sr, tuple(notes), problem.prior)
+
+
+def _stepped(est: Estimate, step: Mat, problem: Problem) -> Estimate:
+    """``est`` moved by the linearised model's ``step`` (:func:`.evidence.maximise`) when that
+    lowers ``problem``'s cost: the solve then starts next to its solution."""
+    if not len(step) or len(step) != count(est):
+        return est
+    moved = retract(est, step)
+    before = problem.evaluate(est, jacobian=False)[0]
+    after = problem.evaluate(moved, jacobian=False)[0]
+    return moved if float(after @ after) < float(before @ before) else est
 
 
 def fit_before(
@@ -374,7 +421,7 @@ def identify(
     if not has_prior(est0, opts):
         check_equations(count(est0), data, fit.source, opts.pose)
     if solved is not None:
-        result = solved
+        result = with_statistics(solved, data)
     elif opts.level == "base-tool" and not opts.fixed_patterns:
         result = base_fit
     else:
@@ -412,7 +459,7 @@ def identify(
         before_est,
         est,
         result.solution,
-        result.stats,
+        result.statistics,
         names(est, ids),
         result.sigma_pos,
         result.sigma_rot,

@@ -63,7 +63,7 @@ def suspects(fit: Measurements, result: Fit, pose: bool, ids: list[int]) -> list
     r, _ = evaluate(result.solution.estimate, data, result.sigma_pos, result.sigma_rot, False)
     rows = r.reshape(len(data), data.rows)
     m = len(data) * data.rows
-    leverage = result.stats.leverage[:m].reshape(len(data), data.rows).sum(axis=1)
+    leverage = result.statistics.leverage[:m].reshape(len(data), data.rows).sum(axis=1)
     standardised = np.sum(rows**2, axis=1) / np.maximum(1.0 - leverage / data.rows, 1e-3)
     chance = chi2.sf(standardised, data.rows)
     index, _ = fit.configurations()

@@ -290,8 +290,7 @@ def cross_validate(
         if groups < 2:
             failures[level] = "a single configuration cannot be left out"
             continue
-        problem = Problem(data, f.sigma_pos, f.sigma_rot, f.prior)
-        squared = left_out_errors(problem, f.solution.estimate, group_of[index])
+        squared = left_out_errors(f.problem(data), f.solution.estimate, group_of[index])
         if squared is None:
             failures[level] = (
                 "a configuration alone determines some of its parameters: without it "
