@@ -101,7 +101,7 @@ def test_fixed_parameters_and_a_bad_name(ur5):
 def test_a_tight_prior_keeps_the_nominal_and_a_loose_one_changes_nothing(ur5):
     actual = perturb(ur5, 7, 0.003, 0.003)
     m = synthesize(actual, 30, NOISE, NOISE, seed=8)
-    free = calibrate(ur5, m, identify_level="geometry")
+    free = calibrate(ur5, m, identify_level="geometry", prior="none")
     loose = calibrate(ur5, m, identify_level="geometry", prior=Prior(1.0, 1.0))
     tight = calibrate(ur5, m, identify_level="geometry", prior=Prior(1e-7, 1e-7))
     q = sample_configurations(ur5, 200, 9)
@@ -256,7 +256,7 @@ def test_plots_are_a_png_and_one_self_contained_page(ur5):
         plot_calibration(cal, "gif")
 
 
-def test_the_cross_validation_shows_a_progress_bar_on_a_terminal(tmp_path):
+def test_the_levels_show_a_progress_bar_on_a_terminal(tmp_path):
     import fcntl
     import os
     import pty
@@ -300,7 +300,7 @@ def test_the_cross_validation_shows_a_progress_bar_on_a_terminal(tmp_path):
     os.close(main_fd)
     proc.communicate(timeout=120)
     assert proc.returncode == 0
-    assert b"calibrate: cross-validation:" in drawn and b"/5" in drawn
+    assert b"calibrate: levels:" in drawn and b"/4" in drawn
 
 
 def test_the_model_poses_of_an_estimate_with_offsets_move_as_the_absorbed_model(ur5):

@@ -42,6 +42,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import UsageError
+from ..progress import progress
 from ..screws import PoeModel
 from ..tolerances import RANK_RELATIVE
 from .chart import LEVELS, Estimate, absorbed, count
@@ -227,7 +228,7 @@ def level_fits(
     previous = before.solution.estimate  # each level starts from the simpler one's solution
     noise = (before.sigma_pos, before.sigma_rot)
     deviations: Deviations | None = None  # ... and its prior's estimate from the simpler one's
-    for level in levels:
+    for level in progress(levels, what="calibrate: levels"):
         if level == "base-tool" and not opts.fixed_patterns:
             fits[level] = before
             continue
