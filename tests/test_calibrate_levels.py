@@ -136,21 +136,29 @@ def test_a_validation_file_is_judged(ur5, tmp_path, capsys):
     assert "after, validation" in err
 
 
-def test_an_outlier_is_listed_and_rejected_when_asked(ur5):
+def test_an_outlier_is_listed_and_rejected_when_it_spoils_the_others(ur5):
+    """A wrong measurement drags the fit: without it the other configurations are predicted
+    far better, so the default rejects it; asked, it is kept, or rejected."""
     actual = perturb(ur5, 11, 0.002, 0.002)
     m = synthesize(actual, 60, NOISE, NOISE, seed=12)
     points = m.points.copy()
     points[17] += [0.02, -0.01, 0.0]  # 22 mm off: a wrong measurement
     bad = Measurements(m.joints, m.q, points, m.quaternions, None, "bad.csv")
-    kept = calibrate(ur5, bad)
+    kept = calibrate(ur5, bad, reject=False)
     assert [s.row for s in kept.suspects] == [17] and not kept.rejected
     assert kept.suspects[0].position > 0.01 and kept.suspects[0].chance < 1e-6
-    assert any("row 18" in w and "cannot explain" in w for w in kept.warnings)
+    assert any("row 18" in w and "cannot explain (kept as asked" in w for w in kept.warnings)
     rejected = calibrate(ur5, bad, reject=True)
     assert rejected.rejected and rejected.counts.rejected == 1
-    assert any("rejected 1 outlier: row 18" in w for w in rejected.warnings)
+    assert any("rejected 1 outlier (as asked): row 18" in w for w in rejected.warnings)
+    default = calibrate(ur5, bad)
+    assert default.rejected and default.counts.rejected == 1
+    assert any(
+        "rejected 1 outlier (without them the other configurations are predicted better" in w
+        for w in default.warnings
+    )
     q = sample_configurations(ur5, 200, 13)
-    better = pose_errors(rejected.model.fk_batch(q), actual.fk_batch(q))[0]
+    better = pose_errors(default.model.fk_batch(q), actual.fk_batch(q))[0]
     worse = pose_errors(kept.model.fk_batch(q), actual.fk_batch(q))[0]
     assert better < worse and better < 10 * NOISE
 

@@ -257,11 +257,23 @@ def add_parsers(sub: Any) -> None:
         help="with --identify auto: the simplest level whose error on left-out configurations "
         "is within one standard error of the best's (default), or the best",
     )
-    p.add_argument(
+    outliers = p.add_mutually_exclusive_group()
+    outliers.add_argument(
         "--reject-outliers",
-        action="store_true",
+        dest="reject",
+        action="store_const",
+        const=True,
+        default=None,
         help="reject the measurements the fit cannot explain (a chance below 1e-6 of so large "
-        "a residual from the noise) and fit again without them; by default they are listed",
+        "a residual from the noise) and fit again without them; by default they are rejected "
+        "when that predicts the other configurations better",
+    )
+    outliers.add_argument(
+        "--keep-outliers",
+        dest="reject",
+        action="store_const",
+        const=False,
+        help="keep them (they are listed)",
     )
     p.add_argument(
         "--noise-pos",
@@ -514,7 +526,7 @@ def calibrate_command(args: argparse.Namespace) -> int:
         keep_tool_axis=args.keep_tool_axis,
         frame=args.frame,
         layout=layout,
-        reject=args.reject_outliers,
+        reject=args.reject,
         convention=args.convention,
         style=args.style,
         tol=tol,

@@ -348,6 +348,7 @@ def assemble(
     selection: Selection,
     found: tuple[Suspect, ...],
     rejected: bool,
+    outlier_note: str,
     convention: str | None,
     style: str,
     tol: Tolerances,
@@ -429,13 +430,13 @@ def assemble(
             + f", chance {s.chance:.1e})"
             for s in found
         )
+        many = len(found) > 1
         warnings.append(
             (
-                f"rejected {len(found)} outlier{'s' if len(found) > 1 else ''}: "
+                f"rejected {len(found)} outlier{'s' if many else ''} ({outlier_note}): "
                 if rejected
-                else f"{len(found)} measurement{'s' if len(found) > 1 else ''} the fit cannot "
-                f"explain (kept; a wrong measurement, or the model's error at an unusual "
-                "configuration; they can be rejected): "
+                else f"{len(found)} measurement{'s' if many else ''} the fit cannot explain "
+                f"({outlier_note}): "
             )
             + rows
         )

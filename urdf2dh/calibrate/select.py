@@ -36,7 +36,7 @@ it without that configuration) is not chosen, and the report says why.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 from numpy.typing import NDArray
@@ -63,6 +63,7 @@ __all__ = [
     "left_out_errors",
     "level_fits",
     "per_configuration",
+    "within",
 ]
 
 Mat = NDArray[np.float64]
@@ -127,6 +128,12 @@ class Selection:
         The level chosen (module docstring; ``None``: none could be judged).
     reason
         Why, in a sentence.
+    left_out
+        Per level judged, ``(N, 1 or 2)``: each measurement's squared position (and rotation)
+        error when its configuration was left out.
+    weights
+        How squared position and rotation errors add up in the scores (over the noise levels'
+        squares).
     """
 
     folds: int
@@ -136,6 +143,8 @@ class Selection:
     best: str | None
     chosen: str | None
     reason: str
+    left_out: dict[str, Mat] = field(default_factory=dict, repr=False, compare=False)
+    weights: Mat = field(default_factory=lambda: np.ones(1), repr=False, compare=False)
 
     def score(self, level: str) -> Score:
         """The score of ``level``."""
@@ -285,6 +294,7 @@ def cross_validate(
     fits, failures = level_fits(nominal, fit, opts, ids, before, levels)
     data = to_data(fit, opts.pose, ids)
     per_config: dict[str, Mat] = {}
+    left_out: dict[str, Mat] = {}
     for level, f in fits.items():
         if level in failures:
             continue
@@ -298,6 +308,7 @@ def cross_validate(
                 "nothing predicts them"
             )
             continue
+        left_out[level] = squared
         per_config[level] = per_configuration(squared, index, configurations)
     judged = [lv for lv in levels if lv in per_config]
     richest = fits[judged[-1]] if judged else before
@@ -306,16 +317,20 @@ def cross_validate(
     scores = [_score(level, fits, failures, per_config, fit, opts, ids) for level in levels]
     seed_used = None if folds is None or folds >= configurations else seed
     if not judged:
-        return Selection(groups, seed_used, configurations, tuple(scores), None, None, ""), fits
+        selection = Selection(groups, seed_used, configurations, tuple(scores), None, None, "")
+        return selection, fits
     best = min(judged, key=lambda lv: float(np.mean(combined[lv])))
     chosen = (
         best
         if rule == "best"
-        else next(lv for lv in judged if _within(combined[lv], combined[best]))
+        else next(lv for lv in judged if within(combined[lv], combined[best]))
     )
     by_level = {s.level: s for s in scores}
     reason = _reason(by_level[chosen], by_level[best], opts.pose, seed_used is None)
-    return Selection(groups, seed_used, configurations, tuple(scores), best, chosen, reason), fits
+    selection = Selection(
+        groups, seed_used, configurations, tuple(scores), best, chosen, reason, left_out, weights
+    )
+    return selection, fits
 
 
 def _score(
@@ -356,13 +371,13 @@ def _rms(values: Mat) -> tuple[float, float]:
     return rms, se / (2.0 * rms)
 
 
-def _within(level: Mat, best: Mat) -> bool:
-    """Whether a level's per-configuration errors are, on average, within one standard error
-    of the best level's (the standard error of the paired differences)."""
+def within(level: Mat, best: Mat, errors: float = 1.0) -> bool:
+    """Whether a level's per-configuration errors are, on average, within ``errors`` standard
+    errors of the best level's (the standard error of the paired differences)."""
     d = level - best
     if len(d) < 2:
         return bool(np.mean(d) <= 0.0)
-    return bool(np.mean(d) <= float(np.std(d, ddof=1)) / math.sqrt(len(d)))
+    return bool(np.mean(d) <= errors * float(np.std(d, ddof=1)) / math.sqrt(len(d)))
 
 
 def _reason(chosen: Score, best: Score, pose: bool, alone: bool) -> str:
