@@ -39,6 +39,8 @@ _LOWEST, _HIGHEST = 1e-9, 1.0  # the deviations searched, rad (and x the robot's
 _RIDGE = 1e-12  # x the mean diagonal, added to H before its Cholesky factor
 _SETTLED = 1e-7  # L-BFGS-B stops when f changes by less than this x |f| (its ftol): far below
 # what moves a deviation by a per cent
+_COMPONENTS_ROUNDS = 100  # variance-component iterations at most (each ~halves the error)
+_COMPONENTS_SETTLED = 1e-6  # ... stopping when no noise level changes by more than this
 
 
 @dataclass(frozen=True)
@@ -201,10 +203,15 @@ def maximise(
     """The noise levels (positions, then rotations) and the groups' deviations of greatest
     evidence, from ``noise`` and ``deviations``; the noise levels kept above ``floors`` (fixed
     where a floor is the level itself: given noise); and the linearised model's solution with
-    them (a Gauss-Newton step from the linearisation point: where the solve starts)."""
+    them (a Gauss-Newton step from the linearisation point: where the solve starts). Without a
+    prior, the noise levels alone: variance components (:func:`_components`)."""
     from scipy.optimize import minimize
 
     kinds = len(lin.gram)
+    if not len(lin.offset):
+        levels = _components(lin, noise, floors)
+        theta = np.log(np.array(levels))
+        return levels, np.zeros(0), _step(theta, lin)
     theta0 = np.log(np.array([*noise, *np.clip(deviations, _LOWEST, _HIGHEST)], dtype=float))
     bounds = [
         (math.log(f), math.log(f) if f == level else None)
@@ -219,6 +226,40 @@ def maximise(
         np.exp(result.x[kinds:]),
         _step(result.x, lin),
     )
+
+
+def _components(
+    lin: Linearised, noise: tuple[float, ...], floors: tuple[float, ...]
+) -> tuple[float, ...]:
+    """The noise levels of greatest evidence without a prior: where the gradient of
+    :func:`_noise_only` vanishes, ``sigma_g^2 = e_g / (n_g - tr(H^-1 J_g^T J_g / sigma_g^2))``
+    (Förstner's variance components), iterated from ``noise`` until no level changes by more
+    than :data:`_COMPONENTS_SETTLED`; each kept above its floor (fixed where the floor is the
+    level itself: given noise)."""
+    levels = np.array(noise, dtype=float)
+    fixed = np.array([f == v for f, v in zip(floors, noise, strict=True)])
+    low = np.array(floors, dtype=float)
+    for _ in range(_COMPONENTS_ROUNDS):
+        sigma2 = levels**2
+        gram = [g / s for g, s in zip(lin.gram, sigma2, strict=True)]
+        h = sum(gram)
+        h[np.diag_indices_from(h)] += _RIDGE * float(np.trace(h)) / max(len(h), 1)
+        lh = _factor(h)
+        x = -_solve(lh, sum(c / s for c, s in zip(lin.cross, sigma2, strict=True)))
+        h_inv = _inverse(lh)
+        new = levels.copy()
+        for g, (sq, c, gg, n) in enumerate(zip(lin.square, lin.cross, lin.gram, lin.count,
+                                               strict=True)):  # fmt: skip
+            error = sq + 2.0 * float(c @ x) + float(x @ gg @ x)
+            redundancy = n - float(np.sum(h_inv * gram[g]))
+            if redundancy > 0.0 and error > 0.0:
+                new[g] = math.sqrt(error / redundancy)
+        new = np.where(fixed, levels, np.maximum(new, low))
+        settled = bool(np.all(np.abs(new / levels - 1.0) <= _COMPONENTS_SETTLED))
+        levels = new
+        if settled:
+            break
+    return tuple(levels.tolist())
 
 
 def _step(theta: Mat, lin: Linearised) -> Mat:
