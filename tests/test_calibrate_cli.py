@@ -249,7 +249,7 @@ def test_too_few_measurements_exit_2_with_both_counts(tmp_path, capsys):
     code, _, err = run(capsys, "calibrate", "puma560-nominal", meas, *full, "--prior", "none")
     assert code == 2
     assert "6 poses give 36 equations (6 each), fewer than the 42 parameters" in err
-    code, out, err = run(capsys, "calibrate", "puma560-nominal", meas, *full)
+    code, _, err = run(capsys, "calibrate", "puma560-nominal", meas, *full)
     assert code == 0, err
     assert "the measurements determine 36 of the 42 parameters" in err
     run(capsys, "measure", "puma560-actual", "--configs", "10", "--measure", "position", "-o", meas)
