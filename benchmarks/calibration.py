@@ -53,22 +53,24 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 import urdf2dh  # noqa: E402
-from urdf2dh.calibrate.calibration import calibrate, holdout_split  # noqa: E402
-from urdf2dh.calibrate.identify import identify  # noqa: E402
-from urdf2dh.calibrate.lie import log_so3, rotation_of  # noqa: E402
-from urdf2dh.calibrate.measure import perturb, synthesize  # noqa: E402
-from urdf2dh.calibrate.measurements import (  # noqa: E402
+from urdf2dh import (  # noqa: E402
+    calibrate,
+    render,
+    to_table,
+)
+from urdf2dh.calibration.calibration import holdout_split  # noqa: E402
+from urdf2dh.calibration.identify import identify  # noqa: E402
+from urdf2dh.calibration.measure import perturb, synthesize  # noqa: E402
+from urdf2dh.calibration.measurements import (  # noqa: E402
     Measurements,
     Reading,
     read_measurements,
     write_measurements,
 )
-from urdf2dh.calibrate.start import Options, placement  # noqa: E402
-from urdf2dh.catalog import ROBOTS, robot_path  # noqa: E402
-from urdf2dh.convert import sample_configurations, to_table  # noqa: E402
-from urdf2dh.formats import render  # noqa: E402
-from urdf2dh.poefile import joint_from_twist  # noqa: E402
-from urdf2dh.screws import PoeModel  # noqa: E402
+from urdf2dh.calibration.start import FitOptions, placement  # noqa: E402
+from urdf2dh.geometry.lie import log_so3, rotation_of  # noqa: E402
+from urdf2dh.io.catalog import ROBOTS, robot_path  # noqa: E402
+from urdf2dh.model.poe import PoeModel, joint_from_twist  # noqa: E402
 
 NOISE = 1e-5  # m and rad
 
@@ -85,7 +87,7 @@ def accuracy(poses: np.ndarray, truth: np.ndarray) -> dict[str, float]:
     }
 
 
-def ours(nominal: PoeModel, m: Measurements, repeats: int, opts: Options) -> tuple[float, Any]:
+def ours(nominal: PoeModel, m: Measurements, repeats: int, opts: FitOptions) -> tuple[float, Any]:
     best, model = math.inf, None
     for _ in range(repeats):
         start = time.perf_counter()
@@ -245,12 +247,12 @@ def main() -> int:
     nominal = urdf2dh.load("ur5")
     actual = perturb(nominal, seed=3, angle=0.002, length=0.001)
     m = synthesize(actual, args.poses, NOISE, NOISE, seed=5)
-    fresh = sample_configurations(actual, 2000, 99)
+    fresh = actual.sample(2000, 99)
     truth = actual.fk_batch(fresh)
     rows: list[tuple[str, float, dict[str, float]]] = []
     with tempfile.TemporaryDirectory(prefix="urdf2dh-bench-") as tmp:
         work = Path(tmp)
-        elapsed, fk = ours(nominal, m, args.repeats, Options(level="geometry"))
+        elapsed, fk = ours(nominal, m, args.repeats, FitOptions(level="geometry"))
         rows.append(
             (
                 "urdf2dh, --identify geometry (robotkinecal's parameters)",
@@ -258,7 +260,7 @@ def main() -> int:
                 accuracy(fk(fresh), truth),
             )
         )
-        elapsed, fk = ours(nominal, m, args.repeats, Options())
+        elapsed, fk = ours(nominal, m, args.repeats, FitOptions())
         rows.append(
             ("urdf2dh, --identify full (joint scales too)", elapsed, accuracy(fk(fresh), truth))
         )
@@ -309,12 +311,12 @@ def more_datasets(nominal: PoeModel, poses: int, count: int) -> None:
         for seed in range(count):
             actual = perturb(nominal, seed=seed, angle=0.002, length=0.001)
             m = synthesize(actual, poses, NOISE, NOISE, seed=50 + seed)
-            fresh = sample_configurations(actual, 2000, 99)
+            fresh = actual.sample(2000, 99)
             truth = actual.fk_batch(fresh)
             cells = []
             for fk in (
-                ours(nominal, m, 1, Options(level="geometry"))[1],
-                ours(nominal, m, 1, Options())[1],
+                ours(nominal, m, 1, FitOptions(level="geometry"))[1],
+                ours(nominal, m, 1, FitOptions())[1],
                 robotkinecal(nominal, m, Path(tmp))[1],
             ):
                 acc = accuracy(fk(fresh), truth)
@@ -347,7 +349,7 @@ class RealSet:
         The fit and test files (the data's README split), or one file split as the README says
         (30% of the configurations held out, seed 0).
     reading
-        How the file is read (:class:`urdf2dh.calibrate.measurements.Reading`).
+        How the file is read (:class:`urdf2dh.calibration.measurements.Reading`).
     anchor
         The best anchor's held-out RMS position (the data's README, m), where there is one.
     """
@@ -500,7 +502,7 @@ def robotkinecal_real(
     from robotkinecal import SerialRobotKineCal
     from spatialmath import SE3
 
-    g = np.linalg.inv(placement(nominal, fit, Options(), [0]))  # device -> nominal base
+    g = np.linalg.inv(placement(nominal, fit, FitOptions(), [0]))  # device -> nominal base
     path = work / "nominal-dh.urdf"
     path.write_text(render(to_table(nominal, "dh"), "urdf"))
     robot = rtb.Robot.URDF(str(path))

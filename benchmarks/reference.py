@@ -54,7 +54,7 @@ def _origin(xyz: NDArray[np.longdouble], rpy: NDArray[np.longdouble]) -> NDArray
 def chain_fk(text: str, base: str, tip: str, q: NDArray[np.float64]) -> NDArray[np.longdouble]:
     """Poses ``(N, 4, 4)`` of ``tip`` in ``base`` for joint positions ``q`` ``(N, n)`` (the
     movable joints from base to tip, in order), in extended precision."""
-    joints = {j.find("child").get("link"): j for j in ET.fromstring(text).iter("joint")}
+    joints = {j.find("child").get("link"): j for j in ET.fromstring(text).findall("joint")}
     path, link = [], tip
     while link != base:
         path.append(joints[link])

@@ -14,6 +14,7 @@ import argparse
 import os
 import platform
 import sys
+import tempfile
 from pathlib import Path
 
 import numpy as np
@@ -21,31 +22,30 @@ import pinocchio as pin
 import yourdfpy
 
 ROOT = Path(__file__).resolve().parents[1]
-sys.path[:0] = [str(ROOT / "tests"), str(Path(__file__).resolve().parent)]
+sys.path[:0] = [str(ROOT), str(ROOT / "tests"), str(Path(__file__).resolve().parent)]
 
-from scale import chain_lengths  # noqa: E402
+from scale import at_the_bounds, chain_lengths  # noqa: E402
 from timing import Figure, best_of, import_ms, peak_alloc, print_table, run_process  # noqa: E402
 
-from urdf2dh.catalog import ROBOTS, robot_path  # noqa: E402
+from urdf2dh.check.verify import pinocchio_fk, verify  # noqa: E402
 from urdf2dh.conventions import NAMES  # noqa: E402
-from urdf2dh.convert import (  # noqa: E402
+from urdf2dh.conventions.convert import (  # noqa: E402
     DEFAULT_SAMPLES,
     JUDGED_SAMPLES,
     build_table,
-    sample_configurations,
     self_check,
     to_table,
 )
-from urdf2dh.files import read_file  # noqa: E402
-from urdf2dh.fk import chain_fk  # noqa: E402
-from urdf2dh.se3 import pose_errors  # noqa: E402
-from urdf2dh.sources import open_source  # noqa: E402
+from urdf2dh.geometry.se3 import pose_errors  # noqa: E402
+from urdf2dh.io.catalog import ROBOTS, robot_path  # noqa: E402
+from urdf2dh.io.files import read_file  # noqa: E402
+from urdf2dh.io.sources import open_source  # noqa: E402
+from urdf2dh.io.urdf import parse_tree, tree_to_poe  # noqa: E402
+from urdf2dh.io.urdf.parse import document, parse_xml, yourdfpy_robot  # noqa: E402 - the stages
+from urdf2dh.io.urdf.tree import build_tree  # noqa: E402
+from urdf2dh.io.urdf.validate import check_robot  # noqa: E402
+from urdf2dh.model.fk import chain_fk  # noqa: E402
 from urdf2dh.tolerances import DEFAULT  # noqa: E402
-from urdf2dh.urdf import parse_tree, tree_to_poe  # noqa: E402
-from urdf2dh.urdf.parse import document, parse_xml, yourdfpy_robot  # noqa: E402 - the stages
-from urdf2dh.urdf.tree import build_tree  # noqa: E402
-from urdf2dh.urdf.validate import check_robot  # noqa: E402
-from urdf2dh.verify import pinocchio_fk, verify  # noqa: E402
 
 ARM = "panda"  # the 7-DOF arm of the engine and batch figures
 
@@ -211,7 +211,10 @@ def imports() -> list[Figure]:
     """Import times (-X importtime, cumulative, new processes) against `import pinocchio`."""
     pin_ms = import_ms("import pinocchio")["total"]
     cli = import_ms("import urdf2dh.cli")
-    convert = import_ms("import urdf2dh.convert, urdf2dh.sources, urdf2dh.formats, urdf2dh.urdf")
+    convert = import_ms(
+        "import urdf2dh.conventions.convert, urdf2dh.io.sources, urdf2dh.emit.formats, "
+        "urdf2dh.io.urdf"
+    )
     yd = import_ms("import yourdfpy")
     hygiene = run_process(
         [
@@ -252,7 +255,7 @@ def batch_fk(count: int, repeat: int) -> list[Figure]:
     source = open_source(ARM)
     model = source.model()
     table = to_table(model, "dh")
-    q = sample_configurations(model, count, 3)
+    q = model.sample(count, 3)
     full = pin.buildModelFromUrdf(str(robot_path(ROBOTS[ARM])))
     arm = {j.name for j in model.joints}
     lock = [i for i in range(1, full.njoints) if full.names[i] not in arm]  # the fingers
@@ -273,7 +276,7 @@ def batch_fk(count: int, repeat: int) -> list[Figure]:
         for config in qp:
             pin.forwardKinematics(reduced, data, config)
 
-    def reference() -> np.ndarray:  # the reference FK alone: no fast path (urdf2dh/_fastfk.py)
+    def reference() -> np.ndarray:  # the reference FK alone: no fast path (model/_fastfk.py)
         return chain_fk(*table.link_form(), table.positions(q))
 
     ours_t, poe_t, loop_t, bare_t, reference_t = best_of(
@@ -285,9 +288,9 @@ def batch_fk(count: int, repeat: int) -> list[Figure]:
         f"\n{ARM}, N = {count:,} configurations within the joint limits; Pinocchio's model is "
         f"the URDF's reduced to the 7 arm joints. Max difference of the poses: {pos:.2e} m, "
         f"{rot:.2e} rad; largest entry {np.abs(ours - theirs).max():.2e}. One thread. The fast "
-        f"path (urdf2dh/_fastfk.py: sines from a table) is {reference_t / ours_t:.2f}x as fast "
-        f"as the reference FK with numpy {np.__version__}'s exp (kept while >= 2x); they differ "
-        f"by {np.abs(ours - reference()).max():.1e}."
+        f"path (urdf2dh/model/_fastfk.py: sines from a table) is {reference_t / ours_t:.2f}x as "
+        f"fast as the reference FK with numpy {np.__version__}'s exp (kept while >= 2x); they "
+        f"differ by {np.abs(ours - reference()).max():.1e}."
     )
     return [
         Figure(
@@ -342,10 +345,10 @@ def verify_run(samples: int, runs: int, repeat: int) -> list[Figure]:
     checked = f"POE + {len(NAMES)} tables + their conversions"
     figures = []
     for count, goal in ((samples, "<= 2x"), (1000, None)):
-        q = sample_configurations(model, count, 3)
+        q = model.sample(count, 3)
 
         def ours_only(count: int = count) -> object:
-            return verify(source, model, count)
+            return verify(source, samples=count)
 
         def pinocchio_only(q: np.ndarray = q) -> object:
             return pinocchio_fk(source, model, q)
@@ -400,6 +403,9 @@ def main(argv: list[str] | None = None) -> int:
     print_table("Chain length (random chains, in one process)", rows)
     print("\n" + "\n".join(notes))
     figures += rows
+    with tempfile.TemporaryDirectory(prefix="urdf2dh-bench-") as directory:
+        notes = at_the_bounds(Path(directory), quick)
+    print("\n### Bounds (new processes)\n\n" + "\n".join(notes))
     rows = batch_fk(count=10_000 if quick else 100_000, repeat=2 if quick else 7)
     print_table("Batch forward kinematics", rows)
     figures += rows

@@ -4,26 +4,31 @@ Pinocchio's model build and Pinocchio's own FK accuracy (part of ``benchmarks/ru
 from __future__ import annotations
 
 import time
+from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
 from chains import random_chain_urdf  # tests/chains.py: seeded random URDF chains
 from reference import chain_fk
-from timing import Figure, best_of, peak_alloc
+from timing import Figure, best_of, peak_alloc, run_process
 
+from urdf2dh.check.verify import pinocchio_fk
 from urdf2dh.conventions import NAMES as CONVENTIONS
-from urdf2dh.convert import sample_configurations, to_table
-from urdf2dh.se3 import pose_errors
-from urdf2dh.sources import Source
-from urdf2dh.urdf import tree_to_poe
-from urdf2dh.urdf.parse import document, parse_xml, yourdfpy_robot
-from urdf2dh.urdf.tree import UrdfTree, build_tree
-from urdf2dh.urdf.validate import check_robot
-from urdf2dh.verify import pinocchio_fk
+from urdf2dh.conventions.convert import to_table
+from urdf2dh.geometry.se3 import pose_errors
+from urdf2dh.io.sources import Source
+from urdf2dh.io.urdf import tree_to_poe
+from urdf2dh.io.urdf.parse import document, parse_xml, yourdfpy_robot
+from urdf2dh.io.urdf.tree import UrdfTree, build_tree
+from urdf2dh.io.urdf.validate import check_robot
+from urdf2dh.tolerances import JOINTS
 
-__all__ = ["PIN_FK_MAX", "chain_lengths"]
+__all__ = ["PIN_FK_MAX", "at_the_bounds", "chain_lengths"]
 
-PIN_FK_MAX = 200  # Pinocchio's Data takes O(n^3) memory: 0.5 GB at 200 joints, 1.7 GB at 300
+PIN_FK_MAX = 200  # Pinocchio beyond its Data's size (verify.DATA_JOINTS) runs joint by joint: slow
+
+GOAL_SECONDS, GOAL_BYTES = 15.0, 2 * 2**30  # convert at the bound; verify of 1,000 joints: 1 GiB
+VERIFY_GOAL_BYTES = 2**30
 
 
 def _tree(data: bytes, robot: object) -> UrdfTree:
@@ -65,7 +70,7 @@ def chain_lengths(sizes: list[int], accuracy_samples: int) -> tuple[list[Figure]
         )
         tree = _tree(data, robot)
         model = tree_to_poe(tree, "base", "tool")
-        q = sample_configurations(model, accuracy_samples, 1)
+        q = model.sample(accuracy_samples, 1)
         exact = chain_fk(text, "base", "tool", q).astype(float)  # rounding: < 1 ulp
         size = model.size()
         ours_err = [pose_errors(model.fk_batch(q), exact)]
@@ -128,3 +133,53 @@ def _fits(sizes: list[int], times: list[float], errors: list[tuple]) -> list[str
     if len(theirs) > 1:
         slopes += f"; Pinocchio (n <= {PIN_FK_MAX}) {loglog(3, theirs)} and {loglog(4, theirs)}"
     return [*out, slopes]
+
+
+def at_the_bounds(directory: Path, quick: bool) -> list[str]:
+    """Whole commands (new processes) on random chains up to the bounds (urdf2dh/tolerances.py):
+    convert at 1,000 joints and at the bound, time and peak memory, and how time scales (a
+    linear cost gives 10 times the time beyond start-up for 10 times the joints); verify's peak
+    memory at 100 and 1,000 joints. Goals: convert at the bound within 15 s and 2 GiB, verify of
+    1,000 joints within 1 GiB."""
+    lines = []
+    sizes = (1000, JOINTS)
+    runs = {}
+    for n in sizes:
+        path = directory / f"chain{n}.urdf"
+        path.write_text(random_chain_urdf(n, n - 1)[0])  # n - 1 joints and the fixed tool's
+        out = directory / f"chain{n}.txt"
+        runs[n] = run_process(["-m", "urdf2dh.cli", "convert", str(path), "-o", str(out)], 2)
+    start = run_process(["-m", "urdf2dh.cli", "--help"], 1).seconds
+    (small, large), (t_small, t_large) = sizes, (runs[sizes[0]].seconds, runs[sizes[1]].seconds)
+    per_joint = (t_large - t_small) / (large - small)
+    slope = np.log((t_large - start) / max(t_small - start, 1e-3)) / np.log(large / small)
+    met = t_large <= GOAL_SECONDS and runs[large].peak_bytes <= GOAL_BYTES
+    lines.append(
+        "convert (whole command) of random chains: "
+        + "; ".join(
+            f"{n:,} joints: {runs[n].seconds:.2f} s, {runs[n].peak_bytes / 2**20:.0f} MiB"
+            for n in sizes
+        )
+        + f"; start-up {start:.2f} s; {per_joint * 1e3:.2f} ms per joint beyond 1,000; log-log "
+        f"slope of time beyond start-up {slope:.2f} (1 = linear). Goal at the bound "
+        f"({JOINTS:,} joints, refused beyond): <= {GOAL_SECONDS:g} s and <= 2 GiB "
+        f"({'met' if met else 'NOT met'})."
+    )
+    verified = {}
+    for n in (100, 1000):
+        path = directory / f"verify{n}.urdf"
+        path.write_text(random_chain_urdf(n, n - 1)[0])
+        samples = "100" if quick else "1000"
+        verified[n] = run_process(["-m", "urdf2dh.cli", "verify", str(path), "--samples", samples],
+                                  1)  # fmt: skip
+    met = verified[1000].peak_bytes <= VERIFY_GOAL_BYTES
+    lines.append(
+        "verify (whole command): "
+        + "; ".join(
+            f"{n:,} joints: {verified[n].seconds:.2f} s, {verified[n].peak_bytes / 2**20:.0f} MiB"
+            for n in verified
+        )
+        + f" (Pinocchio's Data alone would take ~8 GB at 500 joints). Goal: <= 1 GiB at 1,000 "
+        f"joints ({'met' if met else 'NOT met'})."
+    )
+    return lines

@@ -34,13 +34,12 @@ import numpy as np
 import yaml
 
 import urdf2dh
-from urdf2dh.calibrate.identify import moved
-from urdf2dh.calibrate.measure import perturb
+from urdf2dh.calibration.identify import moved
+from urdf2dh.calibration.measure import perturb
 from urdf2dh.cli import main as urdf2dh_main
-from urdf2dh.convert import sample_configurations
-from urdf2dh.poefile import poe_to_dict
-from urdf2dh.screws import PoeModel
-from urdf2dh.se3 import from_rpy, rot_z, twist_exp
+from urdf2dh.geometry.se3 import from_rpy, rot_z, twist_exp
+from urdf2dh.io.poefile import poe_to_dict
+from urdf2dh.model.poe import PoeModel
 
 
 def command(*argv: str) -> None:
@@ -116,7 +115,7 @@ def walk(work: Path) -> bool:
     print(f"wrote {', '.join(p.name for p in (poses, calibrated, report, kin, urdf))} in {work}")
 
     model = urdf2dh.load(str(calibrated))
-    q = sample_configurations(nominal, 1000, 21)
+    q = nominal.sample(1000, 21)
     ours = model.fk_batch(q)
     kinematics = yaml.safe_load(kin.read_text())["kinematics"]
     ur = np.array([ur_description_fk(kinematics, qk) for qk in q])

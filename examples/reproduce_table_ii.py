@@ -12,7 +12,7 @@ from __future__ import annotations
 import sys
 from itertools import groupby
 
-from urdf2dh.papers import wu2019_table2
+from urdf2dh.check.papers import wu2019_table2
 
 
 def main() -> int:

@@ -36,10 +36,10 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from mutations import MUTATIONS, Original, mutate
 
-from urdf2dh.catalog import ERD, OURS, ROBOTS, robot_path
+from urdf2dh.check.verify import native_stderr
 from urdf2dh.cli import main as cli
-from urdf2dh.urdf import load_tree
-from urdf2dh.verify import native_stderr
+from urdf2dh.io.catalog import ERD, OURS, ROBOTS, robot_path
+from urdf2dh.io.urdf import load_tree
 
 ROOT = Path(__file__).resolve().parents[1]
 PINOCCHIO_REFUSES = "Pinocchio cannot load it"

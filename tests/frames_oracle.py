@@ -9,8 +9,8 @@ import re
 
 import numpy as np
 
+from urdf2dh.conventions.table import Table
 from urdf2dh.emit.scene import ARROW, JOINT_AXIS, LABEL_GAP, TOOL_ARROW
-from urdf2dh.table import Table
 
 
 def fk_frames(table: Table) -> dict[str, np.ndarray]:
@@ -58,7 +58,7 @@ def anchor(table: Table, frames: dict[str, np.ndarray], what: str, which: str):
     size = span(frames) or table.size
     arrow = ARROW * size
     if what == "J":
-        f = table.frames()[int(which) - 1]
+        f = table.joint_frames()[int(which) - 1]
         return f[:3, 3], -f[:3, 2], JOINT_AXIS * size + LABEL_GAP * arrow
     f = frames[which]
     length = (TOOL_ARROW if which == "tool" else 1.0) * arrow

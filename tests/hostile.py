@@ -29,10 +29,10 @@ import yaml
 from lxml import etree
 
 from urdf2dh import cli
-from urdf2dh.catalog import ROBOTS, robot_path
-from urdf2dh.export import TARGETS
-from urdf2dh.formats import FORMATS
-from urdf2dh.sources import open_source
+from urdf2dh.emit.export import TARGETS
+from urdf2dh.emit.formats import FORMATS
+from urdf2dh.io.catalog import ROBOTS, robot_path
+from urdf2dh.io.sources import open_source
 
 HERE = Path(__file__).parent
 GEOMETRIES = {  # URDF file, base link, tip link
@@ -291,7 +291,7 @@ def _colliding(base: str, tip: str, joints: tuple[str, ...], robot: str = "r") -
     return Names(robot, base, tip, joints, tuple(f"l{i}" for i in range(7)), ("f0", "f1"), "c")
 
 
-# robots named as the writers name what they make up (:mod:`urdf2dh.export.names`): MATLAB's
+# robots named as the writers name what they make up (:mod:`urdf2dh.emit.names`): MATLAB's
 # bodies and joints (dh_base, body<i>, body<i>_offset, <body>_fixed; genser6's fifth row has a
 # theta offset), KDL's segments and fixed joints, the URDF writer's links and joints
 # (<joint>_link, <tip>_joint), roboticstoolbox's link names (link<i>), and the suffixes the

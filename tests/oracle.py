@@ -5,18 +5,17 @@ from __future__ import annotations
 
 import numpy as np
 
-from urdf2dh.convert import sample_configurations
-from urdf2dh.screws import PoeModel
-from urdf2dh.se3 import pose_errors
-from urdf2dh.sources import Source
-from urdf2dh.verify import pinocchio_fk
+from urdf2dh import PoeModel
+from urdf2dh.check.verify import pinocchio_fk
+from urdf2dh.geometry.se3 import pose_errors
+from urdf2dh.io.sources import Source
 
 EXACT = 1e-12  # the exactness promised: relative to the robot's size, and in radians
 
 
 def pin_reference(source: Source, model: PoeModel, samples: int = 200, seed: int = 7):
     """Seeded configurations and Pinocchio's poses for them."""
-    q = sample_configurations(model, samples, seed)
+    q = model.sample(samples, seed)
     return q, pinocchio_fk(source, model, q)
 
 

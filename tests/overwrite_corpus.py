@@ -30,9 +30,9 @@ from pathlib import Path
 
 import pytest
 
-from urdf2dh import files
-from urdf2dh.catalog import ROBOTS, our_robots_dir, robot_path
 from urdf2dh.cli import main
+from urdf2dh.io import files
+from urdf2dh.io.catalog import ROBOTS, our_robots_dir, robot_path
 
 ROOT = Path(__file__).resolve().parents[1]
 FAILURES = ("input overwritten", "half-written", "not refused", "bad refusal", "internal error")
@@ -186,8 +186,8 @@ def _argv(ws: Workspace, command: list[str], option: str, target: str, n: int) -
     if option == "-o DIR":
         out = ws.dir / f"out{n}"
         out.mkdir(exist_ok=True)
-        from urdf2dh.export import TARGETS
-        from urdf2dh.tips import FORMAT_SUFFIXES
+        from urdf2dh.cli.chains import FORMAT_SUFFIXES
+        from urdf2dh.emit.export import TARGETS
 
         suffix = FORMAT_SUFFIXES["urdf"] if command[0] == "convert" else TARGETS["kdl"].suffix
         tip = "tool" + suffix  # the tip of arm.urdf

@@ -25,10 +25,10 @@ from lxml import etree
 from matlab_reader import Call, Chars, MatlabSyntaxError, Str, read_matlab
 from view_reader import read_page
 
+from urdf2dh.emit.names import RENAMED
 from urdf2dh.emit.scene import short
 from urdf2dh.errors import visible
-from urdf2dh.export.escape import html_text
-from urdf2dh.export.names import RENAMED
+from urdf2dh.escape import html_text
 
 LANGUAGE = {
     "rtb": "python",
@@ -66,7 +66,7 @@ def substitute(text: str, names: dict[str, str], show: Callable[[str], str] = st
 
 
 class Renames:
-    """The made-up names a file says it changed (its notes, :mod:`urdf2dh.export.names`): a
+    """The made-up names a file says it changed (its notes, :mod:`urdf2dh.emit.names`): a
     string may differ from the clean twin's only as ``name`` -> ``name_<k>``, and only where a
     note states that change (shown as ``show`` writes names in the file's notes); every note
     must account for a change."""

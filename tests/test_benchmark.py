@@ -21,6 +21,7 @@ SECTIONS = (
     "Whole command and start-up (new processes)",
     "Import times",
     "Chain length (random chains, in one process)",
+    "Bounds (new processes)",
     "Batch forward kinematics",
     "verify",
 )
@@ -76,4 +77,10 @@ def test_quick_benchmark_reports_every_figure_with_pinocchio_and_ratio():
     table = out[out.index(header) :].split("\n\n")[0].splitlines()
     assert len(table) >= 5 and all(line.count("|") == columns for line in table), table
     assert re.search(r"Max difference of the poses: \S+ m", out)
+    # the bounds: convert at the joint bound and verify of 1,000 joints, with the scaling
+    bounds = out[out.index("### Bounds (new processes)") :].split("\n\n")[1]
+    assert "convert (whole command) of random chains: 1,000 joints:" in bounds
+    assert "10,000 joints:" in bounds and "log-log slope of time" in bounds
+    assert "verify (whole command): 100 joints:" in bounds and "1,000 joints:" in bounds
+    assert bounds.count("(met)") + bounds.count("(NOT met)") == 2
     assert "Goals met:" in out

@@ -5,10 +5,9 @@ from __future__ import annotations
 import pytest
 from oracle import EXACT, assert_fk_matches, pin_reference
 
-from urdf2dh.catalog import ROBOTS
-from urdf2dh.conventions import NAMES as CONVENTIONS
-from urdf2dh.convert import to_table
-from urdf2dh.sources import open_source
+from urdf2dh import CONVENTIONS, to_table
+from urdf2dh.io.catalog import ROBOTS
+from urdf2dh.io.sources import open_source
 from urdf2dh.tolerances import EXACT as EXACT_TOL
 
 # These URDFs carry rounded angles (rpy="0 3.14158 0", "1.5708 ..."): so100's base z and first

@@ -1,4 +1,4 @@
-"""``urdf2dh measure`` and ``urdf2dh calibrate`` (issue 15, SPEC §5): files, formats, the report,
+"""``urdf2dh measure`` and ``urdf2dh calibrate`` (docs/calibration.md): files, formats, the report,
 the text output, and every refusal (bad rows, too few measurements, no convergence)."""
 
 from __future__ import annotations
@@ -10,10 +10,9 @@ import pytest
 import yaml
 
 import urdf2dh
-from urdf2dh.calibrate.measurements import read_layout, read_measurements
+from urdf2dh.calibration.measurements import read_layout, read_measurements
 from urdf2dh.cli import main
-from urdf2dh.convert import sample_configurations
-from urdf2dh.se3 import pose_errors
+from urdf2dh.geometry.se3 import pose_errors
 
 PUMA_JOINTS = ("j1", "j2", "j3", "j4", "j5", "j6")
 
@@ -60,7 +59,7 @@ def test_measure_writes_exact_seeded_poses(tmp_path, capsys):
     assert header == "j1,j2,j3,j4,j5,j6,x,y,z,qx,qy,qz,qw"
     m = read_measurements(out, PUMA_JOINTS)
     actual = urdf2dh.load("puma560-actual")
-    assert np.array_equal(m.q, sample_configurations(actual, 7, 3))
+    assert np.array_equal(m.q, actual.sample(7, 3))
     poses = actual.fk_batch(m.q)
     assert np.abs(m.points - poses[:, :3, 3]).max() == 0.0  # written to the last bit
     again = tmp_path / "again.csv"
@@ -183,7 +182,7 @@ def test_the_identified_file_is_a_source_for_export_and_convert(tmp_path, capsys
     assert code == 0, err
     model = urdf2dh.load(str(out))
     ur5 = urdf2dh.load("ur5")
-    q = sample_configurations(ur5, 200, 1)
+    q = ur5.sample(200, 1)
     position, rotation = pose_errors(model.fk_batch(q), ur5.fk_batch(q))
     assert position < 1e-10 and rotation < 1e-10
     for target in ("ur", "rtb", "kdl"):

@@ -13,18 +13,16 @@ import numpy as np
 import pytest
 
 import urdf2dh
-from urdf2dh.calibrate.calibration import calibrate
-from urdf2dh.calibrate.chart import OFFSETS, Estimate, absorbed
-from urdf2dh.calibrate.measure import marker_layout, perturb, synthesize
-from urdf2dh.calibrate.measurements import MAX_MEASUREMENTS, Measurements, write_measurements
-from urdf2dh.calibrate.plot import plot_calibration
-from urdf2dh.calibrate.prior import Prior
-from urdf2dh.calibrate.residuals import model_poses
+from urdf2dh import PoeModel, calibrate
+from urdf2dh.calibration.chart import OFFSETS, Estimate, absorbed
+from urdf2dh.calibration.measure import marker_layout, perturb, synthesize
+from urdf2dh.calibration.measurements import MAX_MEASUREMENTS, Measurements, write_measurements
+from urdf2dh.calibration.plot import plot_calibration
+from urdf2dh.calibration.prior import Prior
+from urdf2dh.calibration.residuals import model_poses
 from urdf2dh.cli import main
-from urdf2dh.convert import sample_configurations
 from urdf2dh.errors import InputError, UsageError
-from urdf2dh.screws import PoeModel
-from urdf2dh.se3 import pose_errors
+from urdf2dh.geometry.se3 import pose_errors
 
 NOISE = 1e-4  # m and rad
 
@@ -67,7 +65,7 @@ def test_cross_validation_chooses_the_level_of_the_robot_s_errors(ur5, error, ex
     m = synthesize(actual, 40, NOISE, NOISE, seed=2)
     cal = calibrate(ur5, m)
     assert cal.level == expected, [(s.level, s.rms_position) for s in cal.selection.scores]
-    fresh = sample_configurations(ur5, 300, 3)
+    fresh = ur5.sample(300, 3)
     position, _ = pose_errors(cal.model.fk_batch(fresh), actual.fk_batch(fresh))
     assert position < 10 * NOISE
 
@@ -104,7 +102,7 @@ def test_a_tight_prior_keeps_the_nominal_and_a_loose_one_changes_nothing(ur5):
     free = calibrate(ur5, m, identify_level="geometry", prior="none")
     loose = calibrate(ur5, m, identify_level="geometry", prior=Prior(1.0, 1.0))
     tight = calibrate(ur5, m, identify_level="geometry", prior=Prior(1e-7, 1e-7))
-    q = sample_configurations(ur5, 200, 9)
+    q = ur5.sample(200, 9)
     assert pose_errors(loose.model.fk_batch(q), free.model.fk_batch(q))[0] < 1e-7
     joints = [p for p in tight.parameters if not p.name.startswith(("tool", "base"))]
     assert max(abs(p.change) for p in joints) < 1e-5
@@ -157,7 +155,7 @@ def test_an_outlier_is_listed_and_rejected_when_it_spoils_the_others(ur5):
         "rejected 1 outlier (without them the other configurations are predicted better" in w
         for w in default.warnings
     )
-    q = sample_configurations(ur5, 200, 13)
+    q = ur5.sample(200, 13)
     better = pose_errors(default.model.fk_batch(q), actual.fk_batch(q))[0]
     worse = pose_errors(kept.model.fk_batch(q), actual.fk_batch(q))[0]
     assert better < worse and better < 10 * NOISE
@@ -165,7 +163,7 @@ def test_an_outlier_is_listed_and_rejected_when_it_spoils_the_others(ur5):
 
 def test_joints_that_barely_move_and_poorly_identified_parameters_are_named(ur5):
     actual = perturb(ur5, 13, 0.002, 0.002)
-    q = sample_configurations(ur5, 40, 14)
+    q = ur5.sample(40, 14)
     q[:, 4] = 0.3 + 0.01 * np.sin(np.arange(40))  # wrist_2 within 0.02 rad
     poses = actual.fk_batch(q)
     m = synthesize(actual, 40, NOISE, NOISE, seed=15, configurations=q)
@@ -313,7 +311,7 @@ def test_the_levels_show_a_progress_bar_on_a_terminal(tmp_path):
 
 def test_the_model_poses_of_an_estimate_with_offsets_move_as_the_absorbed_model(ur5):
     est = Estimate.of(ur5.joints, home=ur5.home, level=OFFSETS, offsets=np.full(6, 0.01))
-    q = sample_configurations(ur5, 20, 1)
+    q = ur5.sample(20, 1)
     assert np.allclose(model_poses(est, q), model_poses(absorbed(est), q), atol=1e-14)
 
 
@@ -321,9 +319,9 @@ def test_planned_configurations_identify_better_than_random_ones(ur5):
     """Over five robots as built: 15 configurations planned for the full model (D-optimal)
     against 15 random ones, the same noise: the planned ones leave smaller errors, at new
     configurations and in the parameters (the geometric mean of their deviations)."""
-    from urdf2dh.calibrate.identify import identify
-    from urdf2dh.calibrate.plan import plan
-    from urdf2dh.calibrate.start import Options
+    from urdf2dh.calibration.identify import identify
+    from urdf2dh.calibration.plan import plan
+    from urdf2dh.calibration.start import FitOptions
 
     chosen = plan(ur5, 15, level="full", noise_pos=NOISE, noise_rot=NOISE, seed=0)
     assert chosen.configurations.shape == (15, 6) and chosen.candidates >= 500
@@ -331,14 +329,14 @@ def test_planned_configurations_identify_better_than_random_ones(ur5):
     assert np.all(chosen.configurations >= lim[:, 0]) and np.all(chosen.configurations <= lim[:, 1])
     assert np.all(np.isfinite(chosen.std)) and np.all(chosen.std < chosen.random_std * 10)
     assert "expected standard deviations" in chosen.summary()
-    fresh = sample_configurations(ur5, 500, 21)
+    fresh = ur5.sample(500, 21)
     wins, ratios = 0, []
     for seed in range(5):
         actual = perturb(ur5, 30 + seed, 0.003, 0.003)
         errors = []
-        for q in (chosen.configurations, sample_configurations(ur5, 15, (seed, 99))):
+        for q in (chosen.configurations, ur5.sample(15, (seed, 99))):
             m = synthesize(actual, 15, NOISE, NOISE, seed=40 + seed, configurations=q)
-            result = identify(ur5, m, Options(level="full", noise_pos=NOISE, noise_rot=NOISE))
+            result = identify(ur5, m, FitOptions(level="full", noise_pos=NOISE, noise_rot=NOISE))
             model, truth = result.model.fk_batch(fresh), actual.fk_batch(fresh)
             errors.append(float(np.sqrt(np.mean(np.sum((model - truth)[:, :3, 3] ** 2, axis=1)))))
         wins += errors[0] < errors[1]

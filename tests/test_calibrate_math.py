@@ -8,7 +8,8 @@ import numpy as np
 import pytest
 
 import urdf2dh
-from urdf2dh.calibrate.chart import (
+from urdf2dh import Joint, PoeModel, to_table
+from urdf2dh.calibration.chart import (
     BASE_TOOL,
     FULL,
     GEOMETRY,
@@ -20,7 +21,8 @@ from urdf2dh.calibrate.chart import (
     local_coordinates,
     retract,
 )
-from urdf2dh.calibrate.lie import (
+from urdf2dh.calibration.residuals import Data, evaluate, model_poses
+from urdf2dh.geometry.lie import (
     exp_so3,
     left_jacobian,
     left_jacobian_inverse,
@@ -29,11 +31,8 @@ from urdf2dh.calibrate.lie import (
     quaternion_of,
     rotation_of,
 )
-from urdf2dh.calibrate.residuals import Data, evaluate, model_poses
-from urdf2dh.convert import sample_configurations, to_table
-from urdf2dh.info import identifiability
-from urdf2dh.screws import Joint, PoeModel
-from urdf2dh.se3 import twist_exp
+from urdf2dh.geometry.se3 import twist_exp
+from urdf2dh.model.identifiability import Identifiability
 
 
 def param(params, name: str) -> float:
@@ -135,7 +134,7 @@ def test_analytic_jacobian_equals_finite_differences(case):
     with some coordinates held fixed) against central differences of the residuals."""
     model = urdf2dh.load("stanford" if case in ("prismatic", "offsets") else "puma560-actual")
     rng = np.random.default_rng(4)
-    q = sample_configurations(model, 15, 5)
+    q = model.sample(15, 5)
     level = {
         "no-scale": GEOMETRY,
         "offsets": OFFSETS,
@@ -192,7 +191,7 @@ def test_offsets_are_absorbed_into_the_same_motion(robot):
         offsets=rng.normal(size=model.n) * 0.3,
     )
     flat = absorbed(est)
-    q = sample_configurations(model, 50, 10)
+    q = model.sample(50, 10)
     assert np.allclose(model_poses(est, q), model_poses(flat, q), atol=1e-12 * model.size())
 
 
@@ -209,8 +208,8 @@ def test_pose_count_is_wu_eq_23_and_the_jacobian_has_that_rank(robot):
     added as further parameters leave the rank unchanged: the model absorbs them."""
     model = urdf2dh.load(robot)
     est = estimate(model)
-    assert count(est) == identifiability(model)["maximum"]
-    q = sample_configurations(model, 30, 6)
+    assert count(est) == Identifiability.of(j.kind for j in model.joints).maximum
+    q = model.sample(30, 6)
     poses = model_poses(est, q)
     data = Data(q, poses[:, :3, 3], poses[:, :3, :3])
     _, jac = evaluate(est, data, 1.0, 1.0 / model.size())
@@ -260,7 +259,7 @@ def test_position_measurements_identify_the_chain_and_what_markers_fix(
     chain = count(est) - 6
     rng = np.random.default_rng(7)
     local = rng.normal(size=(markers, 3)) * 30.0
-    q = sample_configurations(model, 40, 8)
+    q = model.sample(40, 8)
 
     def points(x: np.ndarray) -> np.ndarray:
         moved = retract(est, x[: count(est)])

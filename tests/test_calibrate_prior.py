@@ -12,19 +12,18 @@ import pytest
 from scipy.optimize import approx_fprime
 
 import urdf2dh
-from urdf2dh.calibrate.calibration import calibrate
-from urdf2dh.calibrate.chart import GEOMETRY, count, local_coordinates, retract
-from urdf2dh.calibrate.evidence import _objective, linearised, maximise
-from urdf2dh.calibrate.identify import fit_before, joint_locations, level_start, solve_level
-from urdf2dh.calibrate.measure import perturb, synthesize
-from urdf2dh.calibrate.prior import Deviations, Prior, Regulariser, link_errors
-from urdf2dh.calibrate.residuals import evaluate
-from urdf2dh.calibrate.select import left_out_errors
-from urdf2dh.calibrate.solver import solve
-from urdf2dh.calibrate.start import Options, to_data
-from urdf2dh.convert import sample_configurations
-from urdf2dh.screws import PoeModel
-from urdf2dh.se3 import pose_errors, twist_exp
+from urdf2dh.calibration.calibration import calibrate
+from urdf2dh.calibration.chart import GEOMETRY, count, local_coordinates, retract
+from urdf2dh.calibration.evidence import _objective, linearised, maximise
+from urdf2dh.calibration.identify import fit_before, joint_locations, level_start, solve_level
+from urdf2dh.calibration.measure import perturb, synthesize
+from urdf2dh.calibration.prior import Deviations, Prior, Regulariser, link_errors
+from urdf2dh.calibration.residuals import evaluate
+from urdf2dh.calibration.select import left_out_errors
+from urdf2dh.calibration.solver import solve
+from urdf2dh.calibration.start import FitOptions, to_data
+from urdf2dh.geometry.se3 import pose_errors, twist_exp
+from urdf2dh.model.poe import PoeModel
 
 NOISE = 1e-4  # m and rad
 
@@ -36,7 +35,7 @@ def ur5():
 
 def _geometry(nominal: PoeModel, m, level: str = "geometry"):
     """The level's start from the base-and-tool fit, the joints' locations, the data."""
-    opts = Options(pose=m.quaternions is not None, level=level)
+    opts = FitOptions(pose=m.quaternions is not None, level=level)
     ids = m.marker_ids()
     _, before = fit_before(nominal, m, opts, ids)
     start, _, _ = level_start(nominal, before.solution.estimate, opts, ids)
@@ -122,7 +121,7 @@ def test_the_evidence_gradient_equals_finite_differences():
         data_dir = Path(__file__).resolve().parents[2] / "shared" / "calibration-data"
     if not data_dir.is_dir():
         pytest.skip("the shared calibration data")
-    from urdf2dh.calibrate.measurements import read_measurements
+    from urdf2dh.calibration.measurements import read_measurements
 
     nominal = urdf2dh.load(str(data_dir / "ur10" / "ur10_robot.urdf"), tip="wrist_3_link")
     joints = tuple(j.name for j in nominal.joints)
@@ -182,7 +181,7 @@ def test_the_link_that_was_made_wrong_is_the_one_the_evidence_frees(ur5):
     links = np.array(prior.links)  # the links before joints 2, 3, ...: the elbow's is 1
     assert int(np.argmax(links)) == elbow - 1
     assert 1e-3 < links.max() < 1e-2 and np.sort(links)[-2] < 0.3 * links.max()
-    fresh = sample_configurations(ur5, 200, 9)
+    fresh = ur5.sample(200, 9)
     position, _ = pose_errors(cal.model.fk_batch(fresh), actual.fk_batch(fresh))
     assert position < 10 * NOISE
 

@@ -15,14 +15,14 @@ import pytest
 import yaml
 
 import urdf2dh
-from urdf2dh.calibrate.calibration import calibrate, holdout_split
-from urdf2dh.calibrate.lie import rotation_of
-from urdf2dh.calibrate.measurements import Reading, read_measurements
-from urdf2dh.calibrate.report import to_dict
+from urdf2dh.calibration.calibration import calibrate, holdout_split
+from urdf2dh.calibration.measurements import Reading, read_measurements
+from urdf2dh.calibration.report import to_dict
 from urdf2dh.cli import main
 from urdf2dh.conventions import NAMES
-from urdf2dh.formats import FORMATS, render
-from urdf2dh.poefile import poe_to_dict
+from urdf2dh.emit.formats import FORMATS, render
+from urdf2dh.geometry.lie import rotation_of
+from urdf2dh.io.poefile import poe_to_dict
 
 DATA = Path(__file__).resolve().parents[2] / "shared" / "calibration-data"
 if not DATA.is_dir():  # the worktree layout: /work/wt/NAME, the data in /work/shared

@@ -1,4 +1,4 @@
-"""The urdf2dh command line (SPEC §1): output, formats, files, exit codes."""
+"""The urdf2dh command line (docs/commands/index.md): output, formats, files, exit codes."""
 
 from __future__ import annotations
 
@@ -11,8 +11,9 @@ import sys
 import pytest
 import yaml
 
+import urdf2dh
+from urdf2dh import CONVENTIONS
 from urdf2dh.cli import main
-from urdf2dh.conventions import NAMES as CONVENTIONS
 
 
 def run(capsys, *argv):
@@ -80,7 +81,7 @@ def test_bad_input_exit_2_and_no_file(tmp_path, capsys):
 
 
 def test_default_tip_ties_are_listed(capsys, tmp_path):
-    from urdf2dh.catalog import ROBOTS, robot_path
+    from urdf2dh.io.catalog import ROBOTS, robot_path
 
     code, _, err = run(capsys, "convert", str(robot_path(ROBOTS["ur5"])))
     assert code == 2
@@ -158,15 +159,12 @@ def test_output_file_gets_the_usual_permissions(tmp_path, capsys):
 def test_verify_checks_the_written_table_at_configurations_of_its_own():
     import numpy as np
 
-    from urdf2dh.convert import sample_configurations
-    from urdf2dh.sources import open_source
-    from urdf2dh.verify import VERIFY_STREAM, verify
+    from urdf2dh.check.verify import VERIFY_STREAM
 
-    source = open_source("so100")
-    model = source.model()
-    results = verify(source, model, samples=300, seed=0, check_samples=150)
-    assert [r.table.check.samples for r in results[1:]] == [150] * len(CONVENTIONS)
-    assert all(r.ok for r in results)
-    ours = sample_configurations(model, 300, (0, VERIFY_STREAM))
-    checks = sample_configurations(model, 300, 0)
+    model = urdf2dh.load("so100")
+    report = urdf2dh.verify("so100", samples=300, seed=0, check_samples=150)
+    assert [c.table.check.samples for c in report.checks[1:]] == [150] * len(CONVENTIONS)
+    assert report.ok
+    ours = model.sample(300, (0, VERIFY_STREAM))
+    checks = model.sample(300, 0)
     assert not np.allclose(ours, checks)

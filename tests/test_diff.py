@@ -125,7 +125,7 @@ def test_diff_of_different_chains_is_an_input_error(capsys):
 def _poe_file(path, model):
     import yaml
 
-    from urdf2dh.poefile import poe_to_dict
+    from urdf2dh.io.poefile import poe_to_dict
 
     path.write_text(yaml.safe_dump(poe_to_dict(model), sort_keys=False))
     return str(path)
@@ -138,8 +138,8 @@ def test_a_row_that_changes_form_is_reported_not_a_crash(tmp_path, capsys):
     import numpy as np
 
     import urdf2dh
-    from urdf2dh.screws import PoeModel
-    from urdf2dh.se3 import rot_axis
+    from urdf2dh.geometry.se3 import rot_axis
+    from urdf2dh.model.poe import PoeModel
 
     ur5 = urdf2dh.load("ur5")
     tilt = rot_axis(np.array([0.0, 0.0, 1.0]), 0.002)  # out of the common normals' plane

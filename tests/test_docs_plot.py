@@ -11,10 +11,10 @@ from pathlib import Path
 import pytest
 from chains import random_chain_urdf
 
+from urdf2dh import to_table
 from urdf2dh.cli import main
-from urdf2dh.convert import to_table
 from urdf2dh.emit.scene import scene
-from urdf2dh.sources import open_source
+from urdf2dh.io.sources import open_source
 
 DOC = Path(__file__).resolve().parents[1] / "docs" / "plot.md"
 TEXT = DOC.read_text(encoding="utf-8")
@@ -45,7 +45,7 @@ def test_the_samples_are_what_urdf2dh_prints(tmp_path, monkeypatch, capsys):
     shown = scene(to_table(open_source("panda").model(), "mdh"))
     assert hover.splitlines() == list(shown.frames[4].hover)
     monkeypatch.chdir(tmp_path)
-    Path("long.urdf").write_text(random_chain_urdf(5, 10_000)[0])
+    Path("long.urdf").write_text(random_chain_urdf(5, 5_000)[0])
     assert main(["plot", "long.urdf", "-o", "long.png"]) == 2
     assert capsys.readouterr().err == error + "\n"
 

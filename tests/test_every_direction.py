@@ -9,13 +9,13 @@ import numpy as np
 import pytest
 from oracle import assert_fk_matches, pin_reference
 
+import urdf2dh
+from urdf2dh import CONVENTIONS, to_table
 from urdf2dh.cli import main
-from urdf2dh.conventions import NAMES as CONVENTIONS
-from urdf2dh.convert import sample_configurations, to_table
-from urdf2dh.info import identifiability
-from urdf2dh.se3 import rpy
-from urdf2dh.sources import open_source
-from urdf2dh.urdfwrite import table_to_urdf
+from urdf2dh.emit.urdf import table_to_urdf
+from urdf2dh.geometry.se3 import rpy
+from urdf2dh.io.sources import open_source
+from urdf2dh.model.identifiability import BASE, TOOL
 
 ROBOTS = ["ur5", "panda", "stanford", "scara", "tiago-arm", "puma560-actual", "puma560-nominal"]
 
@@ -37,7 +37,7 @@ def close_tables(a, b, size):
 @pytest.mark.parametrize("robot", ROBOTS)
 def test_any_convention_to_any_other_through_table_files(robot, tmp_path, capsys):
     model = open_source(robot).model()
-    q = sample_configurations(model, 100, 1)
+    q = model.sample(100, 1)
     reference = model.fk_batch(q)
     size = model.size()
     for first in CONVENTIONS:
@@ -85,7 +85,7 @@ def test_urdf_writer_matches_pinocchio_and_round_trips(robot, tmp_path):
 
 
 def test_rpy_round_trip_including_gimbal_lock():
-    from urdf2dh import se3
+    from urdf2dh.geometry import se3
 
     rng = np.random.default_rng(9)
     angles = [rng.uniform(-math.pi, math.pi, 3) for _ in range(200)]
@@ -99,11 +99,13 @@ def test_rpy_round_trip_including_gimbal_lock():
 
 def test_identifiability_counts():
     # Wu 2019 eq. (23) and (22): PUMA actual has r = 2, h = 4
-    ident = identifiability(open_source("puma560-actual").model())
-    assert (ident["maximum"], ident["conventional"]) == (5 * 4 + 4 * 2 + 6 + 6, 4 * 6 + 6)
-    ident = identifiability(open_source("stanford").model())  # 5 revolute, 1 prismatic
-    assert (ident["maximum"], ident["conventional"]) == (4 * 5 + 2 + 6 + 6, 4 * 5 + 2 + 6)
-    assert (ident["base"], ident["tool"]) == (4, 2)
+    ident = urdf2dh.info("puma560-actual").identifiable
+    assert ident is not None
+    assert (ident.maximum, ident.conventional) == (5 * 4 + 4 * 2 + 6 + 6, 4 * 6 + 6)
+    ident = urdf2dh.info("stanford").identifiable  # 5 revolute, 1 prismatic
+    assert ident is not None
+    assert (ident.maximum, ident.conventional) == (4 * 5 + 2 + 6 + 6, 4 * 5 + 2 + 6)
+    assert (BASE, TOOL) == (4, 2)
 
 
 def test_table_file_errors(tmp_path, capsys):

@@ -9,11 +9,18 @@ from pathlib import Path
 
 import pytest
 
-EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+ROOT = Path(__file__).resolve().parents[1]
+EXAMPLES = ROOT / "examples"
+
+
+def checkout_env() -> dict[str, str]:
+    """The environment that runs an example on this checkout's urdf2dh (not an installed one)."""
+    path = os.pathsep.join(p for p in (str(ROOT), os.environ.get("PYTHONPATH", "")) if p)
+    return {**os.environ, "PYTHONPATH": path}
 
 
 def run(script: str, *args: str, tmp: Path | None = None) -> str:
-    env = None if tmp is None else {**os.environ, "TMPDIR": str(tmp)}
+    env = {**checkout_env(), **({} if tmp is None else {"TMPDIR": str(tmp)})}
     proc = subprocess.run(
         [sys.executable, str(EXAMPLES / script), *args],
         capture_output=True,
@@ -64,7 +71,7 @@ def test_calibrate_ur5(tmp_path, keep):
         capture_output=True,
         text=True,
         timeout=300,
-        env={**os.environ, "TMPDIR": str(scratch)},
+        env={**checkout_env(), "TMPDIR": str(scratch)},
     )
     assert proc.returncode == 0, proc.stdout + proc.stderr
     out = proc.stdout

@@ -20,16 +20,13 @@ import yaml
 from consumers import report
 from oracle import EXACT, assert_fk_matches, pin_reference
 
-from urdf2dh.catalog import ROBOTS, our_robots_dir
-from urdf2dh.convert import sample_configurations
+from urdf2dh import ExportOptions, Joint, PoeModel, export
+from urdf2dh.conventions.opw import OpwParameters, opw_fk, opw_from_poe
 from urdf2dh.errors import ExportError, UsageError
-from urdf2dh.export import Options, export
-from urdf2dh.export.escape import yaml_comment
-from urdf2dh.opw import opw_from_poe
-from urdf2dh.opwmodel import OpwParameters, opw_fk
-from urdf2dh.screws import Joint, PoeModel
-from urdf2dh.se3 import from_rpy, inv, rot_x, rot_y, rot_z, trans
-from urdf2dh.sources import open_source
+from urdf2dh.escape import yaml_comment
+from urdf2dh.geometry.se3 import from_rpy, inv, rot_x, rot_y, rot_z, trans
+from urdf2dh.io.catalog import ROBOTS, our_robots_dir
+from urdf2dh.io.sources import open_source
 from urdf2dh.tolerances import EXACT as EXACT_TOL
 from urdf2dh.units import factor as length_factor
 
@@ -186,7 +183,7 @@ def _moved(model: PoeModel, q0, signs, g, h) -> PoeModel:
     """The same arm with its base frame moved (``g``), its tip frame moved (``h``), its zero at
     ``q0`` of the original and joint ``i`` counted the other way where ``signs[i] = -1``:
     pose'(q) = g . pose(q0 + signs q) . h."""
-    from urdf2dh.se3 import twist_exp
+    from urdf2dh.geometry.se3 import twist_exp
 
     joints, e = [], np.eye(4)
     for j, q_start, s in zip(model.joints, q0, signs, strict=True):
@@ -230,7 +227,7 @@ def test_any_base_tool_zero_and_signs_give_a_file_the_consumer_follows(robot, se
     signs = rng.choice([-1, 1], 6)
     g, h = (_rigid(rng), _rigid(rng)) if seed else (np.eye(4), _rigid(rng))
     model = _moved(original, q0, signs, g, h)
-    q = sample_configurations(model, 100, seed)
+    q = model.sample(100, seed)
     reference = g @ original.fk(q0 + signs * q) @ h
     np.testing.assert_allclose(model.fk(q), reference, rtol=0, atol=1e-13)  # the redrawing
     text = export(model, "opw")
@@ -272,7 +269,7 @@ def _with(model: PoeModel, i: int, axis=None, point=None, scale=1.0) -> PoeModel
 def _turned(model: PoeModel, i: int, about, angle: float, through=None) -> PoeModel:
     """Axis ``i`` turned by ``angle`` about direction ``about`` through ``through`` (its own
     point by default)."""
-    from urdf2dh.se3 import rot_axis
+    from urdf2dh.geometry.se3 import rot_axis
 
     r = rot_axis(np.asarray(about, float), angle)[:3, :3]
     j = model.joints[i]
@@ -320,7 +317,7 @@ def test_a_nearly_parallel_pair_is_judged_reported_and_refused_with_exact():
     assert "axes 2 ('joint_a2'), 3 ('joint_a3') are 1e-06 rad off parallel; treated as such" in text
     pos, rot = declared(text)
     assert 1e-9 < pos < 1e-5 and 1e-9 < rot < 1e-5
-    q = sample_configurations(model, 100, 4)
+    q = model.sample(100, 4)
     opw, base, tool = consumer(text)
     assert_fk_matches(
         "judged",
@@ -332,7 +329,7 @@ def test_a_nearly_parallel_pair_is_judged_reported_and_refused_with_exact():
         rot=1.5 * rot,
     )
     with pytest.raises(ExportError, match="are not parallel"):
-        export(model, "opw", opts=Options(tol=EXACT_TOL))
+        export(model, "opw", opts=ExportOptions(tol=EXACT_TOL))
 
 
 def test_parameters_are_validated():
@@ -405,15 +402,15 @@ def test_cli_writes_the_file_and_refuses_non_opw_arms(tmp_path, capsys):
     assert err.count("\n") == 1 and "wrist axes do not intersect: offset wrist" in err
     assert "Traceback" not in err and not bad.exists()
     assert main(["export", "fanuc-m20ia", "--to", "opw", "--convention", "mdh"]) == 2
-    assert "--to opw is written from the POE model" in capsys.readouterr().err
-    with pytest.raises(UsageError, match="takes no --convention or --style"):
+    assert "export target opw is written from the POE model" in capsys.readouterr().err
+    with pytest.raises(UsageError, match="takes no convention or style"):
         export(_kuka(), "opw", style="ur")
 
 
 def test_a_table_exports_the_same_parameters_as_its_source():
     """``export_table(table, "opw")`` reads the table's POE model: the same arm."""
-    from urdf2dh.convert import to_table
-    from urdf2dh.export import export_table
+    from urdf2dh.conventions.convert import to_table
+    from urdf2dh.emit.export import export_table
 
     model = open_source("fanuc-m20ia").model()
     want = yaml.safe_load(export(model, "opw"))

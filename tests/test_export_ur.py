@@ -11,11 +11,11 @@ from consumers import report, ur_description_urdf
 from oracle import assert_fk_matches, pin_reference
 
 import urdf2dh
-from urdf2dh.convert import to_table
+from urdf2dh import to_table
+from urdf2dh.emit.export import export, export_table
+from urdf2dh.emit.export.ur import calibration_hash, hash_bytes, hash_text, hashed_rows
 from urdf2dh.errors import ExportError, UsageError
-from urdf2dh.export import export, export_table
-from urdf2dh.export.ur import calibration_hash, hash_bytes, hash_text, hashed_rows
-from urdf2dh.sources import open_source
+from urdf2dh.io.sources import open_source
 
 # Published: the hash in Universal_Robots_ROS2_Description's config/<type>/default_kinematics.yaml
 # for the nominal UR5 and UR10 (the hash the client library computes from those robots' D-H).
@@ -121,14 +121,14 @@ def test_a_tool_off_the_flange_is_refused():
 
 
 def test_ur_takes_only_the_ur_style_dh_table():
-    with pytest.raises(UsageError, match="--style ur"):
+    with pytest.raises(UsageError, match="export target ur takes style ur, not wu"):
         export(urdf2dh.load("ur5"), "ur", style="wu")
     with pytest.raises(UsageError, match="dh tables"):
         export(urdf2dh.load("ur5"), "ur", convention="mdh")
 
 
 def test_rpy_reads_back_through_the_urdf_convention():
-    from urdf2dh.se3 import from_rpy, rot_x, rot_y, rot_z, rpy
+    from urdf2dh.geometry.se3 import from_rpy, rot_x, rot_y, rot_z, rpy
 
     rng = np.random.default_rng(9)
     cases = [rng.uniform(-np.pi, np.pi, 3) for _ in range(50)]

@@ -1,4 +1,4 @@
-"""The reference forward kinematics (urdf2dh.fk) against plain per-configuration products,
+"""The reference forward kinematics (urdf2dh.model.fk) against plain per-configuration products,
 across block boundaries: a POE model against se3.twist_exp multiplied out, and a table against
 its links and joint motions multiplied one by one."""
 
@@ -10,11 +10,11 @@ import numpy as np
 import pytest
 from chains import random_chain_urdf
 
-from urdf2dh import fk, se3
+from urdf2dh import Joint, PoeModel, to_table
 from urdf2dh.conventions import NAMES
-from urdf2dh.convert import sample_configurations, to_table
-from urdf2dh.screws import Joint, PoeModel
-from urdf2dh.urdf import parse_tree, tree_to_poe
+from urdf2dh.geometry import se3
+from urdf2dh.io.urdf import parse_tree, tree_to_poe
+from urdf2dh.model import fk
 
 RNG = np.random.default_rng(20261121)
 
@@ -93,7 +93,7 @@ def test_table_fk_is_its_links_one_by_one(monkeypatch, block):
     text, _ = random_chain_urdf(5, 9)
     urdf_model = tree_to_poe(parse_tree(text.encode(), "r.urdf"), "base", "tool")
     for model in (urdf_model, mixed_model(7)):
-        q = sample_configurations(model, 10, 1)
+        q = model.sample(10, 1)
         for conv in NAMES:
             table = to_table(model, conv)
             diff = np.abs(table.fk_batch(q) - links_one_by_one(table, q)).max()
@@ -156,7 +156,7 @@ def test_chains_errors_is_pose_errors_of_each_chain(monkeypatch, block):
     configuration may lie in any block, and a NaN in any block makes that chain's error NaN."""
     monkeypatch.setattr(fk, "BLOCK", block)
     model = mixed_model(6)
-    q = sample_configurations(model, 10, 2)
+    q = model.sample(10, 2)
     chains = [model.link_form(), *(to_table(model, conv).link_form() for conv in NAMES)]
     reference = model.fk_batch(q)
     for k in (0, 4, 9):  # the worst configuration in the first, a middle and the last block
@@ -203,7 +203,7 @@ def test_fast_expi_is_within_an_ulp_of_numpys_and_falls_back_beyond_its_reach():
     """The fast path's table e^{ix} against numpy's exp: within one unit in the last place of
     1 in each part, for angles near 0, near multiples of the table's step, negative and up to
     its reach; beyond it (and for inf, NaN) it is numpy's own result."""
-    from urdf2dh import _fastfk
+    from urdf2dh.model import _fastfk
 
     rng = np.random.default_rng(7)
     step = 2.0 * math.pi / _fastfk.STEPS
@@ -231,10 +231,10 @@ def test_fast_batch_fk_agrees_with_the_reference_for_every_convention():
     every convention's table and the POE model (revolute, prismatic, helical joints, odd
     scales) agree with the reference FK to 1e-14 of the robot's size; below FAST_MIN they are
     the reference, bit for bit."""
-    from urdf2dh import _fastfk
+    from urdf2dh.model import _fastfk
 
     model = mixed_model(9)
-    q = sample_configurations(model, _fastfk.FAST_MIN + 17, 4)
+    q = model.sample(_fastfk.FAST_MIN + 17, 4)
     tables = [to_table(model, conv) for conv in NAMES]
     for source in (model, *tables):
         links, motions = source.link_form()

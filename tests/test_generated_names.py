@@ -1,4 +1,4 @@
-"""Names the writers make up never collide with the robot's own (urdf2dh.export.names).
+"""Names the writers make up never collide with the robot's own (urdf2dh.emit.names).
 
 MATLAB's bodies and joints, KDL's segments and fixed joints, the URDF writer's links and joints
 are made up where the robot gives no name; a robot may use those names itself. Each colliding
@@ -23,12 +23,11 @@ from hostile import COLLIDING, KINDS, write_source
 from oracle import assert_fk_matches
 
 import urdf2dh
-from urdf2dh.convert import to_table
+from urdf2dh import Joint, PoeModel, to_table
+from urdf2dh.emit.export import export_table
+from urdf2dh.emit.names import RENAMED, Namespace, renaming_notes
 from urdf2dh.errors import ExportError, TableFileError
-from urdf2dh.export import export_table
-from urdf2dh.export.names import RENAMED, Namespace, renaming_notes
-from urdf2dh.screws import Joint, PoeModel
-from urdf2dh.sources import open_source
+from urdf2dh.io.sources import open_source
 
 PYKDL = real_pykdl()
 AGREE = 1e-12

@@ -1,4 +1,4 @@
-"""The hayati convention (issue 13 part 1): every table exact (1e-12 x size) and sane (every
+"""The hayati convention: every table exact (1e-12 x size) and sane (every
 |a| and |d| within 2 x size) on real robots and on chains whose axes are 1e-12 ... 1e-1 rad from
 parallel, where D-H tables are either inexact or kilometres long; each row's form stated; its
 table files, URDF and roboticstoolbox exports."""
@@ -14,17 +14,16 @@ from hypothesis import strategies as st
 from oracle import EXACT, assert_fk_matches, pin_reference
 from test_fk import product_of_exponentials
 
-from urdf2dh import se3
-from urdf2dh.catalog import ROBOTS
+from urdf2dh import Joint, PoeModel, to_table
 from urdf2dh.cli import main
 from urdf2dh.conventions.dh import DhLink
 from urdf2dh.conventions.hayati import HayatiLink
-from urdf2dh.convert import sample_configurations, to_table
+from urdf2dh.emit.export import export_table
+from urdf2dh.emit.urdf import table_to_urdf
 from urdf2dh.errors import UsageError
-from urdf2dh.export import export_table
-from urdf2dh.screws import Joint, PoeModel
-from urdf2dh.sources import open_source
-from urdf2dh.urdfwrite import table_to_urdf
+from urdf2dh.geometry import se3
+from urdf2dh.io.catalog import ROBOTS
+from urdf2dh.io.sources import open_source
 
 SANE = 2.0  # every |a|, |d| within this x robot size
 
@@ -125,14 +124,14 @@ def nearly_parallel_chains(draw):
 @SETTINGS
 @given(nearly_parallel_chains())
 def test_nearly_parallel_axes_are_exact_and_sane(model):
-    q = sample_configurations(model, 50, 2)
+    q = model.sample(50, 2)
     assert_exact_and_sane(model, to_table(model, "hayati"), q, product_of_exponentials(model, q))
 
 
 @SETTINGS
 @given(nearly_parallel_chains())
 def test_dh_and_mdh_never_refuse_and_keep_their_declared_bound(model):
-    q = sample_configurations(model, 50, 3)
+    q = model.sample(50, 3)
     reference = product_of_exponentials(model, q)
     for conv in ("dh", "mdh"):
         table = to_table(model, conv)  # never a ConversionError
@@ -173,7 +172,7 @@ def test_table_files_hold_each_rows_form(tmp_path):
     text = path.read_text()
     assert text.count("beta:") == 3  # the base and rows j2, j6: Hayati rows hold beta, no d
     again = open_source(str(path)).model()
-    q = sample_configurations(model, 100, 4)
+    q = model.sample(100, 4)
     np.testing.assert_allclose(again.fk_batch(q), model.fk_batch(q), atol=1e-12 * model.size())
     back = to_table(again, "hayati")
     assert [type(r.params) for r in back.rows] == [type(r.params) for r in table.rows]
@@ -201,7 +200,8 @@ def test_other_targets_refuse_naming_a_hayati_row(target):
         export_table(table, target)
     message = str(e.value)
     assert f"row {odd.name!r} is a Hayati row: theta, a, alpha, beta" in message
-    assert "export with --convention" in message and "\n" not in message
+    assert e.value.remedy is not None and e.value.remedy.argument == "convention"
+    assert "--" not in message and "\n" not in message
 
 
 def test_the_hayati_row_is_rz_tx_rx_ry():

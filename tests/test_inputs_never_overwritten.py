@@ -12,8 +12,8 @@ from pathlib import Path
 
 import pytest
 
-from urdf2dh import files
 from urdf2dh.cli import main
+from urdf2dh.io import files
 
 ROOT = Path(__file__).resolve().parents[1]
 ARM_PACKAGE = ROOT / "tests" / "data" / "xacro" / "arm_description"
@@ -29,7 +29,7 @@ def inputs(tmp_path, monkeypatch):
     shutil.copytree(ARM_PACKAGE, tmp_path / "arm_description")
     erd = tmp_path / "erd"
     (erd / "ur_description" / "urdf").mkdir(parents=True)
-    from urdf2dh.catalog import ROBOTS, robot_path
+    from urdf2dh.io.catalog import ROBOTS, robot_path
 
     shutil.copy(robot_path(ROBOTS["ur5"]), erd / "ur_description" / "urdf" / "ur5_robot.urdf")
     monkeypatch.setenv("EXAMPLE_ROBOT_DATA_DIR", str(erd))

@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 from interrupting import OLD, interrupted_run, judge
 
-from urdf2dh import interrupts
+from urdf2dh.io import interrupts
 
 ROOT = Path(__file__).resolve().parents[1]
 

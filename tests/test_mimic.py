@@ -1,4 +1,4 @@
-"""Mimic joints kept coupled (issue 13 part 2): a joint on the chain that mimics another carries
+"""Mimic joints kept coupled: a joint on the chain that mimics another carries
 ``mimic: {joint, multiplier, offset}``, tables are driven by the actuated joints only, and
 Pinocchio, coupling the URDF's mimic joints itself, agrees."""
 
@@ -11,13 +11,13 @@ import numpy as np
 import pytest
 from oracle import assert_fk_matches, pin_reference
 
+from urdf2dh import to_table
 from urdf2dh.cli import main
 from urdf2dh.conventions import NAMES
-from urdf2dh.convert import sample_configurations, to_table
+from urdf2dh.emit.export import TARGETS
 from urdf2dh.errors import ChainError
-from urdf2dh.export import TARGETS
-from urdf2dh.sources import open_source
-from urdf2dh.urdf import parse_tree, tree_to_poe
+from urdf2dh.io.sources import open_source
+from urdf2dh.io.urdf import parse_tree, tree_to_poe
 
 DATA = Path(__file__).parent / "data"
 ARM = str(DATA / "parallelogram.urdf")
@@ -52,7 +52,7 @@ def test_the_rows_follow_their_leaders_and_pinocchio_agrees():
 
 def test_table_and_poe_files_keep_the_coupling(tmp_path, capsys):
     model = open_source(ARM).model()
-    q = sample_configurations(model, 100, 3)
+    q = model.sample(100, 3)
     for fmt, name in (("json", "t.json"), ("yaml", "t.yaml"), ("poe", "t.poe.yaml")):
         path = tmp_path / name
         assert main(["convert", ARM, "--convention", "cpc", "--format", fmt, "-o", str(path)]) == 0

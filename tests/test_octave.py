@@ -25,7 +25,7 @@ from consumers import octave_version, report, run_octave
 from oracle import assert_fk_matches, pin_reference
 from test_exports import AGREE, _cases, _source
 
-from urdf2dh.export import export
+from urdf2dh.emit.export import export
 
 VERSION = octave_version()
 pytestmark = pytest.mark.skipif(VERSION is None, reason="GNU Octave is not installed")

@@ -1,4 +1,4 @@
-"""Output files (issue 12): -o never replaces anything but a regular file, never the SOURCE,
+"""Output files: -o never replaces anything but a regular file, never the SOURCE,
 keeps an existing file's mode, writes through symbolic links, leaves no temporary file behind
 when a run fails or is interrupted, and a write that fails (a full disk) is an error."""
 
@@ -14,8 +14,8 @@ from pathlib import Path
 
 import pytest
 
-from urdf2dh import files
 from urdf2dh.cli import main
+from urdf2dh.io import files
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -109,7 +109,7 @@ def test_an_interrupted_write_leaves_no_temporary_file(tmp_path, monkeypatch, in
 
 PROBE = """
 import os, signal, sys
-from urdf2dh import files
+from urdf2dh.io import files
 from urdf2dh.cli import main
 
 real = getattr(os, "{hook}")

@@ -14,12 +14,12 @@ import numpy as np
 import pytest
 from frames_oracle import anchor, fk_frames, named, on_ray, span
 
-from urdf2dh.catalog import ROBOTS
+from urdf2dh import to_table
 from urdf2dh.cli import main
-from urdf2dh.convert import to_table
 from urdf2dh.emit.picture import COLOURS, draw
 from urdf2dh.emit.scene import ARROW, SLIDE, frames_at_home, scene
-from urdf2dh.sources import open_source
+from urdf2dh.io.catalog import ROBOTS
+from urdf2dh.io.sources import open_source
 
 STYLE = {"ur3": "ur", "ur5": "ur", "ur10": "ur"}
 
@@ -66,7 +66,7 @@ def test_frames_follow_the_table():
     for got, want in zip(frames, fk_frames(table).values(), strict=True):
         np.testing.assert_allclose(got, want, atol=1e-15)
     # standard D-H: frame k-1's z is joint k's axis
-    for f, g in zip(frames[:-2], table.frames()[:-1], strict=True):
+    for f, g in zip(frames[:-2], table.joint_frames()[:-1], strict=True):
         np.testing.assert_allclose(f, g, atol=1e-15)
 
 

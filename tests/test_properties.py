@@ -15,10 +15,8 @@ import numpy as np
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from urdf2dh import se3
-from urdf2dh.conventions import NAMES as CONVENTIONS
-from urdf2dh.convert import sample_configurations, to_table
-from urdf2dh.screws import Joint, PoeModel
+from urdf2dh import CONVENTIONS, Joint, PoeModel, to_table
+from urdf2dh.geometry import se3
 
 RELATIONS = ("parallel", "antiparallel", "intersecting", "coincident", "perpendicular", "skew")
 SETTINGS = settings(
@@ -137,7 +135,7 @@ def _same_params(a, b, size, label):
 @SETTINGS
 @given(chains())
 def test_every_convention_moves_like_the_poe_model(model):
-    q = sample_configurations(model, 40, 11)
+    q = model.sample(40, 11)
     for conv in CONVENTIONS:
         table = to_table(model, conv)
         _assert_close(model, table.fk_batch(q), q, conv, declared=table)
@@ -157,7 +155,7 @@ def test_convention_to_poe_to_convention_is_idempotent(model):
 @SETTINGS
 @given(chains(), st.sampled_from(CONVENTIONS), st.sampled_from(CONVENTIONS))
 def test_any_convention_to_any_other(model, first, second):
-    q = sample_configurations(model, 30, 5)
+    q = model.sample(30, 5)
     first_table = to_table(model, first)
     via = to_table(first_table.to_poe(), second)
     _assert_close(model, via.fk_batch(q), q, f"{first}->{second}", declared=first_table)

@@ -7,9 +7,9 @@ import math
 
 import pytest
 
-from urdf2dh.convert import to_table
-from urdf2dh.papers import sumenkov_table3, wu2019_table2
-from urdf2dh.sources import open_source
+from urdf2dh import to_table
+from urdf2dh.check.papers import sumenkov_table3, wu2019_table2
+from urdf2dh.io.sources import open_source
 
 
 def test_ur5_recovers_universal_robots_geometry():

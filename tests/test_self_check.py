@@ -8,19 +8,17 @@ from dataclasses import replace
 
 import pytest
 
+from urdf2dh import CONVENTIONS, DEFAULT
 from urdf2dh.cli import main
-from urdf2dh.conventions import NAMES as CONVENTIONS
-from urdf2dh.convert import (
+from urdf2dh.conventions.convert import (
     DEFAULT_SAMPLES,
     JUDGED_SAMPLES,
     build_table,
-    sample_configurations,
     self_check,
     to_table,
 )
-from urdf2dh.se3 import pose_errors
-from urdf2dh.sources import open_source
-from urdf2dh.tolerances import DEFAULT
+from urdf2dh.geometry.se3 import pose_errors
+from urdf2dh.io.sources import open_source
 
 
 @pytest.mark.parametrize("conv", CONVENTIONS)
@@ -79,11 +77,11 @@ def test_the_default_catches_a_slightly_wrong_table(robot, param, relative):
 def test_verify_never_exceeds_the_declared_bound(robot):
     """The bound is one for every configuration, not a sample maximum: Pinocchio, at 20,000
     configurations other than the check's, stays within it (with no allowance beyond it)."""
-    from urdf2dh.verify import pinocchio_fk
+    from urdf2dh.check.verify import pinocchio_fk
 
     source = open_source(robot)
     model = source.model()
-    q = sample_configurations(model, 20_000, (5, 5))
+    q = model.sample(20_000, (5, 5))
     reference = pinocchio_fk(source, model, q)
     for conv in ("dh", "mdh"):
         table = to_table(model, conv)

@@ -1,4 +1,4 @@
-"""Every chain of a tree (issue 13 part 3, SPEC §5 "Trees"): which tips ``--all-tips`` and a
+"""Every chain of a tree (docs/trees-mimic.md): which tips ``--all-tips`` and a
 repeated ``--tip`` take, what several tables look like on stdout, ``-o DIR`` written all or
 nothing, tip names that cannot be file names, ``verify`` and ``export`` over several chains.
 
@@ -21,10 +21,12 @@ import numpy as np
 import pytest
 import yaml
 
-from urdf2dh import files, verify
+from urdf2dh.check import verify
 from urdf2dh.cli import main
+from urdf2dh.cli.chains import FORMAT_SUFFIXES
 from urdf2dh.conventions import NAMES
-from urdf2dh.tips import FORMAT_SUFFIXES
+from urdf2dh.errors import shown
+from urdf2dh.io import files
 
 
 def tree_urdf(
@@ -328,7 +330,7 @@ def test_a_failing_tip_leaves_an_existing_directory_as_it_was(capsys, tmp_path):
 def test_a_table_failing_its_self_check_fails_the_run(capsys, tree, tmp_path, monkeypatch):
     """Exit 1, naming the tip, and nothing written (the failing check is forced: no real chain
     of this tree fails it)."""
-    from urdf2dh import convert
+    from urdf2dh.conventions import convert
     from urdf2dh.errors import ConversionError
 
     real = convert.to_table
@@ -419,13 +421,13 @@ def test_a_tip_that_cannot_be_a_file_name_is_refused(capsys, tmp_path, name, why
     source.write_text(tree_urdf(left=name))
     code, _, err = run(capsys, "convert", source, "--all-tips", "-o", f"{tmp_path / 'out'}/")
     assert code == 2
-    assert f"tip link {name!r} cannot name a file" in one_line_error(err) and why in err
+    assert f"tip link {shown(name)} cannot name a file" in one_line_error(err) and why in err
     assert sorted(os.listdir(tmp_path)) == ["t.urdf"]
     code, out, err = run(capsys, "convert", source, "--all-tips")  # stdout needs no file name
     assert code == 0, err
     headings = [line for line in out.splitlines() if line.startswith("==> ")]
-    shown = name if name.isprintable() else repr(name)
-    assert headings == [f"==> {shown} <==", "==> right_tip <=="]
+    heading = name if name.isprintable() else repr(name)
+    assert headings == [f"==> {heading} <==", "==> right_tip <=="]
 
 
 def test_tips_differing_only_in_case_are_refused(capsys, tmp_path):
@@ -471,7 +473,7 @@ def test_verify_exits_1_when_one_chain_disagrees(capsys, tree, monkeypatch):
     assert code == 1
     assert "-> left_tip" in out and "-> right_tip" in out
     assert "FAILED on base -> left_tip for POE model" in err
-    assert err.splitlines()[-1] == "verify: FAILED on 1 of 2 chains: left_tip"
+    assert err.splitlines()[-1] == "verify: FAILED on 1 of 2 chains: 'left_tip'"
 
 
 def test_verify_goes_on_past_a_table_failing_its_self_check(capsys, tree, monkeypatch):
@@ -489,7 +491,7 @@ def test_verify_goes_on_past_a_table_failing_its_self_check(capsys, tree, monkey
     assert code == 1 and "-> right_tip" in out
     assert err.splitlines() == [
         "verify: tip 'left_tip': self-check failed (forced)",
-        "verify: FAILED on 1 of 2 chains: left_tip",
+        "verify: FAILED on 1 of 2 chains: 'left_tip'",
     ]
 
 
@@ -529,7 +531,7 @@ def test_export_writes_one_file_per_tip_with_the_targets_suffix(capsys, tmp_path
 
 def test_the_written_tables_match_their_chains(capsys, tree, tmp_path):
     """Each file of -o DIR, read back as a SOURCE, has the FK of its own chain."""
-    from urdf2dh.sources import open_source
+    from urdf2dh.io.sources import open_source
 
     out_dir = tmp_path / "out"
     assert (

@@ -1,5 +1,5 @@
-"""Every chain of example-robot-data's humanoids and dual-arm robots against Pinocchio (issue 13
-part 3): ``verify --all-tips`` takes exactly the leaves that a plain reading of the URDF says
+"""Every chain of example-robot-data's humanoids and dual-arm robots against Pinocchio:
+``verify --all-tips`` takes exactly the leaves that a plain reading of the URDF says
 have a moving joint on their chain, and every convention of every chain agrees with Pinocchio.
 
 Chains through a gripper's mimic joints (marked below) keep them coupled: a joint following one
@@ -16,9 +16,9 @@ from pathlib import Path
 
 import pytest
 
-from urdf2dh.catalog import example_robot_data_dir
 from urdf2dh.cli import main
 from urdf2dh.conventions import NAMES
+from urdf2dh.io.catalog import example_robot_data_dir
 
 #: (file under example-robot-data's robots/, whether some chain holds a mimic joint)
 ROBOTS = [

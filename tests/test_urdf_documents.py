@@ -14,9 +14,9 @@ import yourdfpy
 
 from urdf2dh.cli import main
 from urdf2dh.errors import InputError
-from urdf2dh.text import check_text, first_character, sniff
-from urdf2dh.urdf import UrdfJoint, parse_tree
-from urdf2dh.urdf.parse import document
+from urdf2dh.io.encodings import check_text, first_character, sniff
+from urdf2dh.io.urdf import UrdfJoint, parse_tree
+from urdf2dh.io.urdf.parse import document
 
 BODY = (
     '<robot name="r\u00e9"><link name="base"/><link name="l\u00e9"/><link name="tool"/>'
@@ -92,7 +92,7 @@ def test_the_common_file_is_parsed_as_it_stands():
                 for i in range(1, 10)
             )
             + b']><robot name="&a9;"><link name="a"/></robot>',
-            "malformed XML (Maximum entity",
+            "beyond the XML parser's limits (Maximum entity",
         ),
     ],
 )

@@ -1,4 +1,4 @@
-"""URDF input at the edges (issue 12): urdfdom's number grammar, axes normalised as urdfdom and
+"""URDF input at the edges: urdfdom's number grammar, axes normalised as urdfdom and
 Pinocchio do or refused, magnitudes that would overflow refused, and the encodings and XML
 declarations that Pinocchio and yourdfpy read, read. Pinocchio is the oracle throughout: what we
 refuse for the grammar, it refuses; what we read, it reads the same way (``verify`` exits 0)."""
@@ -13,8 +13,9 @@ import pytest
 
 from urdf2dh.cli import main
 from urdf2dh.errors import InputError
-from urdf2dh.urdf import parse_tree, tree_to_poe
-from urdf2dh.urdf.validate import LARGEST, numbers
+from urdf2dh.io.urdf import parse_tree, tree_to_poe
+from urdf2dh.io.urdf.validate import numbers
+from urdf2dh.tolerances import LARGEST_URDF_NUMBER as LARGEST
 
 LIMIT = 'lower="-1" upper="1" effort="1" velocity="1"'
 
@@ -162,7 +163,7 @@ def test_white_space_is_read_as_urdfdom_reads_it(slot, value, capsys, tmp_path):
 def test_numbers_directly():
     assert numbers("1 -2.5e-3  .5", 3, "xyz", "f") == [1.0, -2.5e-3, 0.5]
     assert numbers("1e300", 1, "v", "f", None) == [1e300]
-    with pytest.raises(InputError, match=r"f: v '1e300' is out of range \(1e300 is beyond"):
+    with pytest.raises(InputError, match=r"f: v '1e300' is out of range \('1e300' is beyond"):
         numbers("1e300", 1, "v", "f")
     with pytest.raises(InputError, match="it holds 4"):
         numbers("0 0 1 4", 3, "xyz", "f")
@@ -286,7 +287,7 @@ def test_large_values_within_the_bound_agree_with_pinocchio(slot, value, capsys,
 
 def helical(multiplier: str) -> str:
     """A revolute joint 'j' with its lead 'm' (coaxial prismatic mimicking it): one helical
-    joint of pitch ``multiplier`` (as urdfwrite writes it), then a revolute joint."""
+    joint of pitch ``multiplier`` (as urdf2dh.emit.urdf writes it), then a revolute joint."""
     links = "".join(f'<link name="{n}"/>' for n in ("base", "l1", "l2", "l3", "tool"))
     return (
         f'<robot name="h">{links}'
@@ -335,8 +336,8 @@ def test_a_base_far_from_the_root_is_verified_to_pinocchios_resolution(offset, c
     near = text.replace(f'xyz="0 {offset} 0"', 'xyz="0 2 0"')
     tree = parse_tree(near.encode(), "w.urdf")
     model = tree_to_poe(tree, "base", "tool")
-    from urdf2dh.sources import Source
-    from urdf2dh.verify import _oracle_rounding
+    from urdf2dh.check.verify import _oracle_rounding
+    from urdf2dh.io.sources import Source
 
     rounding = _oracle_rounding(Source("urdf", "w.urdf", "r", tree, tree.xml), model)
     assert 0 < rounding < 1e-13  # an ordinary world offset: nothing allowed beyond the check

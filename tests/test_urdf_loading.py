@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from urdf2dh.errors import ChainError
-from urdf2dh.urdf import parse_tree, tree_to_poe
+from urdf2dh.io.urdf import parse_tree, tree_to_poe
 
 ARM = """<robot name="arm">
   <link name="base"><visual><geometry><mesh filename="package://nowhere/base.stl"/></geometry>

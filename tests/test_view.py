@@ -22,10 +22,10 @@ from chains import random_chain_urdf
 from frames_oracle import anchor, fk_frames, named, span
 from view_reader import read_page
 
+from urdf2dh import to_table
 from urdf2dh.cli import main
-from urdf2dh.convert import to_table
 from urdf2dh.emit.scene import ARROW, MAX_JOINTS, NAME_CHARS, TOOL_ARROW
-from urdf2dh.sources import open_source
+from urdf2dh.io.sources import open_source
 
 CASES = (
     [("panda", c, "wu") for c in ("dh", "mdh", "cpc", "hayati")]
@@ -147,15 +147,16 @@ def test_the_view_needs_plotly(tmp_path, capsys, monkeypatch):
 
 
 def test_a_chain_too_long_to_draw_is_refused_at_once(tmp_path, capsys):
-    """10^4 joints: refused on one line naming the limit, before any conversion, no file."""
+    """10^4 joints (the most a URDF holds, urdf2dh.tolerances.JOINTS, its tool's fixed joint
+    counted): refused on one line naming the limit, before any conversion, no file."""
     source = tmp_path / "long.urdf"
-    source.write_text(random_chain_urdf(7, 10_000)[0])
+    source.write_text(random_chain_urdf(7, 9_999)[0])
     for suffix in ("png", "html"):
         started = time.perf_counter()
         assert main(["plot", str(source), "-o", str(tmp_path / f"long.{suffix}")]) == 2
         seconds = time.perf_counter() - started
         err = capsys.readouterr().err
-        assert err.count("\n") == 1 and f"at most {MAX_JOINTS}" in err and "10000 joints" in err
+        assert err.count("\n") == 1 and f"at most {MAX_JOINTS}" in err and "9999 joints" in err
         assert seconds < 60, seconds
     assert sorted(p.name for p in tmp_path.iterdir()) == ["long.urdf"]
 

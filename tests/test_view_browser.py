@@ -28,10 +28,10 @@ import pytest
 from cdp import Browser
 from frames_oracle import anchor, fk_frames, named, span
 
+from urdf2dh import to_table
 from urdf2dh.cli import main
-from urdf2dh.convert import to_table
 from urdf2dh.emit.picture import COLOURS
-from urdf2dh.sources import open_source
+from urdf2dh.io.sources import open_source
 
 FLAGS = [
     "--headless",

@@ -1,125 +1,143 @@
-"""urdf2dh: a robot's URDF (or POE model) -> exact standard D-H, modified D-H and CPC tables.
+"""urdf2dh: a robot's URDF (or POE model) -> exact standard D-H, modified D-H, CPC and Hayati
+tables, checked against the source and against Pinocchio; controller files; calibration.
 
-The pipeline, in the public names of this package:
+Every job of the ``urdf2dh`` command is a function here, returning a typed value that shows
+itself as a table in a notebook:
 
 >>> import urdf2dh
 >>> model = urdf2dh.load("ur5")                  # PoeModel: screws at home + tip pose
 >>> table = urdf2dh.to_table(model, "dh")        # Table, checked against the model
 >>> pose = table.fk([0.1, -0.5, 1.0, 0.2, 0.3, 0.4])          # (4, 4)
->>> text = urdf2dh.render(table, "json")         # SPEC §2 table file
+>>> text = urdf2dh.render(table, "json")         # a table file (docs/formats/table-file.md)
 
-:func:`load` reads any SOURCE (URDF, xacro, POE file, table file, bundled robot) into a
-:class:`PoeModel`; :func:`to_table` converts it to a :class:`Table` in one of
-:data:`CONVENTIONS` and checks its forward kinematics against the model's; :func:`render`
-writes it; :func:`plot` draws its frames (a picture, or an interactive view as an HTML page).
-:meth:`Table.to_poe` goes back. Pinocchio cross-checks live in :mod:`urdf2dh.verify`,
-controller files in :mod:`urdf2dh.export`, the conventions themselves in
-:mod:`urdf2dh.conventions`.
+===============  ===========================================  ===========================
+function         does                                         returns
+===============  ===========================================  ===========================
+:func:`load`     reads a SOURCE (URDF, xacro, POE file,        :class:`PoeModel`
+                 table file, bundled robot)
+:func:`to_table` converts to a convention, self-checked       :class:`Table`
+:func:`render`   writes a table (text, JSON, YAML, CSV, ...)   ``str``
+:func:`plot`     draws a table's frames                       ``bytes``
+:func:`export`   writes a controller or toolbox file          ``str``
+:func:`verify`   every convention against Pinocchio           :class:`VerifyReport`
+:func:`diff`     two parameter sets side by side              :class:`Diff`
+:func:`info`     what a SOURCE holds, identifiability         :class:`Info`
+:func:`measure`  synthetic measurements of a model            :class:`Measurements`
+:func:`calibrate` identifies a model from measurements        :class:`Calibration`
+:func:`plan`     configurations worth measuring               :class:`Plan`
+===============  ===========================================  ===========================
 
 Twists are ``[w, v]`` (angular first); angles are radians; lengths are in the source's unit
-(metres for URDF).
+(metres for URDF). Errors are :class:`Urdf2DhError` (:mod:`urdf2dh.errors`), with one-line
+messages naming the file, link or joint at fault; wrong argument types are ``TypeError``.
+
+Nothing heavy is imported until a name is used: ``import urdf2dh`` needs no numpy.
 """
 
 from __future__ import annotations
 
-import os
 from typing import TYPE_CHECKING
 
-__version__ = "0.1.0"
+from ._version import __version__
 
 __all__ = [
     "CONVENTIONS",
     "DEFAULT",
     "EXACT",
+    "Calibration",
     "Check",
+    "Diff",
+    "ExportOptions",
+    "Info",
     "Joint",
+    "Measurements",
+    "ModelCheck",
+    "Plan",
     "PoeModel",
     "Row",
     "Table",
     "Tolerances",
     "Urdf2DhError",
+    "VerifyReport",
+    "XacroOptions",
     "__version__",
+    "calibrate",
+    "diff",
+    "export",
+    "info",
     "load",
+    "measure",
+    "plan",
     "plot",
     "render",
     "to_table",
+    "verify",
 ]
 
 if TYPE_CHECKING:
+    from .calibration.calibration import Calibration, calibrate
+    from .calibration.measure import measure
+    from .calibration.measurements import Measurements
+    from .calibration.plan import Plan, plan
+    from .check.diff import Diff, diff
+    from .check.info import Info, info
+    from .check.verify import ModelCheck, VerifyReport, verify
     from .conventions import NAMES as CONVENTIONS
-    from .convert import to_table
+    from .conventions.convert import to_table
+    from .conventions.table import Check, Row, Table
+    from .emit.export import ExportOptions, export
+    from .emit.formats import render
     from .emit.plot import plot
     from .errors import Urdf2DhError
-    from .formats import render
-    from .screws import Joint, PoeModel
-    from .table import Check, Row, Table
+    from .io.sources import load
+    from .io.xacro import XacroOptions
+    from .model.poe import Joint, PoeModel
     from .tolerances import DEFAULT, EXACT, Tolerances
 
+#: Public name -> (module, attribute), imported on first use.
 _LAZY = {
-    "CONVENTIONS": ("conventions", "NAMES"),
-    "to_table": ("convert", "to_table"),
-    "render": ("formats", "render"),
-    "plot": ("emit.plot", "plot"),
-    "Urdf2DhError": ("errors", "Urdf2DhError"),
-    "Joint": ("screws", "Joint"),
-    "PoeModel": ("screws", "PoeModel"),
-    "Check": ("table", "Check"),
-    "Row": ("table", "Row"),
-    "Table": ("table", "Table"),
-    "Tolerances": ("tolerances", "Tolerances"),
-    "DEFAULT": ("tolerances", "DEFAULT"),
-    "EXACT": ("tolerances", "EXACT"),
+    "CONVENTIONS": ("urdf2dh.conventions", "NAMES"),
+    "DEFAULT": ("urdf2dh.tolerances", "DEFAULT"),
+    "EXACT": ("urdf2dh.tolerances", "EXACT"),
+    "Calibration": ("urdf2dh.calibration.calibration", "Calibration"),
+    "Check": ("urdf2dh.conventions.table", "Check"),
+    "Diff": ("urdf2dh.check.diff", "Diff"),
+    "ExportOptions": ("urdf2dh.emit.export.common", "ExportOptions"),
+    "Info": ("urdf2dh.check.info", "Info"),
+    "Joint": ("urdf2dh.model.poe", "Joint"),
+    "Measurements": ("urdf2dh.calibration.measurements", "Measurements"),
+    "ModelCheck": ("urdf2dh.check.verify", "ModelCheck"),
+    "Plan": ("urdf2dh.calibration.plan", "Plan"),
+    "PoeModel": ("urdf2dh.model.poe", "PoeModel"),
+    "Row": ("urdf2dh.conventions.table", "Row"),
+    "Table": ("urdf2dh.conventions.table", "Table"),
+    "Tolerances": ("urdf2dh.tolerances", "Tolerances"),
+    "Urdf2DhError": ("urdf2dh.errors", "Urdf2DhError"),
+    "VerifyReport": ("urdf2dh.check.verify", "VerifyReport"),
+    "XacroOptions": ("urdf2dh.io.xacro", "XacroOptions"),
+    "calibrate": ("urdf2dh.calibration.calibration", "calibrate"),
+    "diff": ("urdf2dh.check.diff", "diff"),
+    "export": ("urdf2dh.emit.export", "export"),
+    "info": ("urdf2dh.check.info", "info"),
+    "load": ("urdf2dh.io.sources", "load"),
+    "measure": ("urdf2dh.calibration.measure", "measure"),
+    "plan": ("urdf2dh.calibration.plan", "plan"),
+    "plot": ("urdf2dh.emit.plot", "plot"),
+    "render": ("urdf2dh.emit.formats", "render"),
+    "to_table": ("urdf2dh.conventions.convert", "to_table"),
+    "verify": ("urdf2dh.check.verify", "verify"),
 }
 
 
 def __getattr__(name: str) -> object:
-    # Lazy, so that `urdf2dh --help` does not pay for numpy.
+    # imported on first use, so that `import urdf2dh` (and `urdf2dh --help`) needs no numpy
     if name in _LAZY:
         import importlib
 
         module, attribute = _LAZY[name]
-        return getattr(importlib.import_module(f".{module}", __name__), attribute)
+        return getattr(importlib.import_module(module), attribute)
     raise AttributeError(f"module 'urdf2dh' has no attribute {name!r}")
 
 
-def load(
-    source: str | os.PathLike[str],
-    base: str | None = None,
-    tip: str | None = None,
-    ignore_mimic: bool = False,
-) -> PoeModel:
-    """The POE model of the serial chain in a SOURCE.
-
-    Parameters
-    ----------
-    source
-        A URDF or ``.xacro`` file, a POE model file (SPEC §4), a table file (SPEC §2), or the
-        name of a bundled robot (``urdf2dh robots``).
-    base, tip
-        Links that bound the chain (URDF sources; defaults: the root link, or the bundled
-        robot's own, and the single deepest leaf below the base).
-    ignore_mimic
-        Treat mimic joints on the chain as independent joints (with a warning).
-
-    Returns
-    -------
-    PoeModel
-        The movable joints' screws at the home pose, ``(4, 4)`` home pose of the tip.
-
-    Raises
-    ------
-    Urdf2DhError
-        A one-line message naming the file, link or joint at fault (:class:`SourceError` for
-        a SOURCE that is empty or names neither a file nor a bundled robot).
-    TypeError
-        An argument of the wrong type (``source`` neither text nor a path, ``ignore_mimic``
-        not a bool).
-    """
-    from .checks import check_flag, check_optional_name, check_source
-    from .sources import open_source
-
-    source = check_source(source, "load: source")
-    base = check_optional_name(base, "load: base")
-    tip = check_optional_name(tip, "load: tip")
-    ignore_mimic = check_flag(ignore_mimic, "load: ignore_mimic")
-    return open_source(source).model(base, tip, ignore_mimic)
+def __dir__() -> list[str]:
+    return sorted(__all__)

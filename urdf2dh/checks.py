@@ -1,16 +1,14 @@
-"""Validators at the boundary (STYLE: ``check_*`` returns canonical values and says what was
-expected and what came).
+"""The Python API's arguments, checked where they come in (:func:`urdf2dh.load`,
+:func:`urdf2dh.to_table`, :func:`urdf2dh.render`, the other public functions, the methods of
+:class:`~urdf2dh.conventions.table.Table` and :class:`~urdf2dh.model.poe.PoeModel`, the value
+types' constructors): each ``check_*`` returns the canonical value, or raises a ``TypeError``
+for a value of the wrong type and a ``ValueError`` for a wrong value (a shape, a non-finite
+number, a count below 1), each naming the argument, what it takes and what it got. Arrays come
+back as canonical float64 arrays; a batch is checked with one vectorised
+``np.isfinite(...).all()``.
 
-* A file's values: a number as a finite float, a name as a non-empty string, or a one-line
-  :class:`~urdf2dh.errors.InputError` (or the subclass the reader passes) naming the field.
-* The Python API's arguments (:func:`urdf2dh.load`, :func:`urdf2dh.to_table`,
-  :func:`urdf2dh.render`, the methods of :class:`~urdf2dh.table.Table` and
-  :class:`~urdf2dh.screws.PoeModel`, the value types' constructors): a ``TypeError`` for a value
-  of the wrong type, a ``ValueError`` for a wrong value (a shape, a non-finite number, a count
-  below 1), each naming the argument, what it takes and what it got. Arrays come back as
-  canonical float64 arrays; a batch is checked with one vectorised ``np.isfinite(...).all()``.
-
-Everything past these checks trusts its arguments' types.
+Everything past these checks trusts its arguments' types. (The values of files are checked by
+their readers, :mod:`urdf2dh.io.fields`.)
 """
 
 from __future__ import annotations
@@ -18,70 +16,27 @@ from __future__ import annotations
 import math
 import numbers
 import os
-from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
-from .errors import InputError
+from .errors import shown
+from .tolerances import MAX_SAMPLES, MAX_SEED
 
 if TYPE_CHECKING:
     import numpy as np
     from numpy.typing import NDArray
 
-    from .mimic import Followed, Mimic
-
 __all__ = [
-    "LARGEST",
-    "MAX_SAMPLES",
-    "MAX_SEED",
     "check_array",
     "check_configurations",
     "check_count",
     "check_flag",
     "check_instance",
-    "check_leaders",
     "check_limit",
-    "check_name",
-    "check_number",
     "check_optional_name",
     "check_real",
     "check_seed",
     "check_source",
-    "check_vector",
-    "read_mimic",
 ]
-
-# No number a kinematic file holds is larger: 1e12 of any length unit urdf2dh knows is over a
-# million kilometres, and angles, scales and limits are far smaller. Beyond it, products and
-# sums of squares in the geometry would overflow, so such a number is an input error.
-LARGEST = 1e12
-
-
-def check_number(value: Any, where: str, error: type[InputError] = InputError) -> float:
-    """``value`` as a finite float of magnitude at most :data:`LARGEST`; ``error`` naming
-    ``where`` for anything else (booleans, strings, non-finite or huge numbers)."""
-    if isinstance(value, bool) or not isinstance(value, int | float):
-        raise error(f"{where} must be a number, not {_short(value)}")
-    try:
-        out = float(value)
-    except OverflowError as e:
-        raise error(f"{where} is too large for a float") from e
-    if not math.isfinite(out):
-        raise error(f"{where} must be finite")
-    if abs(out) > LARGEST:
-        raise error(f"{where} is {out:.3g}: beyond {LARGEST:g}, no kinematic number is that large")
-    return out
-
-
-def check_name(value: Any, where: str, error: type[InputError] = InputError) -> str:
-    """``value`` as a name: a non-empty string."""
-    if not isinstance(value, str) or not value:
-        raise error(f"{where} must be a non-empty string, not {_short(value)}")
-    return value
-
-
-def _short(value: Any) -> str:
-    text = repr(value)
-    return text if len(text) <= 40 else text[:37] + "..."
 
 
 def _got(value: Any) -> str:
@@ -90,52 +45,12 @@ def _got(value: Any) -> str:
     if value is None:
         return "None"
     if isinstance(value, bool | numbers.Number | str | bytes):
-        return f"{kind} {_short(value)}"
+        return f"{kind} {shown(value)}"
     return kind
 
 
-def check_vector(
-    value: Any, where: str, error: type[InputError] = InputError
-) -> tuple[float, float, float]:
-    """``value`` as three finite floats."""
-    if not isinstance(value, Sequence) or isinstance(value, str) or len(value) != 3:
-        raise error(f"{where} must be a list of 3 numbers")
-    x, y, z = (check_number(v, where, error) for v in value)
-    return x, y, z
-
-
-def read_mimic(raw: Any, where: str, error: type[InputError] = InputError) -> Mimic | None:
-    """A file's ``mimic: {joint, multiplier, offset}`` (SPEC §5) of the joint at ``where``."""
-    from .mimic import Mimic
-
-    if raw is None:
-        return None
-    if not isinstance(raw, dict) or set(raw) - {"joint", "multiplier", "offset"}:
-        raise error(f"{where}: mimic must be a mapping of joint, multiplier and offset")
-    return Mimic(
-        check_name(raw.get("joint"), f"{where}: mimic joint", error),
-        check_number(raw.get("multiplier", 1.0), f"{where}: mimic multiplier", error),
-        check_number(raw.get("offset", 0.0), f"{where}: mimic offset", error),
-    )
-
-
-def check_leaders(joints: Sequence[Followed], where: str,
-                  error: type[InputError] = InputError) -> None:  # fmt: skip
-    """Every mimicking joint follows an actuated joint of the same chain."""
-    leaders = {j.name for j in joints if j.mimic is None}
-    for j in joints:
-        if j.mimic is not None and j.mimic.joint not in leaders:
-            raise error(
-                f"{where}: joint {j.name!r} mimics {j.mimic.joint!r}, which is not a joint of "
-                "the chain without mimic"
-            )
-
-
-# --------------------------------------------------------------------------- Python API arguments
-
-# Configurations of a self-check or a verify run: about 1 GB of poses at most.
-MAX_SAMPLES = 1_000_000
-MAX_SEED = 2**63 - 1  # numpy's seeds are non-negative integers; this is the CLI's bound too
+def _article(word: str) -> str:
+    return "an" if word[:1] in "AEIOU" else "a"
 
 
 def check_instance(value: Any, kind: type, where: str, hint: str = "") -> Any:
@@ -143,7 +58,8 @@ def check_instance(value: Any, kind: type, where: str, hint: str = "") -> Any:
     and what came, followed by ``hint`` (how to get a ``kind``)."""
     if not isinstance(value, kind):
         raise TypeError(
-            f"{where} must be a {kind.__name__}, not {_got(value)}" + (f"; {hint}" if hint else "")
+            f"{where} must be {_article(kind.__name__)} {kind.__name__}, not {_got(value)}"
+            + (f"; {hint}" if hint else "")
         )
     return value
 
@@ -164,7 +80,7 @@ def check_optional_name(value: Any, where: str) -> str | None:
 
 def check_source(value: Any, where: str) -> str:
     """A SOURCE: a file path (``str`` or ``os.PathLike``) or a bundled robot's name, as text.
-    (Whether it names anything is :func:`urdf2dh.sources.open_source`'s to say.)"""
+    (Whether it names anything is :func:`urdf2dh.io.sources.open_source`'s to say.)"""
     if isinstance(value, os.PathLike):
         value = os.fspath(value)
     if not isinstance(value, str):
@@ -186,8 +102,8 @@ def check_count(value: Any, where: str, least: int = 1, most: int = MAX_SAMPLES)
 
 
 def check_seed(value: Any, where: str) -> int:
-    """A random seed: an int from 0 to :data:`MAX_SEED` (as ``numpy.random.default_rng``
-    takes it)."""
+    """A random seed: an int from 0 to :data:`~urdf2dh.tolerances.MAX_SEED` (as
+    ``numpy.random.default_rng`` takes it)."""
     return check_count(value, where, 0, MAX_SEED)
 
 

@@ -4,34 +4,64 @@ Every failure the command line can meet is an :class:`Urdf2DhError`; the CLI pri
 on one line (or a few) and exits with :attr:`Urdf2DhError.exit_code`. Library errors (lxml,
 yourdfpy, Pinocchio, PyYAML) are wrapped with ``raise ... from e`` so that users read our message,
 which names the file, link or joint at fault.
+
+A message says what is wrong. Where an argument gets past the error, the error carries it as a
+:class:`Remedy` naming the Python API's argument; the command line adds the matching option
+(:data:`urdf2dh.cli.run.OPTIONS`).
 """
 
 from __future__ import annotations
 
 from collections.abc import Iterable
+from dataclasses import dataclass
 
 __all__ = [
+    "MESSAGE_LENGTH",
     "ChainError",
     "ConversionError",
     "ExportError",
     "InputError",
+    "Remedy",
     "SourceError",
     "TableFileError",
     "Urdf2DhError",
     "UsageError",
-    "VerificationError",
     "choices",
+    "missing",
+    "one_line",
     "shown",
     "visible",
 ]
 
 SHOWN_LENGTH = 120  # characters of a name an error message shows
+MESSAGE_LENGTH = 2000  # characters of an error line the command line prints, at most
+
+
+@dataclass(frozen=True, slots=True)
+class Remedy:
+    """A way past an error: the argument ``argument`` of the Python API (``ignore_mimic``,
+    ``tip``, ``xacro.timeout``), given ``value`` where it takes one; ``then`` says what to do,
+    from its first character on (``"; choose one with {}"``), with ``{}`` where the argument (or
+    the command line's option) goes: the command line prints it right after the message."""
+
+    argument: str
+    then: str
+    value: str = ""
+
+    def said(self, name: str) -> str:
+        """``then`` with the argument called ``name`` (and its value)."""
+        return self.then.replace("{}", f"{name} {self.value}" if self.value else name)
 
 
 class Urdf2DhError(Exception):
-    """Root of all urdf2dh errors. ``exit_code`` is what the CLI returns (SPEC §1)."""
+    """Root of all urdf2dh errors. ``exit_code`` is what the CLI returns (2;
+    docs/commands/index.md); ``remedy`` (or ``None``) the argument that gets past it."""
 
     exit_code = 2
+
+    def __init__(self, *args: object, remedy: Remedy | None = None) -> None:
+        super().__init__(*args)
+        self.remedy = remedy
 
 
 class UsageError(Urdf2DhError, ValueError):
@@ -52,7 +82,7 @@ class ChainError(InputError):
 
 
 class TableFileError(InputError):
-    """A table file (SPEC §2) that is malformed or contradicts itself."""
+    """A table file (docs/formats/table-file.md) that is malformed or contradicts itself."""
 
 
 class ExportError(InputError):
@@ -61,12 +91,6 @@ class ExportError(InputError):
 
 class ConversionError(Urdf2DhError):
     """The conversion cannot produce a table that meets its own exactness check."""
-
-    exit_code = 1
-
-
-class VerificationError(Urdf2DhError):
-    """``verify`` found a forward-kinematics error beyond tolerance."""
 
     exit_code = 1
 
@@ -94,14 +118,47 @@ def visible(text: str) -> str:
 
 
 def _escape_char(ch: str) -> str:
-    return "\\\\" if ch == "\\" else ch if ch.isprintable() else repr(ch)[1:-1]
+    return "\\\\" if ch == "\\" else ch if ch.isprintable() else _escape(ch)
 
 
-def shown(name: str) -> str:
-    """A name from a file as an error message shows it: Python's ``repr`` (quoted, with
+def _escape(ch: str) -> str:
+    """An unprintable character as Python writes it in a string literal (``\\n``, ``\\x1b``)."""
+    return repr(ch)[1:-1]
+
+
+def shown(name: object) -> str:
+    """A name (or any value) from a file as a message shows it: Python's ``repr`` (quoted, with
     escapes for line breaks, controls and every other unprintable character, so the message
-    stays one line and shows what the name holds), cut after :data:`SHOWN_LENGTH`
-    characters."""
+    stays one line and shows what the name holds), cut after :data:`SHOWN_LENGTH` characters
+    with the full length said. The one rule for everything from an input that a message
+    names."""
+    if not isinstance(name, str):
+        text = repr(name)
+        return (
+            text
+            if len(text) <= SHOWN_LENGTH
+            else f"{text[:SHOWN_LENGTH]}... ({len(text)} characters)"
+        )
     if len(name) <= SHOWN_LENGTH:
         return repr(name)
     return f"{name[:SHOWN_LENGTH]!r}... ({len(name)} characters)"
+
+
+def one_line(text: str) -> str:
+    """A message as the command line prints it: line breaks and other characters Python does
+    not print written as their escapes (backslashes kept as they are: the names in a message
+    are escaped already, :func:`shown`), so that it stays one line, and at most
+    :data:`MESSAGE_LENGTH` characters, its middle cut out beyond (the last guard against a
+    library's message quoting a whole input)."""
+    line = "".join(c if c.isprintable() else _escape(c) for c in text)
+    if len(line) <= MESSAGE_LENGTH:
+        return line
+    keep = MESSAGE_LENGTH // 2
+    return f"{line[:keep]} ... ({len(line):,} characters) ... {line[-keep:]}"
+
+
+def missing(what: str, package: str, extra: str | None = None) -> InputError:
+    """The error for an optional dependency that is not installed: what needs it (``"the
+    picture"``) and how to install it (``extra``: urdf2dh's optional dependency that brings it)."""
+    also = f" (or pip install 'urdf2dh[{extra}]')" if extra else ""
+    return InputError(f"{what} needs {package}; install it with: pip install {package}{also}")

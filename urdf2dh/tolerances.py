@@ -1,7 +1,14 @@
-"""Every numerical judgement the converter makes, named for what it decides, in one place.
+"""Every number urdf2dh decides by, named for what it decides, in one place: the tolerances of
+its judgements and the bounds on what it reads.
 
-The defaults are documented in README.md and overridable per call (keyword) and per command
-(CLI flag). No bare tolerance literal appears in the geometry modules.
+* :class:`Tolerances`: the judgements of one conversion, overridable per call (keyword) and per
+  command (CLI flag); :data:`DEFAULT` and :data:`EXACT`.
+* Named thresholds of ``diff``, calibration and the exports.
+* Bounds on input: what urdf2dh reads at most, so that no input makes it run for minutes, take
+  gigabytes or crash; beyond each, a one-line error naming the bound (``docs/limits.md`` lists
+  them with the error each gives).
+
+No bare tolerance literal appears in the geometry modules.
 """
 
 from __future__ import annotations
@@ -12,14 +19,29 @@ from dataclasses import dataclass, fields, replace
 
 __all__ = [
     "BARELY_MOVED",
+    "BOUNDS",
     "CALIBRATION_COST",
     "CALIBRATION_GRADIENT",
     "CALIBRATION_STEP",
     "DEFAULT",
     "DIFF_ANGLE_DEG",
     "DIFF_LENGTH_M",
+    "DIFF_PARALLEL_DEG",
+    "DIFF_ROUND_OFF",
     "EXACT",
+    "FILE_BYTES",
+    "FK_ROUNDING",
     "HASH_DECIMALS",
+    "JOINTS",
+    "JOINT_POSITIONS",
+    "JOINT_SCALES",
+    "LARGEST_NUMBER",
+    "LARGEST_URDF_ANGLE",
+    "LARGEST_URDF_NUMBER",
+    "MAPPING_DEPTH",
+    "MAPPING_VALUES",
+    "MAX_SAMPLES",
+    "MAX_SEED",
     "NOISE_FLOOR",
     "NOISE_RATIO",
     "OUTLIER_CHANCE",
@@ -28,14 +50,15 @@ __all__ = [
     "QUATERNION_NORM",
     "RANK_RELATIVE",
     "RIGID_INPUT",
+    "VERIFY_JOINTS",
     "Tolerances",
 ]
 
 EPS = sys.float_info.epsilon  # float64's; not numpy's, so that `urdf2dh --help` needs no numpy
 
 # Decimals kept of each D-H value before Universal Robots' calibration hash is taken
-# (export/ur.py): an exact table carries round-off (theta = -4.9e-12 where UR writes 0, a length
-# one ulp off its decimal) that would change the hash's %g text; 1e-10 is far below the 6
+# (emit/export/ur.py): an exact table carries round-off (theta = -4.9e-12 where UR writes 0, a
+# length one ulp off its decimal) that would change the hash's %g text; 1e-10 is far below the 6
 # significant digits the hash sees and far above round-off.
 HASH_DECIMALS = 10
 # Exported files write a length as the shortest decimal within this x robot size of it: the
@@ -48,6 +71,13 @@ DECIMAL_ROUND_OFF = 4 * EPS
 # 10-50 um); Wu 2019 Table II marks jumps instead (60 deg, 30 mm).
 DIFF_ANGLE_DEG = 0.01
 DIFF_LENGTH_M = 1e-4
+# ... and names consecutive axes this close to parallel (deg) in either model as ill-conditioned
+# for D-H: there the common normal, and with it d, a and theta, jump under small changes.
+DIFF_PARALLEL_DEG = 5.0
+# ... and shows a change too small for its printed precision in full (``+2e-09 m``) only beyond
+# this (rad, or x robot size): a table read back and converted again moves its parameters by
+# round-off of up to ~1e-14 x size, which is no change.
+DIFF_ROUND_OFF = 1e-12
 
 # ----------------------------------------------------------------------------- calibration
 
@@ -56,7 +86,7 @@ DIFF_LENGTH_M = 1e-4
 # scaled, truncated to fewer digits or not one at all does not.
 QUATERNION_NORM = 1e-2
 
-# Identification (urdf2dh/calibrate/identify.py) has converged when the next Gauss-Newton step
+# Identification (urdf2dh/calibration/identify.py) has converged when the next Gauss-Newton step
 # would move no modelled tool point by more than CALIBRATION_STEP x robot size and no tool
 # orientation by more than CALIBRATION_STEP rad (below that, steps only chase round-off: forward
 # kinematics is itself good to ~1e-15 relative), or when every column of the (column-normalised)
@@ -73,6 +103,14 @@ CALIBRATION_COST = 1e-8
 # RANK_RELATIVE x the largest count as zero. Identifiable directions of well-spread data lie
 # at 1e-4 and above; unidentifiable ones at round-off (1e-15).
 RANK_RELATIVE = 1e-10
+
+# Float64 evaluation of a table's forward kinematics rounds by about FK_ROUNDING x eps x the
+# sum of its lengths (every |d|, |a|, |l| and base and tool length) at most: negligible for a
+# table whose lengths are the robot's own, but a D-H row 300 m long (axes a few milliradians from
+# parallel, with --exact or beyond sane_factor) rounds to ~1e-13 m, which such a table declares.
+# Measured on 1,048 chains of real robot descriptions (scripts/written_exactness.py): at most
+# 1.04 eps x the sum.
+FK_ROUNDING = 2.0
 
 # Noise levels estimated from residuals (or given as 0) are raised to this x robot size
 # (position) and this (rad, rotation), so that noise-free data keeps finite weights.
@@ -107,9 +145,84 @@ OUTLIER_GAIN = 3.0
 # parameters only positions see would look undetermined. 1e-6 keeps them 1e4 above it.
 NOISE_RATIO = 1e-6
 
+# ----------------------------------------------------------------------------- bounds on input
+# Set from measurements (benchmarks/scale.py): ``convert`` takes about 0.5 ms and 8 kB per joint
+# (a chain of JOINTS joints in ~5 s and 200 MB); Pinocchio's URDF parser, which ``verify`` runs,
+# takes time that grows faster than the links.
+
+# Bytes of any file urdf2dh reads (SOURCE, a measurement CSV, a marker layout, a xacro file's
+# expansion): a URDF of JOINTS joints is ~3 MB, a POE or table file of as many joints under 2 MB.
+FILE_BYTES = 16 * 2**20
+
+# Joints of a URDF (all its joints, on the chain or not), of a POE or table file, of a xacro
+# file's expansion, and of the chains of one run over several tips.
+JOINTS = 10_000
+
+# Values of a parsed POE or table file, aliases counted each time they are used: a YAML file of
+# a few hundred bytes can otherwise alias its way to billions ("billion laughs").
+MAPPING_VALUES = 1_000_000
+
+# Levels of nesting of a POE or table file (lists and mappings in one another): a POE file has
+# four.
+MAPPING_DEPTH = 1_000
+
+# Configurations x joints of one self-check, verify run or synthesized set of poses: 80 MB for
+# each array of joint positions (a check of 1,000 configurations of a JOINTS-joint chain).
+JOINT_POSITIONS = 10_000_000
+
+# Joints of a URDF (or of a POE or table chain) that `verify` hands to Pinocchio: building its
+# model of 2,000 joints takes ~1 s and 200 MB, of 8,000 joints 25 s and 2 GB.
+VERIFY_JOINTS = 2_000
+
+# Configurations of a self-check or a verify run (about 1 GB of poses at most), and the largest
+# random seed (numpy's seeds are non-negative integers).
+MAX_SAMPLES = 1_000_000
+MAX_SEED = 2**63 - 1
+
+# Markers on one tool in position measurements (more add nothing a calibration could use).
+MAX_MARKERS = 100
+
+# No number a POE or table file holds is larger: 1e12 of any length unit urdf2dh knows is over a
+# million kilometres, and angles, scales and limits are far smaller. Beyond it, products and sums
+# of squares in the geometry would overflow, so such a number is an input error.
+LARGEST_NUMBER = 1e12
+
+# The largest magnitude read from a URDF for a length (origin ``xyz``), a joint limit or a mimic
+# factor: far beyond any robot (1e50 m; URDFs place world joints far away, and urdfdom reads
+# them), and small enough that the product of two such values (a helical joint's travel, pitch x
+# limit) and its square stay finite in float64.
+LARGEST_URDF_NUMBER = 1e50
+
+# The largest magnitude read from a URDF for a revolute joint's limit, in radians (1592 turns).
+# A D-H angle is ``q + theta``: where float64's spacing of ``q`` nears the exactness urdf2dh
+# promises (1e-10 rad), the sum loses ``theta`` (at 1e6 rad the spacing is 1.2e-10 rad, at 1e16
+# rad it is 2 rad), in our table's forward kinematics and in every controller's. Here it is
+# 1.8e-12.
+LARGEST_URDF_ANGLE = 1e4
+
+# A joint's scale in a POE file (|w|, or |v| of a prismatic joint) is a gear ratio or a unit:
+# within these.
+JOINT_SCALES = (1e-9, 1e9)
+
+#: The bounds on input by name, as ``docs/limits.md`` lists them.
+BOUNDS = (
+    "FILE_BYTES",
+    "JOINTS",
+    "MAPPING_VALUES",
+    "MAPPING_DEPTH",
+    "JOINT_POSITIONS",
+    "VERIFY_JOINTS",
+    "MAX_SAMPLES",
+    "MAX_SEED",
+    "LARGEST_NUMBER",
+    "LARGEST_URDF_NUMBER",
+    "LARGEST_URDF_ANGLE",
+    "JOINT_SCALES",
+)
+
 # ----------------------------------------------------------------------------- the Python API
 
-# A joint axis given to the Python API (urdf2dh.screws.Joint) is a unit vector, and a pose
+# A joint axis given to the Python API (urdf2dh.model.poe.Joint) is a unit vector, and a pose
 # (PoeModel.home) a rigid transform, within this: what float arithmetic leaves of one (1e-15),
 # far below any typed-in rounding (0.7071 is 1e-5 off), which the files' readers orthonormalise
 # with a warning instead (Tolerances.rotation_input).
@@ -124,17 +237,17 @@ class Tolerances:
     ----------
     parallel_angle
         Radians. Consecutive lines (joint axes, the base z and the tool z) whose directions are
-        within this angle of parallel or anti-parallel, and whose exact common normal lies
-        farther than ``far_factor`` x the robot's size, are treated as exactly parallel by the
-        D-H conventions (``dh``, ``mdh``). Rounded URDF angles (``rpy="0 1.5708 0"``) leave such
-        pairs 1e-9 to 1e-4 rad apart, where the exact common normal lies 10^3 to 10^8 lengths
-        away. (Pairs tilted about their common perpendicular keep a near normal and stay
-        exact.) Each such judgement is listed in the table's ``warnings`` with the forward
-        kinematics deviation it caused. 0 means exact (``--exact``): then only float round-off
-        (``noise``) is treated as parallel. The OPW export (:mod:`urdf2dh.opw`) takes the right
-        angles and the parallel its model assumes (axes 1-2, 3-4, 4-5, 5-6 perpendicular, 2-3
-        parallel) as holding within this angle, with a warning and the deviation measured;
-        beyond it the arm is refused, naming the pair.
+        within this angle of parallel or anti-parallel, and whose exact common normal lies farther
+        than ``far_factor`` x the robot's size, are treated as exactly parallel by the D-H
+        conventions (``dh``, ``mdh``). Rounded URDF angles (``rpy="0 1.5708 0"``) leave such pairs
+        1e-9 to 1e-4 rad apart, where the exact common normal lies 10^3 to 10^8 lengths away. (Pairs
+        tilted about their common perpendicular keep a near normal and stay exact.) Each such
+        judgement is listed in the table's ``warnings`` with the forward kinematics deviation it
+        caused. 0 means exact (``--exact``): then only float round-off (``noise``) is treated as
+        parallel. The OPW export (:mod:`urdf2dh.conventions.opw`) takes the right angles and the
+        parallel its model assumes (axes 1-2, 3-4, 4-5, 5-6 perpendicular, 2-3 parallel) as holding
+        within this angle, with a warning and the deviation measured; beyond it the arm is refused,
+        naming the pair.
     meet_angle
         Radians. Below this angle from parallel the common-normal formula is ill-conditioned;
         a line that passes within ``intersect_distance`` of the pivot (the previous frame's
@@ -158,7 +271,8 @@ class Tolerances:
     cpc_reverse_below
         CPC's R(b) is singular at b = -z. A CPC frame whose axis direction has
         ``b_z < cpc_reverse_below`` in the previous frame is reversed (its joint gets
-        ``scale = -scale``), as SPEC §2 allows.
+        ``scale = -scale``), which keeps the table's forward kinematics
+        (docs/conventions/cpc.md).
     cpc_singular_margin
         When the tool z would point against the last CPC frame's z, a run of last frames is
         reversed; the frame pair that then turns round must stay this far (in ``b_z``) from
@@ -177,16 +291,20 @@ class Tolerances:
         Float round-off: relative size below which a difference is not geometry (an axis
         this close to parallel is parallel even with ``--exact``; a pitch this small is zero).
     report
-        A judgement whose effect is below ``report`` (rad, or x robot size) is under the
-        exactness urdf2dh promises and is not listed in ``warnings``; it still counts in the
-        self-check.
+        The exactness urdf2dh promises: a table's forward kinematics within ``report`` x robot
+        size and ``report`` rad of its source's, or within the deviation it declares. A
+        judgement whose effect is below it is not listed in ``warnings`` (it still counts in the
+        self-check); one above it is listed and its bound declared in the table's check. A
+        table whose lengths reach so far that float64 evaluation of its FK may round by more
+        than it (:data:`FK_ROUNDING`) declares that rounding too.
     written
         A table's parameter within ``written`` (rad, or x robot size) of 0, an angle within it of
         a multiple of pi/2, is written as that (no ``-0.0``, ``a: 2.4e-33`` or
-        ``alpha: 1.5707963267948968`` in the files); the self-check runs on the numbers as
-        written. It is float round-off (as ``noise``), far below the exactness promised, so that
-        the snapped values of a whole table still add up to less than 1e-12 x size, and a
-        genuine small value (a URDF's rounded pi/2 leaving 4.9e-12 rad) is kept.
+        ``alpha: 1.5707963267948968`` in the files), and a direction's component within it of 0
+        is written as 0 with the direction normalised again; the self-check runs on the numbers
+        as written. A few units in the last place: each such value costs at most ``written`` x
+        its lever, so that a whole table stays within ``report``; a genuine small value (a URDF's
+        rounded pi/2 leaving 4.9e-12 rad, round-off of 1e-14 accumulated along a chain) is kept.
     """
 
     parallel_angle: float = 1e-4
@@ -201,8 +319,8 @@ class Tolerances:
     sane_factor: float = 1e3
     rotation_input: float = 1e-3
     noise: float = 256 * EPS
-    report: float = 1e-12
-    written: float = 256 * EPS
+    report: float = 1e-14
+    written: float = 4 * EPS
 
     def __post_init__(self) -> None:
         for f in fields(self):

@@ -16,7 +16,7 @@ and a line in :data:`REGISTRY`. The command line lists :data:`NAMES` without imp
 from __future__ import annotations
 
 from ..errors import UsageError, choices
-from .base import Column, Convention, Conversion, Params, columns, read_params
+from .base import Column, Convention, Conversion, Params, columns
 from .cpc import CPC
 from .dh import DH
 from .hayati import HAYATI
@@ -32,7 +32,6 @@ __all__ = [
     "Params",
     "columns",
     "get",
-    "read_params",
 ]
 
 REGISTRY: dict[str, Convention] = {c.name: c for c in (DH, MDH, CPC, HAYATI)}

@@ -17,17 +17,14 @@ records through this interface, so a new convention is its module and one regist
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
 from dataclasses import dataclass, field, fields
 from typing import TYPE_CHECKING, Any, ClassVar, Literal, Protocol
 
-from ..checks import check_number, check_vector
-from ..errors import TableFileError
-from ..frames import Frame
-from ..lines import Judgement
+from ..geometry.frames import Frame, wrap_angle
+from ..geometry.normals import Judgement
 
 if TYPE_CHECKING:
-    from ..screws import PoeModel
+    from ..model.poe import PoeModel
     from ..tolerances import Tolerances
 
 __all__ = [
@@ -42,7 +39,7 @@ __all__ = [
     "direction",
     "length",
     "offset",
-    "read_params",
+    "unit_direction",
     "written_angle",
     "written_length",
 ]
@@ -117,8 +114,9 @@ class Params:
 
     def written(self, angle: float, length: float) -> Params:
         """The record as a table file writes it: a value within ``length`` of 0 (an angle
-        within ``angle`` of a multiple of pi/2, a direction's component within ``angle`` of 0 or
-        +-1) replaced by that, and no ``-0.0``."""
+        within ``angle`` of a multiple of pi/2) replaced by that, a direction's components within
+        ``angle`` of 0 made 0 and the direction normalised again (:func:`unit_direction`), and
+        no ``-0.0``."""
         values: dict[str, Value] = {}
         for name, quantity in _layout(type(self)):
             value = getattr(self, name)
@@ -126,10 +124,11 @@ class Params:
                 values[name] = written_angle(value, angle)
             elif quantity == "length":
                 values[name] = written_length(value, length)
+            elif quantity == "direction":
+                x, y, z = (written_length(c, angle) for c in value)
+                values[name] = unit_direction((x, y, z))
             else:
-                targets, within = ((-1.0, 0.0, 1.0), angle) if quantity == "direction" else (
-                    (0.0,), length)  # fmt: skip
-                x, y, z = (_snap(c, targets, within) for c in value)
+                x, y, z = (_snap(c, (0.0,), length) for c in value)
                 values[name] = (x, y, z)
         return type(self)(**values)
 
@@ -153,6 +152,18 @@ def _layout(cls: type) -> tuple[tuple[str, Quantity], ...]:
     return _LAYOUTS[cls]
 
 
+def unit_direction(v: tuple[float, float, float]) -> tuple[float, float, float]:
+    """``v / |v|`` (``v`` non-zero), with a coordinate axis exactly: ``(0, 0, -1)``, never
+    ``(0, 0, -0.9999999999999999)``; no ``-0.0``.
+
+    How a direction is written and read back, so that its norm is 1 to the last place and a
+    reader that evaluates it as written (CPC's ``R(b)``, Sumenkov eq. 4) gets the rotation the
+    table was checked with."""
+    x, y, z = v
+    n = math.hypot(x, y, z)
+    return (x / n + 0.0, y / n + 0.0, z / n + 0.0)
+
+
 def _snap(value: float, targets: tuple[float, ...], within: float) -> float:
     for target in targets:
         if abs(value - target) <= within:
@@ -171,8 +182,7 @@ def written_angle(value: float, within: float) -> float:
     quarter = round(value / (0.5 * math.pi))
     if abs(value - quarter * 0.5 * math.pi) > within:
         return value + 0.0
-    snapped = math.remainder(quarter * 0.5 * math.pi, 2.0 * math.pi)  # in [-pi, pi]
-    return math.pi if snapped == -math.pi else snapped + 0.0
+    return wrap_angle(quarter * 0.5 * math.pi)
 
 
 @dataclass(frozen=True, slots=True)
@@ -190,7 +200,8 @@ class Conversion:
 
 
 class Convention(Protocol):
-    """A kinematic parameter convention (SPEC §2)."""
+    """A kinematic parameter convention: its name, its table's parameters and forward kinematics
+    (docs/conventions/dh.md, mdh.md, cpc.md, hayati.md), and the conversion from a POE model."""
 
     name: str
     """Its name in the table file, on the command line and in the registry (``dh``)."""
@@ -208,7 +219,8 @@ class Convention(Protocol):
     """The styles it takes, the default first (see :mod:`urdf2dh.conventions.dh`)."""
 
     def from_poe(self, model: PoeModel, tol: Tolerances, style: str) -> Conversion:
-        """The table of ``model`` in this convention, unchecked (:func:`urdf2dh.convert.to_table`
+        """The table of ``model`` in this convention, unchecked
+        (:func:`urdf2dh.conventions.convert.to_table`
         checks it)."""
         ...
 
@@ -228,33 +240,3 @@ def columns(conv: Convention) -> list[Column]:
         for name, quantity in cls.quantities().items():
             out.setdefault(name, quantity)
     return [Column(k, v) for k, v in out.items()]
-
-
-def read_params(conv: Convention, part: Part, raw: Any, where: str, tol: Tolerances) -> Params:
-    """A table file's ``params`` mapping as a record of ``conv`` for ``part``: its keys must be
-    exactly one record's parameters; numbers finite; a direction a unit vector within
-    ``tol.rotation_input`` (then normalised)."""
-    types = {"base": conv.base_types, "row": conv.row_types, "tool": conv.tool_types}[part]
-    wanted = " or ".join(str(list(cls.quantities())) for cls in types)
-    if not isinstance(raw, Mapping):
-        raise TableFileError(f"{where}: params must be a mapping of {wanted}")
-    keys = set(raw)
-    cls = next((c for c in types if set(c.quantities()) == keys), None)
-    if cls is None:
-        raise TableFileError(
-            f"{where}: params must be exactly {wanted} (got {sorted(map(str, keys))})"
-        )
-    values: dict[str, Value] = {}
-    for name, quantity in cls.quantities().items():
-        label = f"{where}: {name}"
-        if quantity == "direction":
-            v = check_vector(raw[name], label, TableFileError)
-            norm = math.hypot(*v)
-            if abs(norm - 1.0) > tol.rotation_input:
-                raise TableFileError(f"{label} must be a unit vector (|{name}| = {norm:.9g})")
-            values[name] = (v[0] / norm, v[1] / norm, v[2] / norm)
-        elif quantity == "offset":
-            values[name] = check_vector(raw[name], label, TableFileError)
-        else:
-            values[name] = check_number(raw[name], label, TableFileError)
-    return cls(**values)

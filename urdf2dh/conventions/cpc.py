@@ -1,7 +1,7 @@
 """CPC, the complete and parametrically continuous model (Zhuang, Roth & Hamano 1990), from a
 POE model by Sumenkov's analytic conversion (Lemmas 1-3, Statement 1, Algorithm 1).
 
-Forward kinematics of a ``cpc`` table (SPEC §2)::
+Forward kinematics of a ``cpc`` table (docs/conventions/cpc.md)::
 
     T(q) = V_0 . prod_i [ Q_i(s_i) . V_i ],   V(b, l, beta) = R(b) Rz(beta) Tx(l_x) Ty(l_y) Tz(l_z)
 
@@ -10,11 +10,35 @@ Forward kinematics of a ``cpc`` table (SPEC §2)::
 from the previous origin (Lemmas 1-3). The last row's ``V_n`` is the whole tool transform
 (Statement 1), so the tool record is empty (the identity).
 
-``R(b)`` (Sumenkov eq. 4) is singular at ``b = -z``. A frame whose axis direction would have
-``b_z < cpc_reverse_below`` is reversed (its joint gets ``scale = -scale``, SPEC §2); where no
+How a ``cpc`` table is evaluated, exactly (what another implementation needs; also
+``docs/conventions/cpc.md``):
+
+* ``b`` is written as a unit vector (its norm 1 to within a unit in the last place; a component
+  within ``tol.written`` of 0 is written as exactly 0 and the rest normalised again). A reader
+  may normalise it again; it must not change its direction.
+* ``R(b)`` is Sumenkov's eq. (4), the rotation about ``(-b_y, b_x, 0)`` that takes z to ``b``::
+
+      R(b) = [[1 - c b_x^2,   -c b_x b_y,   b_x],
+              [ -c b_x b_y,  1 - c b_y^2,   b_y],
+              [     -b_x,        -b_y,      b_z]],   c = 1 / (1 + b_z)
+
+  evaluated with ``c = (1 - b_z) / (b_x^2 + b_y^2)`` when ``b_z < 0`` (the same number in exact
+  arithmetic; ``1 + b_z`` would cancel to nothing near ``-z``).
+* ``b = (0, 0, -1)`` exactly (``b_x = b_y = 0``, ``b_z < 0``) is the one direction eq. (4) leaves
+  undefined (0/0). There ``R(b)`` is the fixed rotation ``Ry(pi) = diag(-1, 1, -1)``, the limit
+  of eq. (4) as ``b`` tends to ``-z`` from the ``+x`` side, ``b = (sin e, 0, -cos e)``, ``e -> 0+``
+  (``b = (0, 0, 1)`` gives the identity). A written table holds this ``b`` only where no frame
+  reversal can avoid it (below), and says so in a warning.
+* ``V(b, l, beta) = R(b) Rz(beta) Tx(l_x) Ty(l_y) Tz(l_z)``, and ``Q_i(s_i)`` turns (slides) about
+  (along) z by ``s_i = scale_i q_i``.
+
+``R(b)`` is singular at ``b = -z``. A frame whose axis direction would have
+``b_z < cpc_reverse_below`` is reversed (its joint gets ``scale = -scale``, which leaves the
+table's forward kinematics unchanged); where no
 reversal can help (a chain of parallel axes whose far ends point opposite ways) and ``b`` is
-exactly ``-z``, ``R(-z)`` is taken as ``Ry(pi)``, its limit from the ``+x`` side, and a warning
-says so.
+``-z`` up to round-off, it is written as exactly ``-z``, evaluated as ``Ry(pi)`` above, and a
+warning says so. Frames are built from ``b`` as written, so each row's ``l`` and the next row see
+the direction a reader evaluates.
 """
 
 from __future__ import annotations
@@ -24,12 +48,13 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
-from .. import frames
-from ..frames import Frame, Vec3
-from .base import Conversion, Params, angle, direction, offset
+from ..errors import shown
+from ..geometry import frames
+from ..geometry.frames import Frame, Vec3
+from .base import Conversion, Params, angle, direction, offset, unit_direction
 
 if TYPE_CHECKING:
-    from ..screws import PoeModel
+    from ..model.poe import PoeModel
     from ..tolerances import Tolerances
 
 __all__ = ["CPC", "CpcConvention", "CpcShape", "CpcTool", "r_rows", "reversals", "v_frame"]
@@ -112,7 +137,7 @@ class CpcConvention:
         prev = "base z"
         for j, s in zip(model.joints, signs, strict=True):
             x, y, z = j.axis.tolist()
-            b = _direction(frames.dir_into(f, (s * x, s * y, s * z)), tol.noise)
+            b = _direction(frames.dir_into(f, (s * x, s * y, s * z)), tol.written)
             p = (0.0, 0.0, 0.0) if j.point is None else frames.point_into(f, j.point.tolist())
             pb = _dot(p, b)
             o = (p[0] - pb * b[0], p[1] - pb * b[1], p[2] - pb * b[2])  # foot of perpendicular
@@ -123,12 +148,12 @@ class CpcConvention:
             shapes.append(CpcShape(b, l, 0.0))
             f = frames.compose(f, v_frame(b, l, 0.0))
             prev = j.name
-        tool = _tool_shape(frames.between(f, frames.frame_of(model.home)), tol.noise)
+        tool = _tool_shape(frames.between(f, frames.frame_of(model.home)), tol.written)
         if tool.b[0] == 0.0 and tool.b[1] == 0.0 and tool.b[2] < 0.0:
             notes.append(_singular_note(prev, "tool z"))
         shapes.append(tool)
         notes.extend(
-            f"cpc: joint '{j.name}' points against the previous frame's z; its frame is "
+            f"cpc: joint {shown(j.name)} points against the previous frame's z; its frame is "
             "reversed (scale = -scale) to avoid R(b)'s singularity at b = -z"
             for j, sign in zip(model.joints, signs, strict=True)
             if sign < 0
@@ -176,18 +201,19 @@ def reversals(model: PoeModel, tol: Tolerances) -> list[float]:
     return signs
 
 
-def _direction(v: Vec3, noise: float) -> Vec3:
-    """A unit ``b``; within round-off of ``-z`` it is exactly ``-z``, so that ``R(b)`` there is
-    the documented ``Ry(pi)`` and not a turn about whatever the round-off points to."""
-    b = frames.unit(v)
-    if b[2] < 0.0 and math.hypot(b[0], b[1]) <= noise:
-        return (0.0, 0.0, -1.0)
-    return b
+def _direction(v: Vec3, clean: float) -> Vec3:
+    """``b`` as the table writes it: a unit vector whose components within ``clean``
+    (``tol.written``) of 0 are 0, normalised again (:func:`~.base.unit_direction`), so that the
+    frames built from it are the ones a reader evaluates. Within round-off of ``-z`` it is
+    exactly ``-z``, where ``R(b)`` is the fixed ``Ry(pi)`` of the module docstring and not a
+    turn about whatever the round-off points to."""
+    x, y, z = (0.0 if abs(c) <= clean else c for c in frames.unit(v))
+    return unit_direction((x, y, z))
 
 
-def _tool_shape(g: Frame, noise: float) -> CpcShape:
+def _tool_shape(g: Frame, clean: float) -> CpcShape:
     """Statement 1: ``b`` is the third column, ``beta`` from ``R(b)^T R``, ``l`` from ``t``."""
-    b = _direction(_col(g, 2), noise)
+    b = _direction(_col(g, 2), clean)
     r = r_rows(b)
     x = _col(g, 0)  # R's first column; R(b)^T x gives beta
     beta = frames.angle(_dot(_col(r, 1), x), _dot(_col(r, 0), x))
@@ -197,7 +223,7 @@ def _tool_shape(g: Frame, noise: float) -> CpcShape:
 
 def _singular_note(first: str, second: str) -> str:
     return (
-        f"cpc: '{second}' points exactly against the z of the frame on '{first}' and no frame "
-        "reversal can avoid it; R(b) at b = -z is taken as Ry(pi), its limit from +x "
+        f"cpc: {shown(second)} points exactly against the z of the frame on {shown(first)} and "
+        "no frame reversal can avoid it; R(b) at b = -z is taken as Ry(pi), its limit from +x "
         "(Sumenkov eq. 4 is 0/0 there)"
     )

@@ -1,17 +1,18 @@
 """Standard Denavit-Hartenberg, from a POE model by Wu, Crawford & Roberts 2019.
 
-Forward kinematics of a ``dh`` table (SPEC §2, Wu 2019 eq. 10)::
+Forward kinematics of a ``dh`` table (Wu 2019 eq. 10; docs/conventions/dh.md)::
 
     T(q) = B . prod_i [ Q_i(s_i) . Rz(theta_i) Tz(d_i) Rx(alpha_i) Tx(a_i) ] . Rz(theta_T) Tz(d_T)
 
 ``B = Rz Tz Rx Tx`` puts frame 0's z on joint 1's axis (4 base parameters); row ``i`` carries the
 link from joint ``i``'s axis to joint ``i+1``'s (the last row: to the tool's z axis); the tool
 transform keeps 2 parameters (Lemma 4). The conversion follows eq. (18): each joint axis is
-expressed in the frame built so far (the adjoint step) and Lemmas 1-3 (:mod:`urdf2dh.lines`)
-give the next link.
+expressed in the frame built so far (the adjoint step) and Lemmas 1-3
+(:mod:`urdf2dh.geometry.normals`) give the next link.
 
 Styles choose among the equally exact tables (for each common normal, which of its two
-directions is the x axis): ``wu`` follows Wu 2019 §III (SPEC §3: ``a >= 0``); ``ur`` prefers
+directions is the x axis): ``wu`` follows Wu 2019 §III (``a >= 0``; docs/conventions/dh.md);
+``ur`` prefers
 zero ``theta`` offsets and turns a free x axis (coincident axes) so that the next ``alpha`` is
 positive, as Universal Robots' own tables do, and a free last x (the tool z on the last axis)
 is the tool's own x, as UR's flange is D-H frame 6; ``zero`` prefers zero ``theta`` offsets
@@ -25,13 +26,14 @@ import math
 from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING, ClassVar
 
-from .. import frames
-from ..frames import Frame, Vec3
-from ..lines import Judgement, Limits, LinkParams, link_to_line
+from ..errors import shown
+from ..geometry import frames
+from ..geometry.frames import Frame, Vec3
+from ..geometry.normals import Judgement, Limits, LinkParams, link_to_line
 from .base import Conversion, Params, angle, length
 
 if TYPE_CHECKING:
-    from ..screws import PoeModel
+    from ..model.poe import PoeModel
     from ..tolerances import Tolerances
 
 __all__ = [
@@ -89,9 +91,9 @@ def far_rows(
         values = {k: getattr(params, k) for k in ("d", "a")}
         big = [k for k in values if abs(values[k]) > far]
         if big:
-            shown = ", ".join(f"|{k}| = {abs(values[k]):.3g} {unit}" for k in big)
+            lengths = ", ".join(f"|{k}| = {abs(values[k]):.3g} {unit}" for k in big)
             out.append(
-                f"{name}: row '{joint.name}' has {shown}, far beyond the robot's size "
+                f"{name}: row {shown(joint.name)} has {lengths}, far beyond the robot's size "
                 f"({model.size():.3g} {unit}): nearly parallel axes put the common "
                 "normal far away and D-H loses precision there; --convention hayati (or cpc, or "
                 "the POE model) describes this geometry without it, while mdh shares the common "
@@ -165,7 +167,7 @@ def links_from_poe(
     def link_to(k: int) -> tuple[LinkParams, list[Judgement]]:
         _, axis, point, is_tool = lines[k]
         u = frames.unit(frames.dir_into(built[k], axis))
-        # a prismatic axis with a free location passes through the current frame origin (SPEC §3)
+        # a prismatic axis with a free location passes through the current frame origin
         p = (0.0, 0.0, 0.0) if point is None else frames.point_into(built[k], point)
         link, found = link_to_line(u, p, limits, (names[k], names[k + 1]), is_tool)
         if found:

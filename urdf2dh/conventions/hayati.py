@@ -1,7 +1,7 @@
 """Hayati: D-H rows where they are well conditioned, Hayati's rows where axes are (nearly)
 parallel (Hayati & Mirmirani 1985).
 
-Forward kinematics of a ``hayati`` table::
+Forward kinematics of a ``hayati`` table (docs/conventions/hayati.md)::
 
     T(q) = B . prod_i [ Q_i(s_i) . H_i ] . Rz(theta_T) Tz(d_T)
 
@@ -16,30 +16,32 @@ the next axis crosses the current frame's xy plane instead, and turns onto the a
 ``Rx(alpha) Ry(beta)``: near parallel axes that crossing is near, and the link is as well
 conditioned as the geometry.
 
-The rule, for each line in turn (joint 1's axis from the base z, ..., the tool's z from the
-last joint's axis), in the frames as evaluated so far: compute the exact D-H link (Wu 2019
-Lemmas 1-4, no tolerance judgement: :mod:`urdf2dh.lines` with exact tolerances) and the Hayati
-link; take the Hayati link when its ``|a|`` is smaller than the D-H link's larger length
-``max(|d|, |a|)`` by more than float round-off (the exact intersect distance), the D-H link
-otherwise (so exactly parallel axes keep Wu's ``d = 0`` row, and an axis in the xy plane, which
-the Hayati link cannot reach, a D-H one). Every table is
-exact, and every length stays within the geometry's own distances.
+The rule, for each line in turn (joint 1's axis from the base z, ..., the tool's z from the last
+joint's axis), in the frames as evaluated so far: compute the exact D-H link (Wu 2019 Lemmas 1-4, no
+tolerance judgement: :mod:`urdf2dh.geometry.normals` with exact tolerances, lines meeting only
+within what costs less than the exactness promised) and the Hayati link; take the Hayati link when
+its ``|a|`` is smaller than the D-H link's larger length ``max(|d|, |a|)`` by more than that
+distance, or when the D-H link could only be had by a judgement beyond round-off (axes 1e-15 to
+1e-13 rad from parallel, whose exact common normal is far away) and the Hayati link needs none; the
+D-H link otherwise (so exactly parallel axes keep Wu's ``d = 0`` row, and an axis in the xy plane,
+which the Hayati link cannot reach, a D-H one). Every table is exact, and every length stays within
+the geometry's own distances.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING, ClassVar
 
-from .. import frames
-from ..frames import Frame, Vec3
-from ..lines import Judgement, Limits, link_to_line
+from ..geometry import frames
+from ..geometry.frames import Frame, Vec3
+from ..geometry.normals import Judgement, Limits, link_to_line
 from .base import Conversion, Params, angle, length
 from .dh import DhLink, RzTz, chain_lines
 
 if TYPE_CHECKING:
-    from ..screws import PoeModel
+    from ..model.poe import PoeModel
     from ..tolerances import Tolerances
 
 __all__ = ["HAYATI", "HayatiConvention", "HayatiLink", "hayati_link"]
@@ -86,7 +88,7 @@ def hayati_link(u: Vec3, p: Vec3, lim: Limits) -> tuple[HayatiLink, float] | Non
     a = math.hypot(x, y)
     if a <= lim.distance:
         rho = math.hypot(ux, uy)
-        if math.atan2(rho, abs(uz)) <= lim.noise:
+        if math.atan2(rho, abs(uz)) <= lim.clean:
             return HayatiLink(0.0, 0.0, 0.0 if uz > 0.0 else math.pi, 0.0), a
         return HayatiLink(frames.angle(ux, -uy), 0.0, frames.angle(rho, uz), 0.0), a
     theta = frames.angle(y, x)
@@ -118,7 +120,9 @@ class HayatiConvention:
     def from_poe(self, model: PoeModel, tol: Tolerances, style: str) -> Conversion:
         """Each line's link by the rule of the module docstring, in frames built from the
         parameters as they will be evaluated."""
-        limits = Limits.of(tol.with_exact(), model.size())  # no judgement: every row exact
+        # no judgement beyond the exactness promised: every row exact
+        limits = Limits.of(tol.with_exact(), model.size())
+        limits = replace(limits, distance=min(limits.distance, limits.free))
         names = ["base z", *(line[0] for line in chain_lines(model))]
         frame = frames.IDENTITY
         records: list[Params] = []
@@ -129,7 +133,10 @@ class HayatiConvention:
             link, found = link_to_line(u, p, limits, (names[k], names[k + 1]), is_tool)
             record: Params = DhLink(link.theta, link.d, link.alpha, link.a)
             hayati = hayati_link(u, p, limits)
-            if hayati is not None and hayati[0].a + limits.distance < max(abs(link.d), abs(link.a)):
+            shorter = hayati is not None and hayati[0].a + limits.distance < max(
+                abs(link.d), abs(link.a))  # fmt: skip
+            judged = any(j.angle > limits.clean or j.gap > limits.free for j in found)
+            if hayati is not None and (shorter or (judged and hayati[1] == 0.0)):
                 record = hayati[0]
                 if hayati[1] > 0.0:  # round-off only: the limits are exact
                     found = [Judgement("coincident", names[k], names[k + 1], 0.0, hayati[1])]

@@ -1,6 +1,6 @@
 """Modified (Craig) Denavit-Hartenberg: the standard table's common normals, regrouped.
 
-Forward kinematics of an ``mdh`` table (SPEC §2)::
+Forward kinematics of an ``mdh`` table (docs/conventions/mdh.md)::
 
     T(q) = Rz(theta_B) Tz(d_B) . prod_i [ Rx(alpha_i) Tx(a_i) . Q_i(s_i) . Rz(theta_i) Tz(d_i) ]
            . Rx(alpha_T) Tx(a_T) Rz(theta_T) Tz(d_T)
@@ -19,13 +19,13 @@ import itertools
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
-from .. import frames
-from ..frames import Frame
+from ..geometry import frames
+from ..geometry.frames import Frame
 from .base import Conversion, Params, angle, length
 from .dh import STYLES, RzTz, far_rows, links_from_poe
 
 if TYPE_CHECKING:
-    from ..screws import PoeModel
+    from ..model.poe import PoeModel
     from ..tolerances import Tolerances
 
 __all__ = ["MDH", "CraigLink", "ModifiedDH"]

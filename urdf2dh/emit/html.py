@@ -5,7 +5,7 @@ MathJax), and the page's Content-Security-Policy lets it load nothing from anywh
 style, image, font or connection from outside the file, so even a plotly feature that would
 reach for the network (a map's tiles, MathJax) cannot. The page's only data is the figure
 (JSON, as plotly writes it); the caller writes every text from a file into the figure with
-:func:`urdf2dh.export.escape.html_text`, since plotly reads its text as HTML. The output is
+:func:`urdf2dh.escape.html_text`, since plotly reads its text as HTML. The output is
 the same bytes for the same figure (a fixed element id). plotly is an optional dependency
 (``pip install 'urdf2dh[plot]'``).
 """
@@ -14,8 +14,8 @@ from __future__ import annotations
 
 from typing import Any
 
-from ..errors import InputError
-from ..export.escape import html_text
+from ..errors import missing
+from ..escape import html_text
 
 __all__ = ["CSP", "DIV_ID", "offline_page", "plotly_objects"]
 
@@ -50,10 +50,7 @@ def plotly_objects(what: str) -> Any:
     try:
         import plotly.graph_objects as go
     except ImportError as e:
-        raise InputError(
-            f"{what} needs plotly; install it with: pip install plotly "
-            "(or pip install 'urdf2dh[plot]')"
-        ) from e
+        raise missing(what, "plotly", "plot") from e
     return go
 
 

@@ -18,8 +18,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from ..errors import InputError, UsageError, choices
-from ..export.escape import matplotlib_text
+from ..errors import UsageError, choices, missing
+from ..escape import matplotlib_text
 from .scene import Label, Scene, screen_axes
 
 __all__ = ["COLOURS", "FORMATS", "LABEL_SPACE", "Placed", "draw", "picture"]
@@ -49,15 +49,15 @@ Box = tuple[float, float, float, float]
 Placed = tuple[Label, Any, Box]  # a label, its matplotlib text, the pixels it covers
 
 
-def _matplotlib() -> tuple[Any, Any]:
+def matplotlib_figure(what: str = "the picture") -> tuple[Any, Any]:
+    """matplotlib's ``Figure`` and its Agg canvas (no display needed), or the
+    :class:`~urdf2dh.errors.InputError` saying how to install matplotlib (``what``: the feature
+    that needs it)."""
     try:
         from matplotlib.backends.backend_agg import FigureCanvasAgg
         from matplotlib.figure import Figure
     except ImportError as e:
-        raise InputError(
-            "the picture needs matplotlib; install it with: pip install matplotlib "
-            "(or pip install 'urdf2dh[plot]')"
-        ) from e
+        raise missing(what, "matplotlib", "plot") from e
     return Figure, FigureCanvasAgg
 
 
@@ -120,7 +120,7 @@ class _Crowd:
         i0, i1 = (min(max(int(v), 0), rows - 1) for v in (y0, y1 + 1))
         j0, j1 = (min(max(int(v), 0), cols - 1) for v in (x0, x1 + 1))
         t = self.table
-        return round(t[i1, j1] - t[i0, j1] - t[i1, j0] + t[i0, j0])
+        return round(float(t[i1, j1] - t[i0, j1] - t[i1, j0] + t[i0, j0]))
 
     def cost(self, box: Box) -> tuple[float, int]:
         """What ``box`` (grown by :data:`LABEL_SPACE`) covers: the pixels of placed labels and
@@ -195,7 +195,7 @@ def _place(ax: Any, fig: Any, scene: Scene) -> list[Placed]:
 
 def draw(scene: Scene) -> tuple[Any, Any, list[Placed]]:
     """The matplotlib figure of ``scene``, its 3-D axes, and its labels as placed."""
-    figure_cls, canvas_cls = _matplotlib()
+    figure_cls, canvas_cls = matplotlib_figure()
     from matplotlib.ticker import MaxNLocator
 
     lower, upper = _limits(scene)

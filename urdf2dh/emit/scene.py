@@ -1,7 +1,7 @@
 """What a picture of a table's frames shows, whoever draws it (:mod:`.picture`, :mod:`.view`).
 
-The arm at its home pose (``q = 0``), from a checked :class:`~urdf2dh.table.Table` in any
-convention:
+The arm at its home pose (``q = 0``), from a checked :class:`~urdf2dh.conventions.table.Table` in
+any convention:
 
 * the table's frames ``0 .. n`` (frame 0 is the base transform ``B``, frame ``k`` ends row
   ``k``) and the tool frame, each with its x (red) and z (blue) axis drawn as an arrow from its
@@ -11,7 +11,7 @@ convention:
   its far end from that frame's z arrow;
 * the base link's own axes, short and black;
 * what hovering a frame shows: its row's parameters in the table's convention, with the
-  units and decimals of the text table (:func:`urdf2dh.formats.parameter_lines`).
+  units and decimals of the text table (:func:`urdf2dh.emit.formats.parameter_lines`).
 
 Every label is attached to what it names: it starts :data:`LABEL_GAP` arrow lengths beyond
 the end of its arrow (or joint axis), on that arrow's line, and a drawing may only slide it
@@ -22,7 +22,7 @@ the one of a few dozen from which the labels stand farthest apart.
 Bounds, so that no input takes minutes: a picture shows at most :data:`MAX_JOINTS` joints
 (a longer chain is refused with one line; its frames could not be told apart anyway), and a
 name is shown cut to :data:`NAME_CHARS` characters. Names are kept as text here; each drawing
-escapes them for its language (:mod:`urdf2dh.export.escape`).
+escapes them for its language (:mod:`urdf2dh.escape`).
 """
 
 from __future__ import annotations
@@ -32,11 +32,11 @@ from dataclasses import dataclass, replace
 import numpy as np
 from numpy.typing import NDArray
 
-from .. import se3
+from ..conventions.grid import parameter_lines
+from ..conventions.table import Table
 from ..errors import InputError
-from ..formats import fixed, parameter_lines
-from ..table import Table
-from ..units import DECIMALS
+from ..geometry import se3
+from ..units import DECIMALS, fixed
 
 __all__ = [
     "ARROW",
@@ -249,7 +249,7 @@ def _joints(table: Table, span: float, length: float) -> tuple[list[JointAxis], 
     """Each joint's axis through the frame whose z axis it is, labelled at its far end from
     that frame's z arrow."""
     joints, labels = [], []
-    for i, (row, f) in enumerate(zip(table.rows, table.frames()[:-1], strict=True), 1):
+    for i, (row, f) in enumerate(zip(table.rows, table.joint_frames()[:-1], strict=True), 1):
         p, z = f[:3, 3], f[:3, 2]
         ends = np.array([p - JOINT_AXIS * span * z, p + JOINT_AXIS * span * z])
         joints.append(JointAxis(i, short(row.name), row.kind, ends))

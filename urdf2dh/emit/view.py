@@ -12,17 +12,18 @@ legend shows the names and hides or shows a trace on a click):
 ``labels``       every label at its scene anchor, its text and colour per point
 
 Every text from the source reaches the figure through
-:func:`urdf2dh.export.escape.html_text` (plotly reads text as HTML).
+:func:`urdf2dh.escape.html_text` (plotly reads text as HTML).
 """
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
-from ..export.escape import html_text
+from ..escape import html_text
 from .html import offline_page, plotly_objects
 from .picture import COLOURS
 from .scene import Arrow, Scene, screen_axes
@@ -32,7 +33,7 @@ __all__ = ["HEAD", "figure", "page"]
 Mat = NDArray[np.float64]
 
 HEAD = 0.25  # an arrow's cone, per arrow length
-ARROWS = (  # trace name, which arrows, colour
+ARROWS: tuple[tuple[str, Callable[[Arrow], bool], str], ...] = (  # trace name, which, colour
     ("x axes", lambda a: a.frame >= 0 and a.axis == "x", COLOURS["x"]),
     ("z axes", lambda a: a.frame >= 0 and a.axis == "z", COLOURS["z"]),
     ("tool y", lambda a: a.frame >= 0 and a.axis == "y", COLOURS["y"]),

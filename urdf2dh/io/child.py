@@ -19,7 +19,7 @@ import time
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
-from ..interrupts import check, held
+from .interrupts import check, held
 
 __all__ = ["Finished", "Overflow", "TimedOut", "run"]
 

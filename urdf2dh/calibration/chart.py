@@ -1,0 +1,599 @@
+"""The parameters calibration identifies: nested levels of a POE model and their local charts.
+
+The model (Brockett 1984; Wu 2019 eq. 5) in the measuring device's frame::
+
+    T(q) = exp([xi_1] s_1 (q_1 + o_1)) ... exp([xi_n] s_n (q_n + o_n)) M,
+    xi_i = [u_i, p_i x u_i + h_i u_i]
+
+with joint offsets ``o`` and scales ``s``. What is identified is a :class:`Level`, from the
+least to the most:
+
+* ``base-tool``: the nominal joints, placed in the device frame by a base motion (6), and the
+  tool (6 for poses; 3 per marker for positions). What an unknown base and tool alone explain:
+  the fair "before" of every calibration.
+* ``offsets``: and each joint's offset ``o_i`` (those the base and tool do not already carry:
+  the first joint's turn is the base's, the last's the tool's).
+* ``geometry``: every joint's line (Wu 2019 eq. 23 without the scales): a base needs no
+  parameters of its own (``B exp([xi] q) = exp([Ad_B xi] q) B``, Wu 2019 eq. 3) and offsets are
+  absorbed by the later lines and ``M`` (Wu 2019 §V-A).
+* ``full``: and every joint's scale ``s_i`` (Wu's q_bar, §II).
+
+Every quantity is updated by a *local* chart centred on the current estimate (re-centred after
+each step, a retraction), so no parameter is singular anywhere, parallel axes included:
+
+* base: ``exp(beta)`` moves every joint line, the tool and the markers: a space-frame twist, 6
+  (``base.rx .. base.z``).
+* joint line (revolute, 4): moved rigidly by ``G = exp(eta)``,
+  ``eta = a [e1, p x e1] + b [e2, p x e2] + c [0, e1] + d [0, e2]`` (turns about two axes
+  through the foot ``p`` of the perpendicular from the device origin, normal to the line, and
+  shifts along them; ``e1, e2`` an orthonormal basis normal to ``u``); helical, 5: and the
+  pitch ``h' = h + dh``; prismatic, 2: the direction turned, ``u' = exp(a e1 + b e2) u``.
+* offset ``o' = o + do`` and scale ``s' = s + ds``: 1 each.
+* tool (poses): ``M' = M exp(zeta)``, 6. With ``keep_tool_axis`` the tool keeps the nominal's
+  placement relative to the last joint's line: it moves with that line and only screws about
+  and along it, 2.
+* markers (positions): each marker's home position in the device frame ``c_k' = c_k + dc``, 3
+  each (the tool frame itself is not observed; see :mod:`.identify`).
+
+For ``full`` this is Wu 2019 eq. (23) for poses, ``5h + 4r + 2t + n + 6`` coordinates, and
+``5h + 4r + 2t + n + 3K`` for positions of K markers. The lines' variations are the adjoint
+error model of Li, Wu, Löwe & Li (IEEE T-RO 32(5), 2016) with Wu 2019's pitch and scale.
+
+A coordinate may be held *fixed* (at its value in the estimate): a named parameter the user
+fixes, or one the level's other coordinates already carry (:func:`redundant`). ``free`` says
+which coordinates of the level are identified; :func:`count`, :func:`names` and
+:func:`retract` see only those.
+"""
+
+from __future__ import annotations
+
+import itertools
+from dataclasses import dataclass, replace
+from functools import lru_cache
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..errors import InputError
+from ..geometry.lie import cross3, cross_rows, exp_so3, left_jacobian, log_se3
+from ..geometry.se3 import twist_exp
+from ..model.identifiability import LINE_PARAMETERS
+from ..model.poe import Joint
+
+__all__ = [
+    "BASE_TOOL",
+    "FULL",
+    "GEOMETRY",
+    "LEVELS",
+    "OFFSETS",
+    "Chain",
+    "Estimate",
+    "Level",
+    "absorbed",
+    "all_names",
+    "count",
+    "joint_columns",
+    "line_coordinates",
+    "local_coordinates",
+    "names",
+    "normal_basis",
+    "retract",
+    "sizes",
+]
+
+Mat = NDArray[np.float64]
+
+
+@dataclass(frozen=True, slots=True)
+class Level:
+    """What one level of identification moves (module docstring)."""
+
+    name: str
+    base: bool
+    lines: bool
+    offsets: bool
+    scales: bool
+
+
+BASE_TOOL = Level("base-tool", base=True, lines=False, offsets=False, scales=False)
+OFFSETS = Level("offsets", base=True, lines=False, offsets=True, scales=False)
+GEOMETRY = Level("geometry", base=False, lines=True, offsets=False, scales=False)
+FULL = Level("full", base=False, lines=True, offsets=False, scales=True)
+LEVELS = {lv.name: lv for lv in (BASE_TOOL, OFFSETS, GEOMETRY, FULL)}
+
+
+def normal_basis(u: Mat) -> tuple[Mat, Mat]:
+    """Orthonormal ``e1, e2`` normal to the unit ``u``: ``e1`` from the basis vector least
+    aligned with ``u`` (a smooth choice near any ``u``), ``e2 = u x e1``."""
+    k = int(np.argmin(np.abs(u)))
+    e1 = -u[k] * u
+    e1[k] += 1.0
+    e1 /= np.linalg.norm(e1)
+    return e1, cross3(u, e1)
+
+
+def normal_bases(u: Mat) -> tuple[Mat, Mat]:
+    """:func:`normal_basis` of each row of ``u`` ``(n, 3)``: ``(n, 3)`` and ``(n, 3)``."""
+    k = np.argmin(np.abs(u), axis=1)
+    rows = np.arange(len(u))
+    e1 = -u[rows, k][:, None] * u
+    e1[rows, k] += 1.0
+    e1 /= np.linalg.norm(e1, axis=1, keepdims=True)
+    return e1, cross_rows(u, e1)
+
+
+def line_point(u: Mat, p: Mat) -> Mat:
+    """The foot of the perpendicular from the origin on the line through ``p`` along unit ``u``
+    (rows of ``(n, 3)`` arrays, or one line)."""
+    foot: Mat = p - np.sum(p * u, axis=-1, keepdims=True) * u
+    return foot
+
+
+@dataclass(frozen=True, slots=True)
+class Chain:
+    """A chain's joints as arrays, the form the identification moves them in.
+
+    Attributes
+    ----------
+    names, kinds
+        Each joint's name and kind (``revolute``, ``helical``, ``prismatic``).
+    axis
+        ``(n, 3)`` unit directions.
+    point
+        ``(n, 3)`` for revolute and helical joints the foot of the perpendicular from the
+        origin on the line; for prismatic ones a point of the line, or zeros.
+    pitch, scale
+        ``(n,)`` pitches (helical joints) and scales.
+    located
+        Whether each joint has a point (a prismatic joint of a POE file may not).
+    lower, upper
+        The joints' limits (carried into the output model).
+    """
+
+    names: tuple[str, ...]
+    kinds: tuple[str, ...]
+    axis: Mat
+    point: Mat
+    pitch: Mat
+    scale: Mat
+    located: tuple[bool, ...]
+    lower: tuple[float | None, ...]
+    upper: tuple[float | None, ...]
+
+    @classmethod
+    def of(cls, joints: tuple[Joint, ...]) -> Chain:
+        """The chain of ``joints`` (turning joints' points as feet of perpendiculars)."""
+        n = len(joints)
+        axis, point = np.zeros((n, 3)), np.zeros((n, 3))
+        for i, j in enumerate(joints):
+            axis[i] = j.axis
+            if j.point is not None:
+                point[i] = j.point if j.kind == "prismatic" else line_point(j.axis, j.point)
+        return cls(
+            tuple(j.name for j in joints),
+            tuple(j.kind for j in joints),
+            axis,
+            point,
+            np.array([j.pitch for j in joints], dtype=float),
+            np.array([j.scale for j in joints], dtype=float),
+            tuple(j.point is not None for j in joints),
+            tuple(j.lower for j in joints),
+            tuple(j.upper for j in joints),
+        )
+
+    def __len__(self) -> int:
+        return len(self.names)
+
+    @property
+    def turning(self) -> NDArray[np.bool_]:
+        """``(n,)`` which joints turn (revolute and helical)."""
+        return np.array([k != "prismatic" for k in self.kinds], dtype=bool)
+
+    def joints(self) -> tuple[Joint, ...]:
+        """The chain as :class:`~urdf2dh.model.poe.Joint` objects."""
+        return tuple(
+            Joint(
+                self.names[i],
+                self.kinds[i],  # type: ignore[arg-type]
+                self.axis[i].copy(),
+                self.point[i].copy() if self.located[i] else None,
+                float(self.pitch[i]),
+                float(self.scale[i]),
+                self.lower[i],
+                self.upper[i],
+            )
+            for i in range(len(self))
+        )
+
+    def moved(self, g: Mat) -> Chain:
+        """Every line moved by the rigid motion ``g``."""
+        axis = self.axis @ g[:3, :3].T
+        point = self.point @ g[:3, :3].T + g[:3, 3]
+        turning = self.turning
+        point[turning] = line_point(axis[turning], point[turning])
+        return replace(self, axis=axis, point=point)
+
+    def with_kinds(self, kinds: tuple[str, ...]) -> Chain:
+        return replace(self, kinds=kinds)
+
+
+@dataclass(frozen=True, slots=True)
+class Estimate:
+    """A POE model being identified, in the device frame.
+
+    Attributes
+    ----------
+    chain
+        The joints (``helical`` ones have their pitch identified; revolute ones keep pitch 0).
+    home
+        ``(4, 4)`` the tool's home pose ``M`` (pose measurements), else ``None``.
+    markers
+        ``(K, 3)`` each marker's home position in the device frame (position measurements).
+    level
+        What is identified (:data:`LEVELS`).
+    keep_tool_axis
+        Whether the tool keeps its placement relative to the last joint's line.
+    offsets
+        ``(n,)`` the joint offsets ``o`` (added to the joint positions), or ``None`` for zeros.
+    base
+        ``(4, 4)`` the base motion applied so far (levels with a base), or ``None``.
+    free
+        Which of the level's coordinates (:func:`all_names`) are identified; ``None``: all.
+    """
+
+    chain: Chain
+    home: Mat | None = None
+    markers: Mat | None = None
+    level: Level = FULL
+    keep_tool_axis: bool = False
+    offsets: Mat | None = None
+    base: Mat | None = None
+    free: NDArray[np.bool_] | None = None
+
+    def __post_init__(self) -> None:
+        if (self.home is None) == (self.markers is None):
+            raise ValueError("an estimate has a home pose (poses) or markers (positions)")
+        if self.keep_tool_axis and (
+            self.home is None or not len(self.chain) or self.chain.kinds[-1] == "prismatic"
+        ):
+            raise InputError(
+                "keeping the tool on the last joint's axis needs pose measurements "
+                "and a revolute or helical last joint"
+            )
+        if self.free is not None and len(self.free) != sum(sizes(self, every=True)):
+            raise ValueError("free must have one entry per coordinate of the level")
+
+    @classmethod
+    def of(cls, joints: tuple[Joint, ...], **kw: object) -> Estimate:
+        """An estimate of ``joints`` (the other fields as keywords)."""
+        return cls(Chain.of(joints), **kw)  # type: ignore[arg-type]
+
+    @property
+    def n(self) -> int:
+        return len(self.chain)
+
+    @property
+    def joints(self) -> tuple[Joint, ...]:
+        """The joints as :class:`~urdf2dh.model.poe.Joint` objects (offsets not absorbed)."""
+        return self.chain.joints()
+
+    @property
+    def scales(self) -> bool:
+        """Whether the joints' scales are identified."""
+        return self.level.scales
+
+    def joint_offsets(self) -> Mat:
+        """``(n,)`` the offsets (zeros when there are none)."""
+        return np.zeros(self.n) if self.offsets is None else self.offsets
+
+    def base_motion(self) -> Mat:
+        """``(4, 4)`` the base motion applied so far (the identity without one)."""
+        return np.eye(4) if self.base is None else self.base
+
+    def with_level(self, level: Level, free: NDArray[np.bool_] | None = None) -> Estimate:
+        """The same model, identified at ``level`` (offsets absorbed by the lines when the new
+        level has no offsets of its own)."""
+        est = self
+        if not level.offsets and self.offsets is not None and np.any(self.offsets):
+            est = absorbed(self)
+        return replace(est, level=level, free=free)
+
+
+def _joint_size(kind: str, level: Level) -> int:
+    lines = LINE_PARAMETERS[kind] if level.lines else 0
+    return lines + int(level.offsets) + int(level.scales)
+
+
+def sizes(est: Estimate, every: bool = False) -> list[int]:
+    """Coordinates per block: the base (0 or 6), one per joint, then the tool (or the markers).
+    Counted over the level (``every``) or only the free ones."""
+    tool = (
+        (2 if est.keep_tool_axis else 6) if est.home is not None else 3 * len(est.markers)  # type: ignore[arg-type]
+    )
+    free = None if every or est.free is None else est.free.tobytes()
+    return list(_sizes(est.level, est.chain.kinds, tool, free))
+
+
+@lru_cache(maxsize=512)
+def _sizes(level: Level, kinds: tuple[str, ...], tool: int, free: bytes | None) -> tuple[int, ...]:
+    out = [6 if level.base else 0, *(_joint_size(k, level) for k in kinds), tool]
+    if free is None:
+        return tuple(out)
+    mask = np.frombuffer(free, dtype=bool)
+    edges = np.cumsum([0, *out])
+    return tuple(int(np.sum(mask[a:b])) for a, b in itertools.pairwise(edges))
+
+
+def count(est: Estimate) -> int:
+    """Number of identified coordinates."""
+    return sum(sizes(est))
+
+
+def all_names(est: Estimate, marker_ids: list[int] | None = None) -> list[str]:
+    """A name per coordinate of the level, e.g. ``base.rx``, ``j1.turn1``, ``j1.shift2``,
+    ``j1.pitch``, ``j1.offset``, ``j1.scale``, ``tool.rx`` ... ``tool.z`` (body frame),
+    ``marker0.x`` (device frame)."""
+    out: list[str] = []
+    if est.level.base:
+        out += [f"base.{k}" for k in ("rx", "ry", "rz", "x", "y", "z")]
+    for name, kind in zip(est.chain.names, est.chain.kinds, strict=True):
+        if est.level.lines:
+            if kind == "prismatic":
+                out += [f"{name}.turn1", f"{name}.turn2"]
+            else:
+                out += [f"{name}.{k}" for k in ("turn1", "turn2", "shift1", "shift2")]
+                if kind == "helical":
+                    out.append(f"{name}.pitch")
+        if est.level.offsets:
+            out.append(f"{name}.offset")
+        if est.level.scales:
+            out.append(f"{name}.scale")
+    if est.home is not None:
+        out += (
+            ["tool.turn", "tool.slide"]
+            if est.keep_tool_axis
+            else [f"tool.{k}" for k in ("rx", "ry", "rz", "x", "y", "z")]
+        )
+    else:
+        assert est.markers is not None
+        ids = marker_ids if marker_ids is not None else list(range(len(est.markers)))
+        out += [f"marker{m}.{c}" for m in ids for c in "xyz"]
+    return out
+
+
+def names(est: Estimate, marker_ids: list[int] | None = None) -> list[str]:
+    """The names of the identified coordinates (:func:`all_names`, the free ones)."""
+    every = all_names(est, marker_ids)
+    if est.free is None:
+        return every
+    return [n for n, f in zip(every, est.free, strict=True) if f]
+
+
+def expand(est: Estimate, delta: Mat) -> Mat:
+    """The free coordinates ``delta`` as the level's (zeros at the fixed ones)."""
+    delta = np.asarray(delta, dtype=float)
+    if est.free is None:
+        return delta
+    out = np.zeros(len(est.free))
+    out[est.free] = delta
+    return out
+
+
+def line_motion(u: Mat, p: Mat, a: float, b: float, c: float, d: float) -> Mat:
+    """``eta`` of the line chart (module docstring) of the line along ``u`` through ``p`` as a
+    twist ``(6,)``."""
+    e1, e2 = normal_basis(u)
+    rho, tau = a * e1 + b * e2, c * e1 + d * e2
+    return np.concatenate([rho, cross3(p, rho) + tau])
+
+
+def tool_screws(est: Estimate) -> Mat:
+    """``(6, 2)``: with ``keep_tool_axis``, the last line's screws (turn about it, slide along
+    it) in the tool's body frame: ``Ad(M^-1) [u, p x u]`` and ``Ad(M^-1) [0, u]``."""
+    assert est.home is not None
+    u, p = est.chain.axis[-1], est.chain.point[-1]
+    twists = np.array([np.concatenate([u, cross3(p, u)]), np.concatenate([np.zeros(3), u])]).T
+    r, t = est.home[:3, :3], est.home[:3, 3]
+    w = r.T @ twists[:3]
+    v = r.T @ (twists[3:] - np.cross(t[:, None], twists[:3], axis=0))
+    return np.vstack([w, v])
+
+
+def _moved_all(est: Estimate, g: Mat) -> Estimate:
+    """Everything of ``est`` moved by the rigid motion ``g`` (a base motion)."""
+    home = None if est.home is None else g @ est.home
+    markers = None if est.markers is None else est.markers @ g[:3, :3].T + g[:3, 3]
+    return replace(
+        est, chain=est.chain.moved(g), home=home, markers=markers, base=g @ est.base_motion()
+    )
+
+
+def joint_columns(est: Estimate) -> tuple[NDArray[np.int64], ...]:
+    """Where each joint coordinate sits in the level's coordinates: ``(line (n, 5), offset,
+    scale)`` indices, -1 where a joint has none (line: turn1, turn2, shift1, shift2, pitch)."""
+    return _columns_of(est.level, est.chain.kinds)
+
+
+@lru_cache(maxsize=256)
+def _columns_of(level: Level, kinds: tuple[str, ...]) -> tuple[NDArray[np.int64], ...]:
+    n = len(kinds)
+    line = np.full((n, 5), -1, dtype=np.int64)
+    offset = np.full(n, -1, dtype=np.int64)
+    scale = np.full(n, -1, dtype=np.int64)
+    k = 6 if level.base else 0
+    for i, kind in enumerate(kinds):
+        if level.lines:
+            width = 2 if kind == "prismatic" else 4
+            line[i, :width] = np.arange(k, k + width)
+            k += width
+            if kind == "helical":
+                line[i, 4] = k
+                k += 1
+        if level.offsets:
+            offset[i] = k
+            k += 1
+        if level.scales:
+            scale[i] = k
+            k += 1
+    for a in (line, offset, scale):
+        a.setflags(write=False)
+    return line, offset, scale
+
+
+def _take(x: Mat, index: NDArray[np.int64]) -> Mat:
+    """``x[index]`` with 0 where ``index`` is -1."""
+    padded = np.append(x, 0.0)
+    return padded[index]
+
+
+def retract(est: Estimate, delta: Mat) -> Estimate:
+    """The estimate moved by the free coordinates ``delta`` (``(count,)``), re-centred."""
+    x_all = expand(est, delta)
+    level = est.level
+    if level.base:
+        est = _moved_all(est, twist_exp(x_all[:6]))
+    chain = est.chain
+    line_at, offset_at, scale_at = joint_columns(est)
+    changes: dict[str, object] = {}
+    if level.scales:
+        changes["scale"] = chain.scale + _take(x_all, scale_at)
+    offsets = est.offsets
+    if level.offsets:
+        offsets = est.joint_offsets() + _take(x_all, offset_at)
+    last_motion = np.eye(4)
+    if level.lines:
+        x = _take(x_all, line_at)  # (n, 5)
+        e1, e2 = normal_bases(chain.axis)
+        rho = x[:, :1] * e1 + x[:, 1:2] * e2
+        rot = exp_so3(rho)  # (n, 3, 3)
+        axis = np.einsum("nij,nj->ni", rot, chain.axis)
+        axis /= np.linalg.norm(axis, axis=1, keepdims=True)
+        turning = chain.turning
+        tau = x[:, 2:3] * e1 + x[:, 3:4] * e2
+        v = cross_rows(chain.point, rho) + tau
+        shift = np.einsum("nij,nj->ni", left_jacobian(rho), v)
+        moved = np.einsum("nij,nj->ni", rot, chain.point) + shift
+        point = chain.point.copy()
+        point[turning] = line_point(axis[turning], moved[turning])
+        changes |= {"axis": axis, "point": point, "pitch": chain.pitch + x[:, 4]}
+        if turning[-1]:
+            last_motion = np.eye(4)
+            last_motion[:3, :3] = rot[-1]
+            last_motion[:3, 3] = shift[-1]
+    new_chain = replace(chain, **changes) if changes else chain  # type: ignore[arg-type]
+    k = sum(sizes(est, every=True)[:-1])
+    if est.home is not None:
+        if est.keep_tool_axis:
+            zeta = tool_screws(est) @ x_all[k : k + 2]
+            home = last_motion @ est.home @ twist_exp(zeta)
+        else:
+            home = est.home @ twist_exp(x_all[k : k + 6])
+        return replace(est, chain=new_chain, home=home, offsets=offsets)
+    assert est.markers is not None
+    markers = est.markers + x_all[k:].reshape(-1, 3)
+    return replace(est, chain=new_chain, markers=markers, offsets=offsets)
+
+
+def line_coordinates(axis: Mat, point: Mat, other_axis: Mat, other_point: Mat) -> Mat:
+    """``(n, 4)``: each line chart's coordinates (turn1, turn2, shift1, shift2) from the line
+    ``(axis[i], point[i])`` to ``(other_axis[i], other_point[i])``, all lines at once (the turns
+    alone are meaningful for a prismatic joint's direction).
+
+    The turn is the rotation vector ``rho`` taking ``u`` to ``u'`` about their common normal;
+    the shifts ``tau`` make ``exp(eta) p = p + J(rho) tau`` (:func:`.lie.left_jacobian`) a point
+    of the other line (least squares in the plane normal to it, closed form: two unknowns).
+    """
+    e1, e2 = normal_bases(axis)
+    cross = cross_rows(axis, other_axis)
+    sin = np.linalg.norm(cross, axis=1)
+    angle = np.arctan2(sin, np.einsum("ij,ij->i", axis, other_axis))
+    ratio = np.divide(angle, sin, out=np.ones_like(sin), where=sin > 0.0)
+    rho = cross * ratio[:, None]
+    out = np.empty((len(axis), 4))
+    out[:, 0] = np.einsum("ij,ij->i", rho, e1)
+    out[:, 1] = np.einsum("ij,ij->i", rho, e2)
+    # the columns J(rho) e1, J(rho) e2 and the gap, each with its part along u' removed
+    cols = np.einsum("nij,nkj->nik", left_jacobian(rho), np.stack([e1, e2], axis=1))
+    cols -= np.einsum("ni,nik->nk", other_axis, cols)[:, None, :] * other_axis[:, :, None]
+    gap = other_point - point
+    gap -= np.einsum("ni,ni->n", other_axis, gap)[:, None] * other_axis
+    normal = np.einsum("nik,nil->nkl", cols, cols)
+    out[:, 2:] = np.linalg.solve(normal, np.einsum("nik,ni->nk", cols, gap)[..., None])[..., 0]
+    return out
+
+
+def local_coordinates(est: Estimate, other: Estimate) -> Mat:
+    """The free coordinates ``delta`` around ``est`` with ``retract(est, delta)`` equal to
+    ``other`` (``other`` near ``est``, at the same level; to compare an identified model with the
+    truth, or with the nominal)."""
+    level = est.level
+    full = np.zeros(sum(sizes(est, every=True)))
+    base = np.eye(4)
+    if level.base:
+        base = other.base_motion() @ np.linalg.inv(est.base_motion())
+        full[:6] = log_se3(base)
+    a, b = est.chain, other.chain
+    line_at, offset_at, scale_at = joint_columns(est)
+    motion = np.eye(4)
+    if level.lines and len(a):
+        lines = line_coordinates(a.axis, a.point, b.axis, b.point)
+        turning = a.turning
+        width = np.where(turning, 4, 2)
+        for k in range(4):
+            rows = width > k
+            full[line_at[rows, k]] = lines[rows, k]
+        helical = line_at[:, 4] >= 0
+        full[line_at[helical, 4]] = b.pitch[helical] - a.pitch[helical]
+        if turning[-1]:
+            motion = twist_exp(line_motion(a.axis[-1], a.point[-1], *lines[-1]))
+    if level.offsets:
+        full[offset_at] = other.joint_offsets() - est.joint_offsets()
+    if level.scales:
+        full[scale_at] = b.scale - a.scale
+    k = sum(sizes(est, every=True)[:-1])
+    if est.home is not None:
+        assert other.home is not None
+        start = base @ est.home
+        if est.keep_tool_axis:
+            zeta = log_se3(np.linalg.inv(start) @ np.linalg.inv(motion) @ other.home)
+            full[k:] = np.linalg.lstsq(tool_screws(est), zeta, rcond=None)[0]
+        else:
+            full[k:] = log_se3(np.linalg.inv(start) @ other.home)
+    else:
+        assert est.markers is not None and other.markers is not None
+        start_markers = est.markers @ base[:3, :3].T + base[:3, 3]
+        full[k:] = (other.markers - start_markers).ravel()
+    return full if est.free is None else full[est.free]
+
+
+def absorbed(est: Estimate) -> Estimate:
+    """The same motion with the joint offsets absorbed by the lines and the tool (offsets 0).
+
+    With ``E_i = exp([xi_i] s_i o_i)`` and ``C_i = E_1 ... E_i``, ``exp([xi] s (q + o)) =
+    exp([xi] s q) E`` and ``C exp([xi] q) = exp([Ad_C xi] q) C``: joint ``i + 1``'s line moves
+    by ``C_i``, and ``M`` (or the markers) by ``C_n``.
+    """
+    offsets = est.joint_offsets()
+    chain = est.chain
+    axis, point = chain.axis.copy(), chain.point.copy()
+    c = np.eye(4)
+    turning = chain.turning
+    for i in range(est.n):
+        u, p = chain.axis[i], chain.point[i]
+        axis[i] = c[:3, :3] @ u
+        point[i] = c[:3, :3] @ p + c[:3, 3]
+        if turning[i]:
+            point[i] = line_point(axis[i], point[i])
+            twist = np.concatenate([u, cross3(p, u) + chain.pitch[i] * u])
+        else:
+            twist = np.concatenate([np.zeros(3), u])
+        c = c @ twist_exp(twist * chain.scale[i] * offsets[i])
+    home = None if est.home is None else c @ est.home
+    markers = None if est.markers is None else est.markers @ c[:3, :3].T + c[:3, 3]
+    return replace(
+        est,
+        chain=replace(chain, axis=axis, point=point),
+        home=home,
+        markers=markers,
+        offsets=None,
+    )

@@ -1,0 +1,138 @@
+"""Which coordinates of a level are identified: not fixed by name, and not already carried by
+the level's other coordinates.
+
+A level's coordinates (:mod:`.chart`) can overlap: in ``offsets``, the first joint's offset
+turns the whole robot about its axis as the base does, and the last joint's turns the tool as
+the tool's own coordinates do; a robot with special structure may have more such pairs. They
+are found once per level, from the Jacobian of the level's model at seeded configurations
+spread over the joint limits (what *any* measurement could see, not what these happened to):
+columns are taken in order, the base's and the tool's first, then the joints' along the chain,
+and one whose unit column lies within :data:`~urdf2dh.tolerances.RANK_RELATIVE` of the span of
+those before (the diagonal of the QR factorisation in that order) is carried by them and held
+fixed. What the measurements at hand leave undetermined
+(a joint that never moved) is another matter, found at the solution (:mod:`.solver`).
+"""
+
+from __future__ import annotations
+
+import fnmatch
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..errors import InputError, choices
+from ..tolerances import BARELY_MOVED, RANK_RELATIVE
+from .chart import Estimate, all_names, sizes
+from .residuals import Data, evaluate, model_poses, prefix_products
+
+__all__ = [
+    "barely_moved",
+    "check_patterns",
+    "fixed_by_name",
+    "free_coordinates",
+    "redundant",
+]
+
+_SAMPLES = 40  # configurations of the structural test (seeded; each gives 3 or 6 rows)
+
+
+def fixed_by_name(
+    est: Estimate, patterns: tuple[str, ...], marker_ids: list[int] | None = None
+) -> NDArray[np.bool_]:
+    """The level's coordinates that ``patterns`` (names or shell-style patterns such as
+    ``*.scale``, ``arm_7_joint.*``) fix."""
+    names = all_names(est, marker_ids)
+    return np.array([any(fnmatch.fnmatchcase(n, p) for p in patterns) for n in names], dtype=bool)
+
+
+def check_patterns(
+    patterns: tuple[str, ...], estimates: list[Estimate], marker_ids: list[int] | None
+) -> None:
+    """Refuse a pattern that names no coordinate of any of ``estimates``' levels."""
+    every = {n for est in estimates for n in all_names(est, marker_ids)}
+    for p in patterns:
+        if not any(fnmatch.fnmatchcase(n, p) for n in every):
+            raise InputError(
+                f"no parameter is named {p!r}; the parameters are {choices(every, limit=15)}"
+            )
+
+
+def _order(est: Estimate) -> NDArray[np.int64]:
+    """Column order of the test: the base's, the tool's (or markers'), then the joints'."""
+    blocks = sizes(est, every=True)
+    base, joints = blocks[0], sum(blocks[1:-1])
+    total = sum(blocks)
+    order: NDArray[np.int64] = np.r_[
+        np.arange(base), np.arange(base + joints, total), np.arange(base, base + joints)
+    ].astype(np.int64)
+    return order
+
+
+def redundant(est: Estimate, limits: NDArray[np.float64], size: float) -> NDArray[np.bool_]:
+    """The level's coordinates that the others already carry (module docstring).
+
+    ``limits``: ``(n, 2)`` the joints' ranges to draw configurations from; ``size``: the
+    robot's size (rotation rows count at that lever).
+    """
+    probe = Estimate(
+        est.chain,
+        est.home,
+        est.markers,
+        est.level,
+        est.keep_tool_axis,
+        est.offsets,
+        est.base,
+        None,
+    )
+    rng = np.random.default_rng((0, 6))
+    q = rng.uniform(limits[:, 0], limits[:, 1], size=(_SAMPLES, est.n))
+    if est.home is not None:
+        poses = model_poses(probe, q)
+        data = Data(q, poses[:, :3, 3], poses[:, :3, :3])
+    else:
+        assert est.markers is not None
+        k = len(est.markers)
+        qs = np.repeat(q, k, axis=0)
+        rows = np.tile(np.arange(k, dtype=np.int64), _SAMPLES)
+        last = prefix_products(probe, qs)[-1]
+        points = np.einsum("nij,nj->ni", last[:, :3, :3], est.markers[rows]) + last[:, :3, 3]
+        data = Data(qs, points, None, rows)
+    _, jac = evaluate(probe, data, size, 1.0)
+    assert jac is not None
+    norms = np.linalg.norm(jac, axis=0)
+    order = _order(est)
+    unit = jac[:, order] / np.where(norms[order] > 0.0, norms[order], 1.0)
+    # QR in the test's order: a column's part outside the span of those before is |R_kk|
+    outside = np.abs(np.diag(np.linalg.qr(unit, mode="r")))
+    out = np.zeros(jac.shape[1], dtype=bool)
+    seen = norms[order] <= RANK_RELATIVE * float(norms.max(initial=1.0))
+    out[order] = seen | (outside <= RANK_RELATIVE)
+    return out
+
+
+def barely_moved(q: NDArray[np.float64], est: Estimate, size: float) -> tuple[str, ...]:
+    """The joints whose positions ``q`` ``(N, n)`` span less than
+    :data:`~urdf2dh.tolerances.BARELY_MOVED` (rad, or x ``size`` for sliding joints)."""
+    span = np.ptp(q, axis=0) if len(q) else np.zeros(est.n)
+    limit = np.where(est.chain.turning, BARELY_MOVED, BARELY_MOVED * size)
+    return tuple(n for n, s, lim in zip(est.chain.names, span, limit, strict=True) if s < lim)
+
+
+def free_coordinates(
+    est: Estimate,
+    patterns: tuple[str, ...],
+    limits: NDArray[np.float64],
+    size: float,
+    marker_ids: list[int] | None = None,
+    carried: NDArray[np.bool_] | None = None,
+) -> tuple[NDArray[np.bool_], list[str]]:
+    """The level's free coordinates: not fixed by ``patterns``, not carried by the others
+    (``carried``, when the caller found them already for this level and chain). Also the names
+    of the coordinates the others carry."""
+    fixed = fixed_by_name(est, patterns, marker_ids)
+    if carried is None:
+        carried = redundant(est, limits, size)
+    names = all_names(est, marker_ids)
+    return ~(fixed | carried), [
+        n for n, c, f in zip(names, carried, fixed, strict=True) if c and not f
+    ]

@@ -1,0 +1,694 @@
+"""What a calibration reports: before and after on every set, the parameters and their flags,
+the levels' cross-validation, the outliers, the output table, the warnings; as a
+:class:`~.calibration.Calibration`, as its JSON tree (``--report``, docs/calibration-report.md)
+and as the text ``calibrate`` prints.
+
+Residual statistics of a model on a set: the position error is the distance between the
+modelled and the measured tool point, the rotation error the angle of ``R R_meas^T``; RMS is the
+root of their mean square, max the largest. "Before" is the nominal joints with base and tool
+fitted (the base-tool level's fit), "after" the identified model. The noise floor is what a
+perfect model would leave: ``sqrt(3) sigma`` for isotropic noise of ``sigma`` per coordinate.
+
+Warnings are given when: a held-out, validation or cross-validated RMS position error exceeds
+the fit's by more than noise explains (the ratio of mean squares, over its expectation
+``(1 + p/m) / (1 - p/m)`` for ``p`` parameters and ``m`` equations, beyond the 99% point of
+the F distribution of their degrees of freedom); parameters are poorly identified or not
+determined at all (with the cause: a joint that barely moved, or configurations that do not tell
+them apart); joints barely moved; outliers were found; the output convention was chosen.
+"""
+
+from __future__ import annotations
+
+import math
+from collections import Counter
+from dataclasses import asdict
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..check.diff import Diff
+from ..conventions.table import Table
+from ..errors import visible
+from ..model.identifiability import LINE_PARAMETERS, SYMBOLS
+from ..model.poe import PoeModel
+from ..tolerances import DIFF_ANGLE_DEG, DIFF_PARALLEL_DEG, POORLY_IDENTIFIED, Tolerances
+from .chart import Estimate, absorbed, local_coordinates
+from .identifiable import barely_moved
+from .identify import Fit, Identified
+from .measurements import Measurements
+from .outliers import Suspect
+from .prior import Deviations
+from .residuals import evaluate
+from .select import Selection
+from .start import FitOptions, to_data
+
+if TYPE_CHECKING:
+    from .calibration import Calibration, Comparison, Residuals
+
+__all__ = ["assemble", "formula", "output_table", "summary", "to_dict"]
+
+Mat = NDArray[np.float64]
+
+CONFIDENCE = 0.99  # of the test that noise explains a held-out error
+
+
+def formula(est: Estimate) -> str:
+    """The level's parameter count before anything is held fixed, as a formula with its numbers:
+    ``full`` is Wu 2019 eq. 23, ``5h + 4r + 2t + n + 6`` (poses; ``3K`` for ``K`` markers); the
+    others name their parts (``base 6 + offsets n + tool 6``)."""
+    level = est.level
+    kinds = Counter(est.chain.kinds)
+    tool = (2 if est.keep_tool_axis else 6) if est.home is not None else None
+    markers = 0 if est.markers is None else len(est.markers)
+    terms: list[tuple[str, str, int]] = []
+    if level.base:
+        terms.append(("base 6", "6", 6))
+    if level.lines:
+        for kind, size in LINE_PARAMETERS.items():
+            terms.append((f"{size}{SYMBOLS[kind]}", f"{size}*{kinds[kind]}", size * kinds[kind]))
+    if level.offsets:
+        terms.append(("offsets n", str(est.n), est.n))
+    if level.scales:
+        terms.append(("n", str(est.n), est.n))
+    end = str(tool) if tool is not None else "3K"
+    if level.base:
+        end = f"tool {end}" if tool is not None else f"markers {end}"
+    terms.append((end, str(tool) if tool is not None else f"3*{markers}", tool or 3 * markers))
+    total = sum(t[2] for t in terms)
+    return f"{' + '.join(t[0] for t in terms)} = {' + '.join(t[1] for t in terms)} = {total}"
+
+
+def _errors(est: Estimate, m: Measurements, pose: bool, ids: list[int]) -> Mat:
+    """``(N, 1 or 2)`` each row's position error and, for poses, rotation error."""
+    data = to_data(m, pose, ids)
+    r, _ = evaluate(absorbed(est), data, 1.0, 1.0, jacobian=False)
+    rows = r.reshape(len(data), data.rows)
+    out: Mat = np.linalg.norm(rows[:, :3], axis=1, keepdims=True)
+    if pose:
+        out = np.hstack([out, np.linalg.norm(rows[:, 3:], axis=1, keepdims=True)])
+    return out
+
+
+def _residuals(errors: Mat) -> Residuals:
+    from .calibration import Residuals
+
+    pos = errors[:, 0]
+    out = Residuals(len(errors), float(np.sqrt(np.mean(pos**2))), float(pos.max()))
+    if errors.shape[1] > 1:
+        rot = errors[:, 1]
+        out = Residuals(
+            out.count,
+            out.rms_position,
+            out.max_position,
+            float(np.sqrt(np.mean(rot**2))),
+            float(rot.max()),
+        )
+    return out
+
+
+def _comparison(
+    name: str,
+    before: Estimate,
+    after: Estimate,
+    m: Measurements,
+    pose: bool,
+    ids: list[int],
+    index: NDArray[np.int64] | None = None,
+) -> Comparison:
+    """Before and after on ``m``; ``index``: each row's configuration number in the file (by
+    default ``m``'s own)."""
+    from .calibration import Comparison
+
+    b, a = _errors(before, m, pose, ids), _errors(after, m, pose, ids)
+    if index is None:
+        index = m.configurations()[0]
+    count = int(index.max(initial=-1)) + 1
+    present = np.unique(index)
+
+    def per_config(e: Mat) -> tuple[float, ...]:
+        sums = np.zeros(count)
+        np.add.at(sums, index, e**2)
+        rows = np.bincount(index, minlength=count)
+        return tuple(float(x) for x in np.sqrt(sums[present] / rows[present]))
+
+    return Comparison(
+        name,
+        _residuals(b),
+        _residuals(a),
+        tuple(int(c) for c in present),
+        per_config(b[:, 0]),
+        per_config(a[:, 0]),
+        per_config(b[:, 1]) if pose else None,
+        per_config(a[:, 1]) if pose else None,
+    )
+
+
+def _unit(name: str, kind: str, length: str) -> str:
+    leaf = name.rsplit(".", 1)[1]
+    if leaf == "scale":
+        return "1"
+    if leaf == "pitch":
+        return f"{length}/rad"
+    if leaf == "offset":
+        return length if kind == "prismatic" else "rad"
+    return "rad" if leaf.startswith(("turn", "r")) else length
+
+
+def _reach(est: Estimate, m: Measurements, pose: bool, ids: list[int], size: float) -> Mat:
+    """Per coordinate, the largest displacement of a measured tool point (rotations at the
+    robot's size) per unit of it."""
+    data = to_data(m, pose, ids)
+    _, jac = evaluate(absorbed(est) if est.offsets is None else est, data, 1.0, 1.0 / size)
+    assert jac is not None
+    rows = jac.reshape(len(data), data.rows, -1)
+    return np.sqrt(np.sum(rows**2, axis=1)).max(axis=0) if len(data) else np.zeros(rows.shape[2])
+
+
+def _parameters(
+    result: Identified,
+    fit: Measurements,
+    opts: FitOptions,
+    ids: list[int],
+    still: dict[str, str],
+) -> tuple[list[Any], list[str], list[str]]:
+    """The parameters with their values, changes and flags; the poorly identified ones' names;
+    the undetermined ones' names. ``still``: the joints that barely moved, with their span."""
+    from .calibration import Parameter
+
+    est = result.estimate
+    start = result.before.with_level(est.level)
+    start = Estimate(
+        start.chain, start.home, start.markers, start.level, start.keep_tool_axis,
+        start.offsets, start.base, est.free,
+    )  # fmt: skip
+    changes = local_coordinates(start, est)
+    size = result.device_model.size()
+    reach = _reach(est, fit, opts.pose, ids, size)
+    kinds = dict(zip(est.chain.names, est.chain.kinds, strict=True))
+    index = {n: i for i, n in enumerate(est.chain.names)}
+    unit = result.model.length_unit
+    out, poor, lost = [], [], []
+    for k, name in enumerate(result.names):
+        owner, leaf = name.rsplit(".", 1)
+        value = None
+        if owner in index:
+            i = index[owner]
+            if leaf == "scale":
+                value = float(est.chain.scale[i])
+            elif leaf == "pitch":
+                value = float(est.chain.pitch[i])
+            elif leaf == "offset":
+                value = float(est.joint_offsets()[i])
+        std = float(result.stats.std[k])
+        flag = None
+        moved = owner in still and leaf != "offset"
+        if not math.isfinite(std):
+            lost.append(name)
+            flag = "not determined by the measurements" + (
+                f": its joint barely moved ({still[owner]})" if moved else ""
+            )
+        elif moved:
+            poor.append(name)
+            flag = f"its joint barely moved ({still[owner]}): it holds near those positions only"
+        elif std * reach[k] > POORLY_IDENTIFIED * result.sigma_pos:
+            poor.append(name)
+            flag = (
+                f"one standard deviation moves a measured point by {std * reach[k]:.3g} {unit}, "
+                f"over {POORLY_IDENTIFIED:g} times the position noise ({result.sigma_pos:.3g})"
+            )
+        out.append(
+            Parameter(
+                name,
+                _unit(name, kinds.get(owner, ""), unit),
+                value,
+                float(changes[k]),
+                std if math.isfinite(std) else None,
+                abs(float(changes[k])) * float(reach[k]),
+                flag,
+            )
+        )
+    return out, poor, lost
+
+
+def _noise_explains(
+    fit_rms: float, other_rms: float, other_rows: int, p: int, m: int
+) -> tuple[bool, float]:
+    """Whether noise explains ``other_rms`` against ``fit_rms`` (module docstring), and the
+    largest ratio of RMS it explains."""
+    from scipy.stats import f
+
+    if m <= p or fit_rms == 0.0 or other_rows == 0:
+        return True, math.inf
+    inflation = (1.0 + p / m) / (1.0 - p / m)
+    bound = float(f.ppf(CONFIDENCE, 3 * other_rows, max(m - p, 1)))
+    limit = math.sqrt(inflation * bound)
+    return other_rms <= limit * fit_rms, limit
+
+
+def output_table(
+    model: PoeModel,
+    convention: str | None,
+    style: str,
+    tol: Tolerances,
+    samples: int | None,
+) -> tuple[str, Table | None, str | None]:
+    """The output's convention, its table (``None`` for ``poe``) and, when it was chosen, why
+    (module docstring of :mod:`.calibration`)."""
+    from ..conventions.convert import to_table
+
+    if convention == "poe":
+        return "poe", None, None
+    if convention is not None:
+        return convention, to_table(model, convention, tol, samples=samples, style=style), None
+    dh = to_table(model, "dh", tol, samples=samples, style=style)
+    problem = _insane(dh, tol)
+    if problem is None:
+        return "dh", dh, None
+    hayati = to_table(model, "hayati", tol, samples=samples, style="wu")
+    return (
+        "hayati",
+        hayati,
+        f"written in hayati, not dh: {problem}; hayati is exact and every length stays within "
+        "the geometry's own distances (dh is written when asked for)",
+    )
+
+
+def _insane(table: Table, tol: Tolerances) -> str | None:
+    """Why a dh table is not exact and sane, or ``None``."""
+    check = table.check
+    if check is not None and (check.declared_position > 0.0 or check.declared_rotation > 0.0):
+        return (
+            "dh would treat nearly parallel axes as parallel, a deviation of up to "
+            f"{check.declared_position:.3g} {table.length_unit}"
+        )
+    far = tol.far_factor * table.size
+    for row in table.rows:
+        for key, value in row.params.scalars().items():
+            if key in ("d", "a") and abs(value) > far:
+                return (
+                    f"dh would put row {visible(row.name)!r} {abs(value):.3g} "
+                    f"{table.length_unit} away ({key}), {tol.far_factor:g} times beyond the "
+                    "robot's size"
+                )
+    return None
+
+
+def _diff(
+    nominal: PoeModel, model: PoeModel, table: Table | None, style: str, tol: Tolerances
+) -> Diff:
+    """The ``diff`` of the nominal and the identified model (``urdf2dh diff``'s, with its
+    default thresholds), in the output table's convention (for a POE model file, the
+    convention chosen for a table)."""
+    from ..check.diff import compare_tables, default_length_threshold
+    from ..conventions.convert import to_table
+
+    if table is None:
+        _, table, _ = output_table(model, None, style, tol, None)
+        assert table is not None
+    theirs = to_table(
+        nominal, table.convention, tol, style=style if table.convention != "hayati" else "wu"
+    )
+    return compare_tables(
+        theirs,
+        table,
+        nominal,
+        model,
+        math.radians(DIFF_ANGLE_DEG),
+        default_length_threshold(model.length_unit),
+        math.radians(DIFF_PARALLEL_DEG),
+    )
+
+
+def assemble(
+    nominal: PoeModel,
+    m: Measurements,
+    fit: Measurements,
+    held: Measurements,
+    validation: Measurements | None,
+    fit_rows: NDArray[np.int64],
+    held_rows: NDArray[np.int64],
+    result: Identified,
+    before: Fit,
+    opts: FitOptions,
+    ids: list[int],
+    level: str,
+    chosen_by: str,
+    selection: Selection,
+    found: tuple[Suspect, ...],
+    rejected: bool,
+    outlier_note: str,
+    convention: str | None,
+    style: str,
+    tol: Tolerances,
+    check_samples: int | None,
+) -> Calibration:
+    """The :class:`~.calibration.Calibration` of a finished identification."""
+    from .calibration import Calibration, Counts, Held, Noise
+
+    size = nominal.size()
+    unit = nominal.length_unit
+    pose = opts.pose
+    before_est, after_est = before.solution.estimate, result.estimate
+    index = m.configurations()[0]
+    comparisons = [_comparison("fit", before_est, after_est, fit, pose, ids, index[fit_rows])]
+    if len(held):
+        comparisons.append(
+            _comparison("held_out", before_est, after_est, held, pose, ids, index[held_rows])
+        )
+    if validation is not None:
+        comparisons.append(_comparison("validation", before_est, after_est, validation, pose, ids))
+    still = barely_moved(fit.q, before_est, size)
+    span_of = np.ptp(fit.q, axis=0)
+    spans = {j.name: float(s) for j, s in zip(nominal.joints, span_of, strict=True)}
+    spans_text = {
+        j.name: f"{spans[j.name]:.3g} {unit if j.kind == 'prismatic' else 'rad'}"
+        for j in nominal.joints
+        if j.name in still
+    }
+    parameters, poor, lost = _parameters(result, fit, opts, ids, spans_text)
+    held_list = [Held(n, "the level's other parameters carry it") for n in result.carried]
+    held_list += [Held(n, "fixed as asked") for n in result.fixed]
+    warnings = list(result.notes)
+    stats = result.stats
+    p = len(result.names)
+    equations = len(fit) * (6 if pose else 3)
+    fit_rms = comparisons[0].after.rms_position
+    for comp in comparisons[1:]:
+        fine, limit = _noise_explains(
+            fit_rms, comp.after.rms_position, comp.after.count, p, equations
+        )
+        if not fine:
+            what = "held-out" if comp.name == "held_out" else "validation"
+            warnings.append(_overfit(what, comp.after.rms_position, fit_rms, limit, level, p, unit))
+    score = selection.score(level)
+    if math.isfinite(score.rms_position):
+        fine, limit = _noise_explains(fit_rms, score.rms_position, len(fit), p, equations)
+        if not fine:
+            warnings.append(
+                _overfit("cross-validated", score.rms_position, fit_rms, limit, level, p, unit)
+            )
+    if still:
+        warnings.append(
+            "barely moved: "
+            + ", ".join(f"{visible(n)} ({spans_text[n]})" for n in still)
+            + "; how their lines lie and how far they scale is identified near these positions "
+            "only (measure configurations that move them)"
+        )
+    if lost:
+        causes = {n.rsplit(".", 1)[0] for n in lost} & set(still)
+        why = (
+            f"their joints barely moved ({', '.join(sorted(causes))})"
+            if causes
+            else "the configurations measured do not tell them apart from the others"
+        )
+        warnings.append(
+            f"the measurements determine {stats.rank} of the {p} parameters; not determined: "
+            f"{', '.join(lost)} ({why}; measure configurations that move these joints "
+            "differently)"
+        )
+    if poor:
+        warnings.append(
+            f"poorly identified ({len(poor)} of {p}: their uncertainty at the tool exceeds "
+            f"{POORLY_IDENTIFIED:g} times the noise): {', '.join(poor)}"
+        )
+    if found:
+        rows = ", ".join(
+            f"row {s.row + 1} ({s.position:.3g} {unit}"
+            + (f", {s.rotation:.3g} rad" if s.rotation is not None else "")
+            + f", chance {s.chance:.1e})"
+            for s in found
+        )
+        many = len(found) > 1
+        warnings.append(
+            (
+                f"rejected {len(found)} outlier{'s' if many else ''} ({outlier_note}): "
+                if rejected
+                else f"{len(found)} measurement{'s' if many else ''} the fit cannot explain "
+                f"({outlier_note}): "
+            )
+            + rows
+        )
+    conv, table, reason = output_table(result.model, convention, style, tol, check_samples)
+    if reason is not None:
+        warnings.append(reason)
+    if table is not None:
+        warnings += list(table.warnings)
+    floor_rot = math.sqrt(3.0) * result.sigma_rot if pose else None
+    noise = Noise(
+        result.sigma_pos,
+        result.sigma_rot if pose else None,
+        result.noise_given,
+        stats.variance_factor,
+        math.sqrt(3.0) * result.sigma_pos,
+        floor_rot,
+    )
+    configurations = int(index.max(initial=-1)) + 1
+    counts = Counts(
+        len(m),
+        configurations,
+        len(fit),
+        len(held),
+        0 if validation is None else len(validation),
+        len(found) if rejected else 0,
+        equations,
+        p,
+        stats.rank,
+        0 if after_est.markers is None else len(after_est.markers),
+    )
+    return Calibration(
+        nominal,
+        result.model,
+        result.device_model,
+        m.source,
+        "pose" if pose else "position",
+        opts.frame,
+        level,
+        chosen_by,
+        selection,
+        counts,
+        noise,
+        stats.condition,
+        result.solution.iterations,
+        result.solution.converged,
+        formula(after_est),
+        tuple(comparisons),
+        tuple(parameters),
+        tuple(held_list),
+        tuple((n, spans[n]) for n in still),
+        found,
+        rejected,
+        result.base_in_device,
+        result.markers_on_tool,
+        conv,
+        table,
+        reason,
+        _diff(nominal, result.model, table, style, tol),
+        tuple(warnings),
+        tuple(int(r) + 1 for r in fit_rows),
+    )
+
+
+def _overfit(
+    what: str, other: float, fit: float, limit: float, level: str, p: int, unit: str
+) -> str:
+    return (
+        f"the {what} RMS position error ({other:.3g} {unit}) is {other / fit:.3g} times the "
+        f"fit's ({fit:.3g}), more than noise explains (up to {limit:.3g} times): the {level} "
+        f"level's {p} parameters follow the fitted measurements' noise, or the other "
+        "configurations are unlike the fitted ones (identify less, or measure more varied "
+        "configurations)"
+    )
+
+
+# ----------------------------------------------------------------------------- serialisation
+
+
+def _floats(a: Any) -> Any:
+    return [[float(x) for x in row] for row in np.asarray(a)]
+
+
+def _finite(x: float) -> float | None:
+    return float(x) if math.isfinite(x) else None
+
+
+def to_dict(cal: Calibration) -> dict[str, Any]:
+    """The ``--report`` JSON tree (docs/calibration-report.md)."""
+    from ..io.poefile import poe_to_dict
+
+    sel = cal.selection
+    return {
+        "schema": cal.schema,
+        "nominal": cal.nominal.name,
+        "measurements": cal.measurements,
+        "measure": cal.measure,
+        "frame": cal.frame,
+        "units": {"length": cal.model.length_unit, "angle": "rad"},
+        "level": cal.level,
+        "chosen_by": cal.chosen_by,
+        "selection": None
+        if sel is None
+        else {
+            "method": "leave-one-configuration-out" if sel.seed is None else "folds",
+            "folds": sel.folds,
+            "seed": sel.seed,
+            "configurations": sel.configurations,
+            "best": sel.best,
+            "chosen": sel.chosen,
+            "reason": sel.reason,
+            "levels": [
+                {
+                    "level": s.level,
+                    "parameters": s.parameters,
+                    "fit_rms_position": _finite(s.fit_rms_position),
+                    "rms_position": _finite(s.rms_position),
+                    "uncertainty": _finite(s.uncertainty),
+                    "rms_rotation": None if s.rms_rotation is None else _finite(s.rms_rotation),
+                    "iterations": s.iterations,
+                    "prior": None
+                    if s.prior is None
+                    else {
+                        "links": list(s.prior.links),
+                        "offsets": s.prior.offsets,
+                        "scales": s.prior.scales,
+                        "length_per_angle": s.prior.length_per_angle,
+                    },
+                    "failure": s.failure,
+                }
+                for s in sel.scores
+            ],
+        },
+        "counts": {**asdict(cal.counts), "formula": cal.formula},
+        "condition_number": _finite(cal.condition_number),
+        "convergence": {"iterations": cal.iterations, "converged": cal.converged},
+        "noise": {
+            "position": cal.noise.position,
+            "rotation": cal.noise.rotation,
+            "given": cal.noise.given,
+            "variance_factor": _finite(cal.noise.variance_factor),
+            "floor": {"position": cal.noise.floor_position, "rotation": cal.noise.floor_rotation},
+        },
+        "residuals": {
+            when: {c.name: asdict(getattr(c, when)) for c in cal.comparisons}
+            for when in ("before", "after")
+        },
+        "configurations": {
+            c.name: {
+                "configuration": list(c.configurations),
+                "before_position": list(c.before_position),
+                "after_position": list(c.after_position),
+                "before_rotation": None if c.before_rotation is None else list(c.before_rotation),
+                "after_rotation": None if c.after_rotation is None else list(c.after_rotation),
+            }
+            for c in cal.comparisons
+        },
+        "parameters": [asdict(p) for p in cal.parameters],
+        "held": [asdict(h) for h in cal.held],
+        "barely_moved": [{"joint": n, "span": s} for n, s in cal.barely_moved],
+        "outliers": {
+            "rejected": cal.rejected,
+            "suspects": [asdict(s) | {"row": s.row + 1} for s in cal.suspects],
+        },
+        "nominal_base_in_device": _floats(cal.base_in_device),
+        "markers_on_tool": {str(k): [float(x) for x in v] for k, v in cal.markers_on_tool.items()},
+        "convention": cal.convention,
+        "convention_reason": cal.convention_reason,
+        "model": poe_to_dict(cal.model),
+        "diff": cal.diff.to_dict(),
+        "warnings": list(cal.warnings),
+    }
+
+
+def _res_line(label: str, r: Residuals | None, unit: str) -> str:
+    if r is None:
+        return f"  {label:<18} (none)"
+    text = f"  {label:<18} {r.rms_position:>11.3g} {r.max_position:>11.3g} {unit:<3}"
+    if r.rms_rotation is not None and r.max_rotation is not None:
+        text += f" {r.rms_rotation:>11.3g} {r.max_rotation:>11.3g} rad"
+    return text
+
+
+def _deviations(dev: Deviations) -> str:
+    """The prior's deviations in brief: the links' range, the offsets' (rad)."""
+    links = f"links {min(dev.links):.1e}..{max(dev.links):.1e}" if dev.links else "no links"
+    return f"{links}, offsets {dev.offsets:.1e} rad"
+
+
+def summary(cal: Calibration) -> str:
+    """The brief text that ``urdf2dh calibrate`` prints (the report's main figures)."""
+    c, noise, unit = cal.counts, cal.noise, cal.model.length_unit
+    kind = "poses" if cal.measure == "pose" else "positions"
+    held = f", {c.held_out} held out" if c.held_out else ""
+    valid = f", {c.validation} to validate" if c.validation else ""
+    out = [
+        f"calibrate {visible(cal.nominal.name)} from {visible(cal.measurements)}: "
+        f"{c.measurements} {kind} at {c.configurations} configurations ({c.fit} fitted{held}"
+        f"{valid})"
+    ]
+    sel = cal.selection
+    if sel is not None and cal.chosen_by == "cross-validation":
+        how = (
+            "each configuration left out in turn"
+            if sel.seed is None
+            else f"{sel.folds} folds of configurations left out in turn"
+        )
+        out.append(f"levels, judged on configurations left out of the fit ({how}):")
+        for s in sel.scores:
+            mark = " <- chosen" if s.level == cal.level else ""
+            if s.failure is not None:
+                out.append(
+                    f"  {s.level:<10} {s.parameters:>3} parameters: not judged: {s.failure}{mark}"
+                )
+                continue
+            rot = "" if s.rms_rotation is None else f", {s.rms_rotation:.3g} rad"
+            prior = "" if s.prior is None else f"; prior {_deviations(s.prior)}"
+            out.append(
+                f"  {s.level:<10} {s.parameters:>3} parameters: fit {s.fit_rms_position:.3g}, "
+                f"left out {s.rms_position:.3g} +- {s.uncertainty:.2g} {unit}{rot}{prior}{mark}"
+            )
+        out.append(f"chosen: {sel.reason}")
+    else:
+        out.append(f"level: {cal.level} (as asked)")
+    out.append(
+        f"identified {c.parameters} parameters ({cal.formula}, {len(cal.held)} held); numerical "
+        f"rank {c.rank}; condition number {cal.condition_number:.3g}"
+    )
+    levels = f"position {noise.position:.3g} {unit}"
+    if noise.rotation is not None:
+        levels += f", rotation {noise.rotation:.3g} rad"
+    out.append(
+        f"converged in {cal.iterations} iterations; noise {levels} "
+        f"({'given' if noise.given else 'estimated'}); variance factor {noise.variance_factor:.3g}"
+    )
+    head = f"  {'residuals':<18} {'RMS pos':>11} {'max pos':>11}"
+    if noise.rotation is not None:
+        head += f"     {'RMS rot':>11} {'max rot':>11}"
+    out.append(head)
+    labels = {"fit": "fitted", "held_out": "held out", "validation": "validation"}
+    for when in ("before", "after"):
+        for comp in cal.comparisons:
+            out.append(_res_line(f"{when}, {labels[comp.name]}", getattr(comp, when), unit))
+    text = f"  noise floor        {noise.floor_position:>11.3g} {'':>11} {unit:<3}"
+    if noise.floor_rotation is not None:
+        text += f" {noise.floor_rotation:>11.3g}"
+    out.append(text)
+    out.append("  (before: the nominal joints with base and tool fitted)")
+    worst = sorted(cal.parameters, key=lambda p: -(p.std if p.std is not None else math.inf))[:3]
+    if worst:
+        out.append(
+            "largest standard deviations: "
+            + ", ".join(
+                f"{p.name} {p.std:.3g} {p.unit}"
+                if p.std is not None
+                else f"{p.name} (not determined)"
+                for p in worst
+            )
+        )
+    forms = len(cal.diff.forms)
+    out.append(
+        f"output: {cal.convention}; diff against the nominal ({cal.diff.convention}): "
+        f"{cal.diff.marked} parameters changed beyond the thresholds"
+        + (f", {forms} row{'s' if forms > 1 else ''} changed form" if forms else "")
+    )
+    out += [f"warning: {w}" for w in cal.warnings]
+    return "\n".join(out) + "\n"

@@ -1,0 +1,188 @@
+"""The options of an identification and its start: the nominal placed in the device frame.
+
+The start is the nominal model moved by the rigid transform that best fits its tool points to
+the measured ones (:func:`.frames.fit_rigid`; for poses, each pose's origin and axis tips at the
+robot's size, so orientations count too; for positions, the markers' points, placed on the tool
+by the marker layout, or at the tool origin), at the ``base-tool`` level (:mod:`.chart`): the
+identification fits that level first, and starts every other from its solution. Revolute joints
+named in ``helical`` (or all) start as helical joints of pitch 0, so that their pitch is
+identified.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..errors import UsageError, choices, shown
+from ..geometry.lie import rotation_of
+from ..model.poe import Joint, PoeModel
+from ..tolerances import DEFAULT, Tolerances
+from .chart import BASE_TOOL, LEVELS, Estimate, line_point
+from .measurements import Measurements
+from .prior import CHOICES, NONE, Prior
+from .residuals import Data
+from .rigid import fit_rigid, pose_points
+
+__all__ = [
+    "FitOptions",
+    "layout_points",
+    "moved",
+    "nominal_points",
+    "placement",
+    "start_estimate",
+    "to_data",
+]
+
+Mat = NDArray[np.float64]
+
+
+MAX_ITERATIONS = 200  # Levenberg-Marquardt iterations of one solve at most: a safety net
+
+
+@dataclass(frozen=True, slots=True)
+class FitOptions:
+    """What to identify and how (the ``calibrate`` command's options).
+
+    Attributes
+    ----------
+    pose
+        Pose measurements (else positions).
+    level
+        The level identified (:data:`.chart.LEVELS`).
+    fixed
+        Parameters held at the nominal's values: names or shell-style patterns
+        (``*.scale``, ``arm_7_joint.*``).
+    prior
+        The prior (:mod:`.prior`): stated deviations, ``auto`` (estimated at the geometry and
+        full levels) or ``none``.
+    helical
+        Revolute joints whose pitch is identified too (``("all",)`` for every one).
+    keep_scale
+        The nominal's joint scales are kept (the same as fixing ``*.scale``).
+    keep_tool_axis
+        The tool keeps its placement relative to the last joint's line.
+    frame
+        ``device`` or ``nominal``: the frame of the output model.
+    noise_pos, noise_rot
+        Noise levels that weigh the residuals (``None``: estimated).
+    layout
+        The markers' nominal positions on the tool.
+    max_iterations
+        Iterations of one solve at most.
+    tol
+        The tolerances.
+    """
+
+    pose: bool = True
+    level: str = "full"
+    fixed: tuple[str, ...] = ()
+    prior: Prior | str = NONE
+    helical: tuple[str, ...] = ()
+    keep_scale: bool = False
+    keep_tool_axis: bool = False
+    frame: str = "device"
+    noise_pos: float | None = None
+    noise_rot: float | None = None
+    layout: dict[int, Mat] | None = None
+    max_iterations: int = MAX_ITERATIONS
+    tol: Tolerances = DEFAULT
+
+    def __post_init__(self) -> None:
+        if self.frame not in ("device", "nominal"):
+            raise UsageError(f"frame must be device or nominal, not {shown(self.frame)}")
+        if self.level not in LEVELS:
+            raise UsageError(f"unknown level {shown(self.level)}; valid: {choices(LEVELS)}")
+        if not isinstance(self.prior, Prior) and self.prior not in CHOICES:
+            raise UsageError(
+                f"unknown prior {shown(str(self.prior))}; valid: {choices(CHOICES)} or a Prior"
+            )
+        if self.pose and (self.noise_pos is None) != (self.noise_rot is None):
+            raise UsageError("give both noise levels (position and rotation) or neither")
+
+    @property
+    def fixed_patterns(self) -> tuple[str, ...]:
+        """The fixed parameters' patterns, the scales' with ``keep_scale``."""
+        return (*self.fixed, "*.scale") if self.keep_scale else self.fixed
+
+
+def to_data(m: Measurements, pose: bool, marker_ids: list[int]) -> Data:
+    """The residuals' view of measurements."""
+    if pose:
+        assert m.quaternions is not None
+        return Data(m.q, m.points, rotation_of(m.quaternions))
+    rows = (
+        np.zeros(len(m), dtype=np.int64)
+        if m.markers is None
+        else np.searchsorted(np.array(marker_ids), m.markers).astype(np.int64)
+    )
+    return Data(m.q, m.points, None, rows)
+
+
+def moved(model_joints: tuple[Joint, ...], g: Mat) -> tuple[Joint, ...]:
+    """The joints moved by the rigid transform ``g`` (points as feet of perpendiculars)."""
+    out = []
+    for j in model_joints:
+        u = g[:3, :3] @ j.axis
+        point = None if j.point is None else g[:3, :3] @ j.point + g[:3, 3]
+        if point is not None and j.kind != "prismatic":
+            point = line_point(u, point)
+        out.append(Joint(j.name, j.kind, u, point, j.pitch, j.scale, j.lower, j.upper))
+    return tuple(out)
+
+
+def layout_points(opts: FitOptions, ids: list[int]) -> Mat:
+    if opts.layout is None:
+        return np.zeros((len(ids), 3))
+    return np.array([opts.layout[k] for k in ids])
+
+
+def nominal_points(nominal: PoeModel, m: Measurements, opts: FitOptions, ids: list[int]) -> Mat:
+    """The nominal's tool points at the measured configurations (in its base frame)."""
+    poses = nominal.fk_batch(m.q)
+    if opts.pose:
+        return pose_points(poses, nominal.size())
+    local = layout_points(opts, ids)
+    rows = (
+        np.zeros(len(m), dtype=np.int64)
+        if m.markers is None
+        else np.searchsorted(np.array(ids), m.markers)
+    )
+    points: Mat = np.einsum("nij,nj->ni", poses[:, :3, :3], local[rows]) + poses[:, :3, 3]
+    return points
+
+
+def _measured_points(m: Measurements, size: float, pose: bool) -> Mat:
+    if not pose:
+        return m.points
+    assert m.quaternions is not None
+    poses = np.zeros((len(m), 4, 4))
+    poses[:, :3, :3] = rotation_of(m.quaternions)
+    poses[:, :3, 3] = m.points
+    return pose_points(poses, size)
+
+
+def placement(nominal: PoeModel, m: Measurements, opts: FitOptions, ids: list[int]) -> Mat:
+    """The rigid fit of the nominal's tool points to the measured ones (step 1)."""
+    return fit_rigid(
+        nominal_points(nominal, m, opts, ids), _measured_points(m, nominal.size(), opts.pose)
+    )
+
+
+def start_estimate(nominal: PoeModel, g: Mat, opts: FitOptions, ids: list[int]) -> Estimate:
+    """The nominal placed in the device frame by ``g`` (:func:`placement`)."""
+    helical = set(opts.helical)
+    joints = tuple(
+        replace(j, kind="helical")
+        if j.kind == "revolute" and ("all" in helical or j.name in helical)
+        else j
+        for j in moved(nominal.joints, g)
+    )
+    home = g @ nominal.home
+    if opts.pose:
+        return Estimate.of(joints, home=home, level=BASE_TOOL, keep_tool_axis=opts.keep_tool_axis)
+    local = layout_points(opts, ids)
+    markers = local @ home[:3, :3].T + home[:3, 3]
+    return Estimate.of(joints, markers=markers, level=BASE_TOOL)

@@ -1,0 +1,99 @@
+"""``urdf2dh convert``: print or write the parameter table of a chain (or of several)."""
+
+from __future__ import annotations
+
+import argparse
+
+from ..io.files import write_output
+from . import options
+from .chains import one_tip, several_of
+
+__all__ = ["HELP", "NAME", "add_arguments", "run"]
+
+NAME = "convert"
+HELP = "print or write the parameter table of a chain"
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    from ..conventions import NAMES, STYLES
+    from ..emit.formats import FORMATS
+
+    options.add_chain(p, several=True)
+    p.add_argument(
+        "--convention",
+        choices=NAMES,
+        default=NAMES[0],
+        help="parameter convention (default %(default)s)",
+    )
+    p.add_argument(
+        "--format", choices=FORMATS, default="text", help="output format (default %(default)s)"
+    )
+    p.add_argument(
+        "--style",
+        choices=STYLES,
+        default="wu",
+        help="D-H choices: wu (Wu 2019, a >= 0; default), ur (zero theta offsets, "
+        "Universal Robots' signs) or zero (zero theta offsets wherever possible)",
+    )
+    p.add_argument(
+        "-o",
+        "--output",
+        metavar="FILE|DIR/",
+        help="write to FILE instead of stdout; with several tips, FILE gets what stdout would "
+        "(text, markdown, json: an object keyed by tip, yaml: a document per tip) and DIR/ (a "
+        "trailing slash, or an existing directory) one file per tip (DIR/<tip>.txt, .json, "
+        ".yaml, .csv, .md, .urdf, .poe.yaml), all or nothing",
+    )
+    options.add_tolerances(p)
+
+
+def run(args: argparse.Namespace) -> int:
+    from ..conventions.convert import to_table
+    from ..emit.formats import render
+
+    tol = options.tolerances(args)
+    if several_of(args):
+        return _convert_tips(args)
+    source = options.source(args, tol)
+    model = source.model(args.base, one_tip(args), args.ignore_mimic)
+    table = to_table(model, args.convention, tol, samples=args.check_samples, style=args.style)
+    write_output(render(table, args.format), args.output)
+    return 0
+
+
+def _convert_tips(args: argparse.Namespace) -> int:
+    from ..conventions.convert import to_table
+    from ..emit.formats import render
+    from .chains import (
+        FORMAT_SUFFIXES,
+        chains_of,
+        check_stdout_format,
+        join_tables,
+        naming_tip,
+        per_chain,
+        to_directory,
+        write_tips,
+    )
+
+    tol = options.tolerances(args)
+    directory = to_directory(args)
+    if not directory:
+        check_stdout_format(args.format)  # before any reading
+    source = options.source(args, tol)
+    suffix = FORMAT_SUFFIXES[args.format]
+    models = chains_of(args, source, suffix if directory else None)
+    tables = []
+    for model in per_chain(models, "convert"):
+        with naming_tip(model.tip_link):
+            tables.append(
+                to_table(model, args.convention, tol, samples=args.check_samples, style=args.style)
+            )
+    if not directory:  # stdout, or -o FILE: the one document
+        write_output(join_tables(tables, args.format), args.output)
+        return 0
+    texts = []
+    for model, table in zip(models, tables, strict=True):
+        with naming_tip(model.tip_link):
+            texts.append((model, render(table, args.format)))
+    write_tips(args, source, texts, suffix)
+    return 0

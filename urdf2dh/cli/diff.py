@@ -1,0 +1,79 @@
+"""``urdf2dh diff NOMINAL ACTUAL``: two parameter sets side by side (calibration: nominal and
+actual)."""
+
+from __future__ import annotations
+
+import argparse
+import math
+
+from ..io.files import write_output
+from . import options
+
+__all__ = ["HELP", "NAME", "add_arguments", "run"]
+
+NAME = "diff"
+HELP = "compare two parameter sets (calibration: nominal vs actual)"
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    from ..conventions import NAMES, STYLES
+    from ..tolerances import DIFF_ANGLE_DEG, DIFF_LENGTH_M, DIFF_PARALLEL_DEG
+
+    p.add_argument("nominal", metavar="NOMINAL", help="URDF, POE model, table file or robot")
+    p.add_argument("actual", metavar="ACTUAL", help="URDF, POE model, table file or robot")
+    options.add_chain_options(p)
+    p.add_argument(
+        "--convention",
+        choices=NAMES,
+        default=NAMES[0],
+        help="convention to compare in (default %(default)s)",
+    )
+    p.add_argument("--style", choices=STYLES, default="wu", help="D-H choices (see convert)")
+    p.add_argument(
+        "--angle-threshold",
+        type=options.nonnegative_float,
+        default=DIFF_ANGLE_DEG,
+        metavar="DEG",
+        help="mark angle changes over this, modulo 180 (default %(default)g; Wu 2019 "
+        "Table II's marks: 60)",
+    )
+    p.add_argument(
+        "--length-threshold",
+        type=options.nonnegative_float,
+        metavar="LENGTH",
+        help=f"mark length changes over this, in the tables' unit (default {DIFF_LENGTH_M * 1e3:g} "
+        "mm; Wu 2019 Table II's marks: 30 mm)",
+    )
+    p.add_argument(
+        "--parallel-within",
+        type=options.nonnegative_float,
+        default=DIFF_PARALLEL_DEG,
+        metavar="DEG",
+        help="name axis pairs this close to parallel in either model as "
+        "ill-conditioned for D-H (default %(default)g)",
+    )
+    p.add_argument("--format", choices=("text", "json"), default="text")
+    p.add_argument("-o", "--output", metavar="FILE", help="write to FILE instead of stdout")
+    options.add_tolerances(p)
+
+
+def run(args: argparse.Namespace) -> int:
+    from ..check.diff import diff
+
+    result = diff(
+        args.nominal,
+        args.actual,
+        args.convention,
+        style=args.style,
+        tol=options.tolerances(args),
+        angle_threshold=math.radians(args.angle_threshold),
+        length_threshold=args.length_threshold,
+        parallel_within=math.radians(args.parallel_within),
+        base=args.base,
+        tip=args.tip,
+        ignore_mimic=args.ignore_mimic,
+        samples=args.check_samples,
+        xacro=options.xacro_options(args),
+    )
+    write_output(result.render(args.format), args.output)
+    return 0

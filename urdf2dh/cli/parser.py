@@ -1,0 +1,110 @@
+"""The ``urdf2dh`` command's argument parser: the commands, in the order ``--help`` lists them,
+each registered with its options and the function that runs it (:class:`Command`).
+
+Building the parser imports no numpy, yourdfpy or Pinocchio: ``urdf2dh --help`` starts at once.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from typing import Any, Protocol
+
+from .. import _version
+from ..io.files import drop_stdout, write_stdout
+
+__all__ = ["RUNS_ON", "ArgumentParser", "Command", "get_argument_parser", "version_text"]
+
+#: What ``--version`` names besides urdf2dh: the distributions it runs on (PyPI names; the
+#: Pinocchio wheel is ``pin``).
+RUNS_ON = (("yourdfpy", "yourdfpy"), ("Pinocchio", "pin"), ("numpy", "numpy"), ("xacro", "xacro"))
+
+
+class Command(Protocol):
+    """A command of ``urdf2dh``: a module with its name, its one-line help, its options, and the
+    function that runs it on the parsed options and returns the exit code."""
+
+    NAME: str
+    HELP: str
+
+    def add_arguments(self, p: argparse.ArgumentParser) -> None: ...
+
+    def run(self, args: argparse.Namespace) -> int: ...
+
+
+def version_text() -> str:
+    """``urdf2dh X (yourdfpy Y, Pinocchio Z, numpy W, xacro V; Python U)``, from the installed
+    distributions' metadata (nothing is imported)."""
+    from importlib.metadata import PackageNotFoundError, version
+
+    parts = []
+    for label, dist in RUNS_ON:
+        try:
+            parts.append(f"{label} {version(dist)}")
+        except PackageNotFoundError:
+            parts.append(f"{label} not installed")
+    python = ".".join(map(str, sys.version_info[:3]))
+    return f"urdf2dh {_version.__version__} ({', '.join(parts)}; Python {python})"
+
+
+class _Version(argparse.Action):
+    """``--version``: the text is made only when asked for (metadata look-ups cost time)."""
+
+    def __init__(self, option_strings: list[str], dest: str, **kwargs: object) -> None:
+        super().__init__(option_strings, dest, nargs=0, help="show the versions and exit")
+
+    def __call__(self, parser: argparse.ArgumentParser, *args: object) -> None:
+        parser._print_message(version_text() + "\n", sys.stdout)  # a failed write is an error
+        parser.exit()
+
+
+class ArgumentParser(argparse.ArgumentParser):
+    """argparse's parser, except that help, usage and version text that cannot be written to
+    stdout (a full disk, ``> /dev/full``) is an error, as any other failed write
+    (:func:`urdf2dh.io.files.write_stdout`); argparse itself ignores it. Every command's parser is
+    one (``add_subparsers`` makes its parsers of the parent's class)."""
+
+    def _print_message(self, message: str, file: Any = None) -> None:
+        # the one place argparse writes: help, usage, --version and its error messages
+        if not message or file is not sys.stdout:
+            super()._print_message(message, file)
+            return
+        try:
+            write_stdout(message)
+        except BrokenPipeError:  # the reader went away (`| head`): not an error
+            drop_stdout()
+
+
+def commands() -> tuple[Command, ...]:
+    """The commands, in the order ``--help`` lists them."""
+    from . import (
+        calibrate,
+        convert,
+        diff,
+        export,
+        info,
+        measure,
+        plan,
+        plot,
+        robots,
+        verify,
+    )
+
+    return convert, verify, diff, info, export, plot, robots, measure, calibrate, plan
+
+
+def get_argument_parser() -> argparse.ArgumentParser:
+    """The argument parser of the ``urdf2dh`` command; each command's parser holds the function
+    that runs it (``args.run``)."""
+    parser = ArgumentParser(
+        prog="urdf2dh",
+        description="Turn a robot's URDF (or POE model) into exact Denavit-Hartenberg, "
+        "modified D-H and CPC tables, checked against the source and against Pinocchio.",
+    )
+    parser.add_argument("--version", action=_Version)
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+    for command in commands():
+        p = sub.add_parser(command.NAME, help=command.HELP)
+        command.add_arguments(p)
+        p.set_defaults(run=command.run)
+    return parser

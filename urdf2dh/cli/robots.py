@@ -1,0 +1,28 @@
+"""``urdf2dh robots``: the bundled robots, their chains and descriptions."""
+
+from __future__ import annotations
+
+import argparse
+
+from ..io.files import write_stdout
+
+__all__ = ["HELP", "NAME", "add_arguments", "run"]
+
+NAME = "robots"
+HELP = "list the bundled robots"
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    """No options."""
+
+
+def run(args: argparse.Namespace) -> int:
+    from ..io.catalog import ROBOTS
+
+    width = max(len(n) for n in ROBOTS)
+    lines = []
+    for r in ROBOTS.values():
+        chain = f"{r.base} -> {r.tip}" if r.base else "POE model"
+        lines.append(f"{r.name:<{width}}  {r.description}  [{chain}]\n")
+    write_stdout("".join(lines))
+    return 0

@@ -1,0 +1,102 @@
+"""``urdf2dh verify``: every convention's forward kinematics against Pinocchio's, on a chain (or
+on several)."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from typing import TYPE_CHECKING
+
+from . import options
+from .chains import one_tip, several_of
+from .run import say
+
+if TYPE_CHECKING:
+    from ..io.sources import Source
+    from ..tolerances import Tolerances
+
+__all__ = ["HELP", "NAME", "add_arguments", "run"]
+
+NAME = "verify"
+HELP = "compare every convention's FK with Pinocchio's"
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    options.add_chain(p, several=True)
+    p.add_argument(
+        "--samples",
+        type=options.samples,
+        default=1000,
+        metavar="N",
+        help="random configurations within joint limits (default %(default)s)",
+    )
+    p.add_argument(
+        "--seed",
+        type=options.seed,
+        default=0,
+        metavar="S",
+        help="random seed (default %(default)s)",
+    )
+    options.add_tolerances(p)
+
+
+def run(args: argparse.Namespace) -> int:
+    tol = options.tolerances(args)
+    source = options.source(args, tol)
+    if not several_of(args):
+        if _verify_chain(args, source, args.base, one_tip(args), tol):
+            say("verify: all conventions agree with Pinocchio")
+            return 0
+        return 1
+    from ..errors import shown
+    from .chains import TipError, chains_of, naming_tip, per_chain
+
+    models = chains_of(args, source)
+    failed = []
+    for i, model in enumerate(per_chain(models, "verify")):
+        if i:
+            say()
+        try:
+            with naming_tip(model.tip_link):
+                ok = _verify_chain(args, source, model.base_link, model.tip_link, tol)
+        except TipError as e:
+            if e.exit_code != 1:
+                raise
+            print(f"verify: {e}", file=sys.stderr)  # a table failed its own check: go on
+            ok = False
+        if not ok:
+            failed.append(model.tip_link)
+    if failed:
+        print(
+            f"verify: FAILED on {len(failed)} of {len(models)} chains: "
+            f"{', '.join(shown(t) for t in failed)}",
+            file=sys.stderr,
+        )
+        return 1
+    say(f"verify: all conventions agree with Pinocchio on all {len(models)} chains")
+    return 0
+
+
+def _verify_chain(
+    args: argparse.Namespace, source: Source, base: str | None, tip: str | None, tol: Tolerances
+) -> bool:
+    """Verify one chain and print its report; whether every model agrees with Pinocchio."""
+    from ..check.verify import verify
+    from ..errors import visible
+
+    report = verify(
+        source, base, tip, args.ignore_mimic, samples=args.samples, seed=args.seed, tol=tol,
+        check_samples=args.check_samples,
+    )  # fmt: skip
+    for line in report.lines():
+        say(line)
+    if report.ok:
+        return True
+    where = f" on {report.chain}" if report.chain and several_of(args) else ""
+    print(
+        f"verify: FAILED{where} for {', '.join(report.failed)} (allowed "
+        f"{report.checks[0].allowed_position:.2g} {visible(report.length_unit)} + declared "
+        "deviations)",
+        file=sys.stderr,
+    )
+    return False

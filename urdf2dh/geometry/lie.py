@@ -1,0 +1,210 @@
+"""Batched SO(3)/SE(3): exp, log, their Jacobians, quaternions (calibration's residuals and charts).
+
+Twists are ``[w, v]`` (angular first), as everywhere in urdf2dh (Wu 2019 eq. 1). Stacks of
+transforms are ``(N, 4, 4)``, of rotations ``(N, 3, 3)``, of rotation vectors ``(N, 3)``.
+Quaternions are ``[x, y, z, w]`` (scalar last), as the measurement files hold them.
+
+Formulas: Rodrigues' rotation and the SO(3) left Jacobian and its inverse (Barfoot, *State
+Estimation for Robotics*, 2017, eqs. 7.37, 7.45); the logarithm as the rotation vector of the
+skew part, with the symmetric part near pi (Murray, Li & Sastry 1994, §2.2).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import NDArray
+
+__all__ = [
+    "ad_apply",
+    "cross3",
+    "cross_columns",
+    "cross_rows",
+    "exp_so3",
+    "left_jacobian",
+    "left_jacobian_inverse",
+    "log_se3",
+    "log_so3",
+    "quaternion_of",
+    "rotation_of",
+    "skew_batch",
+]
+
+Mat = NDArray[np.float64]
+
+_SERIES = 0.1  # below this angle (rad) the coefficients that cancel are taken from their series
+_NEAR_PI = 1e-3  # within this of pi the rotation axis comes from the symmetric part of R
+
+
+def skew_batch(w: Mat) -> Mat:
+    """``(..., 3) -> (..., 3, 3)``: the matrices ``[w]`` with ``[w] u = w x u``."""
+    w = np.asarray(w, dtype=float)
+    out = np.zeros((*w.shape[:-1], 3, 3))
+    out[..., 0, 1], out[..., 0, 2] = -w[..., 2], w[..., 1]
+    out[..., 1, 0], out[..., 1, 2] = w[..., 2], -w[..., 0]
+    out[..., 2, 0], out[..., 2, 1] = -w[..., 1], w[..., 0]
+    return out
+
+
+def _coefficients(theta: Mat) -> tuple[Mat, Mat, Mat]:
+    """``sin t / t``, ``(1 - cos t) / t^2``, ``(t - sin t) / t^3``.
+
+    The second as ``2 sin^2(t/2) / t^2`` (no cancellation); the third, which cancels, from its
+    series below :data:`_SERIES` (truncation below 1e-16 relative there, and its rounding above
+    costs at most one unit of 1e-16 once multiplied by the ``t^2`` of ``[w]^2``).
+    """
+    zero = theta == 0.0
+    t = np.where(zero, 1.0, theta)
+    t2 = theta * theta
+    a = np.where(zero, 1.0, np.sin(t) / t)
+    half = np.sin(0.5 * t) / t
+    b = np.where(zero, 0.5, 2.0 * half * half)
+    series = 1.0 / 6.0 - t2 / 120.0 + t2 * t2 / 5040.0 - t2 * t2 * t2 / 362880.0
+    c = np.where(theta < _SERIES, series, (t - np.sin(t)) / (t * t * t))
+    return a, b, c
+
+
+def exp_so3(w: Mat) -> Mat:
+    """``(..., 3) -> (..., 3, 3)``: ``exp([w]) = I + a [w] + b [w]^2`` (Rodrigues)."""
+    w = np.asarray(w, dtype=float)
+    theta = np.linalg.norm(w, axis=-1)
+    a, b, _ = _coefficients(theta)
+    k = skew_batch(w)
+    return np.eye(3) + a[..., None, None] * k + b[..., None, None] * (k @ k)
+
+
+def left_jacobian(w: Mat) -> Mat:
+    """``(..., 3) -> (..., 3, 3)``: SO(3)'s left Jacobian ``I + b [w] + c [w]^2``; the
+    translation of ``exp([w, v])`` is ``J(w) v``."""
+    w = np.asarray(w, dtype=float)
+    theta = np.linalg.norm(w, axis=-1)
+    _, b, c = _coefficients(theta)
+    k = skew_batch(w)
+    return np.eye(3) + b[..., None, None] * k + c[..., None, None] * (k @ k)
+
+
+def left_jacobian_inverse(w: Mat) -> Mat:
+    """``(..., 3) -> (..., 3, 3)``: ``J(w)^-1 = I - [w]/2 + e [w]^2`` with
+    ``e = 1/t^2 - (1 + cos t) / (2 t sin t)`` (``1/12`` at 0). With ``R = exp([w])``, a left
+    perturbation ``exp([d]) R`` has the rotation vector ``w + J(w)^-1 d`` to first order."""
+    w = np.asarray(w, dtype=float)
+    theta = np.linalg.norm(w, axis=-1)
+    small = theta < _SERIES
+    t = np.where(small, 1.0, theta)
+    t2 = theta * theta
+    series = 1.0 / 12.0 + t2 / 720.0 + t2 * t2 / 30240.0 + t2 * t2 * t2 / 1209600.0
+    e = np.where(small, series, 1.0 / (t * t) - (1.0 + np.cos(t)) / (2.0 * t * np.sin(t)))
+    k = skew_batch(w)
+    return np.eye(3) - 0.5 * k + e[..., None, None] * (k @ k)
+
+
+def log_so3(r: Mat) -> Mat:
+    """``(..., 3, 3) -> (..., 3)``: the rotation vector of ``R`` (angle in ``[0, pi]``)."""
+    r = np.asarray(r, dtype=float)
+    s = 0.5 * np.stack(
+        [r[..., 2, 1] - r[..., 1, 2], r[..., 0, 2] - r[..., 2, 0], r[..., 1, 0] - r[..., 0, 1]],
+        axis=-1,
+    )  # sin(t) * axis
+    sin = np.linalg.norm(s, axis=-1)
+    cos = 0.5 * (np.trace(r, axis1=-2, axis2=-1) - 1.0)
+    theta = np.arctan2(sin, cos)
+    zero = sin == 0.0
+    factor = np.where(zero, 1.0, theta / np.where(zero, 1.0, sin))
+    out = factor[..., None] * s
+    near_pi = np.pi - theta < _NEAR_PI
+    if np.any(near_pi):  # sin t is tiny there: take the axis from R + R^T = 2 (I + (1-c) a a^T)
+        rp = r[near_pi]
+        sym = 0.5 * (rp + np.swapaxes(rp, -1, -2)) - cos[near_pi][:, None, None] * np.eye(3)
+        col = np.argmax(np.diagonal(sym, axis1=-2, axis2=-1), axis=-1)
+        axis = sym[np.arange(len(rp)), :, col]
+        axis /= np.linalg.norm(axis, axis=-1, keepdims=True)
+        sign = np.where(np.sum(axis * s[near_pi], axis=-1) < 0.0, -1.0, 1.0)
+        out[near_pi] = (sign * theta[near_pi])[:, None] * axis
+    return out
+
+
+def log_se3(t: Mat) -> Mat:
+    """``(..., 4, 4) -> (..., 6)``: the twist ``[w, v]`` with ``exp([w, v]) = T``."""
+    t = np.asarray(t, dtype=float)
+    w = log_so3(t[..., :3, :3])
+    v = np.einsum("...ij,...j->...i", left_jacobian_inverse(w), t[..., :3, 3])
+    return np.concatenate([w, v], axis=-1)
+
+
+def ad_apply(p: Mat, x: Mat) -> Mat:
+    """``Ad(P) X`` for a stack ``P (N, 4, 4)`` and twists ``X (6, k)``: ``(N, 6, k)``, with
+    ``Ad(P) [w, v] = [R w, R v + t x R w]`` (Wu 2019 eq. 4)."""
+    r, t = p[:, :3, :3], p[:, :3, 3, None]
+    out = np.empty((len(p), 6, x.shape[1]))
+    w = np.matmul(r, x[:3], out=out[:, :3])
+    v = np.matmul(r, x[3:], out=out[:, 3:])
+    v += cross_columns(t, w)
+    return out
+
+
+def cross_columns(a: Mat, b: Mat) -> Mat:
+    """``a x b`` along axis 1 of ``(N, 3, k)`` stacks (either may have ``k = 1``): numpy's
+    ``cross`` moves axes and costs ten times as much at these sizes."""
+    a0, a1, a2 = a[:, 0], a[:, 1], a[:, 2]
+    b0, b1, b2 = b[:, 0], b[:, 1], b[:, 2]
+    return np.stack([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0], axis=1)
+
+
+def rotation_of(quat: Mat) -> Mat:
+    """``(..., 4) -> (..., 3, 3)``: the rotation of unit quaternions ``[x, y, z, w]``."""
+    x, y, z, w = np.moveaxis(np.asarray(quat, dtype=float), -1, 0)
+    return np.stack(
+        [
+            np.stack([1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)], -1),
+            np.stack([2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)], -1),
+            np.stack([2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)], -1),
+        ],
+        -2,
+    )
+
+
+def quaternion_of(r: Mat) -> Mat:
+    """``(..., 3, 3) -> (..., 4)``: unit quaternions ``[x, y, z, w]`` with ``w >= 0``, from the
+    largest of the four diagonal combinations (Shepperd 1978), so every rotation is accurate."""
+    r = np.asarray(r, dtype=float)
+    tr = np.trace(r, axis1=-2, axis2=-1)
+    d = np.stack([r[..., 0, 0], r[..., 1, 1], r[..., 2, 2], tr], axis=-1)
+    pick = np.argmax(d, axis=-1)
+    q = np.empty((*r.shape[:-2], 4))
+    # four candidate formulas, each exact where its pivot is the largest
+    piv = (
+        np.sqrt(
+            np.maximum(1.0 + 2.0 * np.take_along_axis(d, pick[..., None], -1)[..., 0] - tr, 0.0)
+        )
+        / 2.0
+    )
+    with np.errstate(divide="ignore", invalid="ignore"):
+        k = 0.25 / piv
+    r10, r01, r20, r02 = r[..., 1, 0], r[..., 0, 1], r[..., 2, 0], r[..., 0, 2]
+    r21, r12 = r[..., 2, 1], r[..., 1, 2]
+    cands = [
+        np.stack([piv, (r01 + r10) * k, (r02 + r20) * k, (r21 - r12) * k], -1),
+        np.stack([(r01 + r10) * k, piv, (r12 + r21) * k, (r02 - r20) * k], -1),
+        np.stack([(r02 + r20) * k, (r12 + r21) * k, piv, (r10 - r01) * k], -1),
+        np.stack([(r21 - r12) * k, (r02 - r20) * k, (r10 - r01) * k, piv], -1),
+    ]
+    for i, c in enumerate(cands):
+        sel = pick == i
+        q[sel] = c[sel]
+    q *= np.where(q[..., 3:] < 0.0, -1.0, 1.0)
+    return q
+
+
+def cross3(a: Mat, b: Mat) -> Mat:
+    """``a x b`` of two 3-vectors (numpy's ``cross`` costs ten times as much for one pair)."""
+    a0, a1, a2 = float(a[0]), float(a[1]), float(a[2])
+    b0, b1, b2 = float(b[0]), float(b[1]), float(b[2])
+    return np.array([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0])
+
+
+def cross_rows(a: Mat, b: Mat) -> Mat:
+    """``a x b`` row by row for ``(n, 3)`` arrays (without numpy's ``cross`` axis handling)."""
+    out = np.empty(np.broadcast_shapes(a.shape, b.shape))
+    out[..., 0] = a[..., 1] * b[..., 2] - a[..., 2] * b[..., 1]
+    out[..., 1] = a[..., 2] * b[..., 0] - a[..., 0] * b[..., 2]
+    out[..., 2] = a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
+    return out

@@ -1,0 +1,211 @@
+"""URDF text -> checked :class:`~urdf2dh.io.urdf.tree.UrdfTree`, in one parse.
+
+The bytes are checked for emptiness and binary content (:func:`urdf2dh.io.encodings.check_text`),
+turned into one UTF-8 document (:func:`document`), parsed by lxml once, checked element by element
+by :func:`~urdf2dh.io.urdf.validate.check_robot` (always: every fault is named there), and handed,
+as the same element tree, to yourdfpy's element parsers, which make its ``Robot`` (joint origins as
+4x4 matrices, axes, limits, mimic relations). Meshes are never loaded: a URDF whose mesh files are
+absent loads all the same.
+"""
+
+from __future__ import annotations
+
+import codecs
+import re
+from pathlib import Path
+from typing import Any
+
+from ...errors import InputError, shown
+from ...tolerances import JOINTS
+from ..encodings import check_text, sniff
+from ..files import read_file
+from .tree import UrdfTree, build_tree
+from .validate import check_robot
+
+__all__ = ["check_size", "document", "load_tree", "parse_tree", "parse_xml", "yourdfpy_robot"]
+
+# An XML declaration and its pseudo-attributes (XML 1.0 §2.8); read from the bytes of a file
+# without a BOM, where it is ASCII whatever the encoding it declares.
+_DECLARATION = re.compile(rb"<\?xml[ \t\r\n](?P<body>[^>]*?)\?>")
+_PSEUDO = re.compile(rb"""(version|encoding|standalone)\s*=\s*(?:"([^"]*)"|'([^']*)')""")
+_DECLARATION_TEXT = re.compile(r"<\?xml[ \t\r\n][^>]*?\?>")
+_VERSION_1 = re.compile(rb"1\.[0-9]+")  # the versions libxml2 reads; "0.0" and "2.0" it refuses
+_LXML_SOURCE = re.compile(r" \(<string>, line [0-9]+\)$")  # lxml's suffix: the line is in it
+# libxml2's advice to its callers (an option urdf2dh does not set), not to a URDF's author
+_PARSER_HINT = re.compile(r",? (?:try|use|see) (?:XML_PARSE_HUGE|xmlCtxtSetMaxAmplification)[^,]*")
+_UTF8 = ("utf-8", "ascii")  # codec names (codecs.lookup) whose text is UTF-8 as it stands
+_WIDE = ("utf-16", "utf-32")  # declared without a BOM, yet the declaration was ASCII: UTF-8 too
+
+
+def _text(data: bytes, encoding: str, display: str) -> str:
+    """``data`` decoded, or a one-line error naming the first byte that is not ``encoding``."""
+    try:
+        return data.decode(encoding)
+    except UnicodeDecodeError as e:
+        hint = "" if encoding != "utf-8" else "; an XML declaration names any other encoding"
+        raise InputError(
+            f"{display}: not {encoding} text (byte {e.start}: {e.reason}){hint}"
+        ) from e
+
+
+def _decode(data: bytes, encoding: str, display: str) -> bytes:
+    """``data`` in ``encoding`` as UTF-8, its XML declaration dropped."""
+    text = _text(data, encoding, display)
+    m = _DECLARATION_TEXT.match(text)
+    return text[m.end() :].encode("utf-8") if m else text.encode("utf-8")
+
+
+def document(data: bytes, display: str) -> bytes:
+    """The file as the one UTF-8 document that lxml parses and Pinocchio is given.
+
+    Pinocchio (urdfdom, tinyxml2) reads UTF-8 and ignores the XML declaration; lxml refuses a
+    declared version other than 1.x (``<?xml version="0.0"?>``, which a widely used simulator
+    writes) and reads UTF-16. The common file, UTF-8 declared as such (or not at all) and version
+    1.x, is returned as it stands; otherwise the text is decoded as its BOM or declaration says
+    and returned as UTF-8 without BOM or declaration, so that both parsers read the same text.
+
+    Parameters
+    ----------
+    data
+        The file's bytes (not empty, not binary).
+    display
+        The file's name in messages.
+
+    Returns
+    -------
+    bytes
+        UTF-8 XML.
+
+    Raises
+    ------
+    InputError
+        An unknown declared encoding, or bytes that are not text in the encoding announced.
+    """
+    encoding, start = sniff(data)
+    if encoding != "utf-8":  # UTF-16 or UTF-32, announced by its BOM
+        return _decode(data[start:], encoding, display)
+    body = data[start:]
+    m = _DECLARATION.match(body)
+    if m is None:
+        _text(body, "utf-8", display)  # a few microseconds; lxml's complaint would be vaguer
+        return body
+    pseudo = {key: a or b for key, a, b in _PSEUDO.findall(m["body"])}
+    declared = pseudo.get(b"encoding", b"utf-8").decode("ascii", errors="replace")
+    try:
+        codec = codecs.lookup(declared).name
+        b"<".decode(codec, errors="replace")  # bytes.decode refuses non-text codecs
+    except LookupError as e:  # also a codec that is not a text encoding ("base64", "rot13")
+        raise InputError(
+            f"{display}: unknown text encoding {shown(declared)} in its XML declaration"
+        ) from e
+    if codec in _UTF8 or codec.startswith(_WIDE):
+        _text(body, "utf-8", display)
+        if codec in _UTF8 and _VERSION_1.fullmatch(pseudo.get(b"version", b"")):
+            return body
+        return body[m.end() :]  # a version lxml refuses, or a UTF-16 label on 8-bit text
+    return _decode(body, codec, display)
+
+
+def parse_xml(xml: bytes, display: str) -> Any:
+    """lxml's element tree of a UTF-8 document (comments and processing instructions dropped;
+    no entity from outside the document is read, nothing from the network).
+
+    Raises
+    ------
+    InputError
+        ``"<display>: malformed XML (<lxml's reason>)"``, or for a document beyond libxml2's
+        limits (a text node or attribute over 10 MB, nesting over 256 deep, entity expansion)
+        ``"<display>: beyond the XML parser's limits (<its reason>)"``.
+    """
+    from lxml import etree
+
+    parser = etree.XMLParser(  # one a parse: an lxml parser must not serve two threads at once
+        remove_comments=True, remove_pis=True, resolve_entities=False, no_network=True
+    )
+    try:
+        return etree.fromstring(xml, parser=parser)
+    except etree.XMLSyntaxError as e:
+        reason = _LXML_SOURCE.sub("", " ".join(str(e).split()))
+        if e.code == etree.ErrorTypes.ERR_RESOURCE_LIMIT:
+            # libxml2's bounds (text nodes and attributes of 10 MB, nesting 256 deep, entity
+            # expansion): well-formed or not, the document is too large to read
+            reason = _PARSER_HINT.sub("", reason)
+            raise InputError(f"{display}: beyond the XML parser's limits ({reason})") from e
+        if e.code == etree.ErrorTypes.ERR_NO_MEMORY:
+            raise InputError(f"{display}: not enough memory to parse the XML ({reason})") from e
+        raise InputError(f"{display}: malformed XML ({reason})") from e
+    except MemoryError as e:
+        raise InputError(f"{display}: not enough memory to parse the XML") from e
+
+
+def check_size(root: Any, display: str) -> None:
+    """Refuse a URDF of more than :data:`~urdf2dh.tolerances.JOINTS` joints (or links than a tree
+    of as many joints has), before anything is done per element."""
+    for kind, most in (("joint", JOINTS), ("link", JOINTS + 1)):
+        count = sum(1 for _ in root.iterchildren(kind))
+        if count > most:
+            raise InputError(
+                f"{display}: {count:,} {kind}s; urdf2dh reads URDFs of at most {JOINTS:,} joints "
+                f"({JOINTS + 1:,} links)"
+            )
+
+
+def yourdfpy_robot(root: Any, display: str) -> Any:
+    """yourdfpy's ``Robot`` of a checked root element, made by its element parsers (the ones
+    ``URDF.load`` uses), link by link and joint by joint so that a failure names the element.
+
+    A floating-point fault in its matrix code (a link's visual origin ``inf``, which the strict
+    check does not read and urdfdom refuses) is such a failure too, not a numpy warning;
+    underflow (``rpy="1e-300 1e-300 0"``) is no fault."""
+    import numpy as np
+    import yourdfpy
+
+    robot = yourdfpy.Robot(name=root.get("name"))
+    for kind, parse, items in (
+        ("link", yourdfpy.URDF._parse_link, robot.links),
+        ("joint", yourdfpy.URDF._parse_joint, robot.joints),
+    ):
+        for el in root.iterchildren(kind):
+            try:
+                with np.errstate(over="raise", invalid="raise", divide="raise"):
+                    items.append(parse(el))
+            except Exception as e:  # yourdfpy raises many kinds (ValueError, KeyError, ...)
+                reason = " ".join(f"{type(e).__name__}: {e}".split())
+                raise InputError(
+                    f"{display}: {kind} {shown(el.get('name'))}: yourdfpy cannot read it ({reason})"
+                ) from e
+    return robot
+
+
+def parse_tree(data: bytes, display: str) -> UrdfTree:
+    """Parse URDF text into a checked :class:`UrdfTree`.
+
+    Parameters
+    ----------
+    data
+        The file's bytes (UTF-8, or any encoding its BOM or XML declaration names).
+    display
+        The file's name in messages.
+
+    Returns
+    -------
+    UrdfTree
+        The tree, with the document it was parsed from as UTF-8 (``UrdfTree.xml``).
+
+    Raises
+    ------
+    InputError
+        On one line naming the file, and the link, joint and attribute at fault.
+    """
+    check_text(data, display, "URDF XML")
+    xml = document(data, display)
+    root = parse_xml(xml, display)
+    check_size(root, display)
+    check_robot(root, display)
+    return build_tree(yourdfpy_robot(root, display), display, xml)
+
+
+def load_tree(path: str | Path, display: str | None = None) -> UrdfTree:
+    """Read and check a URDF file (``display`` names it in messages; default: ``path``)."""
+    shown = display or str(path)
+    return parse_tree(read_file(Path(path), shown), shown)
