@@ -258,7 +258,9 @@ def level_fits(
                 f"{count(start)} parameters, more than the {len(data) * data.rows} equations"
             )
             continue
-        fits[level] = solve_level(start, data, lopts, size, reference, noise, locations, deviations)
+        fits[level] = solve_level(
+            start, data, lopts, size, reference, noise, locations, deviations, stats=False
+        )
         if fits[level].solution.converged:
             previous = fits[level].solution.estimate
             noise = (fits[level].sigma_pos, fits[level].sigma_rot)
