@@ -115,6 +115,10 @@ def yaml_text(text: str, display: str) -> Any:
         mark = getattr(e, "problem_mark", None)
         where = f"line {mark.line + 1}: " if mark is not None else ""
         problem = getattr(e, "problem", None) or str(e).splitlines()[0]
+        if "nesting depth" in problem:  # libyaml 0.2.6 bounds depth itself, at our bound
+            raise InputError(
+                f"{display}: nested too deeply (more than {MAPPING_DEPTH:,} levels)"
+            ) from e
         raise InputError(f"{display}: malformed YAML ({where}{problem})") from e
     except ValueError as e:  # an integer of more digits than Python converts
         raise InputError(f"{display}: malformed YAML ({e})") from e
