@@ -1,6 +1,6 @@
-"""docs/plot.md runs as written: its commands and Python blocks (in a temporary directory), its
-sample hover text and error line are what urdf2dh prints, and its picture is one the tool
-makes."""
+"""docs/commands/plot.md runs as written: its commands and Python blocks (in a temporary
+directory), its sample hover text and error line are what urdf2dh prints, and its picture is
+one the tool makes."""
 
 from __future__ import annotations
 
@@ -53,7 +53,7 @@ def test_the_samples_are_what_urdf2dh_prints(tmp_path, monkeypatch, capsys):
 def test_the_picture_is_the_tools(tmp_path):
     from matplotlib.image import imread
 
-    shown = re.search(r"!\[[^\]]*\]\((img/[^)]+\.png)\)\n\n\*`(urdf2dh plot [^`]+)`\*", TEXT)
+    shown = re.search(r"!\[[^\]]*\]\((\.\./img/[^)]+\.png)\)\n\n\*`(urdf2dh plot [^`]+)`\*", TEXT)
     assert shown, "the picture and the command that made it"
     argv = shlex.split(shown[2])[1:]
     argv[argv.index("-o") + 1] = str(tmp_path / "fresh.png")

@@ -14,6 +14,7 @@ from . import options
 
 NAME = "calibrate"
 HELP = "identify a model's parameters from measurements"
+EXAMPLE = "urdf2dh calibrate ur5 poses.csv --format json -o ur5-id.json --report report.json"
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:

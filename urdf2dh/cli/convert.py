@@ -10,6 +10,7 @@ from .chains import one_tip, several_of
 
 NAME = "convert"
 HELP = "print or write the parameter table of a chain"
+EXAMPLE = "urdf2dh convert ur5 --convention mdh --format json -o ur5-mdh.json"
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:

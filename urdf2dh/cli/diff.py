@@ -11,6 +11,7 @@ from . import options
 
 NAME = "diff"
 HELP = "compare two parameter sets (calibration: nominal vs actual)"
+EXAMPLE = "urdf2dh diff puma560-nominal puma560-actual --convention cpc"
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:

@@ -12,6 +12,7 @@ from .chains import one_tip, several_of, to_directory
 
 NAME = "export"
 HELP = "write a controller or toolbox configuration file"
+EXAMPLE = "urdf2dh export ur10 --to ur -o default_kinematics.yaml"
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:

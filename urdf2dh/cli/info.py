@@ -9,6 +9,7 @@ from . import options
 
 NAME = "info"
 HELP = "links, joints, the chain, candidate tips, identifiability"
+EXAMPLE = "urdf2dh info ur5"
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:

@@ -10,6 +10,7 @@ from . import options
 
 NAME = "plan"
 HELP = "choose configurations to measure for a calibration"
+EXAMPLE = "urdf2dh plan ur5 --configs 15 -o plan.csv"
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:

@@ -12,6 +12,7 @@ from . import options
 
 NAME = "plot"
 HELP = "draw the arm at home with its frames (png, svg, pdf; html: interactive 3-D)"
+EXAMPLE = "urdf2dh plot panda --convention mdh -o panda-frames.png"
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:

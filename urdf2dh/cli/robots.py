@@ -8,6 +8,7 @@ from ..io.files import write_stdout
 
 NAME = "robots"
 HELP = "list the bundled robots"
+EXAMPLE = "urdf2dh robots"
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:

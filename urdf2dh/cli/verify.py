@@ -17,6 +17,7 @@ if TYPE_CHECKING:
 
 NAME = "verify"
 HELP = "compare every convention's FK with Pinocchio's"
+EXAMPLE = "urdf2dh verify panda --samples 200"
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
