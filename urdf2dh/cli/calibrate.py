@@ -14,7 +14,7 @@ from . import options
 
 NAME = "calibrate"
 HELP = "identify a model's parameters from measurements"
-EXAMPLE = "urdf2dh calibrate ur5 poses.csv --format json -o ur5-id.json --report report.json"
+EXAMPLE = "urdf2dh calibrate puma560-nominal m.csv --helical all --format json -o puma-id.json"
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
