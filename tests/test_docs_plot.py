@@ -16,7 +16,7 @@ from urdf2dh.conventions.convert import to_table
 from urdf2dh.emit.scene import scene
 from urdf2dh.io.sources import open_source
 
-DOC = Path(__file__).resolve().parents[1] / "docs" / "plot.md"
+DOC = Path(__file__).resolve().parents[1] / "docs" / "commands" / "plot.md"
 TEXT = DOC.read_text(encoding="utf-8")
 
 
