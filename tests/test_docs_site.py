@@ -106,3 +106,19 @@ def test_the_picture_is_what_its_command_draws(page, png, command, tmp_path, mon
     kept, fresh = imread(page.parent / png), imread(tmp_path / "fresh.png")
     assert kept.shape == fresh.shape
     assert abs(float(kept.mean()) - float(fresh.mean())) < 0.01
+
+
+def test_every_export_target_has_its_page_with_an_example():
+    """Each target has docs/exports/TARGET.md, listed in the exports index, whose first command
+    exports to it (tests/test_doc_blocks.py runs it), and says what it writes, its limits and
+    which consumer checks it."""
+    from urdf2dh.emit.export import TARGETS
+
+    index = (DOCS / "exports" / "index.md").read_text(encoding="utf-8")
+    for target in TARGETS:
+        page = (DOCS / "exports" / f"{target}.md").read_text(encoding="utf-8")
+        assert f"]({target}.md)" in index, target
+        command = re.search(r"```bash\n(urdf2dh export [^\n]*)", page)
+        assert command and f"--to {target}" in command[1], target
+        for heading in ("## What it writes", "## Limits", "## How it is checked"):
+            assert heading in page, (target, heading)
