@@ -144,3 +144,10 @@ def test_the_readers_take_the_schema_name_and_the_older_one(tmp_path, capsys):
     capsys.readouterr()
     assert main(["info", str(path)]) == 2
     assert f"schema must be {schemas.POE_FILE} (or absent)" in capsys.readouterr().err
+
+
+def test_the_schemas_bound_the_joints_as_the_readers_do():
+    from urdf2dh.tolerances import JOINTS
+
+    for name in (schemas.TABLE_FILE, schemas.POE_FILE):
+        assert schemas.load(name)["properties"]["joints"]["maxItems"] == JOINTS
