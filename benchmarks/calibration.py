@@ -52,7 +52,11 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 import urdf2dh  # noqa: E402
-from urdf2dh.calibration.calibration import calibrate  # noqa: E402
+from urdf2dh import (  # noqa: E402
+    calibrate,
+    render,
+    to_table,
+)
 from urdf2dh.calibration.identify import identify  # noqa: E402
 from urdf2dh.calibration.measure import perturb, synthesize  # noqa: E402
 from urdf2dh.calibration.measurements import (  # noqa: E402
@@ -60,9 +64,7 @@ from urdf2dh.calibration.measurements import (  # noqa: E402
     read_measurements,
     write_measurements,
 )
-from urdf2dh.calibration.start import Options, placement  # noqa: E402
-from urdf2dh.conventions.convert import to_table  # noqa: E402
-from urdf2dh.emit.formats import render  # noqa: E402
+from urdf2dh.calibration.start import FitOptions, placement  # noqa: E402
 from urdf2dh.geometry.lie import log_so3, rotation_of  # noqa: E402
 from urdf2dh.io.catalog import ROBOTS, robot_path  # noqa: E402
 from urdf2dh.model.poe import PoeModel, joint_from_twist  # noqa: E402
@@ -82,7 +84,7 @@ def accuracy(poses: np.ndarray, truth: np.ndarray) -> dict[str, float]:
     }
 
 
-def ours(nominal: PoeModel, m: Measurements, repeats: int, opts: Options) -> tuple[float, Any]:
+def ours(nominal: PoeModel, m: Measurements, repeats: int, opts: FitOptions) -> tuple[float, Any]:
     best, model = math.inf, None
     for _ in range(repeats):
         start = time.perf_counter()
@@ -239,7 +241,7 @@ def main() -> int:
     rows: list[tuple[str, float, dict[str, float]]] = []
     with tempfile.TemporaryDirectory(prefix="urdf2dh-bench-") as tmp:
         work = Path(tmp)
-        elapsed, fk = ours(nominal, m, args.repeats, Options(level="geometry"))
+        elapsed, fk = ours(nominal, m, args.repeats, FitOptions(level="geometry"))
         rows.append(
             (
                 "urdf2dh, --identify geometry (robotkinecal's parameters)",
@@ -247,7 +249,7 @@ def main() -> int:
                 accuracy(fk(fresh), truth),
             )
         )
-        elapsed, fk = ours(nominal, m, args.repeats, Options())
+        elapsed, fk = ours(nominal, m, args.repeats, FitOptions())
         rows.append(
             ("urdf2dh, --identify full (joint scales too)", elapsed, accuracy(fk(fresh), truth))
         )
@@ -302,8 +304,8 @@ def more_datasets(nominal: PoeModel, poses: int, count: int) -> None:
             truth = actual.fk_batch(fresh)
             cells = []
             for fk in (
-                ours(nominal, m, 1, Options(level="geometry"))[1],
-                ours(nominal, m, 1, Options())[1],
+                ours(nominal, m, 1, FitOptions(level="geometry"))[1],
+                ours(nominal, m, 1, FitOptions())[1],
                 robotkinecal(nominal, m, Path(tmp))[1],
             ):
                 acc = accuracy(fk(fresh), truth)
@@ -383,7 +385,7 @@ def robotkinecal_real(
     from robotkinecal import SerialRobotKineCal
     from spatialmath import SE3
 
-    g = np.linalg.inv(placement(nominal, fit, Options(), [0]))  # device -> nominal base
+    g = np.linalg.inv(placement(nominal, fit, FitOptions(), [0]))  # device -> nominal base
     path = work / "nominal-dh.urdf"
     path.write_text(render(to_table(nominal, "dh"), "urdf"))
     robot = rtb.Robot.URDF(str(path))

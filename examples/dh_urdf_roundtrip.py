@@ -3,7 +3,8 @@ like it, and reading that URDF back gives the same table.
 
     python examples/dh_urdf_roundtrip.py [OUT.urdf]
 
-The table is Universal Robots' published UR5 table, typed in as a table file (SPEC §2). Its
+The table is Universal Robots' published UR5 table, typed in as a table file
+(docs/formats/table-file.md). Its
 forward kinematics is evaluated here straight from the D-H formula, independently of urdf2dh,
 and compared with Pinocchio's on the written URDF.
 """
@@ -18,9 +19,8 @@ from pathlib import Path
 
 import numpy as np
 
+from urdf2dh import load, render, to_table
 from urdf2dh.check.verify import pinocchio_fk
-from urdf2dh.conventions.convert import to_table
-from urdf2dh.emit.urdf import table_to_urdf
 from urdf2dh.io.sources import open_source
 
 # Universal Robots UR5: (theta, d, alpha, a); theta offsets 0
@@ -82,9 +82,8 @@ def round_trip(work: Path) -> int:
     }
     table_file = work / "ur5-textbook.json"
     table_file.write_text(json.dumps(tree))
-    source = open_source(str(table_file))
-    table = to_table(source.model(), "dh")
-    urdf_text, _ = table_to_urdf(table)
+    table = to_table(load(table_file), "dh")
+    urdf_text = render(table, "urdf")
     out = Path(sys.argv[1]) if len(sys.argv) > 1 else work / "ur5-textbook.urdf"
     out.write_text(urdf_text)
     print(f"wrote {out}")

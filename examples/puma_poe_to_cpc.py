@@ -13,11 +13,9 @@ import sys
 
 import numpy as np
 
+from urdf2dh import load, render, to_table
 from urdf2dh.check.papers import sumenkov_table3
-from urdf2dh.conventions.convert import to_table
-from urdf2dh.emit.formats import render
 from urdf2dh.geometry.se3 import pose_errors
-from urdf2dh.io.sources import open_source
 
 
 def compare(label: str, cells: list) -> int:
@@ -37,7 +35,7 @@ def compare(label: str, cells: list) -> int:
 
 
 def main() -> int:
-    model = open_source("puma560-actual").model()
+    model = load("puma560-actual")
     table = to_table(model, "cpc")
     print(render(table, "text"))
     compare(

@@ -5,10 +5,10 @@ from __future__ import annotations
 
 import numpy as np
 
+from urdf2dh import PoeModel
 from urdf2dh.check.verify import pinocchio_fk
 from urdf2dh.geometry.se3 import pose_errors
 from urdf2dh.io.sources import Source
-from urdf2dh.model.poe import PoeModel
 
 EXACT = 1e-12  # the exactness promised: relative to the robot's size, and in radians
 

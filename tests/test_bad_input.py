@@ -213,7 +213,7 @@ def test_info_reports_chain_problems_without_failing(case, tmp_path, capsys):
         ),
         ("format: poe\njoints: []\n", ".yaml", "'tool' must give either"),
         ("schema: urdf2dh/1\nconvention: xyz\n", ".yaml", "convention must be one of"),
-        # issue 12: none of these may be an internal error, a hang or a memory blow-up
+        # none of these may be an internal error, a hang or a memory blow-up
         ('{"format": "poe", "n": ' + "9" * 5000 + "}", ".json", "malformed JSON (Exceeds"),
         ("[" * 100_000 + "]" * 100_000, ".json", "nested too deeply"),
         ("[" * 100_000 + "]" * 100_000, ".yaml", "nested too deeply"),
@@ -254,7 +254,7 @@ def test_missing_files_directories_and_outputs(tmp_path, capsys):
     assert main(["convert", "ur5", "-o", str(tmp_path / "no" / "dir" / "x.txt")]) == 2
     assert "does not exist" in capsys.readouterr().err
     assert main(["convert", "puma560-actual", "--base", "x"]) == 2
-    assert "--base/--tip apply to URDF sources" in capsys.readouterr().err
+    assert "base and tip links apply to URDF sources" in capsys.readouterr().err
 
 
 @pytest.mark.parametrize(
@@ -284,4 +284,4 @@ def test_bad_usage_exits_2(argv, capsys):
 
 def test_style_ur_with_cpc_is_a_usage_error(capsys):
     assert main(["convert", "ur5", "--convention", "cpc", "--style", "ur"]) == 2
-    assert "--style ur applies to dh, mdh tables, not cpc" in capsys.readouterr().err
+    assert "style ur applies to dh, mdh tables, not cpc" in capsys.readouterr().err

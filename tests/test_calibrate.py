@@ -1,4 +1,4 @@
-"""Calibration on real models (issue 15's "Done when"): Wu 2019's PUMA 560 from its nominal to its
+"""Calibration on real models: Wu 2019's PUMA 560 from its nominal to its
 actual model, noise at the noise floor with honest standard deviations, position-only
 measurements with one and three markers, SCARA and Stanford (prismatic) arms, helical joints,
 and a UR5 identified into a file UR's description takes."""
@@ -13,24 +13,20 @@ import yaml
 from consumers import ur_description_urdf
 
 import urdf2dh
-from urdf2dh.calibration.calibration import calibrate
+from urdf2dh import DEFAULT, Joint, PoeModel, calibrate, to_table
 from urdf2dh.calibration.chart import Estimate, line_point, local_coordinates
 from urdf2dh.calibration.identify import identify, moved
 from urdf2dh.calibration.measure import marker_layout, perturb, synthesize
 from urdf2dh.calibration.measurements import Measurements
 from urdf2dh.calibration.report import to_dict
-from urdf2dh.calibration.start import Options, placement
+from urdf2dh.calibration.start import FitOptions, placement
 from urdf2dh.check.papers import agrees
-from urdf2dh.conventions.convert import to_table
-from urdf2dh.emit.export import Options as ExportOptions
-from urdf2dh.emit.export import export_table
+from urdf2dh.emit.export import ExportOptions, export_table
 from urdf2dh.geometry.lie import quaternion_of
 from urdf2dh.geometry.se3 import pose_errors, twist_exp
 from urdf2dh.io.catalog import our_robots_dir
-from urdf2dh.model.poe import Joint, PoeModel
-from urdf2dh.tolerances import DEFAULT
 
-NOISE_POS, NOISE_ROT = 0.01, 1e-5  # mm and rad: issue 15's levels
+NOISE_POS, NOISE_ROT = 0.01, 1e-5  # mm and rad
 
 
 @pytest.fixture(scope="module")
@@ -68,7 +64,7 @@ def dh_cells(table) -> list[float]:
 def test_puma_from_60_noise_free_poses_is_the_actual_model_and_table_ii(puma):
     nominal, actual = puma
     m = synthesize(actual, 60, seed=1)
-    result = identify(nominal, m, Options(helical=("all",)))
+    result = identify(nominal, m, FitOptions(helical=("all",)))
     assert result.solution.converged and result.stats.rank == 42
     position, rotation = fk_error(result.model, actual)
     assert position <= 1e-9 * actual.size() and rotation <= 1e-9, (position, rotation)
@@ -117,7 +113,7 @@ def test_standard_deviations_cover_the_errors_over_50_seeds(puma):
     for seed in range(50):
         m = synthesize(actual, 200, NOISE_POS, NOISE_ROT, seed=100 + seed)
         result = identify(
-            nominal, m, Options(helical=("all",), noise_pos=NOISE_POS, noise_rot=NOISE_ROT)
+            nominal, m, FitOptions(helical=("all",), noise_pos=NOISE_POS, noise_rot=NOISE_ROT)
         )
         error = local_coordinates(truth, result.estimate)
         inside.append(np.abs(error) <= 2.0 * result.stats.std)
@@ -131,7 +127,7 @@ def test_three_markers_identify_the_full_model(puma):
     nominal, actual = puma
     layout = marker_layout(actual, 3, seed=4)
     m = synthesize(actual, 60, seed=4, layout=layout, pose=False)
-    result = identify(nominal, m, Options(pose=False, helical=("all",), layout=layout))
+    result = identify(nominal, m, FitOptions(pose=False, helical=("all",), layout=layout))
     assert result.stats.rank == len(result.names) == 36 + 9
     position, rotation = fk_error(result.model, actual)
     assert position <= 1e-9 * actual.size() and rotation <= 1e-9
@@ -145,7 +141,7 @@ def test_one_marker_identifies_the_chain_and_the_point_not_the_tool_rotation(pum
     device frame by the start fit."""
     nominal, actual = puma
     m = synthesize(actual, 60, seed=5, pose=False)
-    opts = Options(pose=False, helical=("all",))
+    opts = FitOptions(pose=False, helical=("all",))
     result = identify(nominal, m, opts)
     assert result.stats.rank == len(result.names) == 36 + 3
     assert np.allclose(result.model.twists(), actual.twists(), atol=1e-9)
@@ -164,7 +160,7 @@ def test_scara_and_stanford_calibrate(robot):
     size = nominal.size()
     actual = perturb(nominal, 7, 0.01, 0.005 * size, scale=1e-3)
     m = synthesize(actual, 80, seed=8)
-    result = identify(nominal, m, Options())
+    result = identify(nominal, m, FitOptions())
     assert result.stats.rank == len(result.names)
     position, rotation = fk_error(result.model, actual)
     assert position <= 1e-9 * size and rotation <= 1e-9
@@ -185,7 +181,7 @@ def test_helical_pitch_is_identified(puma):
     nominal, actual = puma
     helical = tuple(j.name for j in actual.joints if j.kind == "helical")
     assert helical == ("j3", "j4", "j5", "j6")
-    result = identify(nominal, synthesize(actual, 60, seed=10), Options(helical=helical))
+    result = identify(nominal, synthesize(actual, 60, seed=10), FitOptions(helical=helical))
     assert [j.kind for j in result.model.joints] == [j.kind for j in actual.joints]
     for ours, theirs in zip(result.model.joints, actual.joints, strict=True):
         assert ours.pitch == pytest.approx(theirs.pitch, rel=1e-6, abs=1e-12)
@@ -203,7 +199,7 @@ def test_ur5_identified_in_its_base_frame_exports_to_ur():
     device = twist_exp(np.array([0.1, -0.2, 0.7, 1.5, -0.8, 0.3]))
     seen = PoeModel(moved(actual.joints, device), device @ actual.home, "as-built")
     m = synthesize(seen, 200, 1e-5, 1e-5, seed=12)
-    result = identify(nominal, m, Options(keep_scale=True, keep_tool_axis=True, frame="nominal"))
+    result = identify(nominal, m, FitOptions(keep_scale=True, keep_tool_axis=True, frame="nominal"))
     assert len(result.names) == 4 * 6 + 2 and result.stats.rank == 26
     first, nominal_first = result.model.joints[0], nominal.joints[0]
     assert np.allclose(first.axis, nominal_first.axis, atol=1e-14)
@@ -233,7 +229,7 @@ def test_nominal_frame_anchors_a_prismatic_first_joint_by_its_direction():
     actual = perturb(nominal, 2, 0.003, 0.002)
     device = twist_exp(np.array([0.3, 0.1, -0.5, 1.0, 2.0, -0.4]))
     seen = PoeModel(moved(actual.joints, device), device @ actual.home, "seen")
-    result = identify(nominal, synthesize(seen, 100, seed=3), Options(frame="nominal"))
+    result = identify(nominal, synthesize(seen, 100, seed=3), FitOptions(frame="nominal"))
     assert result.model.joints[0].kind == "prismatic"
     assert np.allclose(result.model.joints[0].axis, nominal.joints[0].axis, atol=1e-14)
     q = nominal.sample(500, 1)

@@ -1,4 +1,4 @@
-"""``urdf2dh measure`` and ``urdf2dh calibrate`` (issue 15, SPEC §5): files, formats, the report,
+"""``urdf2dh measure`` and ``urdf2dh calibrate`` (docs/calibration.md): files, formats, the report,
 the text output, and every refusal (bad rows, too few measurements, no convergence)."""
 
 from __future__ import annotations

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 import urdf2dh
-from urdf2dh.calibration.calibration import calibrate
+from urdf2dh import PoeModel, calibrate
 from urdf2dh.calibration.chart import OFFSETS, Estimate, absorbed
 from urdf2dh.calibration.measure import marker_layout, perturb, synthesize
 from urdf2dh.calibration.measurements import MAX_MEASUREMENTS, Measurements, write_measurements
@@ -23,7 +23,6 @@ from urdf2dh.calibration.residuals import model_poses
 from urdf2dh.cli import main
 from urdf2dh.errors import InputError, UsageError
 from urdf2dh.geometry.se3 import pose_errors
-from urdf2dh.model.poe import PoeModel
 
 NOISE = 1e-4  # m and rad
 
@@ -314,7 +313,7 @@ def test_planned_configurations_identify_better_than_random_ones(ur5):
     configurations and in the parameters (the geometric mean of their deviations)."""
     from urdf2dh.calibration.identify import identify
     from urdf2dh.calibration.plan import plan
-    from urdf2dh.calibration.start import Options
+    from urdf2dh.calibration.start import FitOptions
 
     chosen = plan(ur5, 15, level="full", noise_pos=NOISE, noise_rot=NOISE, seed=0)
     assert chosen.configurations.shape == (15, 6) and chosen.candidates >= 500
@@ -329,7 +328,7 @@ def test_planned_configurations_identify_better_than_random_ones(ur5):
         errors = []
         for q in (chosen.configurations, ur5.sample(15, (seed, 99))):
             m = synthesize(actual, 15, NOISE, NOISE, seed=40 + seed, configurations=q)
-            result = identify(ur5, m, Options(level="full", noise_pos=NOISE, noise_rot=NOISE))
+            result = identify(ur5, m, FitOptions(level="full", noise_pos=NOISE, noise_rot=NOISE))
             model, truth = result.model.fk_batch(fresh), actual.fk_batch(fresh)
             errors.append(float(np.sqrt(np.mean(np.sum((model - truth)[:, :3, 3] ** 2, axis=1)))))
         wins += errors[0] < errors[1]

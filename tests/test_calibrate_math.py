@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 import urdf2dh
+from urdf2dh import Joint, PoeModel, to_table
 from urdf2dh.calibration.chart import (
     BASE_TOOL,
     FULL,
@@ -21,7 +22,6 @@ from urdf2dh.calibration.chart import (
     retract,
 )
 from urdf2dh.calibration.residuals import Data, evaluate, model_poses
-from urdf2dh.conventions.convert import to_table
 from urdf2dh.geometry.lie import (
     exp_so3,
     left_jacobian,
@@ -33,7 +33,6 @@ from urdf2dh.geometry.lie import (
 )
 from urdf2dh.geometry.se3 import twist_exp
 from urdf2dh.model.identifiability import Identifiability
-from urdf2dh.model.poe import Joint, PoeModel
 
 
 def param(params, name: str) -> float:

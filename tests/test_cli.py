@@ -1,4 +1,4 @@
-"""The urdf2dh command line (SPEC §1): output, formats, files, exit codes."""
+"""The urdf2dh command line (docs/commands/index.md): output, formats, files, exit codes."""
 
 from __future__ import annotations
 
@@ -12,8 +12,8 @@ import pytest
 import yaml
 
 import urdf2dh
+from urdf2dh import CONVENTIONS
 from urdf2dh.cli import main
-from urdf2dh.conventions import NAMES as CONVENTIONS
 
 
 def run(capsys, *argv):

@@ -12,12 +12,10 @@ import numpy as np
 import pytest
 from oracle import assert_fk_matches, pin_reference
 
+from urdf2dh import CONVENTIONS, DEFAULT, EXACT, to_table
 from urdf2dh.cli import main
-from urdf2dh.conventions import NAMES as CONVENTIONS
-from urdf2dh.conventions.convert import to_table
 from urdf2dh.io.sources import Source, open_source
 from urdf2dh.io.urdf import parse_tree
-from urdf2dh.tolerances import DEFAULT, EXACT
 
 HALF = repr(math.pi / 2)
 PI = repr(math.pi)

@@ -16,11 +16,10 @@ from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
 import urdf2dh
+from urdf2dh import CONVENTIONS, PoeModel
 from urdf2dh.cli import main
-from urdf2dh.conventions import NAMES as CONVENTIONS
 from urdf2dh.geometry.se3 import rot_axis
 from urdf2dh.io.poefile import poe_to_dict
-from urdf2dh.model.poe import PoeModel
 
 SETTINGS = settings(
     derandomize=True, max_examples=15, deadline=None, suppress_health_check=[HealthCheck.too_slow]

@@ -10,8 +10,8 @@ from pathlib import Path
 
 from chains import random_chain_urdf
 
+from urdf2dh import to_table
 from urdf2dh.cli import main
-from urdf2dh.conventions.convert import to_table
 from urdf2dh.emit.scene import scene
 from urdf2dh.io.sources import open_source
 

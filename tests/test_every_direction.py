@@ -10,9 +10,8 @@ import pytest
 from oracle import assert_fk_matches, pin_reference
 
 import urdf2dh
+from urdf2dh import CONVENTIONS, to_table
 from urdf2dh.cli import main
-from urdf2dh.conventions import NAMES as CONVENTIONS
-from urdf2dh.conventions.convert import to_table
 from urdf2dh.emit.urdf import table_to_urdf
 from urdf2dh.geometry.se3 import rpy
 from urdf2dh.io.sources import open_source

@@ -20,14 +20,13 @@ import yaml
 from consumers import report
 from oracle import EXACT, assert_fk_matches, pin_reference
 
+from urdf2dh import ExportOptions, Joint, PoeModel, export
 from urdf2dh.conventions.opw import OpwParameters, opw_fk, opw_from_poe
-from urdf2dh.emit.export import Options, export
 from urdf2dh.errors import ExportError, UsageError
 from urdf2dh.escape import yaml_comment
 from urdf2dh.geometry.se3 import from_rpy, inv, rot_x, rot_y, rot_z, trans
 from urdf2dh.io.catalog import ROBOTS, our_robots_dir
 from urdf2dh.io.sources import open_source
-from urdf2dh.model.poe import Joint, PoeModel
 from urdf2dh.tolerances import EXACT as EXACT_TOL
 from urdf2dh.units import factor as length_factor
 
@@ -153,7 +152,8 @@ def test_our_kuka_and_fanuc_give_the_published_parameters(robot):
 
 
 def test_the_consumers_ee_transform_is_rotation_then_translation():
-    """What the README warns of: py-opw-kinematics' ``ee_transform`` [R, t] is F . [R, R t]."""
+    """What docs/exports/opw.md warns of: py-opw-kinematics' ``ee_transform`` [R, t] is
+    F . [R, R t]."""
     robot = Robot(KinematicModel(0.1, -0.135, 0.05, 0.615, 0.705, 0.755, 0.085), degrees=False)
     q = np.array([[0.1, 0.2, 0.3, 0.4, 0.5, 0.6]])
     tool = trans(0.1, 0.2, 0.3) @ rot_x(0.3) @ rot_z(0.2)
@@ -330,7 +330,7 @@ def test_a_nearly_parallel_pair_is_judged_reported_and_refused_with_exact():
         rot=1.5 * rot,
     )
     with pytest.raises(ExportError, match="are not parallel"):
-        export(model, "opw", opts=Options(tol=EXACT_TOL))
+        export(model, "opw", opts=ExportOptions(tol=EXACT_TOL))
 
 
 def test_parameters_are_validated():
@@ -403,8 +403,8 @@ def test_cli_writes_the_file_and_refuses_non_opw_arms(tmp_path, capsys):
     assert err.count("\n") == 1 and "wrist axes do not intersect: offset wrist" in err
     assert "Traceback" not in err and not bad.exists()
     assert main(["export", "fanuc-m20ia", "--to", "opw", "--convention", "mdh"]) == 2
-    assert "--to opw is written from the POE model" in capsys.readouterr().err
-    with pytest.raises(UsageError, match="takes no --convention or --style"):
+    assert "export target opw is written from the POE model" in capsys.readouterr().err
+    with pytest.raises(UsageError, match="takes no convention or style"):
         export(_kuka(), "opw", style="ur")
 
 

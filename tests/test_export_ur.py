@@ -11,7 +11,7 @@ from consumers import report, ur_description_urdf
 from oracle import assert_fk_matches, pin_reference
 
 import urdf2dh
-from urdf2dh.conventions.convert import to_table
+from urdf2dh import to_table
 from urdf2dh.emit.export import export, export_table
 from urdf2dh.emit.export.ur import calibration_hash, hash_bytes, hash_text, hashed_rows
 from urdf2dh.errors import ExportError, UsageError
@@ -121,7 +121,7 @@ def test_a_tool_off_the_flange_is_refused():
 
 
 def test_ur_takes_only_the_ur_style_dh_table():
-    with pytest.raises(UsageError, match="--style ur"):
+    with pytest.raises(UsageError, match="export target ur takes style ur, not wu"):
         export(urdf2dh.load("ur5"), "ur", style="wu")
     with pytest.raises(UsageError, match="dh tables"):
         export(urdf2dh.load("ur5"), "ur", convention="mdh")

@@ -27,7 +27,7 @@ from consumers import (
 from oracle import assert_fk_matches, pin_reference
 
 from urdf2dh import units
-from urdf2dh.emit.export import TARGETS, Options, export
+from urdf2dh.emit.export import TARGETS, ExportOptions, export
 from urdf2dh.errors import ExportError, UsageError
 from urdf2dh.io.sources import Source, open_source
 from urdf2dh.io.urdf import parse_tree, tree_to_poe
@@ -200,7 +200,7 @@ def _genser_check(text: str, source: Source, model, metres: float) -> tuple[floa
 def test_genserkins_parameters_move_like_pinocchio(units, metres):
     source = open_source(str(DATA / "genser6.urdf"))
     model = source.model()
-    text = export(model, "linuxcnc", opts=Options(units=units))
+    text = export(model, "linuxcnc", opts=ExportOptions(units=units))
     links = genserkins_links(text)
     assert math.isclose(links[0][2] * metres, 0.6, rel_tol=1e-12)  # pedestal 0.25 + 0.35
     assert math.isclose(links[5][2] * metres, 0.1, rel_tol=1e-12)  # tool length in D-5
@@ -300,14 +300,14 @@ def _turn_tool(model):
 @pytest.mark.parametrize("target", sorted(TARGETS))
 def test_helical_joints_are_refused_by_every_target(target):
     with pytest.raises(ExportError, match="helical"):
-        export(open_source("puma560-actual").model(), target, opts=Options())
+        export(open_source("puma560-actual").model(), target, opts=ExportOptions())
 
 
 def test_targets_refuse_other_conventions_and_styles():
     model = open_source("ur5").model()
     refusal = (
         r"linuxcnc takes mdh tables, not dh \(row 'shoulder_pan_joint' is a D-H row: "
-        r"theta, d, alpha, a\); export with --convention mdh"
+        r"theta, d, alpha, a\)$"
     )
     with pytest.raises(UsageError, match=refusal):
         export(model, "linuxcnc", "dh")

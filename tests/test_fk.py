@@ -10,12 +10,11 @@ import numpy as np
 import pytest
 from chains import random_chain_urdf
 
+from urdf2dh import Joint, PoeModel, to_table
 from urdf2dh.conventions import NAMES
-from urdf2dh.conventions.convert import to_table
 from urdf2dh.geometry import se3
 from urdf2dh.io.urdf import parse_tree, tree_to_poe
 from urdf2dh.model import fk
-from urdf2dh.model.poe import Joint, PoeModel
 
 RNG = np.random.default_rng(20261121)
 

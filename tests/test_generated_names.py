@@ -23,12 +23,11 @@ from hostile import COLLIDING, KINDS, write_source
 from oracle import assert_fk_matches
 
 import urdf2dh
-from urdf2dh.conventions.convert import to_table
+from urdf2dh import Joint, PoeModel, to_table
 from urdf2dh.emit.export import export_table
 from urdf2dh.emit.names import RENAMED, Namespace, renaming_notes
 from urdf2dh.errors import ExportError, TableFileError
 from urdf2dh.io.sources import open_source
-from urdf2dh.model.poe import Joint, PoeModel
 
 PYKDL = real_pykdl()
 AGREE = 1e-12

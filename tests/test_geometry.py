@@ -8,12 +8,11 @@ import math
 import numpy as np
 import pytest
 
+from urdf2dh import DEFAULT, Joint, PoeModel
 from urdf2dh.conventions.cpc import r_rows, v_frame
 from urdf2dh.geometry import se3
 from urdf2dh.geometry.normals import common_normal
 from urdf2dh.geometry.se3 import dh_matrix, matrix_of
-from urdf2dh.model.poe import Joint, PoeModel
-from urdf2dh.tolerances import DEFAULT
 
 RNG = np.random.default_rng(20261121)
 

@@ -13,8 +13,8 @@ from pathlib import Path
 
 import pytest
 
-from urdf2dh.conventions.convert import to_table
-from urdf2dh.emit.export import TARGETS, Options, export, export_table, table_choices
+from urdf2dh import to_table
+from urdf2dh.emit.export import TARGETS, ExportOptions, export, export_table, table_choices
 from urdf2dh.io.sources import open_source
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -25,26 +25,26 @@ CHECK = re.compile(r"(check: FK against the source at \d+ configurations:)[^\n]*
 
 # (golden file, source, target, convention, options)
 CASES = [
-    ("ur-ur10.yaml", "ur10", "ur", None, Options()),
-    ("linuxcnc-genser6.hal", "tests/data/genser6.urdf", "linuxcnc", None, Options()),
+    ("ur-ur10.yaml", "ur10", "ur", None, ExportOptions()),
+    ("linuxcnc-genser6.hal", "tests/data/genser6.urdf", "linuxcnc", None, ExportOptions()),
     (
         "linuxcnc-genser6-inch.hal",
         "tests/data/genser6.urdf",
         "linuxcnc",
         None,
-        Options(units="inch"),
+        ExportOptions(units="inch"),
     ),
-    ("linuxcnc-kuka-kr6-r700-sixx.hal", "kuka-kr6-r700-sixx", "linuxcnc", None, Options()),
-    ("linuxcnc-so100.hal", "so100", "linuxcnc", None, Options()),
-    ("rtb-ur5.py", "ur5", "rtb", None, Options()),
-    ("rtb-stanford-mdh.py", "stanford", "rtb", "mdh", Options()),
-    ("matlab-ur5.m", "ur5", "matlab", None, Options()),
-    ("matlab-stanford-mdh.m", "stanford", "matlab", "mdh", Options()),
-    ("kdl-panda.py", "panda", "kdl", None, Options()),
-    ("kdl-panda-mdh.py", "panda", "kdl", "mdh", Options()),
-    ("corke-matlab-scara.m", "scara", "corke-matlab", None, Options()),
-    ("corke-matlab-puma560-mdh.m", "puma560-nominal", "corke-matlab", "mdh", Options()),
-    ("opw-fanuc-m20ia.yaml", "fanuc-m20ia", "opw", None, Options()),
+    ("linuxcnc-kuka-kr6-r700-sixx.hal", "kuka-kr6-r700-sixx", "linuxcnc", None, ExportOptions()),
+    ("linuxcnc-so100.hal", "so100", "linuxcnc", None, ExportOptions()),
+    ("rtb-ur5.py", "ur5", "rtb", None, ExportOptions()),
+    ("rtb-stanford-mdh.py", "stanford", "rtb", "mdh", ExportOptions()),
+    ("matlab-ur5.m", "ur5", "matlab", None, ExportOptions()),
+    ("matlab-stanford-mdh.m", "stanford", "matlab", "mdh", ExportOptions()),
+    ("kdl-panda.py", "panda", "kdl", None, ExportOptions()),
+    ("kdl-panda-mdh.py", "panda", "kdl", "mdh", ExportOptions()),
+    ("corke-matlab-scara.m", "scara", "corke-matlab", None, ExportOptions()),
+    ("corke-matlab-puma560-mdh.m", "puma560-nominal", "corke-matlab", "mdh", ExportOptions()),
+    ("opw-fanuc-m20ia.yaml", "fanuc-m20ia", "opw", None, ExportOptions()),
 ]
 
 

@@ -1,4 +1,4 @@
-"""The hayati convention (issue 13 part 1): every table exact (1e-12 x size) and sane (every
+"""The hayati convention: every table exact (1e-12 x size) and sane (every
 |a| and |d| within 2 x size) on real robots and on chains whose axes are 1e-12 ... 1e-1 rad from
 parallel, where D-H tables are either inexact or kilometres long; each row's form stated; its
 table files, URDF and roboticstoolbox exports."""
@@ -14,8 +14,8 @@ from hypothesis import strategies as st
 from oracle import EXACT, assert_fk_matches, pin_reference
 from test_fk import product_of_exponentials
 
+from urdf2dh import Joint, PoeModel, to_table
 from urdf2dh.cli import main
-from urdf2dh.conventions.convert import to_table
 from urdf2dh.conventions.dh import DhLink
 from urdf2dh.conventions.hayati import HayatiLink
 from urdf2dh.emit.export import export_table
@@ -24,7 +24,6 @@ from urdf2dh.errors import UsageError
 from urdf2dh.geometry import se3
 from urdf2dh.io.catalog import ROBOTS
 from urdf2dh.io.sources import open_source
-from urdf2dh.model.poe import Joint, PoeModel
 
 SANE = 2.0  # every |a|, |d| within this x robot size
 
@@ -201,7 +200,8 @@ def test_other_targets_refuse_naming_a_hayati_row(target):
         export_table(table, target)
     message = str(e.value)
     assert f"row {odd.name!r} is a Hayati row: theta, a, alpha, beta" in message
-    assert "export with --convention" in message and "\n" not in message
+    assert e.value.remedy is not None and e.value.remedy.argument == "convention"
+    assert "--" not in message and "\n" not in message
 
 
 def test_the_hayati_row_is_rz_tx_rx_ry():

@@ -1,4 +1,4 @@
-"""Hostile names (issue 12, security): a robot, link or joint name (or a file name) can no longer
+"""Hostile names (security): a robot, link or joint name (or a file name) can no longer
 turn an exported file against its reader.
 
 Every target and format is run on robots whose names hold each character that ends a string,
@@ -42,9 +42,8 @@ from lxml import etree
 from matlab_reader import read_matlab
 from safety import FORMULA, judge
 
-from urdf2dh import cli
+from urdf2dh import cli, to_table
 from urdf2dh import escape as esc
-from urdf2dh.conventions.convert import to_table
 from urdf2dh.emit.export import export_table, table_choices
 from urdf2dh.emit.scene import short
 from urdf2dh.errors import ExportError, shown, visible

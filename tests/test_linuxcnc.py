@@ -13,8 +13,7 @@ from consumers import genserkins_hal, real_linuxcnc, report, run_linuxcnc
 from oracle import assert_fk_matches, pin_reference
 from test_exports import AGREE, genser_cases
 
-from urdf2dh import units
-from urdf2dh.emit.export import Options, export
+from urdf2dh import ExportOptions, export, units
 
 pytestmark = pytest.mark.skipif(
     not real_linuxcnc(),
@@ -30,7 +29,7 @@ def linuxcnc():
     files, inputs = [], []
     for name, source, model in CASES:
         for unit in ("mm", "inch"):
-            text = export(model, "linuxcnc", opts=Options(units=unit))
+            text = export(model, "linuxcnc", opts=ExportOptions(units=unit))
             q, reference = pin_reference(source, model, samples=50, seed=3)
             q_deg = np.degrees(np.pad(q, ((0, 0), (0, 6 - model.n))))
             files.append((text, q_deg))

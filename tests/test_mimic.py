@@ -1,4 +1,4 @@
-"""Mimic joints kept coupled (issue 13 part 2): a joint on the chain that mimics another carries
+"""Mimic joints kept coupled: a joint on the chain that mimics another carries
 ``mimic: {joint, multiplier, offset}``, tables are driven by the actuated joints only, and
 Pinocchio, coupling the URDF's mimic joints itself, agrees."""
 
@@ -11,9 +11,9 @@ import numpy as np
 import pytest
 from oracle import assert_fk_matches, pin_reference
 
+from urdf2dh import to_table
 from urdf2dh.cli import main
 from urdf2dh.conventions import NAMES
-from urdf2dh.conventions.convert import to_table
 from urdf2dh.emit.export import TARGETS
 from urdf2dh.errors import ChainError
 from urdf2dh.io.sources import open_source

@@ -1,4 +1,4 @@
-"""Output files (issue 12): -o never replaces anything but a regular file, never the SOURCE,
+"""Output files: -o never replaces anything but a regular file, never the SOURCE,
 keeps an existing file's mode, writes through symbolic links, leaves no temporary file behind
 when a run fails or is interrupted, and a write that fails (a full disk) is an error."""
 

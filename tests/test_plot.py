@@ -14,8 +14,8 @@ import numpy as np
 import pytest
 from frames_oracle import anchor, fk_frames, named, on_ray, span
 
+from urdf2dh import to_table
 from urdf2dh.cli import main
-from urdf2dh.conventions.convert import to_table
 from urdf2dh.emit.picture import COLOURS, draw
 from urdf2dh.emit.scene import ARROW, SLIDE, frames_at_home, scene
 from urdf2dh.io.catalog import ROBOTS

@@ -1,5 +1,5 @@
-"""POE model files (SPEC §4): un-normalised twists, scale factors, pitch, prismatic joints,
-type checks, and the --format poe round trip."""
+"""POE model files (docs/formats/poe-file.md): un-normalised twists, scale factors, pitch,
+prismatic joints, type checks, and the --format poe round trip."""
 
 from __future__ import annotations
 
@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 import yaml
 
+from urdf2dh import to_table
 from urdf2dh.cli import main
-from urdf2dh.conventions.convert import to_table
 from urdf2dh.errors import InputError
 from urdf2dh.io.poefile import read_poe
 from urdf2dh.io.sources import open_source

@@ -15,10 +15,8 @@ import numpy as np
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from urdf2dh.conventions import NAMES as CONVENTIONS
-from urdf2dh.conventions.convert import to_table
+from urdf2dh import CONVENTIONS, Joint, PoeModel, to_table
 from urdf2dh.geometry import se3
-from urdf2dh.model.poe import Joint, PoeModel
 
 RELATIONS = ("parallel", "antiparallel", "intersecting", "coincident", "perpendicular", "skew")
 SETTINGS = settings(

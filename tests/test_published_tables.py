@@ -7,8 +7,8 @@ import math
 
 import pytest
 
+from urdf2dh import to_table
 from urdf2dh.check.papers import sumenkov_table3, wu2019_table2
-from urdf2dh.conventions.convert import to_table
 from urdf2dh.io.sources import open_source
 
 

@@ -7,8 +7,7 @@ import pytest
 from chains import random_chain_urdf
 from oracle import EXACT, assert_fk_matches, pin_reference
 
-from urdf2dh.conventions import NAMES as CONVENTIONS
-from urdf2dh.conventions.convert import to_table
+from urdf2dh import CONVENTIONS, to_table
 from urdf2dh.io.sources import Source
 from urdf2dh.io.urdf import parse_tree, tree_to_poe
 
@@ -52,7 +51,7 @@ def test_chains_of_one_relation(relation):
 
 
 def test_parallel_rule_d_is_zero():
-    """Wu 2019 / SPEC §3: for parallel consecutive axes the D-H offset d is 0."""
+    """Wu 2019 (docs/conventions/dh.md): for parallel consecutive axes the D-H offset d is 0."""
     text, _drawn = random_chain_urdf(3, 6, relations=("parallel",), tool=False)
     model = tree_to_poe(source_of(text).tree, "base", "link6")
     table = to_table(model, "dh")

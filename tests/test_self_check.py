@@ -8,8 +8,8 @@ from dataclasses import replace
 
 import pytest
 
+from urdf2dh import CONVENTIONS, DEFAULT
 from urdf2dh.cli import main
-from urdf2dh.conventions import NAMES as CONVENTIONS
 from urdf2dh.conventions.convert import (
     DEFAULT_SAMPLES,
     JUDGED_SAMPLES,
@@ -19,7 +19,6 @@ from urdf2dh.conventions.convert import (
 )
 from urdf2dh.geometry.se3 import pose_errors
 from urdf2dh.io.sources import open_source
-from urdf2dh.tolerances import DEFAULT
 
 
 @pytest.mark.parametrize("conv", CONVENTIONS)

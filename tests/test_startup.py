@@ -1,4 +1,4 @@
-"""Start-up hygiene (issue 6): `urdf2dh --help` imports neither yourdfpy nor Pinocchio (nor numpy),
+"""Start-up hygiene: `urdf2dh --help` imports neither yourdfpy nor Pinocchio (nor numpy),
 and `convert` never imports Pinocchio. Each command runs in a new interpreter, which then lists
 the heavy packages it ended up importing."""
 

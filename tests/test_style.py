@@ -17,3 +17,11 @@ def test_ruff(args):
     proc = subprocess.run([sys.executable, "-m", "ruff", *args, "."], cwd=ROOT,
                           capture_output=True, text=True)  # fmt: skip
     assert proc.returncode == 0, proc.stdout + proc.stderr
+
+
+def test_mypy_strict():
+    # the package is fully typed: every function annotated, no Any returned where a type is
+    # declared (pyproject.toml's [tool.mypy] holds the settings)
+    proc = subprocess.run([sys.executable, "-m", "mypy", "--strict", "urdf2dh"], cwd=ROOT,
+                          capture_output=True, text=True)  # fmt: skip
+    assert proc.returncode == 0, proc.stdout + proc.stderr

@@ -1,4 +1,4 @@
-"""Every chain of a tree (issue 13 part 3, SPEC §5 "Trees"): which tips ``--all-tips`` and a
+"""Every chain of a tree (docs/trees-mimic.md): which tips ``--all-tips`` and a
 repeated ``--tip`` take, what several tables look like on stdout, ``-o DIR`` written all or
 nothing, tip names that cannot be file names, ``verify`` and ``export`` over several chains.
 

@@ -1,5 +1,5 @@
-"""Every chain of example-robot-data's humanoids and dual-arm robots against Pinocchio (issue 13
-part 3): ``verify --all-tips`` takes exactly the leaves that a plain reading of the URDF says
+"""Every chain of example-robot-data's humanoids and dual-arm robots against Pinocchio:
+``verify --all-tips`` takes exactly the leaves that a plain reading of the URDF says
 have a moving joint on their chain, and every convention of every chain agrees with Pinocchio.
 
 Chains through a gripper's mimic joints (marked below) keep them coupled: a joint following one

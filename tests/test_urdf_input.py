@@ -1,4 +1,4 @@
-"""URDF input at the edges (issue 12): urdfdom's number grammar, axes normalised as urdfdom and
+"""URDF input at the edges: urdfdom's number grammar, axes normalised as urdfdom and
 Pinocchio do or refused, magnitudes that would overflow refused, and the encodings and XML
 declarations that Pinocchio and yourdfpy read, read. Pinocchio is the oracle throughout: what we
 refuse for the grammar, it refuses; what we read, it reads the same way (``verify`` exits 0)."""

@@ -22,8 +22,8 @@ from chains import random_chain_urdf
 from frames_oracle import anchor, fk_frames, named, span
 from view_reader import read_page
 
+from urdf2dh import to_table
 from urdf2dh.cli import main
-from urdf2dh.conventions.convert import to_table
 from urdf2dh.emit.scene import ARROW, MAX_JOINTS, NAME_CHARS, TOOL_ARROW
 from urdf2dh.io.sources import open_source
 

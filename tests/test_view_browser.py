@@ -28,8 +28,8 @@ import pytest
 from cdp import Browser
 from frames_oracle import anchor, fk_frames, named, span
 
+from urdf2dh import to_table
 from urdf2dh.cli import main
-from urdf2dh.conventions.convert import to_table
 from urdf2dh.emit.picture import COLOURS
 from urdf2dh.io.sources import open_source
 

@@ -14,13 +14,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from urdf2dh.conventions.convert import to_table
+from urdf2dh import Joint, PoeModel, to_table
 from urdf2dh.conventions.cpc import r_rows
 from urdf2dh.emit.formats import render
 from urdf2dh.geometry import frames, se3
 from urdf2dh.geometry.se3 import pose_errors
 from urdf2dh.io.sources import open_source
-from urdf2dh.model.poe import Joint, PoeModel
 from urdf2dh.tolerances import DEFAULT, EPS
 
 ROOT = Path(__file__).resolve().parents[1]

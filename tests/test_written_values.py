@@ -1,4 +1,4 @@
-"""Table files carry no round-off (issue 12): no -0.0, no 2.4e-33 where the geometry says 0, no
+"""Table files carry no round-off: no -0.0, no 2.4e-33 where the geometry says 0, no
 1.5707963267948968 where it says pi/2 -- and the self-check is of the numbers as written."""
 
 from __future__ import annotations
@@ -9,12 +9,12 @@ import math
 import numpy as np
 import pytest
 
+from urdf2dh import DEFAULT
 from urdf2dh.cli import main
 from urdf2dh.conventions import NAMES
 from urdf2dh.conventions.convert import build_table, self_check, to_table
 from urdf2dh.io.catalog import ROBOTS
 from urdf2dh.io.sources import open_source
-from urdf2dh.tolerances import DEFAULT
 
 ROUND_OFF = DEFAULT.written
 

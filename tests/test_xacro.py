@@ -11,7 +11,7 @@ import pytest
 
 import urdf2dh
 from urdf2dh.cli import main
-from urdf2dh.errors import InputError
+from urdf2dh.errors import InputError, Remedy
 from urdf2dh.io.sources import open_source
 from urdf2dh.io.xacro import XacroOptions
 
@@ -54,8 +54,11 @@ def test_package_url_is_resolved_too(tmp_path):
     assert "$(find" not in text.split("-->", 1)[1]
     path = tmp_path / "arm.xacro"
     path.write_text(text)
-    with pytest.raises(InputError, match="--package-path demo_description=DIR"):
+    with pytest.raises(InputError, match="needs ROS package 'demo_description'") as e:
         open_source(str(path))
+    assert "--" not in str(e.value)  # the library says what is wrong; the CLI names the option
+    assert e.value.remedy == Remedy("xacro.packages", "; point at its directory with {}",
+                                    "demo_description=DIR")  # fmt: skip
     assert open_source(str(path), package_paths=PACKAGES).model().n == 4
 
 
@@ -154,8 +157,12 @@ def test_a_missing_argument_is_named_with_the_option(capsys):
 @pytest.mark.parametrize(
     ("expression", "options", "message"),
     [
-        ("${9**9**9}", ["--xacro-timeout", "2"], "took longer than 2 s (--xacro-timeout"),
-        ("${len('x'*10**10)}", [], "needs more than 1024 MiB of memory (--xacro-memory"),
+        (
+            "${9**9**9}",
+            ["--xacro-timeout", "2"],
+            "took longer than 2 s (--xacro-timeout SECONDS allows more)",
+        ),
+        ("${len('x'*10**10)}", [], "needs more than 1024 MiB of memory (--xacro-memory MIB allows"),
         ("${len('x'*10**8)}", ["--xacro-memory", "64"], "needs more than 64 MiB"),
     ],
 )

@@ -7,7 +7,7 @@ from pathlib import Path
 import pytest
 from oracle import assert_fk_matches, pin_reference
 
-from urdf2dh.conventions.convert import to_table
+from urdf2dh import to_table
 from urdf2dh.io.sources import open_source
 
 DATA = Path(__file__).parent / "data"

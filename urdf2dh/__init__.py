@@ -47,6 +47,7 @@ __all__ = [
     "Calibration",
     "Check",
     "Diff",
+    "ExportOptions",
     "Info",
     "Joint",
     "Measurements",
@@ -84,7 +85,7 @@ if TYPE_CHECKING:
     from .conventions import NAMES as CONVENTIONS
     from .conventions.convert import to_table
     from .conventions.table import Check, Row, Table
-    from .emit.export import export
+    from .emit.export import ExportOptions, export
     from .emit.formats import render
     from .emit.plot import plot
     from .errors import Urdf2DhError
@@ -101,6 +102,7 @@ _LAZY = {
     "Calibration": ("urdf2dh.calibration.calibration", "Calibration"),
     "Check": ("urdf2dh.conventions.table", "Check"),
     "Diff": ("urdf2dh.check.diff", "Diff"),
+    "ExportOptions": ("urdf2dh.emit.export.common", "ExportOptions"),
     "Info": ("urdf2dh.check.info", "Info"),
     "Joint": ("urdf2dh.model.poe", "Joint"),
     "Measurements": ("urdf2dh.calibration.measurements", "Measurements"),

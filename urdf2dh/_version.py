@@ -1,3 +1,5 @@
 """urdf2dh's version (``pyproject.toml`` holds the same)."""
 
-__version__ = "0.1.0"
+__all__ = ["__version__"]
+
+__version__ = "0.2.0"

@@ -49,12 +49,17 @@ def _got(value: Any) -> str:
     return kind
 
 
+def _article(word: str) -> str:
+    return "an" if word[:1] in "AEIOU" else "a"
+
+
 def check_instance(value: Any, kind: type, where: str, hint: str = "") -> Any:
     """``value`` if it is a ``kind``; else ``TypeError`` naming ``where`` (``"to_table: model"``)
     and what came, followed by ``hint`` (how to get a ``kind``)."""
     if not isinstance(value, kind):
         raise TypeError(
-            f"{where} must be a {kind.__name__}, not {_got(value)}" + (f"; {hint}" if hint else "")
+            f"{where} must be {_article(kind.__name__)} {kind.__name__}, not {_got(value)}"
+            + (f"; {hint}" if hint else "")
         )
     return value
 

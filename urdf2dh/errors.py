@@ -4,11 +4,16 @@ Every failure the command line can meet is an :class:`Urdf2DhError`; the CLI pri
 on one line (or a few) and exits with :attr:`Urdf2DhError.exit_code`. Library errors (lxml,
 yourdfpy, Pinocchio, PyYAML) are wrapped with ``raise ... from e`` so that users read our message,
 which names the file, link or joint at fault.
+
+A message says what is wrong. Where an argument gets past the error, the error carries it as a
+:class:`Remedy` naming the Python API's argument; the command line adds the matching option
+(:data:`urdf2dh.cli.run.OPTIONS`).
 """
 
 from __future__ import annotations
 
 from collections.abc import Iterable
+from dataclasses import dataclass
 
 __all__ = [
     "MESSAGE_LENGTH",
@@ -16,11 +21,11 @@ __all__ = [
     "ConversionError",
     "ExportError",
     "InputError",
+    "Remedy",
     "SourceError",
     "TableFileError",
     "Urdf2DhError",
     "UsageError",
-    "VerificationError",
     "choices",
     "missing",
     "one_line",
@@ -32,10 +37,31 @@ SHOWN_LENGTH = 120  # characters of a name an error message shows
 MESSAGE_LENGTH = 2000  # characters of an error line the command line prints, at most
 
 
+@dataclass(frozen=True, slots=True)
+class Remedy:
+    """A way past an error: the argument ``argument`` of the Python API (``ignore_mimic``,
+    ``tip``, ``xacro.timeout``), given ``value`` where it takes one; ``then`` says what to do,
+    from its first character on (``"; choose one with {}"``), with ``{}`` where the argument (or
+    the command line's option) goes: the command line prints it right after the message."""
+
+    argument: str
+    then: str
+    value: str = ""
+
+    def said(self, name: str) -> str:
+        """``then`` with the argument called ``name`` (and its value)."""
+        return self.then.replace("{}", f"{name} {self.value}" if self.value else name)
+
+
 class Urdf2DhError(Exception):
-    """Root of all urdf2dh errors. ``exit_code`` is what the CLI returns (SPEC §1)."""
+    """Root of all urdf2dh errors. ``exit_code`` is what the CLI returns (2;
+    docs/commands/index.md); ``remedy`` (or ``None``) the argument that gets past it."""
 
     exit_code = 2
+
+    def __init__(self, *args: object, remedy: Remedy | None = None) -> None:
+        super().__init__(*args)
+        self.remedy = remedy
 
 
 class UsageError(Urdf2DhError, ValueError):
@@ -56,7 +82,7 @@ class ChainError(InputError):
 
 
 class TableFileError(InputError):
-    """A table file (SPEC §2) that is malformed or contradicts itself."""
+    """A table file (docs/formats/table-file.md) that is malformed or contradicts itself."""
 
 
 class ExportError(InputError):
@@ -65,12 +91,6 @@ class ExportError(InputError):
 
 class ConversionError(Urdf2DhError):
     """The conversion cannot produce a table that meets its own exactness check."""
-
-    exit_code = 1
-
-
-class VerificationError(Urdf2DhError):
-    """``verify`` found a forward-kinematics error beyond tolerance."""
 
     exit_code = 1
 

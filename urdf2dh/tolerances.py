@@ -173,6 +173,9 @@ VERIFY_JOINTS = 2_000
 MAX_SAMPLES = 1_000_000
 MAX_SEED = 2**63 - 1
 
+# Markers on one tool in position measurements (more add nothing a calibration could use).
+MAX_MARKERS = 100
+
 # No number a POE or table file holds is larger: 1e12 of any length unit urdf2dh knows is over a
 # million kilometres, and angles, scales and limits are far smaller. Beyond it, products and sums
 # of squares in the geometry would overflow, so such a number is an input error.
@@ -262,7 +265,8 @@ class Tolerances:
     cpc_reverse_below
         CPC's R(b) is singular at b = -z. A CPC frame whose axis direction has
         ``b_z < cpc_reverse_below`` in the previous frame is reversed (its joint gets
-        ``scale = -scale``), as SPEC §2 allows.
+        ``scale = -scale``), which keeps the table's forward kinematics
+        (docs/conventions/cpc.md).
     cpc_singular_margin
         When the tool z would point against the last CPC frame's z, a run of last frames is
         reversed; the frame pair that then turns round must stay this far (in ``b_z``) from

@@ -13,7 +13,7 @@ The jobs, as public functions returning typed results:
 The pipeline, one idea per module: :mod:`.measurements` (files), :mod:`.chart` (the levels and
 their local charts), :mod:`.residuals` (residuals and their analytic Jacobian),
 :mod:`.identifiable` (which coordinates a level can identify), :mod:`.prior`, :mod:`.solver`
-(Levenberg-Marquardt, statistics), :mod:`.frames` (rigid fits), :mod:`.start` (options and the
+(Levenberg-Marquardt, statistics), :mod:`.rigid` (rigid fits), :mod:`.start` (options and the
 start), :mod:`.identify` (one level's identification), :mod:`.select` (the choice by
 cross-validation), :mod:`.outliers`, :mod:`.report` (the report and its text),
 :mod:`.plot`, :mod:`.plan`, :mod:`.cli` (the ``measure``, ``calibrate`` and ``plan`` commands),

@@ -32,8 +32,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..check.diff import Diff
+from ..checks import check_count, check_instance, check_seed
 from ..conventions.table import Table
 from ..errors import InputError, Urdf2DhError, UsageError, choices, shown
+from ..escape import markdown_table, markdown_text
 from ..model.poe import PoeModel
 from ..schemas import CALIBRATION_REPORT
 from ..tolerances import DEFAULT, Tolerances
@@ -45,7 +47,7 @@ from .outliers import Suspect, suspects
 from .prior import Prior
 from .residuals import evaluate
 from .select import FOLDS, Selection, cross_validate
-from .start import MAX_ITERATIONS, Options, to_data
+from .start import MAX_ITERATIONS, FitOptions, to_data
 
 __all__ = [
     "AUTO",
@@ -74,6 +76,8 @@ AUTO = "auto"  # choose the level by cross-validation
 # they can only be a unit mistake or garbage.
 MAX_JOINT_TURN = 1e4  # rad
 MAX_EXTENT = 1e4  # x the robot's size (points, sliding joints)
+
+MEASUREMENTS_HINT = "urdf2dh.measure(model, N) makes some"
 
 
 class NotConverged(Urdf2DhError):
@@ -290,10 +294,35 @@ class Calibration:
         return next((c for c in self.comparisons if c.name == name), None)
 
     def _repr_markdown_(self) -> str:
-        """In a notebook: the text ``urdf2dh calibrate`` prints."""
-        from .report import summary
+        """In a notebook: the residuals before and after on each set, and the identified
+        parameters, as tables (names escaped)."""
+        t, unit = markdown_text, markdown_text(self.model.length_unit)
+        c = self.counts
+        out = [
+            f"**{t(self.nominal.name)}** calibrated at level {self.level} ({self.chosen_by}) "
+            f"from {t(self.measurements)}: {c.measurements} {self.measure} measurements at "
+            f"{c.configurations} configurations, {c.parameters} parameters (rank {c.rank}), "
+            f"{'converged' if self.converged else 'NOT converged'} in {self.iterations} "
+            f"iterations",
+            "",
+        ]
 
-        return "```text\n" + summary(self) + "```\n"
+        def rms(r: Residuals) -> list[str]:
+            rot = "" if r.rms_rotation is None else f"{r.rms_rotation:.3g}"
+            return [f"{r.rms_position:.3g}", f"{r.max_position:.3g}", rot]
+
+        rows = [[k.name, str(k.before.count), *rms(k.before), *rms(k.after)]
+                for k in self.comparisons]  # fmt: skip
+        out += markdown_table(
+            ["set", "measurements", f"RMS before [{unit}]", f"max before [{unit}]",
+             "RMS rot. before [rad]", f"RMS after [{unit}]", f"max after [{unit}]",
+             "RMS rot. after [rad]"], rows)  # fmt: skip
+        out.append("")
+        rows = [[t(q.name), f"{q.change:.3g}", "" if q.std is None else f"{q.std:.3g}",
+                 t(q.unit), t(q.flag or "")] for q in self.parameters]  # fmt: skip
+        out += markdown_table(["parameter", "change", "std", "unit", "note"], rows)
+        out += [f"- {t(w)}" for w in self.warnings]
+        return "\n".join(out) + "\n"
 
 
 def holdout_split(
@@ -368,6 +397,22 @@ def _check_markers(m: Measurements, pose: bool, layout: dict[int, Mat] | None) -
             f"{m.source}: marker {missing[0]} is not in the marker layout "
             f"(markers there: {sorted(layout)})"
         )
+
+
+def _level(selection: Selection, identify_level: str, source: str) -> str:
+    """The level to identify: the one asked for, or the one cross-validation chose."""
+    if identify_level != AUTO:
+        return identify_level
+    if selection.chosen is None:
+        why = selection.score("base-tool").failure or ""
+        if "converge" in why:
+            raise NotConverged(f"{source}: the fit of the base and tool {why}; nothing written")
+        raise InputError(
+            f"{source}: {selection.configurations} configurations are too few to judge any "
+            f"level on configurations it was not fitted to ({why}); measure more "
+            "configurations, or choose the level"
+        )
+    return selection.chosen
 
 
 def calibrate(
@@ -453,6 +498,14 @@ def calibrate(
     """
     from threadpoolctl import threadpool_limits
 
+    check_instance(nominal, PoeModel, "calibrate: nominal", "urdf2dh.load(SOURCE) reads one")
+    check_instance(measurements, Measurements, "calibrate: measurements", MEASUREMENTS_HINT)
+    if validation is not None:
+        check_instance(validation, Measurements, "calibrate: validation", MEASUREMENTS_HINT)
+    check_seed(seed, "calibrate: seed")
+    check_count(folds, "calibrate: folds", 2)
+    check_count(max_iterations, "calibrate: max_iterations")
+    check_instance(identify_level, str, "calibrate: identify_level")
     if identify_level != AUTO and identify_level not in LEVELS:
         raise UsageError(f"unknown level {identify_level!r}; valid: {choices((AUTO, *LEVELS))}")
     m = measurements
@@ -481,7 +534,7 @@ def calibrate(
     _check_markers(m, pose, layout)
     if not 0.0 <= holdout < 1.0:
         raise UsageError(f"the held-out fraction must be in [0, 1), not {holdout}")
-    opts = Options(
+    opts = FitOptions(
         pose=pose,
         level="base-tool" if identify_level == AUTO else identify_level,
         fixed=fixed,
@@ -503,7 +556,7 @@ def calibrate(
         )  # fmt: skip
 
 
-def _levels(identify_level: str, opts: Options) -> tuple[str, ...]:
+def _levels(identify_level: str, opts: FitOptions) -> tuple[str, ...]:
     if identify_level != AUTO:
         return ("base-tool", identify_level) if identify_level != "base-tool" else ("base-tool",)
     levels = tuple(LEVELS)
@@ -515,7 +568,7 @@ def _levels(identify_level: str, opts: Options) -> tuple[str, ...]:
 def _calibrate(
     nominal: PoeModel,
     m: Measurements,
-    opts: Options,
+    opts: FitOptions,
     identify_level: str,
     holdout: float,
     validation: Measurements | None,
@@ -550,16 +603,7 @@ def _calibrate(
         ]
         check_patterns(opts.fixed, probes, ids)
     selection, fits = cross_validate(nominal, fit, opts, ids, before, levels, folds, seed, rule)
-    if identify_level == AUTO and selection.chosen is None:
-        why = selection.score("base-tool").failure or ""
-        if "converge" in why:
-            raise NotConverged(f"{m.source}: the fit of the base and tool {why}; nothing written")
-        raise InputError(
-            f"{m.source}: {selection.configurations} configurations are too few to judge any "
-            f"level on configurations it was not fitted to ({why}); measure more "
-            "configurations, or choose the level"
-        )
-    level = selection.chosen if identify_level == AUTO else identify_level
+    level = _level(selection, identify_level, m.source)
     if level not in fits:
         raise InputError(
             f"{m.source}: the {level} level cannot be identified: {selection.score(level).failure}"
@@ -572,7 +616,7 @@ def _calibrate(
         fit = m.subset(fit_rows)
         start, before = fit_before(nominal, fit, opts, ids)
         selection, fits = cross_validate(nominal, fit, opts, ids, before, levels, folds, seed, rule)
-        level = selection.chosen if identify_level == AUTO else identify_level
+        level = _level(selection, identify_level, m.source)
     result = identify(nominal, fit, replace(opts, level=level), ids, (start, before), fits[level])
     if not result.solution.converged:
         raise NotConverged(

@@ -124,7 +124,8 @@ def normal_bases(u: Mat) -> tuple[Mat, Mat]:
 def line_point(u: Mat, p: Mat) -> Mat:
     """The foot of the perpendicular from the origin on the line through ``p`` along unit ``u``
     (rows of ``(n, 3)`` arrays, or one line)."""
-    return p - np.sum(p * u, axis=-1, keepdims=True) * u
+    foot: Mat = p - np.sum(p * u, axis=-1, keepdims=True) * u
+    return foot
 
 
 @dataclass(frozen=True, slots=True)

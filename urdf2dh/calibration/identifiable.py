@@ -62,9 +62,10 @@ def _order(est: Estimate) -> NDArray[np.int64]:
     blocks = sizes(est, every=True)
     base, joints = blocks[0], sum(blocks[1:-1])
     total = sum(blocks)
-    return np.r_[
+    order: NDArray[np.int64] = np.r_[
         np.arange(base), np.arange(base + joints, total), np.arange(base, base + joints)
     ].astype(np.int64)
+    return order
 
 
 def redundant(est: Estimate, limits: NDArray[np.float64], size: float) -> NDArray[np.bool_]:

@@ -43,12 +43,20 @@ from ..geometry.se3 import inv
 from ..model.poe import PoeModel
 from ..tolerances import NOISE_FLOOR, NOISE_RATIO, Tolerances
 from .chart import LEVELS, Estimate, absorbed, count, names
-from .frames import anchor_base, fit_rigid, pose_points, tool_on_last_axis
 from .identifiable import free_coordinates
 from .measurements import Measurements
 from .residuals import Data, model_poses, prefix_products
+from .rigid import anchor_base, fit_rigid, pose_points, tool_on_last_axis
 from .solver import Problem, Solution, Statistics, solve, statistics
-from .start import Options, layout_points, moved, nominal_points, placement, start_estimate, to_data
+from .start import (
+    FitOptions,
+    layout_points,
+    moved,
+    nominal_points,
+    placement,
+    start_estimate,
+    to_data,
+)
 
 __all__ = [
     "Fit",
@@ -126,7 +134,7 @@ def bounded_noise(sp: float, sr: float, size: float) -> tuple[float, float]:
 def solve_level(
     est: Estimate,
     data: Data,
-    opts: Options,
+    opts: FitOptions,
     size: float,
     reference: Estimate | None = None,
     noise: tuple[float, float] | None = None,
@@ -182,7 +190,7 @@ def solve_level(
 
 
 def fit_before(
-    nominal: PoeModel, fit: Measurements, opts: Options, ids: list[int]
+    nominal: PoeModel, fit: Measurements, opts: FitOptions, ids: list[int]
 ) -> tuple[Estimate, Fit]:
     """The start (the nominal placed by the rigid fit) and the ``base-tool`` level's fit."""
     start = start_estimate(nominal, placement(nominal, fit, opts, ids), opts, ids)
@@ -206,7 +214,7 @@ def check_equations(p: int, data: Data, source: str, pose: bool) -> None:
 def level_start(
     nominal: PoeModel,
     before: Estimate,
-    opts: Options,
+    opts: FitOptions,
     ids: list[int],
     structure: NDArray[np.bool_] | None = None,
 ) -> tuple[Estimate, list[str], list[str]]:
@@ -226,7 +234,7 @@ def level_start(
 def identify(
     nominal: PoeModel,
     fit: Measurements,
-    opts: Options,
+    opts: FitOptions,
     ids: list[int] | None = None,
     before: tuple[Estimate, Fit] | None = None,
     solved: Fit | None = None,
@@ -305,7 +313,7 @@ def _device_model(
     start: Estimate,
     est: Estimate,
     fit: Measurements,
-    opts: Options,
+    opts: FitOptions,
     ids: list[int],
     notes: list[str],
 ) -> tuple[PoeModel, dict[int, Mat]]:
@@ -368,4 +376,5 @@ def _identified_points(est: Estimate, data: Data) -> Mat:
     assert est.markers is not None and data.marker_rows is not None
     last = prefix_products(est, data.q)[-1]
     c = est.markers[data.marker_rows]
-    return np.einsum("nij,nj->ni", last[:, :3, :3], c) + last[:, :3, 3]
+    points: Mat = np.einsum("nij,nj->ni", last[:, :3, :3], c) + last[:, :3, 3]
+    return points

@@ -20,10 +20,19 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
+from ..checks import (
+    check_configurations,
+    check_count,
+    check_flag,
+    check_instance,
+    check_real,
+    check_seed,
+)
 from ..errors import InputError
 from ..geometry.lie import exp_so3, quaternion_of
 from ..geometry.se3 import twist_exp
 from ..model.poe import Joint, PoeModel
+from ..tolerances import MAX_MARKERS
 from .chart import line_motion
 from .measurements import MAX_MEASUREMENTS, Measurements
 
@@ -53,9 +62,9 @@ def measure(
     markers: int | None = None,
     pose: bool = True,
     configurations: Mat | None = None,
-) -> tuple[Measurements, dict[int, Mat] | None]:
-    """Synthetic measurements of ``model`` (module docstring) and, with ``markers``, their
-    seeded layout on the tool.
+) -> Measurements:
+    """Synthetic measurements of ``model`` (module docstring); with ``markers``, their seeded
+    layout on the tool is the result's ``layout``.
 
     Parameters
     ----------
@@ -75,11 +84,30 @@ def measure(
     configurations
         ``(N, n)`` the configurations to measure at.
 
+    Returns
+    -------
+    Measurements
+        ``N`` rows (``N x markers`` with markers): joint values, tool points (length unit of
+        ``model``) and, for poses, unit quaternions ``[x, y, z, w]``.
+
     Raises
     ------
     InputError
         More than :data:`~.measurements.MAX_MEASUREMENTS` rows would be written.
     """
+    check_instance(model, PoeModel, "measure: model", "urdf2dh.load(SOURCE) reads one")
+    if configurations is None:
+        check_count(configs, "measure: configs")
+    else:
+        n = model.dof
+        configurations = check_configurations(configurations, n, "measure: configurations", True)
+    for value, where in ((noise_pos, "measure: noise_pos"), (noise_rot, "measure: noise_rot")):
+        if check_real(value, where) < 0.0:
+            raise ValueError(f"{where} must not be negative, not {value}")
+    check_seed(seed, "measure: seed")
+    if markers is not None:
+        check_count(markers, "measure: markers", 1, MAX_MARKERS)
+    check_flag(pose, "measure: pose")
     count = configs if configurations is None else len(configurations)
     rows = count * (markers or 1)
     if rows > MAX_MEASUREMENTS:
@@ -88,10 +116,9 @@ def measure(
             f"the {MAX_MEASUREMENTS} calibration reads"
         )
     layout = marker_layout(model, markers, seed) if markers else None
-    m = synthesize(
+    return synthesize(
         model, count, noise_pos, noise_rot, seed, layout, pose and not markers, configurations
     )
-    return m, layout
 
 
 def synthesize(
@@ -132,7 +159,7 @@ def synthesize(
     points = pts.reshape(count, 3) + noise.normal(scale=noise_pos, size=(count, 3))
     qs = np.repeat(q, len(ids), axis=0)
     rows = np.tile(np.array(ids, dtype=np.int64), configs) if layout is not None else None
-    return Measurements(names, qs, points, None, rows, model.name)
+    return Measurements(names, qs, points, None, rows, model.name, layout)
 
 
 def perturb(

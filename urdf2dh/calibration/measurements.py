@@ -50,7 +50,7 @@ from numpy.typing import NDArray
 
 from .. import units
 from ..errors import InputError, UsageError, choices, shown
-from ..escape import csv_cell, csv_names
+from ..escape import csv_cell, csv_names, markdown_table, markdown_text
 from ..io.files import read_file
 from ..tolerances import QUATERNION_NORM
 
@@ -134,6 +134,9 @@ class Reading:
             raise UsageError(f"two columns are renamed to {shown(twice)}")
 
 
+SHOWN_ROWS = 10  # the rows of measurements a notebook shows
+
+
 @dataclass(frozen=True, slots=True)
 class Measurements:
     """Joint positions and what the device measured at each.
@@ -152,6 +155,10 @@ class Measurements:
         ``(N,)`` integer marker of each row (position measurements), or ``None``.
     source
         The file's name, for messages.
+    layout
+        Where the markers sit: marker -> ``(3,)`` point in the tool frame (length unit), when
+        known (synthetic measurements: :func:`~.measure.measure`); ``None`` otherwise.
+        :func:`~urdf2dh.calibrate` takes it as ``layout=`` to hold the markers there.
     """
 
     joints: tuple[str, ...]
@@ -160,6 +167,7 @@ class Measurements:
     quaternions: Mat | None = None
     markers: NDArray[np.int64] | None = None
     source: str = ""
+    layout: dict[int, Mat] | None = None
 
     def __post_init__(self) -> None:
         n = len(self.q)
@@ -172,6 +180,32 @@ class Measurements:
 
     def __len__(self) -> int:
         return len(self.q)
+
+    def _repr_markdown_(self) -> str:
+        """In a notebook: how many rows of what, and the first rows as a table (names
+        escaped)."""
+        kind = "poses" if self.quaternions is not None else "positions"
+        markers = "" if self.markers is None else f" of {len(self.marker_ids())} markers"
+        _, configs = self.configurations()
+        where = f" from {markdown_text(self.source)}" if self.source else ""
+        head = [*map(markdown_text, self.joints), "x", "y", "z"]
+        if self.quaternions is not None:
+            head += ["qx", "qy", "qz", "qw"]
+        if self.markers is not None:
+            head.insert(0, "marker")
+        body = []
+        for i in range(min(len(self), SHOWN_ROWS)):
+            cells = [f"{v:.6g}" for v in self.q[i]] + [f"{v:.6g}" for v in self.points[i]]
+            if self.quaternions is not None:
+                cells += [f"{v:.6g}" for v in self.quaternions[i]]
+            if self.markers is not None:
+                cells.insert(0, str(int(self.markers[i])))
+            body.append(cells)
+        out = [f"{len(self)} measured {kind}{markers} at {configs} configurations{where}", ""]
+        out += markdown_table(head, body, texts=0)
+        if len(self) > SHOWN_ROWS:
+            out.append(f"\n... {len(self) - SHOWN_ROWS} more rows")
+        return "\n".join(out) + "\n"
 
     def marker_ids(self) -> list[int]:
         """The distinct markers, ascending (``[0]`` without a marker column)."""
@@ -197,6 +231,7 @@ class Measurements:
             None if self.quaternions is None else self.quaternions[rows],
             None if self.markers is None else self.markers[rows],
             self.source,
+            self.layout,
         )
 
     def of_configurations(self, chosen: NDArray[np.int64]) -> Measurements:
@@ -311,8 +346,8 @@ def _layout(names: list[str | None], joints: tuple[str, ...], display: str) -> _
             f"{display}: an orientation goes with one point per row (a pose), not "
             f"{len(points)} markers"
         )
-    marker = seen.get(MARKER)
-    if marker is not None and len(points) > 1:
+    marker_column = seen.get(MARKER)
+    if marker_column is not None and len(points) > 1:
         raise InputError(
             f"{display}: a 'marker' column goes with one point per row, not numbered points"
         )
@@ -322,7 +357,7 @@ def _layout(names: list[str | None], joints: tuple[str, ...], display: str) -> _
         tuple(ids),
         quat,
         euler if euler is not None else figaroh,
-        marker,
+        marker_column,
     )
 
 

@@ -24,8 +24,11 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from ..errors import InputError
+from ..checks import check_configurations, check_count, check_instance, check_real, check_seed
+from ..errors import InputError, UsageError, choices, shown
+from ..escape import markdown_table, markdown_text
 from ..model.poe import PoeModel
+from ..tolerances import MAX_MARKERS
 from .chart import LEVELS, Estimate, names
 from .identifiable import redundant
 from .measure import marker_layout
@@ -87,6 +90,24 @@ class Plan:
     std: Mat
     random_std: Mat
     length_unit: str
+
+    def _repr_markdown_(self) -> str:
+        """In a notebook: each parameter's expected standard deviation, planned and random, as
+        a table (names escaped)."""
+        kind = "poses" if self.pose else f"positions of {self.markers or 1} marker(s)"
+        out = [
+            f"**{markdown_text(self.model)}**: {len(self.configurations)} configurations for "
+            f"{self.level} ({len(self.parameters)} parameters) chosen from {self.candidates} "
+            f"candidates, measuring {kind}; noise {self.noise_pos:.3g} "
+            f"{markdown_text(self.length_unit)}, {self.noise_rot:.3g} rad",
+            "",
+        ]
+        rows = [
+            [markdown_text(n), f"{s:.3g}", f"{r:.3g}"]
+            for n, s, r in zip(self.parameters, self.std, self.random_std, strict=True)
+        ]
+        out += markdown_table(["parameter", "expected std", "random configurations"], rows)
+        return "\n".join(out) + "\n"
 
     def summary(self) -> str:
         """What ``urdf2dh plan`` prints."""
@@ -174,7 +195,7 @@ def _std(rows: Mat) -> Mat:
     info = flat.T @ flat
     try:
         cov = np.linalg.inv(info)
-        out = np.sqrt(np.clip(np.diag(cov), 0.0, None))
+        out: Mat = np.sqrt(np.clip(np.diag(cov), 0.0, None))
     except np.linalg.LinAlgError:
         return np.full(rows.shape[2], math.inf)
     s = np.linalg.svd(flat, compute_uv=False)
@@ -236,8 +257,16 @@ def plan(
     seed
         Seeds the candidates, the random comparison and the markers.
 
+    Returns
+    -------
+    Plan
+        The chosen configurations ``(configs, n)`` and each parameter's expected standard
+        deviation, beside that of as many random configurations.
+
     Raises
     ------
+    TypeError, ValueError
+        A wrong argument (an unknown level is a ``UsageError``).
     InputError
         More configurations asked than there are candidates.
     """
@@ -245,6 +274,20 @@ def plan(
 
     from .. import units
 
+    check_instance(model, PoeModel, "plan: model", "urdf2dh.load(SOURCE) reads one")
+    check_count(configs, "plan: configs")
+    check_instance(level, str, "plan: level")
+    if level not in LEVELS:
+        raise UsageError(f"unknown level {shown(level)}; valid: {choices(LEVELS)}")
+    if candidates is not None:
+        n = model.dof
+        candidates = check_configurations(candidates, n, "plan: candidates", True)
+    for value, where in ((noise_pos, "plan: noise_pos"), (noise_rot, "plan: noise_rot")):
+        if value is not None and check_real(value, where) <= 0.0:
+            raise ValueError(f"{where} must be positive, not {value}")
+    check_seed(seed, "plan: seed")
+    if markers is not None:
+        check_count(markers, "plan: markers", 1, MAX_MARKERS)
     pose = pose and not markers
     sp = (
         noise_pos

@@ -40,7 +40,7 @@ from .measurements import Measurements
 from .outliers import Suspect
 from .residuals import evaluate
 from .select import Selection
-from .start import Options, to_data
+from .start import FitOptions, to_data
 
 if TYPE_CHECKING:
     from .calibration import Calibration, Comparison, Residuals
@@ -83,7 +83,7 @@ def _errors(est: Estimate, m: Measurements, pose: bool, ids: list[int]) -> Mat:
     data = to_data(m, pose, ids)
     r, _ = evaluate(absorbed(est), data, 1.0, 1.0, jacobian=False)
     rows = r.reshape(len(data), data.rows)
-    out = np.linalg.norm(rows[:, :3], axis=1, keepdims=True)
+    out: Mat = np.linalg.norm(rows[:, :3], axis=1, keepdims=True)
     if pose:
         out = np.hstack([out, np.linalg.norm(rows[:, 3:], axis=1, keepdims=True)])
     return out
@@ -167,7 +167,7 @@ def _reach(est: Estimate, m: Measurements, pose: bool, ids: list[int], size: flo
 def _parameters(
     result: Identified,
     fit: Measurements,
-    opts: Options,
+    opts: FitOptions,
     ids: list[int],
     still: dict[str, str],
 ) -> tuple[list[Any], list[str], list[str]]:
@@ -329,7 +329,7 @@ def assemble(
     held_rows: NDArray[np.int64],
     result: Identified,
     before: Fit,
-    opts: Options,
+    opts: FitOptions,
     ids: list[int],
     level: str,
     chosen_by: str,

@@ -48,7 +48,7 @@ from .identifiable import redundant
 from .identify import Fit, level_start, solve_level
 from .measurements import Measurements
 from .residuals import Data, evaluate
-from .start import Options, to_data
+from .start import FitOptions, to_data
 
 __all__ = [
     "FOLDS",
@@ -150,7 +150,7 @@ def _squared_errors(est: Estimate, m: Measurements, pose: bool, ids: list[int]) 
     data = to_data(m, pose, ids)
     r, _ = evaluate(absorbed(est), data, 1.0, 1.0, jacobian=False)
     rows = r.reshape(len(data), data.rows)
-    out = np.sum(rows[:, :3] ** 2, axis=1, keepdims=True)
+    out: Mat = np.sum(rows[:, :3] ** 2, axis=1, keepdims=True)
     if pose:
         out = np.hstack([out, np.sum(rows[:, 3:] ** 2, axis=1, keepdims=True)])
     return out
@@ -161,7 +161,8 @@ def per_configuration(squared: Mat, index: NDArray[np.int64], count: int) -> Mat
     sums = np.zeros((count, squared.shape[1]))
     np.add.at(sums, index, squared)
     rows = np.bincount(index, minlength=count).astype(float)
-    return sums / np.maximum(rows, 1.0)[:, None]
+    means: Mat = sums / np.maximum(rows, 1.0)[:, None]
+    return means
 
 
 def _rms(values: Mat) -> tuple[float, float]:
@@ -177,7 +178,7 @@ def _rms(values: Mat) -> tuple[float, float]:
 def level_fits(
     nominal: PoeModel,
     fit: Measurements,
-    opts: Options,
+    opts: FitOptions,
     ids: list[int],
     before: Fit,
     levels: tuple[str, ...],
@@ -216,7 +217,7 @@ def _starts(
     nominal: PoeModel,
     before: Fit,
     previous: Estimate,
-    opts: Options,
+    opts: FitOptions,
     ids: list[int],
     structure: NDArray[np.bool_] | None,
 ) -> tuple[Estimate, Estimate]:
@@ -233,7 +234,7 @@ def _starts(
 def fold_errors(
     nominal: PoeModel,
     fit: Measurements,
-    opts: Options,
+    opts: FitOptions,
     ids: list[int],
     before: Fit,
     fits: dict[str, Fit],
@@ -298,7 +299,7 @@ def fold_errors(
 def cross_validate(
     nominal: PoeModel,
     fit: Measurements,
-    opts: Options,
+    opts: FitOptions,
     ids: list[int],
     before: Fit,
     levels: tuple[str, ...],
@@ -386,7 +387,7 @@ def _refit(
     template: Fit,
     est: Estimate,
     data: Data,
-    opts: Options,
+    opts: FitOptions,
     size: float,
     reference: Estimate | None = None,
 ) -> Fit:

@@ -257,7 +257,8 @@ def _norms(jac: Mat) -> Mat:
     norms = np.sqrt(np.einsum("ij,ij->j", jac, jac))
     top = float(norms.max(initial=0.0)) or 1.0
     norms[norms <= RANK_RELATIVE * top] = top
-    return norms
+    out: Mat = norms
+    return out
 
 
 def _triangular(a: Mat) -> Mat:

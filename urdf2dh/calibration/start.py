@@ -21,13 +21,13 @@ from ..geometry.lie import rotation_of
 from ..model.poe import Joint, PoeModel
 from ..tolerances import DEFAULT, Tolerances
 from .chart import BASE_TOOL, LEVELS, Estimate, line_point
-from .frames import fit_rigid, pose_points
 from .measurements import Measurements
 from .prior import Prior
 from .residuals import Data
+from .rigid import fit_rigid, pose_points
 
 __all__ = [
-    "Options",
+    "FitOptions",
     "layout_points",
     "moved",
     "nominal_points",
@@ -43,7 +43,7 @@ MAX_ITERATIONS = 200  # Levenberg-Marquardt iterations of one solve at most: a s
 
 
 @dataclass(frozen=True, slots=True)
-class Options:
+class FitOptions:
     """What to identify and how (the ``calibrate`` command's options).
 
     Attributes
@@ -128,13 +128,13 @@ def moved(model_joints: tuple[Joint, ...], g: Mat) -> tuple[Joint, ...]:
     return tuple(out)
 
 
-def layout_points(opts: Options, ids: list[int]) -> Mat:
+def layout_points(opts: FitOptions, ids: list[int]) -> Mat:
     if opts.layout is None:
         return np.zeros((len(ids), 3))
     return np.array([opts.layout[k] for k in ids])
 
 
-def nominal_points(nominal: PoeModel, m: Measurements, opts: Options, ids: list[int]) -> Mat:
+def nominal_points(nominal: PoeModel, m: Measurements, opts: FitOptions, ids: list[int]) -> Mat:
     """The nominal's tool points at the measured configurations (in its base frame)."""
     poses = nominal.fk_batch(m.q)
     if opts.pose:
@@ -145,7 +145,8 @@ def nominal_points(nominal: PoeModel, m: Measurements, opts: Options, ids: list[
         if m.markers is None
         else np.searchsorted(np.array(ids), m.markers)
     )
-    return np.einsum("nij,nj->ni", poses[:, :3, :3], local[rows]) + poses[:, :3, 3]
+    points: Mat = np.einsum("nij,nj->ni", poses[:, :3, :3], local[rows]) + poses[:, :3, 3]
+    return points
 
 
 def _measured_points(m: Measurements, size: float, pose: bool) -> Mat:
@@ -158,14 +159,14 @@ def _measured_points(m: Measurements, size: float, pose: bool) -> Mat:
     return pose_points(poses, size)
 
 
-def placement(nominal: PoeModel, m: Measurements, opts: Options, ids: list[int]) -> Mat:
+def placement(nominal: PoeModel, m: Measurements, opts: FitOptions, ids: list[int]) -> Mat:
     """The rigid fit of the nominal's tool points to the measured ones (step 1)."""
     return fit_rigid(
         nominal_points(nominal, m, opts, ids), _measured_points(m, nominal.size(), opts.pose)
     )
 
 
-def start_estimate(nominal: PoeModel, g: Mat, opts: Options, ids: list[int]) -> Estimate:
+def start_estimate(nominal: PoeModel, g: Mat, opts: FitOptions, ids: list[int]) -> Estimate:
     """The nominal placed in the device frame by ``g`` (:func:`placement`)."""
     helical = set(opts.helical)
     joints = tuple(

@@ -9,3 +9,5 @@ the papers.
 
 Nothing is imported here, so that the command line's ``--help`` imports no numpy.
 """
+
+__all__: list[str] = []

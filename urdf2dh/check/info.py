@@ -137,19 +137,19 @@ def describe(source: Source, base: str | None, tip: str | None, ignore_mimic: bo
     """What an opened SOURCE holds, its chain ``base -> tip`` (:func:`info`)."""
     tree = source.tree
     joints: tuple[TreeJoint, ...] = ()
-    start, tips, links, root = "", (), 0, ""
+    start, links, root = "", 0, ""
+    tips: tuple[str, ...] = ()
     if tree is not None:
         joints = tuple(
             TreeJoint(j.name, j.type, j.parent, j.child, j.mimic) for j in tree.joints.values()
         )
         start = base or (source.bundled.base if source.bundled else None) or tree.root
         tips, links, root = tuple(tree.leaves(start)), len(tree.links), tree.root
+    error: str | None = None
     try:
         model: PoeModel | None = source.model(base, tip, ignore_mimic)
     except ChainError as e:
         model, error = None, str(e)
-    else:
-        error = None
     ident = None if model is None else Identifiability.of(j.kind for j in model.joints)
     return Info(source.name, source.kind, source.display, links, root, joints, start, tips,
                 model, error, ident)  # fmt: skip

@@ -37,6 +37,8 @@ from ..conventions.convert import to_table
 from ..conventions.table import Table
 from ..errors import InputError, shown, visible
 from ..escape import markdown_table, markdown_text
+from ..geometry.frames import axis_frame, unit
+from ..geometry.se3 import matrix_of
 from ..io.sources import Source, open_source
 from ..io.urdf.chain import final_leader
 from ..io.xacro import XacroOptions
@@ -75,18 +77,6 @@ def _pin() -> Any:
     return pinocchio
 
 
-def _frame_to_z(axis: Mat, point: Mat) -> Mat:
-    """A frame whose z is ``axis`` through ``point`` (x chosen orthogonal, deterministic)."""
-    z = axis / np.linalg.norm(axis)
-    helper = np.array([1.0, 0.0, 0.0]) if abs(z[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
-    x = np.cross(helper, z)
-    x /= np.linalg.norm(x)
-    out = np.eye(4)
-    out[:3, :3] = np.column_stack([x, np.cross(z, x), z])
-    out[:3, 3] = point
-    return out
-
-
 Mapping = list[tuple[int, int, float, float]]  # per driven column: idx_q, nq, scale, shift
 
 
@@ -96,7 +86,7 @@ def _model_from_poe(pin: Any, poe: PoeModel) -> tuple[Any, Mapping, int, int]:
     mapping = []
     for j in poe.joints:
         point = prev[:3, 3] if j.point is None else j.point
-        frame = _frame_to_z(j.axis, point)
+        frame = matrix_of(axis_frame(unit(j.axis.tolist()), point.tolist()))
         if j.kind == "revolute":
             jm = pin.JointModelRZ()
         elif j.kind == "prismatic":
@@ -281,7 +271,8 @@ def pinocchio_evaluator(source: Source, poe: PoeModel) -> Callable[[Mat], Mat]:
         tip = poses(tip_f, configs)
         if np.array_equal(base_inverse, np.eye(4)):  # the base link is Pinocchio's root
             return tip
-        return base_inverse @ tip
+        moved: Mat = base_inverse @ tip
+        return moved
 
     return evaluate
 

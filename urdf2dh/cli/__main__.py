@@ -4,4 +4,6 @@ from __future__ import annotations
 
 from .run import console
 
+__all__: list[str] = []
+
 console()

@@ -89,7 +89,7 @@ class TipError(Urdf2DhError):
     (2 for bad input, 1 for a table that failed its own check)."""
 
     def __init__(self, tip: str, error: Urdf2DhError) -> None:
-        super().__init__(f"tip {shown(tip)}: {error}")
+        super().__init__(f"tip {shown(tip)}: {error}", remedy=error.remedy)
         self.exit_code = error.exit_code
 
 

@@ -10,6 +10,8 @@ from ..io.files import write_output
 from . import options
 from .chains import one_tip, several_of, to_directory
 
+__all__ = ["EXAMPLE", "HELP", "NAME", "add_arguments", "run"]
+
 NAME = "export"
 HELP = "write a controller or toolbox configuration file"
 EXAMPLE = "urdf2dh export ur10 --to ur -o default_kinematics.yaml"
@@ -60,7 +62,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..emit.export import TARGETS, Options, export, table_choices
+    from ..emit.export import TARGETS, ExportOptions, export, table_choices
 
     if args.units is not None and args.to != "linuxcnc":
         raise UsageError(f"--units applies to --to linuxcnc, not --to {args.to}")
@@ -71,7 +73,7 @@ def run(args: argparse.Namespace) -> int:
         raise UsageError(f"export with several tips writes one file per tip; give {DIRECTORY_HINT}")
     tol = options.tolerances(args)
     source = options.source(args, tol)
-    opts = Options(args.units, tol)
+    opts = ExportOptions(args.units, tol)
     if not several_of(args):
         model = source.model(args.base, one_tip(args), args.ignore_mimic)
         text = export(model, args.to, args.convention, args.style, opts, samples=args.check_samples)

@@ -8,6 +8,8 @@ from ..errors import UsageError
 from ..io.files import write_outputs
 from . import options
 
+__all__ = ["EXAMPLE", "HELP", "NAME", "add_arguments", "run"]
+
 NAME = "measure"
 HELP = "synthetic measurements of a model (for calibrate)"
 EXAMPLE = "urdf2dh measure puma560-actual --configs 100 --noise-pos 0.01 --noise-rot 1e-5 -o m.csv"
@@ -78,7 +80,7 @@ def run(args: argparse.Namespace) -> int:
     if args.configurations:
         joints = tuple(j.name for j in model.joints)
         configurations = read_configurations(args.configurations, joints)
-    m, layout = measure(
+    m = measure(
         model,
         args.configs or 0,
         args.noise_pos,
@@ -89,7 +91,7 @@ def run(args: argparse.Namespace) -> int:
         configurations,
     )
     outputs = [(args.output, write_measurements(m))]
-    if args.marker_layout and layout is not None:
-        outputs.append((args.marker_layout, write_layout(layout)))
+    if args.marker_layout and m.layout is not None:
+        outputs.append((args.marker_layout, write_layout(m.layout)))
     write_outputs(outputs)
     return 0

@@ -9,7 +9,7 @@ import argparse
 from typing import TYPE_CHECKING
 
 from ..errors import InputError, shown
-from ..tolerances import MAX_SAMPLES, MAX_SEED
+from ..tolerances import MAX_MARKERS, MAX_SAMPLES, MAX_SEED
 
 if TYPE_CHECKING:
     from ..io.sources import Source
@@ -19,7 +19,6 @@ if TYPE_CHECKING:
 
 __all__ = [
     "LEVELS",
-    "MAX_MARKERS",
     "add_chain",
     "add_chain_options",
     "add_markers",
@@ -46,7 +45,6 @@ __all__ = [
 
 MAX_PARALLEL_ANGLE = 0.1  # rad: beyond, "nearly parallel" would take in perpendicular axes
 LEVELS = ("auto", "base-tool", "offsets", "geometry", "full")  # calibrate's --identify
-MAX_MARKERS = 100  # markers on one tool (more add nothing a calibration could use)
 
 
 def integer(text: str, low: int, high: int) -> int:

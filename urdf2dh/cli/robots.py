@@ -6,6 +6,8 @@ import argparse
 
 from ..io.files import write_stdout
 
+__all__ = ["EXAMPLE", "HELP", "NAME", "add_arguments", "run"]
+
 NAME = "robots"
 HELP = "list the bundled robots"
 EXAMPLE = "urdf2dh robots"

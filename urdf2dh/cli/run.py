@@ -84,11 +84,32 @@ def _run(args: argparse.Namespace) -> int:
         return _report(e)
 
 
+#: The option of each Python API argument that a :class:`~urdf2dh.errors.Remedy` names.
+OPTIONS = {
+    "tip": "--tip",
+    "ignore_mimic": "--ignore-mimic",
+    "convention": "--convention",
+    "xacro.packages": "--package-path",
+    "xacro.args": "--xacro-arg",
+    "xacro.timeout": "--xacro-timeout",
+    "xacro.memory": "--xacro-memory",
+    "tol.parallel_angle": "--parallel-angle",
+    "tol.intersect_distance": "--intersect-distance",
+}
+
+
+def _with_option(e: Urdf2DhError) -> str:
+    """The error's message, and the option that gets past it."""
+    if e.remedy is None:
+        return str(e)
+    return f"{e}{e.remedy.said(OPTIONS.get(e.remedy.argument, e.remedy.argument))}"
+
+
 def _report(e: Exception) -> int:
     """The exit code of a run that raised ``e``; its message on stderr."""
     if isinstance(e, Urdf2DhError):
         try:
-            print(f"urdf2dh: error: {one_line(str(e))}", file=sys.stderr)
+            print(f"urdf2dh: error: {one_line(_with_option(e))}", file=sys.stderr)
         except OSError:  # stderr too cannot be written: the exit code still says it
             pass
         return e.exit_code

@@ -15,6 +15,8 @@ if TYPE_CHECKING:
     from ..io.sources import Source
     from ..tolerances import Tolerances
 
+__all__ = ["EXAMPLE", "HELP", "NAME", "add_arguments", "run"]
+
 NAME = "verify"
 HELP = "compare every convention's FK with Pinocchio's"
 EXAMPLE = "urdf2dh verify panda --samples 200"

@@ -20,7 +20,7 @@ import math
 from dataclasses import dataclass, field, fields
 from typing import TYPE_CHECKING, Any, ClassVar, Literal, Protocol
 
-from ..geometry.frames import Frame
+from ..geometry.frames import Frame, wrap_angle
 from ..geometry.normals import Judgement
 
 if TYPE_CHECKING:
@@ -182,8 +182,7 @@ def written_angle(value: float, within: float) -> float:
     quarter = round(value / (0.5 * math.pi))
     if abs(value - quarter * 0.5 * math.pi) > within:
         return value + 0.0
-    snapped = math.remainder(quarter * 0.5 * math.pi, 2.0 * math.pi)  # in [-pi, pi]
-    return math.pi if snapped == -math.pi else snapped + 0.0
+    return wrap_angle(quarter * 0.5 * math.pi)
 
 
 @dataclass(frozen=True, slots=True)
@@ -201,7 +200,8 @@ class Conversion:
 
 
 class Convention(Protocol):
-    """A kinematic parameter convention (SPEC §2)."""
+    """A kinematic parameter convention: its name, its table's parameters and forward kinematics
+    (docs/conventions/dh.md, mdh.md, cpc.md, hayati.md), and the conversion from a POE model."""
 
     name: str
     """Its name in the table file, on the command line and in the registry (``dh``)."""

@@ -55,7 +55,7 @@ def build_table(
         raise UsageError(f"unknown style '{style}'; valid: {choices(STYLES)}")
     if style not in conv.styles:
         takers = [c.name for c in REGISTRY.values() if style in c.styles]
-        raise UsageError(f"--style {style} applies to {', '.join(takers)} tables, not {conv.name}")
+        raise UsageError(f"style {style} applies to {', '.join(takers)} tables, not {conv.name}")
     result = conv.from_poe(model, tol, style)
     rows = tuple(
         Row(j.name, j.kind, p, j.pitch, j.scale * sign, j.lower, j.upper, j.mimic)

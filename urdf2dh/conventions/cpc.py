@@ -1,7 +1,7 @@
 """CPC, the complete and parametrically continuous model (Zhuang, Roth & Hamano 1990), from a
 POE model by Sumenkov's analytic conversion (Lemmas 1-3, Statement 1, Algorithm 1).
 
-Forward kinematics of a ``cpc`` table (SPEC §2)::
+Forward kinematics of a ``cpc`` table (docs/conventions/cpc.md)::
 
     T(q) = V_0 . prod_i [ Q_i(s_i) . V_i ],   V(b, l, beta) = R(b) Rz(beta) Tx(l_x) Ty(l_y) Tz(l_z)
 
@@ -33,7 +33,8 @@ How a ``cpc`` table is evaluated, exactly (what another implementation needs; al
   (along) z by ``s_i = scale_i q_i``.
 
 ``R(b)`` is singular at ``b = -z``. A frame whose axis direction would have
-``b_z < cpc_reverse_below`` is reversed (its joint gets ``scale = -scale``, SPEC §2); where no
+``b_z < cpc_reverse_below`` is reversed (its joint gets ``scale = -scale``, which leaves the
+table's forward kinematics unchanged); where no
 reversal can help (a chain of parallel axes whose far ends point opposite ways) and ``b`` is
 ``-z`` up to round-off, it is written as exactly ``-z``, evaluated as ``Ry(pi)`` above, and a
 warning says so. Frames are built from ``b`` as written, so each row's ``l`` and the next row see

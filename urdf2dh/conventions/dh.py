@@ -1,6 +1,6 @@
 """Standard Denavit-Hartenberg, from a POE model by Wu, Crawford & Roberts 2019.
 
-Forward kinematics of a ``dh`` table (SPEC §2, Wu 2019 eq. 10)::
+Forward kinematics of a ``dh`` table (Wu 2019 eq. 10; docs/conventions/dh.md)::
 
     T(q) = B . prod_i [ Q_i(s_i) . Rz(theta_i) Tz(d_i) Rx(alpha_i) Tx(a_i) ] . Rz(theta_T) Tz(d_T)
 
@@ -11,7 +11,8 @@ expressed in the frame built so far (the adjoint step) and Lemmas 1-3
 (:mod:`urdf2dh.geometry.normals`) give the next link.
 
 Styles choose among the equally exact tables (for each common normal, which of its two
-directions is the x axis): ``wu`` follows Wu 2019 §III (SPEC §3: ``a >= 0``); ``ur`` prefers
+directions is the x axis): ``wu`` follows Wu 2019 §III (``a >= 0``; docs/conventions/dh.md);
+``ur`` prefers
 zero ``theta`` offsets and turns a free x axis (coincident axes) so that the next ``alpha`` is
 positive, as Universal Robots' own tables do, and a free last x (the tool z on the last axis)
 is the tool's own x, as UR's flange is D-H frame 6; ``zero`` prefers zero ``theta`` offsets
@@ -166,7 +167,7 @@ def links_from_poe(
     def link_to(k: int) -> tuple[LinkParams, list[Judgement]]:
         _, axis, point, is_tool = lines[k]
         u = frames.unit(frames.dir_into(built[k], axis))
-        # a prismatic axis with a free location passes through the current frame origin (SPEC §3)
+        # a prismatic axis with a free location passes through the current frame origin
         p = (0.0, 0.0, 0.0) if point is None else frames.point_into(built[k], point)
         link, found = link_to_line(u, p, limits, (names[k], names[k + 1]), is_tool)
         if found:

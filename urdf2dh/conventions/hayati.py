@@ -1,7 +1,7 @@
 """Hayati: D-H rows where they are well conditioned, Hayati's rows where axes are (nearly)
 parallel (Hayati & Mirmirani 1985).
 
-Forward kinematics of a ``hayati`` table::
+Forward kinematics of a ``hayati`` table (docs/conventions/hayati.md)::
 
     T(q) = B . prod_i [ Q_i(s_i) . H_i ] . Rz(theta_T) Tz(d_T)
 

@@ -1,6 +1,6 @@
 """Modified (Craig) Denavit-Hartenberg: the standard table's common normals, regrouped.
 
-Forward kinematics of an ``mdh`` table (SPEC §2)::
+Forward kinematics of an ``mdh`` table (docs/conventions/mdh.md)::
 
     T(q) = Rz(theta_B) Tz(d_B) . prod_i [ Rx(alpha_i) Tx(a_i) . Q_i(s_i) . Rz(theta_i) Tz(d_i) ]
            . Rx(alpha_T) Tx(a_T) Rz(theta_T) Tz(d_T)

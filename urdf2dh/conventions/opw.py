@@ -40,12 +40,13 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 from numpy.typing import NDArray
 
-from ..errors import ConversionError, ExportError, shown
+from ..errors import ConversionError, ExportError, Remedy, shown
+from ..geometry.frames import unit, wrap_angle
 from ..geometry.se3 import pose_errors
 from ..model.poe import PoeModel
 from ..tolerances import DEFAULT, Tolerances
 
-__all__ = ["GEOMETRY", "OpwParameters", "opw_fk", "opw_from_poe", "rot_y", "rot_z"]
+__all__ = ["GEOMETRY", "OpwParameters", "opw_fk", "opw_from_poe", "rotations_y", "rotations_z"]
 
 Mat = NDArray[np.float64]
 CHECK_SAMPLES, JUDGED_SAMPLES = 100, 1000  # as the tables' self-check (convert.py)
@@ -101,13 +102,13 @@ class OpwParameters:
         return self.base @ opw_fk(self, theta) @ self.tool
 
 
-def rot_z(t: Mat) -> Mat:
+def rotations_z(t: Mat) -> Mat:
     """``Rz(t)`` ``(..., 3, 3)`` for angles ``t`` of any shape."""
     c, s, z, o = np.cos(t), np.sin(t), np.zeros_like(t), np.ones_like(t)
     return np.stack([c, -s, z, s, c, z, z, z, o], axis=-1).reshape(*t.shape, 3, 3)
 
 
-def rot_y(t: Mat) -> Mat:
+def rotations_y(t: Mat) -> Mat:
     """``Ry(t)`` ``(..., 3, 3)`` for angles ``t`` of any shape."""
     c, s, z, o = np.cos(t), np.sin(t), np.zeros_like(t), np.ones_like(t)
     return np.stack([c, z, s, z, o, z, -s, z, c], axis=-1).reshape(*t.shape, 3, 3)
@@ -117,12 +118,11 @@ def opw_fk(p: OpwParameters, theta: NDArray[np.float64]) -> NDArray[np.float64]:
     """OPW's flange pose ``F(theta)`` ``(N, 4, 4)`` for OPW joint angles ``theta`` ``(N, 6)``,
     in OPW's base frame (the product in the module doc; no base, tool, signs or offsets)."""
     t = np.atleast_2d(np.asarray(theta, dtype=float))
-    r1, r23 = rot_z(t[:, 0]), rot_y(t[:, 1] + t[:, 2])
-    elbow = np.array([0.0, 0.0, p.c2]) + rot_y(t[:, 2]) @ np.array([p.a2, p.b, p.c3])
-    centre = (
-        r1 @ (np.array([p.a1, 0.0, p.c1]) + (rot_y(t[:, 1]) @ elbow[..., None])[..., 0])[..., None]
-    )
-    rot = r1 @ r23 @ rot_z(t[:, 3]) @ rot_y(t[:, 4]) @ rot_z(t[:, 5])
+    r1, r23 = rotations_z(t[:, 0]), rotations_y(t[:, 1] + t[:, 2])
+    elbow = np.array([0.0, 0.0, p.c2]) + rotations_y(t[:, 2]) @ np.array([p.a2, p.b, p.c3])
+    arm = np.array([p.a1, 0.0, p.c1]) + (rotations_y(t[:, 1]) @ elbow[..., None])[..., 0]
+    centre = r1 @ arm[..., None]
+    rot = r1 @ r23 @ rotations_z(t[:, 3]) @ rotations_y(t[:, 4]) @ rotations_z(t[:, 5])
     out = np.zeros((len(t), 4, 4))
     out[:, :3, :3] = rot
     out[:, :3, 3] = centre[..., 0] + p.c4 * rot[:, :, 2]
@@ -130,13 +130,10 @@ def opw_fk(p: OpwParameters, theta: NDArray[np.float64]) -> NDArray[np.float64]:
     return out
 
 
-def _unit(v: Mat) -> Mat:
-    return v / np.linalg.norm(v)
-
-
 def _across(v: Mat, n: Mat) -> Mat:
     """The unit direction of ``v`` with its component along unit ``n`` removed."""
-    return _unit(v - (v @ n) * n)
+    across: Mat = np.array(unit((v - (v @ n) * n).tolist()), dtype=np.float64)
+    return across
 
 
 def _turn(a: Mat, b: Mat, axis: Mat) -> float:
@@ -149,11 +146,6 @@ def _pick(value: float, fallback: float, limit: float) -> int:
     if abs(value) > limit:
         return 1 if value > 0 else -1
     return -1 if fallback < -limit else 1
-
-
-def _wrap(a: float) -> float:
-    out = math.remainder(a, 2.0 * math.pi)
-    return math.pi if out == -math.pi else out + 0.0
 
 
 class _Judge:
@@ -181,7 +173,8 @@ class _Judge:
         if off > self.angle:
             raise ExportError(
                 f"opw: {what}: axes {self.axes(i, k)} are not {ideal} ({math.degrees(off):.4g} "
-                f"deg off; --parallel-angle {self.tol.parallel_angle:g} rad)"
+                f"deg off; the parallel angle tolerance is {self.tol.parallel_angle:g} rad)",
+                remedy=Remedy("tol.parallel_angle", " ({} allows more)", "RAD"),
             )
         if off > self.tol.noise:
             treated = f"opw: axes {self.axes(i, k)} are {off:.3g} rad off {ideal}; treated as such"
@@ -192,7 +185,9 @@ class _Judge:
         not a format string: the text holds names from the file, braces and all)."""
         if gap > self.distance:
             raise ExportError(
-                f"opw: {fault(f'{gap:.4g} {self.unit}')}; --intersect-distance {self.distance:.3g}"
+                f"opw: {fault(f'{gap:.4g} {self.unit}')}; the intersect distance is "
+                f"{self.distance:.3g}",
+                remedy=Remedy("tol.intersect_distance", " ({} allows more)", "LENGTH"),
             )
         if gap > self.noise_length:
             self.made.append((f"opw: {treated} ({gap:.3g} {self.unit} off)", 0.0, gap))
@@ -261,7 +256,7 @@ def opw_from_poe(
     x0 = _across(np.eye(3)[0] if abs(z[0]) < 0.9 else np.eye(3)[1], z)
     frame = np.column_stack([x0, np.cross(z, x0), z])
     turn = math.atan2(frame[0, 1] - frame[1, 0], frame[0, 0] + frame[1, 1])  # max trace
-    frame = frame @ rot_z(np.array(turn))
+    frame = frame @ rotations_z(np.array(turn))
     # the arm's plane at home: y along axis 2, a1 >= 0 (or the least joint-1 turn)
     y = _across(d[1], z)
     y *= _pick(
@@ -273,7 +268,7 @@ def opw_from_poe(
     if c2 <= judge.distance:
         raise ExportError(
             f"opw: not an ortho-parallel base: axes {judge.axes(1, 2)} coincide ({c2:.4g} "
-            f"{model.length_unit} apart; --intersect-distance {judge.distance:.3g})"
+            f"{model.length_unit} apart, within the intersect distance {judge.distance:.3g})"
         )
     up = between / c2  # the upper arm at home: OPW's z at joint 2's zero
     w4 = _across(d[3], y)  # forearm: from the elbow towards the wrist centre (c3 >= 0)
@@ -309,7 +304,7 @@ def opw_from_poe(
     flange = base @ opw_fk(draft, np.array(theta))[0]
     tool = np.linalg.solve(flange, model.home)
     tool[3] = (0.0, 0.0, 0.0, 1.0)
-    offsets = tuple(_wrap(-t) for t in theta)
+    offsets = tuple(wrap_angle(-t) for t in theta)
     result = OpwParameters(*geometry, offsets, signs, base, tool)
     return _checked(model, result, judge, tol, samples, seed)
 

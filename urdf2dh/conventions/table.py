@@ -1,5 +1,5 @@
 """The Table value type shared by every convention: rows, base and tool, its forward kinematics,
-its POE model, and its JSON / YAML tree (SPEC §2).
+its POE model, and its JSON / YAML tree (docs/formats/table-file.md).
 
 Whatever the convention, a table's forward kinematics has the shape::
 
@@ -39,9 +39,25 @@ Mat = NDArray[np.float64]
 
 @dataclass(frozen=True, slots=True)
 class Row(JointMotion):
-    """One movable joint's row: its motion (kind, pitch, scale), limits and parameters, and
-    whom it follows if it mimics another row's joint (SPEC §5: the table is driven by the rows
-    without ``mimic``, in order)."""
+    """One movable joint's row of a table.
+
+    Attributes
+    ----------
+    name
+        The joint's name.
+    kind
+        ``revolute``, ``prismatic`` or ``helical``.
+    params
+        The convention's record for the row (:class:`~urdf2dh.conventions.dh.DhLink`, ...):
+        angles in radians, lengths in the table's length unit.
+    pitch, scale
+        The helix pitch (length per radian) and ``s = scale * q``, as :class:`~urdf2dh.Joint`.
+    lower, upper
+        The joint's limits (radians or length unit), or ``None``.
+    mimic
+        Whom it follows if it mimics another row's joint (the table is driven by the rows
+        without ``mimic``, in order; docs/trees-mimic.md), else ``None``.
+    """
 
     name: str
     kind: JointKind
@@ -231,7 +247,8 @@ class Table:
         out[:3, 3] = np.where(np.abs(m[:3, 3]) <= within * self.size, 0.0, m[:3, 3])
         unit = np.abs(np.abs(out[:3, :3]) - 1.0) <= within
         out[:3, :3] = np.where(unit, np.sign(out[:3, :3]), out[:3, :3])
-        return (out + 0.0).tolist()
+        rows: list[list[float]] = (out + 0.0).tolist()
+        return rows
 
     def _repr_markdown_(self) -> str:
         """In a notebook: the table as ``--format markdown`` writes it (names escaped)."""
@@ -263,18 +280,14 @@ class Table:
         return frame
 
     def to_dict(self) -> dict[str, Any]:
-        """The SPEC §2 tree (what ``--format json`` and ``--format yaml`` write)."""
+        """The table file tree (what ``--format json`` and ``--format yaml`` write;
+        docs/formats/table-file.md)."""
         joints = []
         for r in self.rows:
             entry: dict[str, Any] = {
                 "name": r.name, "type": r.kind, "pitch": float(r.pitch),
                 "scale": float(r.scale), "params": r.params.to_dict(),
-            }  # fmt: skip
-            if r.lower is not None and r.upper is not None:
-                entry["limits"] = [float(r.lower), float(r.upper)]
-            if r.mimic is not None:
-                entry["mimic"] = {"joint": r.mimic.joint, "multiplier": r.mimic.multiplier,
-                                  "offset": r.mimic.offset}  # fmt: skip
+            } | r.file_fields()  # fmt: skip
             joints.append(entry)
         return {
             "schema": SCHEMA,

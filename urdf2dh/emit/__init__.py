@@ -12,3 +12,5 @@ and as controller and toolbox files.
 
 Nothing is imported here, so that the command line's ``--help`` imports no numpy.
 """
+
+__all__: list[str] = []

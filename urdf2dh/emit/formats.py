@@ -1,6 +1,7 @@
 """Rendering a :class:`~urdf2dh.conventions.table.Table`: text, JSON, YAML, CSV and Markdown.
 
-``json`` and ``yaml`` hold the SPEC §2 tree in radians and source units with full precision;
+``json`` and ``yaml`` hold the table file tree (docs/formats/table-file.md) in radians and
+source units with full precision;
 ``csv`` the same numbers flat; ``text`` and ``markdown`` are for people: angles in degrees,
 helix pitch in length per degree (the units of Wu 2019 Table II), units in the headers.
 Names from the source go through :mod:`urdf2dh.escape`: JSON and YAML escape them
@@ -8,7 +9,7 @@ themselves, CSV writes them as :func:`~urdf2dh.escape.csv_cell` does (visible te
 formula), text shows them as :func:`~urdf2dh.errors.visible` text (one line, no terminal control
 characters) and Markdown escapes its markup too.
 ``urdf`` and ``poe`` write the table's kinematics as a model instead: a URDF in metres
-(:mod:`urdf2dh.emit.urdf`) or a POE model file (SPEC §4, YAML).
+(:mod:`urdf2dh.emit.urdf`) or a POE model file (YAML, docs/formats/poe-file.md).
 """
 
 from __future__ import annotations
@@ -29,12 +30,31 @@ FORMATS = ("text", "json", "yaml", "csv", "markdown", "urdf", "poe")
 
 
 def render(table: Table, fmt: str) -> str:
-    """The table in format ``fmt`` (one of :data:`FORMATS`), ending with a newline.
+    """The table in format ``fmt``, ending with a newline.
 
-    Raises ``TypeError`` for a ``table`` that is not a :class:`~urdf2dh.conventions.table.Table` (a
-    POE model is converted first: :func:`urdf2dh.to_table`), :class:`~urdf2dh.errors.UsageError` for
-    an unknown format (a ``ValueError`` too), :class:`~urdf2dh.errors.ExportError` for a name the
-    format cannot carry (``urdf``: a character XML 1.0 has no way to write).
+    Parameters
+    ----------
+    table
+        A checked table (:func:`urdf2dh.to_table`).
+    fmt
+        One of :data:`FORMATS`: ``json`` and ``yaml`` (the table file: radians, the source's
+        length unit, full precision), ``csv``, ``text`` and ``markdown`` (degrees, for people),
+        ``urdf`` (metres) or ``poe`` (a POE model file).
+
+    Returns
+    -------
+    str
+        The file's text.
+
+    Raises
+    ------
+    TypeError
+        ``table`` is not a :class:`~urdf2dh.conventions.table.Table` (a POE model is converted
+        first: :func:`urdf2dh.to_table`), or ``fmt`` is not a string.
+    UsageError
+        An unknown format (a ``ValueError`` too).
+    ExportError
+        A name the format cannot carry (``urdf``: a character XML 1.0 has no way to write).
     """
     from ..checks import check_instance
     from ..conventions.table import Table
@@ -49,7 +69,7 @@ def render(table: Table, fmt: str) -> str:
     if fmt == "yaml":
         import yaml
 
-        return yaml.safe_dump(table.to_dict(), sort_keys=False, default_flow_style=None)
+        return str(yaml.safe_dump(table.to_dict(), sort_keys=False, default_flow_style=None))
     if fmt == "csv":
         return _csv(table)
     if fmt == "text":
@@ -65,7 +85,8 @@ def render(table: Table, fmt: str) -> str:
 
         from ..io.poefile import poe_to_dict
 
-        return yaml.safe_dump(poe_to_dict(table.to_poe()), sort_keys=False, default_flow_style=None)
+        tree = poe_to_dict(table.to_poe())
+        return str(yaml.safe_dump(tree, sort_keys=False, default_flow_style=None))
     raise UsageError(f"unknown format '{fmt}'; valid: {choices(FORMATS)}")
 
 

@@ -120,7 +120,7 @@ class _Crowd:
         i0, i1 = (min(max(int(v), 0), rows - 1) for v in (y0, y1 + 1))
         j0, j1 = (min(max(int(v), 0), cols - 1) for v in (x0, x1 + 1))
         t = self.table
-        return round(t[i1, j1] - t[i0, j1] - t[i1, j0] + t[i0, j0])
+        return round(float(t[i1, j1] - t[i0, j1] - t[i1, j0] + t[i0, j0]))
 
     def cost(self, box: Box) -> tuple[float, int]:
         """What ``box`` (grown by :data:`LABEL_SPACE`) covers: the pixels of placed labels and

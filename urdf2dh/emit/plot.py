@@ -16,12 +16,30 @@ FORMATS = ("png", "svg", "pdf", "html")
 
 
 def plot(table: Table, fmt: str = "png") -> bytes:
-    """``table``'s frames at home drawn as ``fmt`` (one of :data:`FORMATS`): a picture by
-    :mod:`.picture` (matplotlib) or an HTML page by :mod:`.view` (plotly). A chain of more
-    than :data:`~.scene.MAX_JOINTS` joints is refused (:class:`~urdf2dh.errors.InputError`).
+    """``table``'s frames at home, drawn.
 
-    Raises ``TypeError`` for a ``table`` that is not a :class:`~urdf2dh.conventions.table.Table` (a
-    POE model is converted first: :func:`urdf2dh.to_table`) or a ``fmt`` that is not a string.
+    Parameters
+    ----------
+    table
+        A checked table (:func:`urdf2dh.to_table`).
+    fmt
+        One of :data:`FORMATS`: ``png``, ``svg`` or ``pdf`` (a picture by :mod:`.picture`,
+        matplotlib), or ``html`` (a self-contained interactive page by :mod:`.view`, plotly).
+
+    Returns
+    -------
+    bytes
+        The file's content (UTF-8 text for ``svg`` and ``html``).
+
+    Raises
+    ------
+    TypeError
+        ``table`` is not a :class:`~urdf2dh.conventions.table.Table` (a POE model is converted
+        first: :func:`urdf2dh.to_table`), or ``fmt`` is not a string.
+    UsageError
+        An unknown format.
+    InputError
+        A chain of more than :data:`~.scene.MAX_JOINTS` joints.
     """
     from ..checks import check_instance
 

@@ -17,6 +17,7 @@ Every text from the source reaches the figure through
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -32,7 +33,7 @@ __all__ = ["HEAD", "figure", "page"]
 Mat = NDArray[np.float64]
 
 HEAD = 0.25  # an arrow's cone, per arrow length
-ARROWS = (  # trace name, which arrows, colour
+ARROWS: tuple[tuple[str, Callable[[Arrow], bool], str], ...] = (  # trace name, which, colour
     ("x axes", lambda a: a.frame >= 0 and a.axis == "x", COLOURS["x"]),
     ("z axes", lambda a: a.frame >= 0 and a.axis == "z", COLOURS["z"]),
     ("tool y", lambda a: a.frame >= 0 and a.axis == "y", COLOURS["y"]),

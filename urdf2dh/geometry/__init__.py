@@ -11,3 +11,5 @@
 
 Nothing is imported here, so that the command line's ``--help`` needs no numpy.
 """
+
+__all__: list[str] = []

@@ -29,6 +29,7 @@ __all__ = [
     "rotate",
     "rx_tx",
     "unit",
+    "wrap_angle",
 ]
 
 Vec3 = tuple[float, float, float]
@@ -131,6 +132,13 @@ def axis_frame(u: Vec3, p: Sequence[float]) -> Frame:
     xx, xy, xz = x[0] * k, x[1] * k, x[2] * k
     yx, yy, yz = uy * xz - uz * xy, uz * xx - ux * xz, ux * xy - uy * xx
     return ((xx, yx, ux, p[0]), (xy, yy, uy, p[1]), (xz, yz, uz, p[2]))
+
+
+def wrap_angle(a: float) -> float:
+    """``a`` as the angle in ``(-pi, pi]`` that turns the same way (``pi`` for ``-pi``), never
+    ``-0.0``."""
+    out = math.remainder(a, 2.0 * math.pi)
+    return math.pi if out == -math.pi else out + 0.0
 
 
 def unit(v: Sequence[float]) -> Vec3:

@@ -29,7 +29,7 @@ from dataclasses import dataclass
 from typing import Literal
 
 from ..tolerances import Tolerances
-from .frames import Vec3, angle
+from .frames import Vec3, angle, wrap_angle
 
 __all__ = ["Judgement", "Limits", "LinkParams", "common_normal", "link_to_line"]
 
@@ -62,10 +62,9 @@ class LinkParams:
     def turned(self) -> LinkParams:
         """The same frame turned by pi about its z: ``(theta + pi, d, -alpha, -a)``. Both are
         valid D-H links to the same line; conventions differ only in which they prefer."""
-        theta = math.remainder(self.theta + math.pi, 2.0 * math.pi)
         alpha = math.pi if abs(self.alpha) == math.pi else -self.alpha + 0.0
         return LinkParams(
-            math.pi if theta == -math.pi else theta + 0.0,
+            wrap_angle(self.theta + math.pi),
             self.d,
             alpha,
             -self.a + 0.0,

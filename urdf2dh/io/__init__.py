@@ -16,3 +16,5 @@
 
 Nothing is imported here, so that the command line's ``--help`` imports no numpy.
 """
+
+__all__: list[str] = []

@@ -1,4 +1,5 @@
-"""POE model files (SPEC §4): YAML or JSON, twists ``[w, v]`` in the base frame at home.
+"""POE model files (docs/formats/poe-file.md): YAML or JSON, twists ``[w, v]`` in the base
+frame at home.
 
 ::
 
@@ -155,12 +156,7 @@ def poe_to_dict(model: PoeModel) -> dict[str, Any]:
             "name": j.name,
             "type": j.kind,
             "twist": [float(x) for x in j.twist()],
-        }
-        if j.lower is not None and j.upper is not None:
-            entry["limits"] = [float(j.lower), float(j.upper)]
-        if j.mimic is not None:
-            entry["mimic"] = {"joint": j.mimic.joint, "multiplier": j.mimic.multiplier,
-                              "offset": j.mimic.offset}  # fmt: skip
+        } | j.file_fields()
         joints.append(entry)
     return {
         "format": "poe",

@@ -1,4 +1,5 @@
-"""SOURCE resolution (SPEC §1): a URDF file, a POE model file, a table file, or a bundled robot.
+"""SOURCE resolution (docs/commands/index.md): a URDF file, a POE model file, a table file, or
+a bundled robot.
 
 :func:`open_source` reads and checks the file once; :meth:`Source.model` then builds the POE
 model of the chain between the requested links.
@@ -44,12 +45,12 @@ class Source:
         tip: str | None = None,
         ignore_mimic: bool = False,
     ) -> PoeModel:
-        """The POE model of the chain ``base -> tip`` (defaults: SPEC §1, or the bundled
-        robot's own)."""
+        """The POE model of the chain ``base -> tip`` (defaults: the URDF's root link and
+        its single deepest leaf, or the bundled robot's own)."""
         if self.tree is None:
             if base or tip:
                 raise UsageError(
-                    f"{self.display}: --base/--tip apply to URDF sources; a {self.kind} file "
+                    f"{self.display}: base and tip links apply to URDF sources; a {self.kind} file "
                     "is already a single chain"
                 )
             assert self.poe is not None

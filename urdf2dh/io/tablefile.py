@@ -1,4 +1,5 @@
-"""Reading table files (SPEC §2, ``--format json`` or ``yaml``) back into a :class:`Table`.
+"""Reading table files (``--format json`` or ``yaml``; docs/formats/table-file.md) back into a
+:class:`Table`.
 
 A table file is a valid SOURCE: its rows are turned into a POE model (:meth:`Table.to_poe`), so
 any convention converts to any other. Every field is checked and a mismatch between ``params``

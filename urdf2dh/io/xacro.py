@@ -29,7 +29,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from ..errors import InputError
+from ..errors import InputError, Remedy
 from ..tolerances import FILE_BYTES
 from .files import note_input
 from .xacro_child import OUT_OF_MEMORY
@@ -74,8 +74,8 @@ class PackageNotFound(InputError):
 
     def __init__(self, display: str, package: str) -> None:
         super().__init__(
-            f"{display}: xacro needs ROS package '{package}'; point at its directory with "
-            f"--package-path {package}=DIR"
+            f"{display}: xacro needs ROS package '{package}'",
+            remedy=Remedy("xacro.packages", "; point at its directory with {}", f"{package}=DIR"),
         )
         self.package = package
 
@@ -130,7 +130,7 @@ def expand(path: Path, display: str, options: XacroOptions | None = None) -> byt
     dirs = _module_dirs(display)
     for name, directory in options.packages.items():
         if not Path(directory).is_dir():
-            raise InputError(f"--package-path {name}={directory}: no such directory")
+            raise InputError(f"package {name}={directory}: no such directory")
     if not sys.executable:
         raise InputError(f"{display}: no Python interpreter to expand xacro with")
     job = {
@@ -150,8 +150,8 @@ def expand(path: Path, display: str, options: XacroOptions | None = None) -> byt
         )  # fmt: skip
     except child.TimedOut:
         raise InputError(
-            f"{display}: xacro expansion took longer than {options.timeout:g} s "
-            "(--xacro-timeout SECONDS allows more)"
+            f"{display}: xacro expansion took longer than {options.timeout:g} s",
+            remedy=Remedy("xacro.timeout", " ({} allows more)", "SECONDS"),
         ) from None
     except child.Overflow as e:
         what = "expanded URDF" if e.stream == "stdout" else "messages"
@@ -161,8 +161,8 @@ def expand(path: Path, display: str, options: XacroOptions | None = None) -> byt
         ) from None
     if done.returncode == OUT_OF_MEMORY:
         raise InputError(
-            f"{display}: xacro expansion needs more than {options.memory} MiB of memory "
-            "(--xacro-memory MIB allows more)"
+            f"{display}: xacro expansion needs more than {options.memory} MiB of memory",
+            remedy=Remedy("xacro.memory", " ({} allows more)", "MIB"),
         )
     header, _, text = done.stdout.partition(b"\n")
     try:
@@ -205,11 +205,11 @@ def _error(display: str, result: Mapping[str, str]) -> InputError:
             f"{display}: refused xacro expression ${{{result.get('expression', '')}}}{place}: "
             f"{text} (docs/security.md)"
         )
-    hint = ""
+    remedy = None
     if text.startswith(UNDEFINED_ARG):
         name = text[len(UNDEFINED_ARG) :].split()[0]
-        hint = f"; pass it as --xacro-arg {name}:=VALUE"
-    return InputError(f"{display}: xacro cannot expand it ({text}){hint}")
+        remedy = Remedy("xacro.args", "; pass it as {}", f"{name}:=VALUE")
+    return InputError(f"{display}: xacro cannot expand it ({text})", remedy=remedy)
 
 
 def _same_path(a: str, b: str) -> bool:

@@ -37,6 +37,20 @@ from pathlib import Path
 from types import ModuleType
 from typing import Any
 
+__all__ = [
+    "FORMATTING",
+    "OUT_OF_MEMORY",
+    "PACKAGE_URL",
+    "REFUSED_CALLS",
+    "REFUSED_SYNTAX",
+    "SHOWN_EXPRESSION",
+    "PackageMissing",
+    "RefusedExpression",
+    "expand",
+    "main",
+    "refusal",
+]
+
 OUT_OF_MEMORY = 3
 PACKAGE_URL = "package://"
 SHOWN_EXPRESSION = 120  # characters of a refused expression shown in the message
@@ -140,7 +154,7 @@ def _strict(xacro: ModuleType, subst: ModuleType) -> None:
                 raise RefusedExpression(stack[-1], expression, why)
         return evaluate(expression, symbols, local)
 
-    xacro.safe_eval = checked  # looked up by name at each use (eval_text, YAML unit tags)
+    xacro.safe_eval = checked  # type: ignore[attr-defined] # looked up by name at each use (eval_text, YAML unit tags)
     namespace = xacro._global_symbols["python"]
     for name, why in REFUSED_CALLS.items():
         dict.__setitem__(namespace, name, _refused_call(name, why))
@@ -154,7 +168,7 @@ def _strict(xacro: ModuleType, subst: ModuleType) -> None:
 
     # substitution_args._eval calls eval(s, {}, ...), which would hand it every builtin; a
     # module-level name `eval` is found before the builtin one
-    subst.eval = restricted_eval
+    subst.eval = restricted_eval  # type: ignore[attr-defined]
 
 
 def _refused_call(name: str, why: str) -> Callable[..., Any]:
@@ -190,19 +204,19 @@ def _packages(xacro: ModuleType, subst: ModuleType, paths: Mapping[str, str]) ->
         return str(original_spec(spec))
 
     original_find = subst._eval_find
-    subst._eval_find = find
-    xacro.abs_filename_spec = filename_spec
+    subst._eval_find = find  # type: ignore[attr-defined]
+    xacro.abs_filename_spec = filename_spec  # type: ignore[attr-defined]
     try:
         yield
     finally:
-        subst._eval_find = original_find
-        xacro.abs_filename_spec = original_spec
+        subst._eval_find = original_find  # type: ignore[attr-defined]
+        xacro.abs_filename_spec = original_spec  # type: ignore[attr-defined]
 
 
 # --------------------------------------------------------------------------- the process
 
 
-def _one_line(text: str) -> str:
+def _one_line(text: object) -> str:
     return " ".join(str(text).split())
 
 

@@ -8,3 +8,5 @@
 
 Nothing is imported here (the modules need numpy; the command line's ``--help`` does not).
 """
+
+__all__: list[str] = []

@@ -4,8 +4,8 @@ kinematics (:mod:`urdf2dh.model.fk`) with ``e^{ix}`` taken from a table instead 
 In the reference FK of a large batch, numpy's sines and cosines take about two thirds of the
 time. Here ``x = k h + r`` with ``h = 2 pi / STEPS``: ``e^{ikh}`` is looked up in a table of
 ``STEPS`` values and ``e^{ir}``, ``|r| <= h / 2``, is a short Taylor polynomial. That is five
-times as fast as numpy's ``cos`` and ``sin`` and makes the FK of 100,000 configurations about
-2.2 times as fast (``benchmarks/run.py``; README, Performance). Results agree with the reference
+times as fast as numpy's ``cos`` and ``sin`` and makes batch FK about twice as fast
+(``benchmarks/run.py``; docs/performance.md). Results agree with the reference
 to a few units in the last place (``tests/test_fk.py`` checks every convention).
 
 Batches below ``FAST_MIN`` configurations, and angles beyond the table's reach (huge, infinite or
@@ -54,7 +54,8 @@ def expi(x: Mat) -> Complexes:
     its reach (``|x| <= 2^20 h``, about 1600 rad), else from numpy's ``exp``."""
     k = np.rint(x * (1.0 / (H_HIGH + H_LOW)))
     if not np.abs(k).max(initial=0.0) <= REACH_STEPS:  # also false for NaN
-        return np.exp(1j * x)
+        out: Complexes = np.exp(1j * x)
+        return out
     r = (x - k * H_HIGH) - k * H_LOW  # |r| <= h / 2
     r2 = r * r
     small = np.empty(x.shape, dtype=np.complex128)

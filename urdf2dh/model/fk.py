@@ -47,7 +47,8 @@ Turns = tuple[dict[tuple[int, float], NDArray[np.complex128]], Expi]
 
 def numpy_expi(x: Mat) -> NDArray[np.complex128]:
     """``e^{ix}`` ``(m,)`` for angles ``(m,)``: ``cos x + i sin x``, by numpy."""
-    return np.exp(1j * x)
+    out: NDArray[np.complex128] = np.exp(1j * x)
+    return out
 
 
 def chain_fk(links: Mat, motions: Mat, q: Mat) -> Mat:

@@ -50,7 +50,7 @@ class Identifiability:
     def maximum(self) -> int:
         """Wu 2019 eq. (23): ``5h + 4r + 2t + n + 6``."""
         lines = sum(LINE_PARAMETERS[k] * getattr(self, k) for k in LINE_PARAMETERS)
-        return lines + self.joints + PLACEMENT
+        return int(lines) + self.joints + PLACEMENT
 
     @property
     def conventional(self) -> int:

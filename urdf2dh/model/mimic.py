@@ -1,5 +1,5 @@
-"""Joints that follow others (URDF ``<mimic>``, SPEC §5): the relation, and the positions of a
-chain's every joint from its actuated ones.
+"""Joints that follow others (URDF ``<mimic>``, docs/trees-mimic.md): the relation, and the
+positions of a chain's every joint from its actuated ones.
 
 A chain's configuration ``q`` holds the positions of the joints that move on their own, in
 order; a joint that mimics one of them moves to ``multiplier * q_leader + offset``. Both a POE

@@ -90,6 +90,20 @@ class JointMotion:
     __slots__ = ()
     kind: JointKind
     pitch: float
+    lower: float | None
+    upper: float | None
+    mimic: Mimic | None
+
+    def file_fields(self) -> dict[str, Any]:
+        """The joint's ``limits`` (when both are set) and ``mimic`` as table and POE model
+        files write them."""
+        out: dict[str, Any] = {}
+        if self.lower is not None and self.upper is not None:
+            out["limits"] = [float(self.lower), float(self.upper)]
+        if self.mimic is not None:
+            m = self.mimic
+            out["mimic"] = {"joint": m.joint, "multiplier": m.multiplier, "offset": m.offset}
+        return out
 
     @property
     def rotation(self) -> float:
@@ -117,7 +131,7 @@ class Joint(JointMotion):
     point
         ``(3,)`` a point on the axis line. ``None`` only for a prismatic joint whose line
         location is free (POE sources): conversions then place it through the previous frame's
-        origin (SPEC §3).
+        origin (docs/conventions/dh.md).
     pitch
         Helix pitch, length per radian of ``s`` (0 for revolute and prismatic joints).
     scale
@@ -284,9 +298,9 @@ class PoeModel:
         ))  # fmt: skip
 
     def size(self) -> float:
-        """The robot's size, which errors are measured against (README, "robot size"): the
-        extent at home plus the travel of the sliding joints (1 for a chain that is all at the
-        origin and cannot slide)."""
+        """The robot's size, which errors are measured against (docs/commands/index.md, "Robot
+        size"): the extent at home plus the travel of the sliding joints (1 for a chain that is
+        all at the origin and cannot slide)."""
         e = self._once("size", lambda: self.extent() + self.travel())
         return e if e > 0.0 else 1.0
 

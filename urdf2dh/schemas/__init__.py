@@ -54,4 +54,5 @@ def load(name: str) -> dict[str, Any]:
     if name not in names():
         raise ValueError(f"no schema named {name!r}; urdf2dh ships {', '.join(names())}")
     text = resources.files(__name__).joinpath(name.rsplit("/", 1)[1]).read_text("utf-8")
-    return json.loads(text)
+    schema: dict[str, Any] = json.loads(text)
+    return schema

@@ -33,18 +33,18 @@ from ...errors import UsageError, choices
 if TYPE_CHECKING:
     from ...conventions.table import Table
     from ...model.poe import PoeModel
-    from .common import Options
+    from .common import ExportOptions
 
-__all__ = ["TARGETS", "Options", "Target", "export", "export_table", "table_choices"]
+__all__ = ["TARGETS", "ExportOptions", "Target", "export", "export_table", "table_choices"]
 
 
 def __getattr__(name: str) -> Any:
-    # Options lives with the targets' shared helpers (numpy); the command line's --help reads
+    # ExportOptions lives with the targets' shared helpers (numpy); the command line's --help reads
     # TARGETS only
-    if name == "Options":
-        from .common import Options
+    if name == "ExportOptions":
+        from .common import ExportOptions
 
-        return Options
+        return ExportOptions
     raise AttributeError(f"module 'urdf2dh.emit.export' has no attribute {name!r}")
 
 
@@ -64,11 +64,11 @@ class Target:
         """Whether the target is written from the POE model rather than from a table."""
         return not self.conventions
 
-    def render(self, table: Table, opts: Options) -> str:
+    def render(self, table: Table, opts: ExportOptions) -> str:
         mod = importlib.import_module(f"urdf2dh.emit.export.{self.module}")
         return str(mod.render(table, opts))
 
-    def render_model(self, model: PoeModel, opts: Options, samples: int | None = None) -> str:
+    def render_model(self, model: PoeModel, opts: ExportOptions, samples: int | None = None) -> str:
         mod = importlib.import_module(f"urdf2dh.emit.export.{self.module}")
         return str(mod.render_model(model, opts, samples))
 
@@ -151,21 +151,22 @@ def table_choices(target: str, convention: str | None, style: str | None) -> tup
     if t.reads_model:
         if convention or style:
             raise UsageError(
-                f"--to {target} is written from the POE model; it takes no --convention or --style"
+                f"export target {target} is written from the POE model; it takes no convention "
+                "or style"
             )
         return "", ""
     convention = convention or t.conventions[0]
     style = style or t.styles[0]
     if style not in t.styles:
-        raise UsageError(f"--to {target} takes --style {' or '.join(t.styles)}, not {style}")
+        raise UsageError(f"export target {target} takes style {' or '.join(t.styles)}, not {style}")
     return convention, style
 
 
-def export_table(table: Table, target: str, opts: Options | None = None) -> str:
+def export_table(table: Table, target: str, opts: ExportOptions | None = None) -> str:
     """Render an already checked table for ``target``."""
-    from .common import Options
+    from .common import ExportOptions
 
-    return _target(target).render(table, opts or Options())
+    return _target(target).render(table, opts or ExportOptions())
 
 
 def export(
@@ -173,23 +174,51 @@ def export(
     target: str,
     convention: str | None = None,
     style: str | None = None,
-    opts: Options | None = None,
+    opts: ExportOptions | None = None,
     samples: int | None = 1000,
 ) -> str:
-    """Convert ``model`` for ``target`` (a name in :data:`TARGETS`) and render the file text;
-    ``samples``: configurations of the table's (or OPW's) check, ``None`` for its default.
-    Arguments are checked as :func:`urdf2dh.to_table` checks them (``TypeError``,
-    ``ValueError``; an unknown target, convention or style is a ``UsageError``)."""
+    """A controller's or toolbox's file for ``model``: converted, checked and rendered.
+
+    Parameters
+    ----------
+    model
+        The robot (:func:`urdf2dh.load`).
+    target
+        A name in :data:`TARGETS` (``ur``, ``linuxcnc``, ``rtb``, ``matlab``, ``kdl``,
+        ``corke-matlab``, ``opw``).
+    convention, style
+        The table the target reads (``None``: the target's own; targets read D-H tables).
+    opts
+        The length unit of targets that fix one, and the tolerances (:class:`ExportOptions`).
+    samples
+        Configurations of the table's (or OPW's) self-check, ``None`` for its default.
+
+    Returns
+    -------
+    str
+        The file's text.
+
+    Raises
+    ------
+    TypeError, ValueError
+        Arguments as :func:`urdf2dh.to_table` checks them.
+    UsageError
+        An unknown target, convention or style, or one the target cannot take.
+    ExportError
+        A model the target cannot represent (the message says why).
+    ConversionError
+        The table failed its self-check.
+    """
     from ...checks import check_count, check_instance
     from ...conventions.convert import to_table
     from ...model.poe import PoeModel
-    from .common import Options
+    from .common import ExportOptions
 
     check_instance(model, PoeModel, "export: model", "urdf2dh.load(SOURCE) reads one")
     check_instance(target, str, "export: target")
     if samples is not None:
         check_count(samples, "export: samples")
-    opts = Options() if opts is None else check_instance(opts, Options, "export: opts")
+    opts = ExportOptions() if opts is None else check_instance(opts, ExportOptions, "export: opts")
     convention, style = table_choices(target, convention, style)
     if _target(target).reads_model:
         return _target(target).render_model(model, opts, samples)

@@ -16,14 +16,14 @@ from ...conventions import Params, get
 from ...conventions.base import written_angle, written_length
 from ...conventions.grid import summary
 from ...conventions.table import Table
-from ...errors import ExportError, UsageError, shown
+from ...errors import ExportError, Remedy, UsageError, shown
 from ...geometry.se3 import pose_errors
 from ...model.mimic import Followed
 from ...tolerances import DECIMAL_ROUND_OFF, DEFAULT, Tolerances
 
 __all__ = [
+    "ExportOptions",
     "Numbers",
-    "Options",
     "close_to",
     "floats",
     "header",
@@ -38,9 +38,17 @@ __all__ = [
 
 
 @dataclass(frozen=True, slots=True)
-class Options:
-    """What a user may choose beyond the table: the length unit of targets that fix one
-    (``None``: the target's default), and the tolerances that decide what counts as zero."""
+class ExportOptions:
+    """What a user may choose beyond the table (:func:`urdf2dh.export`).
+
+    Attributes
+    ----------
+    units
+        The length unit of targets that fix one (``mm`` or ``inch`` for ``linuxcnc``; ``None``:
+        the target's default).
+    tol
+        The tolerances that decide what counts as zero, and the table's self-check.
+    """
 
     units: str | None = None
     tol: Tolerances = DEFAULT
@@ -183,7 +191,8 @@ def require_uncoupled(joints: Iterable[Followed], target: str) -> None:
     if coupled:
         raise ExportError(
             f"{target}: joints {', '.join(coupled)} follow another joint; {target} has no coupled "
-            "joints (--format urdf keeps the coupling; --ignore-mimic treats them as independent)"
+            "joints (the urdf format keeps the coupling)",
+            remedy=Remedy("ignore_mimic", "; {} treats them as independent"),
         )
 
 
@@ -220,6 +229,6 @@ def require_convention(table: Table, target: str, allowed: Iterable[str]) -> Non
         f" (row {shown(odd.name)} is a {odd.params.form or table.convention} row: "
         f"{', '.join(odd.params.values())})")  # fmt: skip
     raise UsageError(
-        f"{target} takes {' or '.join(allowed)} tables, not {table.convention}{row}; export "
-        f"with --convention {allowed[0]}"
+        f"{target} takes {' or '.join(allowed)} tables, not {table.convention}{row}",
+        remedy=Remedy("convention", "; export with {}", allowed[0]),
     )

@@ -13,8 +13,8 @@ from __future__ import annotations
 from ...conventions.table import Row, Table
 from ...escape import matlab_comment, matlab_string
 from .common import (
+    ExportOptions,
     Numbers,
-    Options,
     floats,
     header,
     matlab_matrix,
@@ -46,7 +46,7 @@ def _link(index: int, row: Row, convention: str, numbers: Numbers) -> str:
     return f"L({index}) = Link({', '.join(args)});  {matlab_comment(row.name)}"
 
 
-def render(table: Table, opts: Options) -> str:
+def render(table: Table, opts: ExportOptions) -> str:
     """A MATLAB script building ``robot``, a ``SerialLink`` of the table."""
     require(table, "corke-matlab", ("dh", "mdh"))
     numbers = Numbers.of(table, opts.tol)

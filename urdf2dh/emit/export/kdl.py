@@ -27,8 +27,8 @@ from ...conventions.table import Table
 from ...escape import python_docstring, python_string
 from ..names import Namespace, renaming_notes
 from .common import (
+    ExportOptions,
     Numbers,
-    Options,
     floats,
     header,
     require,
@@ -70,7 +70,7 @@ class _Names:
         return _segment(self.segments.invent(name), name, JOINT_TYPES[kind], frame)
 
 
-def render(table: Table, opts: Options) -> str:
+def render(table: Table, opts: ExportOptions) -> str:
     """A Python script with ``build_chain() -> PyKDL.Chain`` for the table."""
     require(table, "kdl", ("dh", "mdh"))
     numbers = Numbers.of(table, opts.tol)

@@ -49,10 +49,11 @@ from ...conventions.base import written_angle
 from ...conventions.table import Row, Table
 from ...errors import ExportError, shown, visible
 from ...escape import hal_comment
+from ...geometry.frames import wrap_angle
 from ...geometry.se3 import dh_matrix, rot_x
 from .common import (
+    ExportOptions,
     Numbers,
-    Options,
     close_to,
     floats,
     header,
@@ -104,7 +105,7 @@ def _refuse(why: str) -> ExportError:
     return ExportError(f"linuxcnc: genserkins {why}; this chain cannot be written for it")
 
 
-def _flips(table: Table, alpha: float, a: float, opts: Options) -> bool | None:
+def _flips(table: Table, alpha: float, a: float, opts: ExportOptions) -> bool | None:
     """Whether ``Rx(alpha) Tx(a)`` is the identity (False) or a half turn about x (True),
     within the table's exactness; ``None`` when it is neither."""
     m = dh_matrix(0.0, 0.0, alpha, a)
@@ -115,11 +116,7 @@ def _flips(table: Table, alpha: float, a: float, opts: Options) -> bool | None:
     return None
 
 
-def _wrap(angle: float) -> float:
-    return math.remainder(angle, 2 * math.pi)
-
-
-def genser(table: Table, opts: Options) -> Genser:
+def genser(table: Table, opts: ExportOptions) -> Genser:
     """genserkins' view of an ``mdh`` table (see the module docstring), or the reason it
     cannot hold the chain."""
     rows = [floats(r.params) for r in table.rows]
@@ -141,7 +138,7 @@ def genser(table: Table, opts: Options) -> Genser:
     last, joint = links[-1], joints[-1]
     flip = _flips(table, tool["alpha"], tool["a"], opts)
     if flip is True:
-        links[-1] = Link(last.a, _wrap(last.alpha + math.pi), tool["d"] - last.d)
+        links[-1] = Link(last.a, wrap_angle(last.alpha + math.pi), tool["d"] - last.d)
         joints[-1] = Joint(-joint.sign, tool["theta"] - joint.offset)
         return Genser(tuple(links), tuple(joints), world)
     if flip is False:
@@ -243,7 +240,7 @@ def _frame_notes(table: Table, g: Genser, numbers: Numbers, unit: str) -> list[s
     return notes
 
 
-def render(table: Table, opts: Options) -> str:
+def render(table: Table, opts: ExportOptions) -> str:
     """HAL lines for genserkins and the joint zeros (see the module docstring)."""
     require_convention(table, "linuxcnc", ("mdh",))
     if table.n > JOINTS:
@@ -251,10 +248,12 @@ def render(table: Table, opts: Options) -> str:
     require(table, "linuxcnc", ("mdh",), ("revolute",))
     unit = UNITS.get(opts.units or "mm")
     if unit is None:
-        raise ExportError(f"linuxcnc: --units must be mm or inch, not '{opts.units}'")
+        raise ExportError(f"linuxcnc: the length unit must be mm or inch, not '{opts.units}'")
     g = genser(table, opts)
     numbers = Numbers.of(table, opts.tol, units.factor(table.length_unit, unit))
-    joints = [Joint(j.sign, written_angle(_wrap(j.offset), opts.tol.written)) for j in g.joints]
+    joints = [
+        Joint(j.sign, written_angle(wrap_angle(j.offset), opts.tol.written)) for j in g.joints
+    ]
     maps = {i: j for i, j in enumerate(joints) if j != Joint()}
     notes = header(table, "LinuxCNC genserkins parameters")
     notes.append(

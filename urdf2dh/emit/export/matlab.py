@@ -31,8 +31,8 @@ from ...conventions.table import Row, Table
 from ...escape import matlab_comment, matlab_string
 from ..names import Namespace, renaming_notes
 from .common import (
+    ExportOptions,
     Numbers,
-    Options,
     floats,
     header,
     matlab_matrix,
@@ -107,7 +107,7 @@ class _Names:
         return _fixed_body(self.bodies.invent(body), self.joints.invent(body + "_fixed"), transform)
 
 
-def render(table: Table, opts: Options) -> str:
+def render(table: Table, opts: ExportOptions) -> str:
     """A MATLAB script building ``robot``, a ``rigidBodyTree`` of the table."""
     require(table, "matlab", ("dh", "mdh"))
     numbers = Numbers.of(table, opts.tol)

@@ -31,7 +31,7 @@ from ...conventions.table import Table
 from ...escape import yaml_comment
 from ...geometry.se3 import rpy
 from ...model.poe import PoeModel
-from .common import Numbers, Options, require_uncoupled, yaml_float
+from .common import ExportOptions, Numbers, require_uncoupled, yaml_float
 
 __all__ = ["render", "render_model"]
 
@@ -77,7 +77,7 @@ def _frames_note(model: PoeModel, p: OpwParameters, numbers: Numbers) -> list[st
     ]
 
 
-def render_model(model: PoeModel, opts: Options, samples: int | None = None) -> str:
+def render_model(model: PoeModel, opts: ExportOptions, samples: int | None = None) -> str:
     """The OPW parameter file of ``model`` (module doc)."""
     require_uncoupled(model.joints, "opw")
     p = opw_from_poe(model, opts.tol, samples)
@@ -96,7 +96,7 @@ def render_model(model: PoeModel, opts: Options, samples: int | None = None) -> 
     return "\n".join(lines) + "\n"
 
 
-def render(table: Table, opts: Options) -> str:
+def render(table: Table, opts: ExportOptions) -> str:
     """The OPW parameter file of a table's chain (from its POE model, :meth:`Table.to_poe`,
     which the table's check holds to the source); :func:`render_model` reads the source's."""
     return render_model(table.to_poe(), opts)

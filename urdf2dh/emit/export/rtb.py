@@ -23,8 +23,8 @@ from ...conventions import Params
 from ...conventions.table import Row, Table
 from ...escape import python_docstring, python_string
 from .common import (
+    ExportOptions,
     Numbers,
-    Options,
     floats,
     header,
     require,
@@ -106,7 +106,7 @@ def _link(table: Table, row: Row, numbers: Numbers) -> str:
     return f"        {cls}({', '.join(args)}),"
 
 
-def render(table: Table, opts: Options) -> str:
+def render(table: Table, opts: ExportOptions) -> str:
     """A Python script defining ``robot``, a roboticstoolbox ``DHRobot`` of the table."""
     require(table, "rtb", ("dh", "mdh", "hayati"))
     numbers = Numbers.of(table, opts.tol)

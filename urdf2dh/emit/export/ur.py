@@ -54,8 +54,8 @@ from ...escape import yaml_comment
 from ...geometry.se3 import dh_matrix, rot_z, rpy
 from ...tolerances import HASH_DECIMALS
 from .common import (
+    ExportOptions,
     Numbers,
-    Options,
     close_to,
     floats,
     header,
@@ -129,7 +129,7 @@ def calibration_hash(table: Table) -> str:
     return f"calib_{hash_bytes(hash_text(hashed_rows(table)).encode('ascii'))}"
 
 
-def _check(table: Table, opts: Options) -> None:
+def _check(table: Table, opts: ExportOptions) -> None:
     require_convention(table, "ur", ("dh",))
     if table.n != 6:
         raise ExportError(f"ur: a UR arm has 6 joints; this chain has {table.n}")
@@ -172,7 +172,7 @@ def joint_origins(table: Table) -> list[Mat]:
     return out
 
 
-def render(table: Table, opts: Options) -> str:
+def render(table: Table, opts: ExportOptions) -> str:
     """``default_kinematics.yaml`` for ``ur_macro.xacro`` (see the module docstring)."""
     _check(table, opts)
     rows = hashed_rows(table)

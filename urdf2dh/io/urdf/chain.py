@@ -9,13 +9,13 @@ helical joint, since URDF has none.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, replace
 
 import numpy as np
 from numpy.typing import NDArray
 
-from ...errors import ChainError, shown
+from ...errors import ChainError, Remedy, shown
+from ...geometry.frames import unit
 from ...model.mimic import Mimic
 from ...model.poe import Joint, JointKind, PoeModel
 from .tree import UrdfJoint, UrdfTree, names
@@ -50,12 +50,6 @@ class _Moving:
     mimic: Mimic | None = None
 
 
-def _unit(v: Vec) -> Vec:
-    """``v / |v|`` with the length taken without overflow or underflow (``math.hypot``)."""
-    x, y, z = v.tolist()
-    return v / math.hypot(x, y, z)
-
-
 def _helical_lead(uj: UrdfJoint, axis: Vec, moving: list[_Moving]) -> float | None:
     """The pitch, if ``uj`` is the lead of a helical joint as urdf2dh writes one: a prismatic
     joint mimicking the revolute joint just before it on the chain (offset 0), along its axis."""
@@ -86,7 +80,7 @@ def _walk(
             )
         if uj.type == "fixed":
             continue
-        axis = _unit(t[:3, :3] @ uj.axis)
+        axis = np.array(unit((t[:3, :3] @ uj.axis).tolist()))
         if uj.mimic is not None:
             lead = _helical_lead(uj, axis, moving)
             if lead is not None:  # revolute + coaxial prismatic mimicking it = one helical joint
@@ -150,7 +144,8 @@ def _followed(
             else:  # a multiplier of 0: a constant position, of no joint
                 raise ChainError(
                     f"{tree.path}: joint {shown(m.name)} mimics {shown(relation.joint)} with "
-                    "multiplier 0; pass --ignore-mimic to treat it as an independent joint"
+                    "multiplier 0",
+                    remedy=Remedy("ignore_mimic", "; pass {} to treat it as an independent joint"),
                 )
         out.append(m if relation == m.mimic else replace(m, mimic=relation))
     return out
@@ -171,7 +166,7 @@ def tree_to_poe(
         The URDF's kinematic tree.
     base, tip
         Link names; ``base`` defaults to the root link and ``tip`` to the single deepest leaf
-        below it (SPEC §1).
+        below it (ties are an error).
     ignore_mimic
         Treat a mimic joint on the chain as an independent joint (with a warning) instead of
         keeping it coupled to its leader; the lead of a helical joint is read as such either way.

@@ -16,7 +16,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from ...errors import ChainError, InputError, choices, shown
+from ...errors import ChainError, InputError, Remedy, choices, shown
 from .validate import JOINT_TYPES, MOVING_TYPES
 
 __all__ = ["UrdfJoint", "UrdfTree", "build_tree", "names"]
@@ -130,14 +130,16 @@ class UrdfTree:
         return sorted(k for k in self.subtree(below or self.root) if k not in self.children)
 
     def default_tip(self, base: str) -> str:
-        """The single deepest leaf below ``base`` (SPEC §1); ties are an error listing them."""
+        """The single deepest leaf below ``base``, the default tip of a chain; ties are an error
+        listing them."""
         depths = {leaf: self.depth(leaf) for leaf in self.leaves(base)}
         deepest = max(depths.values())
         tied = [leaf for leaf, d in depths.items() if d == deepest]
         if len(tied) > 1:
             raise ChainError(
                 f"{self.path}: several leaves tie as the deepest below {shown(base)}: "
-                f"{names(tied)}; choose one with --tip"
+                f"{names(tied)}",
+                remedy=Remedy("tip", "; choose one with {}"),
             )
         return tied[0]
 
