@@ -42,6 +42,7 @@ import sys
 import tempfile
 import time
 import warnings
+from dataclasses import dataclass, field
 from functools import partial
 from pathlib import Path
 from typing import Any
@@ -57,10 +58,12 @@ from urdf2dh import (  # noqa: E402
     render,
     to_table,
 )
+from urdf2dh.calibration.calibration import holdout_split  # noqa: E402
 from urdf2dh.calibration.identify import identify  # noqa: E402
 from urdf2dh.calibration.measure import perturb, synthesize  # noqa: E402
 from urdf2dh.calibration.measurements import (  # noqa: E402
     Measurements,
+    Reading,
     read_measurements,
     write_measurements,
 )
@@ -229,10 +232,18 @@ def main() -> int:
     parser.add_argument("--poses", type=int, default=1000)
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--datasets", type=int, default=1)
+    parser.add_argument(
+        "--unseen",
+        metavar="DIR",
+        type=Path,
+        help="the data sets the project did not build on, their files in DIR (unseen_sets)",
+    )
     args = parser.parse_args()
     warnings.simplefilter("ignore")
+    if args.unseen is not None:
+        return real_sets(unseen_sets(args.unseen), args.repeats)
     if not args.synthetic:
-        return real_sets(args.repeats)
+        return real_sets(shared_sets(), args.repeats)
     nominal = urdf2dh.load("ur5")
     actual = perturb(nominal, seed=3, angle=0.002, length=0.001)
     m = synthesize(actual, args.poses, NOISE, NOISE, seed=5)
@@ -318,22 +329,133 @@ def more_datasets(nominal: PoeModel, poses: int, count: int) -> None:
 DATA = Path(__file__).resolve().parents[2] / "shared" / "calibration-data"
 if not DATA.is_dir():
     DATA = Path("/work/shared/calibration-data")
-
-# name: (nominal for urdf2dh, URDF file for FIGAROH, its base and tool frames, stem of the files,
-#        the best anchor's held-out RMS position from the data's README, m)
-REAL = {
-    "ur10": ("ur10", "wrist_3_link", "ur10/ur10_pose", 3.61e-3),
-    "tiago": ("tiago", "wrist_ft_tool_link", "tiago/tiago_m1", 4.33e-3),
-    "panda": ("panda", "panda_link8", "panda/panda_cam", 1.39e-3),
-}
+FIGAROH_LEVELS = ("full_params", "joint_offset")
+LEVEL_NAMES = ("base-tool", "offsets", "geometry", "full")
 
 
-def _urdf(name: str) -> str:
-    if name == "ur10":
-        return str(DATA / "ur10" / "ur10_robot.urdf")
-    if name == "tiago":
-        return str(DATA / "tiago" / "tiago_48_schunk.urdf")
-    return str(robot_path(ROBOTS["panda"]))
+@dataclass(frozen=True)
+class RealSet:
+    """One real data set: what urdf2dh loads, what FIGAROH loads, the measurements.
+
+    Attributes
+    ----------
+    name, source
+        Its name and provenance (repository @ commit : path).
+    robot, tip
+        urdf2dh's SOURCE and ``--tip`` (``None``: the source's own).
+    urdf, tool
+        The URDF file FIGAROH loads and its tool frame (its base frame is the URDF's root).
+    files
+        The fit and test files (the data's README split), or one file split as the README says
+        (30% of the configurations held out, seed 0).
+    reading
+        How the file is read (:class:`urdf2dh.calibration.measurements.Reading`).
+    anchor
+        The best anchor's held-out RMS position (the data's README, m), where there is one.
+    """
+
+    name: str
+    source: str
+    robot: str
+    tip: str | None
+    urdf: str
+    tool: str
+    files: tuple[Path, ...]
+    reading: Reading = field(default_factory=Reading)
+    anchor: float | None = None
+
+
+def shared_sets() -> list[RealSet]:
+    """The three sets of ``../shared/calibration-data`` (its README)."""
+    ur10 = str(DATA / "ur10" / "ur10_robot.urdf")
+    tiago = str(DATA / "tiago" / "tiago_48_schunk.urdf")
+    panda = str(robot_path(ROBOTS["panda"]))
+    return [
+        RealSet("ur10", "calibration-data/ur10", ur10, "wrist_3_link", ur10, "wrist_3_link",
+                (DATA / "ur10" / "ur10_pose_fit.csv", DATA / "ur10" / "ur10_pose_test.csv"),
+                anchor=3.61e-3),
+        RealSet("tiago", "calibration-data/tiago", tiago, "wrist_ft_tool_link", tiago,
+                "wrist_ft_tool_link",
+                (DATA / "tiago" / "tiago_m1_fit.csv", DATA / "tiago" / "tiago_m1_test.csv"),
+                anchor=4.33e-3),
+        RealSet("panda", "calibration-data/panda", "panda", None, panda, "panda_link8",
+                (DATA / "panda" / "panda_cam_fit.csv", DATA / "panda" / "panda_cam_test.csv"),
+                anchor=1.39e-3),
+    ]  # fmt: skip
+
+
+def _talos(side: str) -> tuple[tuple[str, str], ...]:
+    short = "L" if side == "left" else "R"
+    return (
+        ("torso1", "torso_1_joint"),
+        ("torso2", "torso_2_joint"),
+        *((f"arm{short}{k}", f"arm_{side}_{k}_joint") for k in range(1, 8)),
+    )
+
+
+def unseen_sets(directory: Path) -> list[RealSet]:
+    """Data sets the project did not build on, their files in ``directory`` as their
+    repositories name them (fetch them from there; they are not part of urdf2dh):
+
+    * thanhndv212/figaroh @ 742cd41 : ``data/talos/talos_feb_arm_02_10_contact.csv``,
+      ``talos_feb_arm_02_07_crane.csv``, ``talos_mars_right_arm_04_03_crane.csv`` (TALOS arm
+      positions, motion capture) and ``data/tiago/cross_valid.csv`` (a TIAGo session);
+    * thanhndv212/figaroh-plus @ c3b5172 : ``examples/talos/data/talos_full_v2.urdf``,
+      ``examples/mate/urdf/mate.urdf`` and ``examples/mate/data/transformed_poses.csv`` (MATE,
+      three joints, poses in degrees);
+    * clementPene/figaroh_tiagoPro @ eb4d7d6 : ``tiago_pro.urdf`` and
+      ``data/calibration_samples_20260701_0913.csv`` (a TIAGo Pro's right arm).
+    """
+    d = directory
+    talos, tiago_pro = str(d / "talos_full_v2.urdf"), str(d / "tiago_pro.urdf")
+    tiago = str(DATA / "tiago" / "tiago_48_schunk.urdf")
+    tiago_joints = (("torso", "torso_lift_joint"), ("atm6", "arm_6_joint"),
+                    *((f"arm{k}", f"arm_{k}_joint") for k in (1, 2, 3, 4, 5, 7)))  # fmt: skip
+    left = Reading(ignore=("t",), rename=_talos("left"))
+    right = Reading(rename=_talos("right"))
+    figaroh = "thanhndv212/figaroh @ 742cd41 : data/"
+    pro = "clementPene/figaroh_tiagoPro @ eb4d7d6 : data/"
+    mate = "thanhndv212/figaroh-plus @ c3b5172 : examples/mate/data/"
+    hand, other_hand = "gripper_left_base_link", "gripper_right_base_link"
+    contact, crane = "talos_feb_arm_02_10_contact.csv", "talos_feb_arm_02_07_crane.csv"
+    right_crane, samples = (
+        "talos_mars_right_arm_04_03_crane.csv",
+        "calibration_samples_20260701_0913.csv",
+    )
+    return [
+        RealSet("TALOS left arm, contact", figaroh + "talos/" + contact, talos, hand, talos,
+                hand, (d / contact,), left),
+        RealSet("TALOS left arm, crane", figaroh + "talos/" + crane, talos, hand, talos, hand,
+                (d / crane,), left),
+        RealSet("TALOS right arm, crane", figaroh + "talos/" + right_crane, talos, other_hand,
+                talos, other_hand, (d / right_crane,), right),
+        RealSet("TIAGo, another session", figaroh + "tiago/cross_valid.csv", tiago,
+                "wrist_ft_tool_link", tiago, "wrist_ft_tool_link", (d / "cross_valid.csv",),
+                Reading(rename=tiago_joints)),
+        RealSet("TIAGo Pro, right arm", pro + samples, tiago_pro, "gripper_right_tool_holder",
+                tiago_pro, "gripper_right_tool_holder", (d / samples,)),
+        RealSet("MATE, 3 joints, poses in degrees", mate + "transformed_poses.csv",
+                str(d / "mate.urdf"), "end_effector", str(d / "mate.urdf"), "end_effector",
+                (d / "transformed_poses.csv",), Reading(degrees=True)),
+    ]  # fmt: skip
+
+
+def load_set(real: RealSet) -> tuple[PoeModel, Measurements, Measurements]:
+    """The nominal, the fit and the test measurements of a set."""
+    nominal = urdf2dh.load(real.robot, tip=real.tip)
+    joints = tuple(j.name for j in nominal.joints)
+    sliding = tuple(j.name for j in nominal.joints if j.kind == "prismatic")
+
+    def read(path: Path) -> Measurements:
+        return read_measurements(
+            path, joints, reading=real.reading, sliding=sliding, length_unit=nominal.length_unit
+        )
+
+    if len(real.files) == 2:
+        return nominal, read(real.files[0]), read(real.files[1])
+    m = read(real.files[0])
+    fit_rows, held_rows = holdout_split(m, 0.3, 0)
+    return nominal, m.subset(fit_rows), m.subset(held_rows)
 
 
 def held_out_rms(points: np.ndarray, measured: np.ndarray) -> float:
@@ -347,11 +469,6 @@ def best_time(run: Any, repeats: int) -> tuple[float, Any]:
         out = run()
         best = min(best, time.perf_counter() - start)
     return best, out
-
-
-def _tool_points(model: PoeModel, m: Measurements) -> np.ndarray:
-    poses = model.fk_batch(m.q)
-    return poses[:, :3, 3]
 
 
 def figaroh_real(
@@ -406,61 +523,102 @@ def robotkinecal_real(
         for j, s in zip(nominal.joints, screws, strict=True)
     )
     model = PoeModel(joints, np.array(result.get_zero_conf_EE_pose().A), "robotkinecal")
-    predicted = _tool_points(model, test) @ np.linalg.inv(g)[:3, :3].T + np.linalg.inv(g)[:3, 3]
-    return elapsed, held_out_rms(predicted, test.points)
+    predicted = model.fk_batch(test.q)[:, :3, 3] @ np.linalg.inv(g)[:3, :3].T
+    return elapsed, held_out_rms(predicted + np.linalg.inv(g)[:3, 3], test.points)
 
 
-def real_sets(repeats: int) -> int:
-    """The side-by-side table on the real data sets (module docstring)."""
-    print("### Calibration on real measurements: held-out RMS position, 30% of the configurations")
-    print(
-        "held out (the data's README split), and identification time (best of "
-        f"{repeats}, wall clock)\n"
-    )
-    print("| set | tool | held-out RMS | vs best anchor | time | time / urdf2dh's |")
-    print("|---|---|---|---|---|---|")
+@dataclass(frozen=True)
+class Row:
+    """One set's figures: held-out RMS position per tool (m, ``nan``: could not run) and the
+    times (s)."""
+
+    real: RealSet
+    configurations: tuple[int, int]
+    measure: str
+    chosen: str
+    held: dict[str, float]
+    times: dict[str, float]
+
+
+def one_set(real: RealSet, repeats: int, work: Path) -> Row:
+    """Every tool on one real set, fitted to its fit measurements and judged on its test ones.
+    Keys: ``default``, the four levels, ``FIGAROH full_params``, ``FIGAROH joint_offset``,
+    ``robotkinecal`` (pose sets)."""
+    nominal, fit, test = load_set(real)
+    held: dict[str, float] = {}
+    times: dict[str, float] = {}
+    times["default"], cal = best_time(partial(calibrate, nominal, fit, convention="poe"), repeats)
+    held["default"] = _held_out(cal.device_model, cal, test)
+    for level in LEVEL_NAMES:
+        run = partial(calibrate, nominal, fit, identify_level=level, convention="poe")
+        times[level], other = best_time(run, repeats)
+        held[level] = _held_out(other.device_model, other, test)
+    tools: list[tuple[str, Any]] = [
+        (f"FIGAROH {level}", partial(figaroh_real, real.urdf, real.tool, fit, test, level, work,
+                                     repeats))
+        for level in FIGAROH_LEVELS
+    ]  # fmt: skip
+    if fit.quaternions is not None:
+        tools.append(
+            ("robotkinecal", partial(robotkinecal_real, nominal, fit, test, work, repeats))
+        )
+    for label, run in tools:
+        try:
+            times[label], held[label] = run()
+        except Exception as e:  # report why a tool could not run, and go on
+            print(f"{label} on {real.name}: could not run: {type(e).__name__}: {e}")
+            times[label], held[label] = math.nan, math.nan
+    counts = (fit.configurations()[1], test.configurations()[1])
+    measure = "poses" if fit.quaternions is not None else "positions"
+    return Row(real, counts, measure, cal.level, held, times)
+
+
+def real_sets(sets: list[RealSet], repeats: int) -> int:
+    """The side-by-side tables of ``sets`` (module docstring)."""
+    rows = []
     with tempfile.TemporaryDirectory(prefix="urdf2dh-bench-") as tmp:
-        for name in REAL:
-            for label, rms, elapsed, base in one_set(name, repeats, Path(tmp)):
-                print(
-                    f"| {name} | {label} | {rms * 1e3:.2f} mm | {rms / REAL[name][3]:.3f}x | "
-                    f"{elapsed:.3f} s | {elapsed / base:.2f}x |"
-                )
+        for real in sets:
+            rows.append(one_set(real, repeats, Path(tmp)))
+    tools = ("FIGAROH full_params", "FIGAROH joint_offset", "robotkinecal")
+    print("### Held-out RMS position (mm): 30% of the configurations held out, seed 0\n")
+    print(
+        "| set | configurations (fit + held out) | urdf2dh default (its choice) | "
+        + " | ".join(LEVEL_NAMES)
+        + " | "
+        + " | ".join(tools)
+        + " | best anchor (README) |"
+    )
+    print("|---|---|---|" + "---|" * (len(LEVEL_NAMES) + len(tools) + 1))
+    for row in rows:
+        cells = [f"{row.held['default'] * 1e3:.2f} ({row.chosen})"]
+        cells += [_mm(row.held[level]) for level in LEVEL_NAMES]
+        cells += [_mm(row.held.get(tool, math.nan)) for tool in tools]
+        cells.append(_mm(row.real.anchor if row.real.anchor is not None else math.nan))
+        fit_n, held_n = row.configurations
+        print(f"| {row.real.name} | {fit_n} + {held_n} {row.measure} | " + " | ".join(cells) + " |")
+    print(
+        f"\n### Identification time (best of {repeats}, wall clock): ratios to urdf2dh's default\n"
+    )
+    print("| set | urdf2dh default | " + " | ".join(tools) + " | fastest FIGAROH / urdf2dh |")
+    print("|---|---|" + "---|" * (len(tools) + 1))
+    for row in rows:
+        base = row.times["default"]
+        ratios = [_ratio(row.times.get(tool, math.nan), base) for tool in tools]
+        fastest = min(row.times.get(tool, math.inf) for tool in tools[:2])
+        print(
+            f"| {row.real.name} | {base:.3f} s | "
+            + " | ".join(ratios)
+            + f" | {fastest / base:.2f} |"
+        )
     return 0
 
 
-def one_set(name: str, repeats: int, work: Path) -> list[tuple[str, float, float, float]]:
-    """Every tool on one real set: (label, held-out RMS, time, urdf2dh's default time)."""
-    robot, tool, stem, _ = REAL[name]
-    urdf = _urdf(name)
-    nominal = urdf2dh.load(robot) if name == "panda" else urdf2dh.load(urdf, tip=tool)
-    joints = tuple(j.name for j in nominal.joints)
-    fit = read_measurements(DATA / f"{stem}_fit.csv", joints)
-    test = read_measurements(DATA / f"{stem}_test.csv", joints)
-    rows: list[tuple[str, float, float]] = []
-    base, cal = best_time(partial(calibrate, nominal, fit, convention="poe"), repeats)
-    label = f"urdf2dh default (chose {cal.level}, {cal.iterations} iterations)"
-    rows.append((label, _held_out(cal.device_model, cal, test), base))
-    for level in ("base-tool", "offsets", "geometry", "full"):
-        run = partial(calibrate, nominal, fit, identify_level=level, convention="poe")
-        elapsed, other = best_time(run, repeats)
-        rows.append(
-            (f"urdf2dh --identify {level}", _held_out(other.device_model, other, test), elapsed)
-        )
-    for level in ("full_params", "joint_offset"):
-        try:
-            elapsed, rms = figaroh_real(urdf, tool, fit, test, level, work, repeats)
-        except Exception as e:  # report why a tool could not run, and go on
-            print(f"FIGAROH {level} on {name}: could not run: {type(e).__name__}: {e}")
-            continue
-        rows.append((f"FIGAROH {level}", rms, elapsed))
-    if fit.quaternions is not None:
-        try:
-            elapsed, rms = robotkinecal_real(nominal, fit, test, work, repeats)
-            rows.append(("robotkinecal", rms, elapsed))
-        except Exception as e:  # report why a tool could not run, and go on
-            print(f"robotkinecal on {name}: could not run: {type(e).__name__}: {e}")
-    return [(label, rms, elapsed, base) for label, rms, elapsed in rows]
+def _mm(value: float) -> str:
+    return "-" if not math.isfinite(value) else f"{value * 1e3:.2f}"
+
+
+def _ratio(value: float, base: float) -> str:
+    return "-" if not math.isfinite(value) else f"{value / base:.2f}x"
 
 
 def _held_out(device_model: PoeModel, cal: Any, test: Measurements) -> float:

@@ -243,15 +243,21 @@ def test_bad_rows_exit_2_naming_file_row_and_column(tmp_path, capsys, text, frag
 
 
 def test_too_few_measurements_exit_2_with_both_counts(tmp_path, capsys):
+    """Without a prior, fewer equations than parameters are refused; with the default one the
+    prior's rows complete them, and the report says how few the measurements determine."""
     meas = tmp_path / "few.csv"
     run(capsys, "measure", "puma560-actual", "--configs", "6", "-o", meas)
-    code, _, err = run(
-        capsys, "calibrate", "puma560-nominal", meas, "--helical", "all", "--identify", "full"
-    )
+    full = ("--helical", "all", "--identify", "full")
+    code, _, err = run(capsys, "calibrate", "puma560-nominal", meas, *full, "--prior", "none")
     assert code == 2
     assert "6 poses give 36 equations (6 each), fewer than the 42 parameters" in err
+    code, _, err = run(capsys, "calibrate", "puma560-nominal", meas, *full)
+    assert code == 0, err
+    assert "the measurements determine 36 of the 42 parameters" in err
     run(capsys, "measure", "puma560-actual", "--configs", "10", "--measure", "position", "-o", meas)
-    code, _, err = run(capsys, "calibrate", "puma560-nominal", meas, "--identify", "full")
+    code, _, err = run(
+        capsys, "calibrate", "puma560-nominal", meas, "--identify", "full", "--prior", "none"
+    )
     assert code == 2 and "10 positions give 30 equations (3 each), fewer than the 33" in err
 
 

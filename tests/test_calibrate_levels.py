@@ -99,7 +99,7 @@ def test_fixed_parameters_and_a_bad_name(ur5):
 def test_a_tight_prior_keeps_the_nominal_and_a_loose_one_changes_nothing(ur5):
     actual = perturb(ur5, 7, 0.003, 0.003)
     m = synthesize(actual, 30, NOISE, NOISE, seed=8)
-    free = calibrate(ur5, m, identify_level="geometry")
+    free = calibrate(ur5, m, identify_level="geometry", prior="none")
     loose = calibrate(ur5, m, identify_level="geometry", prior=Prior(1.0, 1.0))
     tight = calibrate(ur5, m, identify_level="geometry", prior=Prior(1e-7, 1e-7))
     q = ur5.sample(200, 9)
@@ -134,21 +134,29 @@ def test_a_validation_file_is_judged(ur5, tmp_path, capsys):
     assert "after, validation" in err
 
 
-def test_an_outlier_is_listed_and_rejected_when_asked(ur5):
+def test_an_outlier_is_listed_and_rejected_when_it_spoils_the_others(ur5):
+    """A wrong measurement drags the fit: without it the other configurations are predicted
+    far better, so the default rejects it; asked, it is kept, or rejected."""
     actual = perturb(ur5, 11, 0.002, 0.002)
     m = synthesize(actual, 60, NOISE, NOISE, seed=12)
     points = m.points.copy()
     points[17] += [0.02, -0.01, 0.0]  # 22 mm off: a wrong measurement
     bad = Measurements(m.joints, m.q, points, m.quaternions, None, "bad.csv")
-    kept = calibrate(ur5, bad)
+    kept = calibrate(ur5, bad, reject=False)
     assert [s.row for s in kept.suspects] == [17] and not kept.rejected
     assert kept.suspects[0].position > 0.01 and kept.suspects[0].chance < 1e-6
-    assert any("row 18" in w and "cannot explain" in w for w in kept.warnings)
+    assert any("row 18" in w and "cannot explain (kept as asked" in w for w in kept.warnings)
     rejected = calibrate(ur5, bad, reject=True)
     assert rejected.rejected and rejected.counts.rejected == 1
-    assert any("rejected 1 outlier: row 18" in w for w in rejected.warnings)
+    assert any("rejected 1 outlier (as asked): row 18" in w for w in rejected.warnings)
+    default = calibrate(ur5, bad)
+    assert default.rejected and default.counts.rejected == 1
+    assert any(
+        "rejected 1 outlier (without them the other configurations are predicted better" in w
+        for w in default.warnings
+    )
     q = ur5.sample(200, 13)
-    better = pose_errors(rejected.model.fk_batch(q), actual.fk_batch(q))[0]
+    better = pose_errors(default.model.fk_batch(q), actual.fk_batch(q))[0]
     worse = pose_errors(kept.model.fk_batch(q), actual.fk_batch(q))[0]
     assert better < worse and better < 10 * NOISE
 
@@ -254,7 +262,7 @@ def test_plots_are_a_png_and_one_self_contained_page(ur5):
         plot_calibration(cal, "gif")
 
 
-def test_the_cross_validation_shows_a_progress_bar_on_a_terminal(tmp_path):
+def test_the_levels_show_a_progress_bar_on_a_terminal(tmp_path):
     import fcntl
     import os
     import pty
@@ -298,7 +306,7 @@ def test_the_cross_validation_shows_a_progress_bar_on_a_terminal(tmp_path):
     os.close(main_fd)
     proc.communicate(timeout=120)
     assert proc.returncode == 0
-    assert b"calibrate: cross-validation:" in drawn and b"/5" in drawn
+    assert b"calibrate: levels:" in drawn and b"/4" in drawn
 
 
 def test_the_model_poses_of_an_estimate_with_offsets_move_as_the_absorbed_model(ur5):

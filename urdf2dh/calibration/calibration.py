@@ -6,11 +6,13 @@
    the same side; ``validation`` is a separate set judged the same way.
 2. The base-tool level is fitted: the nominal joints with base and tool fitted, the fair
    "before" of every figure (:mod:`.identify`).
-3. The level is chosen by cross-validation over configurations (:mod:`.select`), or is the one
-   asked for (then cross-validated against base-tool all the same, for the warning below).
+3. The level is chosen by leaving each configuration out of the fit in turn (:mod:`.select`;
+   geometry and full with the prior of :mod:`.prior`), or is the one asked for (then judged
+   against base-tool all the same, for the warning below).
 4. Outlier suspects of the chosen level's fit are found with a stated threshold
-   (:mod:`.outliers`) and listed; when ``reject`` asks, they are rejected and the choice is
-   made again without them.
+   (:mod:`.outliers`) and listed; the choice is made again without them, and they are rejected
+   when that predicts the other configurations better (or always, or never, when ``reject``
+   says so).
 5. The chosen level's fit gives the identified model, its statistics, the flags (parameters
    whose uncertainty at the tool exceeds :data:`~urdf2dh.tolerances.POORLY_IDENTIFIED` x the
    position noise; joints that barely moved) and the warnings (held-out or cross-validated
@@ -41,12 +43,20 @@ from ..schemas import CALIBRATION_REPORT
 from ..tolerances import DEFAULT, Tolerances
 from .chart import LEVELS, Estimate, absorbed, count
 from .identifiable import check_patterns
-from .identify import check_equations, fit_before, identify, level_start
+from .identify import (
+    check_equations,
+    fit_before,
+    has_prior,
+    identify,
+    level_start,
+    with_statistics,
+)
 from .measurements import MAX_MEASUREMENTS, Measurements
-from .outliers import Suspect, suspects
+from .outliers import Suspect, rejecting_helps, suspects
+from .prior import AUTO as AUTO_PRIOR
 from .prior import Prior
 from .residuals import evaluate
-from .select import FOLDS, Selection, cross_validate
+from .select import Selection, cross_validate
 from .start import MAX_ITERATIONS, FitOptions, to_data
 
 __all__ = [
@@ -422,11 +432,11 @@ def calibrate(
     identify_level: str = AUTO,
     pose: bool | None = None,
     fixed: tuple[str, ...] = (),
-    prior: Prior | None = None,
+    prior: Prior | str = AUTO_PRIOR,
     holdout: float = 0.0,
     validation: Measurements | None = None,
     seed: int = 0,
-    folds: int = FOLDS,
+    folds: int | None = None,
     rule: str = "simplest",
     noise_pos: float | None = None,
     noise_rot: float | None = None,
@@ -435,7 +445,7 @@ def calibrate(
     keep_tool_axis: bool = False,
     frame: str = "device",
     layout: dict[int, Mat] | None = None,
-    reject: bool = False,
+    reject: bool | None = None,
     convention: str | None = None,
     style: str = "wu",
     tol: Tolerances = DEFAULT,
@@ -457,13 +467,15 @@ def calibrate(
     fixed
         Parameters held at the nominal's values: names or shell-style patterns.
     prior
-        Deviations of the joints' parameters about the nominal (:mod:`.prior`).
+        The prior on the joints' parameters (:mod:`.prior`): ``auto`` (the deviations of
+        greatest evidence, at the geometry and full levels), ``none``, or stated deviations.
     holdout, validation, seed
         A fraction of the configurations held out of the fit (drawn with ``seed``), and a
         separate set, both judged.
     folds, rule
-        Folds of the cross-validation and its rule (:mod:`.select`): the ``simplest`` level
-        within its uncertainty of the best, or the ``best``.
+        How the levels are judged (:mod:`.select`): each configuration left out in turn
+        (``None``), or ``folds`` seeded folds of them; the ``simplest`` level within one
+        standard error of the best, or the ``best``.
     noise_pos, noise_rot
         Noise levels that weigh the residuals (default: estimated).
     helical
@@ -475,8 +487,8 @@ def calibrate(
     layout
         The markers' positions on the tool.
     reject
-        Reject the outlier suspects (:mod:`.outliers`) and fit again without them; otherwise
-        they are listed and kept.
+        The outlier suspects (:mod:`.outliers`): rejected (``True``), kept (``False``), or
+        rejected when that predicts the other configurations better (``None``).
     convention, style
         The output table's convention (``None``: chosen, see module docstring; ``poe``: none)
         and D-H style.
@@ -503,7 +515,8 @@ def calibrate(
     if validation is not None:
         check_instance(validation, Measurements, "calibrate: validation", MEASUREMENTS_HINT)
     check_seed(seed, "calibrate: seed")
-    check_count(folds, "calibrate: folds", 2)
+    if folds is not None:
+        check_count(folds, "calibrate: folds", 2)
     check_count(max_iterations, "calibrate: max_iterations")
     check_instance(identify_level, str, "calibrate: identify_level")
     if identify_level != AUTO and identify_level not in LEVELS:
@@ -573,9 +586,9 @@ def _calibrate(
     holdout: float,
     validation: Measurements | None,
     seed: int,
-    folds: int,
+    folds: int | None,
     rule: str,
-    reject: bool,
+    reject: bool | None,
     convention: str | None,
     style: str,
     tol: Tolerances,
@@ -595,7 +608,8 @@ def _calibrate(
         )
     if identify_level != AUTO:  # fewer equations than its parameters: say so now
         est, _, _ = level_start(nominal, before.solution.estimate, opts, ids)
-        check_equations(count(est), to_data(fit, opts.pose, ids), fit.source, opts.pose)
+        if not has_prior(est, opts):
+            check_equations(count(est), to_data(fit, opts.pose, ids), fit.source, opts.pose)
     if opts.fixed:
         probes = [
             level_start(nominal, before.solution.estimate, replace(opts, level=lv), ids)[0]
@@ -608,15 +622,46 @@ def _calibrate(
         raise InputError(
             f"{m.source}: the {level} level cannot be identified: {selection.score(level).failure}"
         )
+    fits[level] = with_statistics(fits[level], to_data(fit, opts.pose, ids))
     found = [
         replace(s, row=int(fit_rows[s.row])) for s in suspects(fit, fits[level], opts.pose, ids)
     ]
-    if reject and found:
-        fit_rows = np.setdiff1d(fit_rows, [s.row for s in found])
-        fit = m.subset(fit_rows)
-        start, before = fit_before(nominal, fit, opts, ids)
-        selection, fits = cross_validate(nominal, fit, opts, ids, before, levels, folds, seed, rule)
-        level = _level(selection, identify_level, m.source)
+    rejected, note = False, ""
+    if found and reject is not False:
+        kept_rows = np.setdiff1d(fit_rows, [s.row for s in found])
+        fit2 = m.subset(kept_rows)
+        start2, before2 = fit_before(nominal, fit2, opts, ids)
+        selection2, fits2 = cross_validate(
+            nominal, fit2, opts, ids, before2, levels, folds, seed, rule
+        )
+        level2 = selection2.chosen if identify_level == AUTO else identify_level
+        helps, with_rms, without_rms = rejecting_helps(
+            np.flatnonzero(np.isin(fit_rows, kept_rows)),
+            fit2.configurations()[0],
+            (selection, level),
+            (selection2, level2 or ""),
+        )
+        unit = nominal.length_unit
+        figures = f"left-out RMS position {without_rms:.3g} against {with_rms:.3g} {unit}"
+        if reject is None and not helps:
+            note = (
+                "kept: the other configurations are predicted no better without them "
+                f"({figures}); a wrong measurement, or the model's error at an unusual "
+                "configuration"
+            )
+        elif level2 is not None and level2 in fits2:
+            rejected = True
+            note = (
+                "as asked"
+                if reject
+                else f"without them the other configurations are predicted better ({figures})"
+            )
+            fit_rows, fit, start, before = kept_rows, fit2, start2, before2
+            selection, fits, level = selection2, fits2, level2
+    elif found:
+        note = (
+            "kept as asked; a wrong measurement, or the model's error at an unusual configuration"
+        )
     result = identify(nominal, fit, replace(opts, level=level), ids, (start, before), fits[level])
     if not result.solution.converged:
         raise NotConverged(
@@ -642,7 +687,8 @@ def _calibrate(
         "cross-validation" if identify_level == AUTO else "option",
         selection,
         tuple(found),
-        reject and bool(found),
+        rejected,
+        note,
         convention,
         style,
         tol,

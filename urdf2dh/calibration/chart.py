@@ -48,7 +48,6 @@ which coordinates of the level are identified; :func:`count`, :func:`names` and
 from __future__ import annotations
 
 import itertools
-import math
 from dataclasses import dataclass, replace
 from functools import lru_cache
 
@@ -73,6 +72,8 @@ __all__ = [
     "absorbed",
     "all_names",
     "count",
+    "joint_columns",
+    "line_coordinates",
     "local_coordinates",
     "names",
     "normal_basis",
@@ -407,7 +408,7 @@ def _moved_all(est: Estimate, g: Mat) -> Estimate:
     )
 
 
-def _joint_columns(est: Estimate) -> tuple[NDArray[np.int64], ...]:
+def joint_columns(est: Estimate) -> tuple[NDArray[np.int64], ...]:
     """Where each joint coordinate sits in the level's coordinates: ``(line (n, 5), offset,
     scale)`` indices, -1 where a joint has none (line: turn1, turn2, shift1, shift2, pitch)."""
     return _columns_of(est.level, est.chain.kinds)
@@ -452,7 +453,7 @@ def retract(est: Estimate, delta: Mat) -> Estimate:
     if level.base:
         est = _moved_all(est, twist_exp(x_all[:6]))
     chain = est.chain
-    line_at, offset_at, scale_at = _joint_columns(est)
+    line_at, offset_at, scale_at = joint_columns(est)
     changes: dict[str, object] = {}
     if level.scales:
         changes["scale"] = chain.scale + _take(x_all, scale_at)
@@ -493,63 +494,75 @@ def retract(est: Estimate, delta: Mat) -> Estimate:
     return replace(est, chain=new_chain, markers=markers, offsets=offsets)
 
 
-def _line_coordinates(u: Mat, p: Mat, uo: Mat, po: Mat, turning: bool) -> tuple[list[float], Mat]:
-    """The line chart's coordinates from the line ``(u, p)`` to ``(uo, po)`` and the motion
-    they make."""
-    e1, e2 = normal_basis(u)
-    cross = cross3(u, uo)
-    sin = float(np.linalg.norm(cross))
-    rho = cross * (math.atan2(sin, float(u @ uo)) / sin) if sin else 0.0 * cross
-    out = [float(rho @ e1), float(rho @ e2)]
-    if not turning:
-        return out, np.eye(4)
-    # exp(eta) p = p + J(rho) tau must lie on the other line: solve for tau in e1, e2
-    proj = np.eye(3) - np.outer(uo, uo)
-    lhs = proj @ left_jacobian(rho) @ np.array([e1, e2]).T
-    tau, *_ = np.linalg.lstsq(lhs, proj @ (po - p), rcond=None)
-    out += [float(tau[0]), float(tau[1])]
-    return out, twist_exp(line_motion(u, p, *out))
+def line_coordinates(axis: Mat, point: Mat, other_axis: Mat, other_point: Mat) -> Mat:
+    """``(n, 4)``: each line chart's coordinates (turn1, turn2, shift1, shift2) from the line
+    ``(axis[i], point[i])`` to ``(other_axis[i], other_point[i])``, all lines at once (the turns
+    alone are meaningful for a prismatic joint's direction).
+
+    The turn is the rotation vector ``rho`` taking ``u`` to ``u'`` about their common normal;
+    the shifts ``tau`` make ``exp(eta) p = p + J(rho) tau`` (:func:`.lie.left_jacobian`) a point
+    of the other line (least squares in the plane normal to it, closed form: two unknowns).
+    """
+    e1, e2 = normal_bases(axis)
+    cross = cross_rows(axis, other_axis)
+    sin = np.linalg.norm(cross, axis=1)
+    angle = np.arctan2(sin, np.einsum("ij,ij->i", axis, other_axis))
+    ratio = np.divide(angle, sin, out=np.ones_like(sin), where=sin > 0.0)
+    rho = cross * ratio[:, None]
+    out = np.empty((len(axis), 4))
+    out[:, 0] = np.einsum("ij,ij->i", rho, e1)
+    out[:, 1] = np.einsum("ij,ij->i", rho, e2)
+    # the columns J(rho) e1, J(rho) e2 and the gap, each with its part along u' removed
+    cols = np.einsum("nij,nkj->nik", left_jacobian(rho), np.stack([e1, e2], axis=1))
+    cols -= np.einsum("ni,nik->nk", other_axis, cols)[:, None, :] * other_axis[:, :, None]
+    gap = other_point - point
+    gap -= np.einsum("ni,ni->n", other_axis, gap)[:, None] * other_axis
+    normal = np.einsum("nik,nil->nkl", cols, cols)
+    out[:, 2:] = np.linalg.solve(normal, np.einsum("nik,ni->nk", cols, gap)[..., None])[..., 0]
+    return out
 
 
 def local_coordinates(est: Estimate, other: Estimate) -> Mat:
     """The free coordinates ``delta`` around ``est`` with ``retract(est, delta)`` equal to
     ``other`` (``other`` near ``est``, at the same level; to compare an identified model with the
     truth, or with the nominal)."""
-    out: list[float] = []
     level = est.level
+    full = np.zeros(sum(sizes(est, every=True)))
     base = np.eye(4)
     if level.base:
         base = other.base_motion() @ np.linalg.inv(est.base_motion())
-        out += log_se3(base).tolist()
-    motion = np.eye(4)
-    delta_offsets = other.joint_offsets() - est.joint_offsets()
+        full[:6] = log_se3(base)
     a, b = est.chain, other.chain
-    for i, kind in enumerate(a.kinds):
-        if level.lines:
-            coords, motion_i = _line_coordinates(
-                a.axis[i], a.point[i], b.axis[i], b.point[i], kind != "prismatic"
-            )
-            out += coords
-            motion = motion_i if kind != "prismatic" else np.eye(4)
-            if kind == "helical":
-                out.append(float(b.pitch[i] - a.pitch[i]))
-        if level.offsets:
-            out.append(float(delta_offsets[i]))
-        if level.scales:
-            out.append(float(b.scale[i] - a.scale[i]))
+    line_at, offset_at, scale_at = joint_columns(est)
+    motion = np.eye(4)
+    if level.lines and len(a):
+        lines = line_coordinates(a.axis, a.point, b.axis, b.point)
+        turning = a.turning
+        width = np.where(turning, 4, 2)
+        for k in range(4):
+            rows = width > k
+            full[line_at[rows, k]] = lines[rows, k]
+        helical = line_at[:, 4] >= 0
+        full[line_at[helical, 4]] = b.pitch[helical] - a.pitch[helical]
+        if turning[-1]:
+            motion = twist_exp(line_motion(a.axis[-1], a.point[-1], *lines[-1]))
+    if level.offsets:
+        full[offset_at] = other.joint_offsets() - est.joint_offsets()
+    if level.scales:
+        full[scale_at] = b.scale - a.scale
+    k = sum(sizes(est, every=True)[:-1])
     if est.home is not None:
         assert other.home is not None
         start = base @ est.home
         if est.keep_tool_axis:
             zeta = log_se3(np.linalg.inv(start) @ np.linalg.inv(motion) @ other.home)
-            out += np.linalg.lstsq(tool_screws(est), zeta, rcond=None)[0].tolist()
+            full[k:] = np.linalg.lstsq(tool_screws(est), zeta, rcond=None)[0]
         else:
-            out += log_se3(np.linalg.inv(start) @ other.home).tolist()
+            full[k:] = log_se3(np.linalg.inv(start) @ other.home)
     else:
         assert est.markers is not None and other.markers is not None
         start_markers = est.markers @ base[:3, :3].T + base[:3, 3]
-        out += (other.markers - start_markers).ravel().tolist()
-    full = np.array(out)
+        full[k:] = (other.markers - start_markers).ravel()
     return full if est.free is None else full[est.free]
 
 

@@ -42,10 +42,12 @@ from ..errors import InputError
 from ..geometry.se3 import inv
 from ..model.poe import PoeModel
 from ..tolerances import NOISE_FLOOR, NOISE_RATIO, Tolerances
-from .chart import LEVELS, Estimate, absorbed, count, names
+from .chart import LEVELS, Estimate, absorbed, count, names, retract
+from .evidence import linearised, maximise
 from .identifiable import free_coordinates
 from .measurements import Measurements
-from .residuals import Data, model_poses, prefix_products
+from .prior import AUTO, NONE, Deviations, LinkErrors, Prior, Regulariser, link_errors
+from .residuals import Data, evaluate, model_poses, prefix_products
 from .rigid import anchor_base, fit_rigid, pose_points, tool_on_last_axis
 from .solver import Problem, Solution, Statistics, solve, statistics
 from .start import (
@@ -63,26 +65,51 @@ __all__ = [
     "Identified",
     "check_equations",
     "fit_before",
+    "has_prior",
     "identify",
+    "joint_locations",
     "level_start",
     "solve_level",
+    "with_statistics",
 ]
 
 Mat = NDArray[np.float64]
 
 _WEIGHT_ROUNDS = 10  # variance-component rounds at most
 _WEIGHT_SETTLED = 0.01  # ... stopping when their ratio changes by no more than this fraction
+_EVIDENCE_ROUNDS = 5  # rounds of the deviations' estimate at most (each from a new solution)
+_EVIDENCE_SETTLED = 0.05  # ... stopping when no estimate changes by more than this (in log)
+_DEVIATION_START = 0.1  # rad (and x the robot's size): a prior too weak to pull: the search's start
+_DEVIATION_NEGLIGIBLE = 1e-6  # rad: deviations below this count as this in the settling test
 
 
 @dataclass(frozen=True)
 class Fit:
-    """A solved level: the solution, its statistics and the noise levels that weighed it."""
+    """A solved level: the solution, the noise levels and the prior that weighed it, and its
+    statistics (``None`` until asked for: :func:`with_statistics`)."""
 
     solution: Solution
-    stats: Statistics
+    stats: Statistics | None
     sigma_pos: float
     sigma_rot: float
     notes: tuple[str, ...] = ()
+    prior: Regulariser | None = None
+
+    def problem(self, data: Data) -> Problem:
+        """What the fit minimised, on ``data``."""
+        return Problem(data, self.sigma_pos, self.sigma_rot, self.prior)
+
+    @property
+    def statistics(self) -> Statistics:
+        assert self.stats is not None, "the fit's statistics were not computed"
+        return self.stats
+
+
+def with_statistics(fit: Fit, data: Data) -> Fit:
+    """``fit`` with its statistics (:func:`.solver.statistics`) at its solution on ``data``."""
+    if fit.stats is not None:
+        return fit
+    return replace(fit, stats=statistics(fit.solution.estimate, fit.problem(data)))
 
 
 @dataclass(frozen=True)
@@ -131,6 +158,47 @@ def bounded_noise(sp: float, sr: float, size: float) -> tuple[float, float]:
     return max(sp, NOISE_RATIO * sr * size), max(sr, NOISE_RATIO * sp / size)
 
 
+def _given_noise(opts: FitOptions, size: float, notes: list[str]) -> tuple[float, float]:
+    """The noise levels given, raised to the floors, with a note where they were raised."""
+    assert opts.noise_pos is not None
+    sp, sr = bounded_noise(opts.noise_pos, opts.noise_rot or opts.noise_pos / size, size)
+    if opts.pose and opts.noise_rot is not None and sr > opts.noise_rot:
+        notes.append(
+            f"the rotation noise given ({opts.noise_rot:.3g} rad) would weigh rotations "
+            f"over {1 / NOISE_RATIO:.0e} times positions and drown them; weighted as "
+            f"{sr:.3g} rad"
+        )
+    if opts.pose and sp > opts.noise_pos:
+        notes.append(
+            f"the position noise given ({opts.noise_pos:.3g}) would weigh positions over "
+            f"{1 / NOISE_RATIO:.0e} times rotations and drown them; weighted as {sp:.3g}"
+        )
+    return sp, sr
+
+
+def has_prior(est: Estimate, opts: FitOptions) -> bool:
+    """Whether ``est``'s level is fitted with a prior (:func:`prior_of`)."""
+    if est.level.name == "base-tool" or opts.prior == NONE:
+        return False
+    return opts.prior != AUTO or est.level.lines
+
+
+def prior_of(
+    est: Estimate, opts: FitOptions, reference: Estimate | None, locations: Mat | None
+) -> tuple[LinkErrors | None, Deviations | None]:
+    """The level's link errors (:mod:`.prior`) and the stated deviations (``None``: to be
+    estimated), or ``(None, None)`` when the level has no prior: the base-tool level, ``none``,
+    and with ``auto`` the offsets level (zero settings that the measurements see directly)."""
+    if not has_prior(est, opts):
+        return None, None
+    assert reference is not None and locations is not None
+    errors = link_errors(reference, locations)
+    if errors is None or opts.prior == AUTO:
+        return errors, None
+    assert isinstance(opts.prior, Prior)
+    return errors, Deviations.stated(opts.prior, errors.links)
+
+
 def solve_level(
     est: Estimate,
     data: Data,
@@ -138,55 +206,139 @@ def solve_level(
     size: float,
     reference: Estimate | None = None,
     noise: tuple[float, float] | None = None,
+    locations: Mat | None = None,
+    deviations: Deviations | None = None,
+    stats: bool = True,
 ) -> Fit:
     """Solve ``est``'s level on ``data``, weighting as ``opts`` says (module docstring, step 3).
 
     ``noise`` is where the estimation of the noise levels starts (a previous fit's levels);
-    ``reference`` is the prior's centre."""
-    given = opts.noise_pos is not None
+    ``reference`` is the prior's centre and ``locations`` ``(n, 3)`` the joints' locations in
+    the device frame (:func:`joint_locations`), for a level with a prior; ``deviations``,
+    where their estimate starts (a simpler level's: nested levels continue from there);
+    ``stats``: whether to compute the solution's statistics (:func:`with_statistics`)."""
     notes: list[str] = []
-    if given:
-        assert opts.noise_pos is not None
-        sp, sr = bounded_noise(opts.noise_pos, opts.noise_rot or opts.noise_pos / size, size)
-        if opts.pose and opts.noise_rot is not None and sr > opts.noise_rot:
-            notes.append(
-                f"the rotation noise given ({opts.noise_rot:.3g} rad) would weigh rotations "
-                f"over {1 / NOISE_RATIO:.0e} times positions and drown them; weighted as "
-                f"{sr:.3g} rad"
-            )
-        if opts.pose and sp > opts.noise_pos:
-            notes.append(
-                f"the position noise given ({opts.noise_pos:.3g}) would weigh positions over "
-                f"{1 / NOISE_RATIO:.0e} times rotations and drown them; weighted as {sp:.3g}"
-            )
-    else:
-        sp, sr = noise if noise is not None else (1.0, 1.0 / size)
-    prior = opts.prior if est.level.name != "base-tool" else None
-    problem = Problem(data, sp, sr, prior, reference if prior is not None else None)
+    given = opts.noise_pos is not None
+    sp, sr = (
+        _given_noise(opts, size, notes)
+        if given
+        else (noise if noise is not None else (1.0, 1.0 / size))
+    )
+    errors, stated = prior_of(est, opts, reference, locations)
+    if errors is not None and stated is None:
+        fit = _solve_with_evidence(est, data, opts, size, errors, (sp, sr), deviations, notes)
+        return with_statistics(fit, data) if stats else fit
+    prior = None if errors is None or stated is None else Regulariser.of(errors, stated)
+    problem = Problem(data, sp, sr, prior)
+    floors = (NOISE_FLOOR * size, NOISE_FLOOR)
     if count(est) == 0:
         sol = Solution(est, 0, True, 0.0)
     else:
         sol = solve(est, problem, size, opts.max_iterations)
     rounds = 0
-    while not given and sol.converged and rounds < _WEIGHT_ROUNDS:
-        # variance components: without a prior only the ratio of the levels changes the
-        # solution (and positions alone have none); with one, their size does too
+    step = np.zeros(0)
+    while not given and sol.converged and count(est) and rounds < _WEIGHT_ROUNDS:
         rounds += 1
-        stats = statistics(sol.estimate, problem, exact=False)
-        new_sp, new_sr = _components(data, stats, sp, sr)
-        new_sp, new_sr = bounded_noise(new_sp, new_sr if opts.pose else sr, size)
-        if prior is not None:
-            settled = max(abs(new_sp / sp - 1.0), abs(new_sr / sr - 1.0)) <= _WEIGHT_SETTLED
-        else:
-            settled = not opts.pose or abs((new_sr / new_sp) / (sr / sp) - 1.0) <= _WEIGHT_SETTLED
+        if prior is None and opts.pose:  # only their ratio matters: that of greatest evidence
+            r0, jac = evaluate(sol.estimate, data, 1.0, 1.0)
+            assert jac is not None
+            found, _, step = maximise(linearised(r0, jac, data.rows), (sp, sr), np.zeros(0), floors)
+            new_sp, new_sr = bounded_noise(found[0], found[1], size)
+            settled = abs((new_sr / new_sp) / (sr / sp) - 1.0) <= _WEIGHT_SETTLED
+        else:  # variance components (positions alone: the level of the residuals, once)
+            at = statistics(sol.estimate, problem, exact=False)
+            new_sp, new_sr = _components(data, at, sp, sr)
+            new_sp, new_sr = bounded_noise(new_sp, new_sr if opts.pose else sr, size)
+            settled = prior is None or (
+                max(abs(new_sp / sp - 1.0), abs(new_sr / sr - 1.0)) <= _WEIGHT_SETTLED
+            )
         sp, sr = new_sp, new_sr
         problem = problem.with_noise(sp, sr)
-        if settled or not count(est):
+        if settled:
             break
-        again = solve(sol.estimate, problem, size, opts.max_iterations)
+        again = solve(_stepped(sol.estimate, step, problem), problem, size, opts.max_iterations)
         sol = replace(again, iterations=sol.iterations + again.iterations)
-    stats = statistics(sol.estimate, problem)
-    return Fit(sol, stats, sp, sr, tuple(notes))
+    fit = Fit(sol, None, sp, sr, tuple(notes), prior)
+    return with_statistics(fit, data) if stats else fit
+
+
+def _solve_with_evidence(
+    est: Estimate,
+    data: Data,
+    opts: FitOptions,
+    size: float,
+    errors: LinkErrors,
+    noise: tuple[float, float],
+    deviations: Deviations | None,
+    notes: list[str],
+) -> Fit:
+    """Solve with the deviations (and, unless given, the noise levels) of greatest evidence
+    (:mod:`.evidence`): estimated at a linearisation at ``est`` (their search starting from a
+    prior too weak to pull, or from ``deviations``, a simpler level's), the level solved with
+    them from the linearised model's solution, and again from the new solution until no
+    estimate changes by more than :data:`_EVIDENCE_SETTLED` (the solution at the previous
+    estimates then stands)."""
+    given = opts.noise_pos is not None
+    sp, sr = noise
+    present = errors.present()
+    weak = np.full(errors.links + 2, _DEVIATION_START)
+    sol = Solution(est, 0, True, 0.0)
+    if deviations is None:
+        deviations = Deviations.of_groups(weak, errors.links, size)
+    values = deviations.groups()
+    if len(values) != len(weak):  # a simpler level's: its links and offsets, weak scales
+        values = np.append(values[: errors.links + 1], _DEVIATION_START)
+    parts = errors.parts(size)
+    problem = Problem(data, sp, sr)
+    for _ in range(_EVIDENCE_ROUNDS):
+        r0, jac = evaluate(sol.estimate, data, 1.0, 1.0)
+        assert jac is not None
+        here = (errors, errors.tangent(sol.estimate), errors.deviations(sol.estimate), parts)
+        lin = linearised(r0, jac, data.rows, here)
+        levels = (sp, sr) if opts.pose else (sp,)
+        floors = levels if given else (NOISE_FLOOR * size, NOISE_FLOOR)[: len(levels)]
+        found, estimated, step = maximise(lin, levels, values[present], floors)
+        new_sp, new_sr = (found[0], found[1]) if opts.pose else (found[0], sr)
+        if not given:
+            new_sp, new_sr = bounded_noise(new_sp, new_sr, size)
+        new_values = values.copy()
+        new_values[present] = estimated
+        floor = _DEVIATION_NEGLIGIBLE
+        change = max(
+            float(
+                np.max(
+                    np.abs(
+                        np.log(
+                            np.maximum(new_values[present], floor)
+                            / np.maximum(values[present], floor)
+                        )
+                    )
+                )
+            ),
+            abs(math.log(new_sp / sp)),
+            abs(math.log(new_sr / sr)),
+        )
+        if change <= _EVIDENCE_SETTLED and problem.prior is not None:
+            break  # the solution at the previous estimates stands
+        sp, sr, values = new_sp, new_sr, new_values
+        deviations = Deviations.of_groups(values, errors.links, size)
+        problem = Problem(data, sp, sr, Regulariser.of(errors, deviations))
+        again = solve(_stepped(sol.estimate, step, problem), problem, size, opts.max_iterations)
+        sol = replace(again, iterations=sol.iterations + again.iterations)
+        if not sol.converged:
+            break
+    return Fit(sol, None, sp, sr, tuple(notes), problem.prior)
+
+
+def _stepped(est: Estimate, step: Mat, problem: Problem) -> Estimate:
+    """``est`` moved by the linearised model's ``step`` (:func:`.evidence.maximise`) when that
+    lowers ``problem``'s cost: the solve then starts next to its solution."""
+    if not len(step) or len(step) != count(est):
+        return est
+    moved = retract(est, step)
+    before = problem.evaluate(est, jacobian=False)[0]
+    after = problem.evaluate(moved, jacobian=False)[0]
+    return moved if float(after @ after) < float(before @ before) else est
 
 
 def fit_before(
@@ -196,8 +348,25 @@ def fit_before(
     start = start_estimate(nominal, placement(nominal, fit, opts, ids), opts, ids)
     data = to_data(fit, opts.pose, ids)
     check_equations(count(start), data, fit.source, opts.pose)
-    base_opts = replace(opts, prior=None)
+    base_opts = replace(opts, prior=NONE)
     return start, solve_level(start, data, base_opts, nominal.size())
+
+
+def joint_locations(
+    nominal: PoeModel, fit: Measurements, opts: FitOptions, ids: list[int], before: Estimate
+) -> Mat:
+    """``(n, 3)`` each joint's location in the device frame: the nominal's joint points (the
+    joint origins of a URDF; a point of the line where none is given) as the rigid fit and the
+    base-and-tool fit placed them."""
+    g = before.base_motion() @ placement(nominal, fit, opts, ids)
+    chain = start_estimate(nominal, np.eye(4), opts, ids).chain
+    points = np.array(
+        [
+            j.point if j.point is not None else c
+            for j, c in zip(nominal.joints, chain.point, strict=True)
+        ]
+    )
+    return points @ g[:3, :3].T + g[:3, 3]
 
 
 def check_equations(p: int, data: Data, source: str, pose: bool) -> None:
@@ -257,13 +426,16 @@ def identify(
     before_est = base_fit.solution.estimate
     data = to_data(fit, opts.pose, ids)
     est0, carried, fixed = level_start(nominal, before_est, opts, ids)
-    check_equations(count(est0), data, fit.source, opts.pose)
+    if not has_prior(est0, opts):
+        check_equations(count(est0), data, fit.source, opts.pose)
     if solved is not None:
-        result = solved
+        result = with_statistics(solved, data)
     elif opts.level == "base-tool" and not opts.fixed_patterns:
         result = base_fit
     else:
-        result = solve_level(est0, data, opts, size, est0, (base_fit.sigma_pos, base_fit.sigma_rot))
+        noise = (base_fit.sigma_pos, base_fit.sigma_rot)
+        where = joint_locations(nominal, fit, opts, ids, before_est)
+        result = solve_level(est0, data, opts, size, est0, noise, where)
     est = result.solution.estimate
     notes = list(result.notes)
     device, markers_on_tool = _device_model(nominal, start, est, fit, opts, ids, notes)
@@ -295,7 +467,7 @@ def identify(
         before_est,
         est,
         result.solution,
-        result.stats,
+        result.statistics,
         names(est, ids),
         result.sigma_pos,
         result.sigma_rot,

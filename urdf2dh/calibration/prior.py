@@ -1,13 +1,40 @@
-"""An optional prior: the joints' parameters pulled toward the nominal's, with stated deviations.
+"""The prior: how far a robot as built may be from its nominal, as errors of its links.
 
-With ``--prior LENGTH,ANGLE`` each joint parameter adds a residual ``(value - nominal) / sigma``
-to the fit, ``sigma`` being LENGTH for lengths (a line's shifts, a sliding joint's offset, a
-pitch per radian) and ANGLE for angles (a line's turns, a turning joint's offset) and for
-scales (a relative error of the motion): maximum a posteriori for a Gaussian prior centred on
-the nominal, what regularised calibration (Tikhonov) does. The base, the tool and the markers
-have no prior: they are unknown by nature. "Nominal" is the nominal joints as the base-and-tool
-fit placed them in the device frame (the fair "before"): the coordinates of the identified
-model's chart that lead from there to it.
+A robot is built with small errors in its links and in the zero settings of its joints. The
+prior models them as independent Gaussian errors, and the identification becomes a maximum a
+posteriori estimate (what regularised calibration does: Tikhonov, with a physical metric):
+
+* each link, from one joint to the next, is displaced by a small rigid motion: a rotation about
+  the next joint's location (the nominal's joint origin), deviation ``s_k`` about each axis
+  normal to that joint's axis, and a shift, deviation ``s_k`` x ``length_per_angle`` along each
+  axis; every link has its own deviation (links are made and assembled one by one: automatic
+  relevance determination, MacKay 1994, where a link the measurements find exact keeps the
+  nominal's geometry while another moves);
+* the rotation about the next joint's own axis (a turning joint), or the shift along it (a
+  sliding one), is that joint's offset, its zero setting: one deviation for all offsets (x
+  ``length_per_angle`` for sliding joints), set apart because zero settings and machining are
+  different errors;
+* the joints' scales (relative: a scale error ``s`` turns the next link by ``s`` per radian of
+  travel) share one deviation, and helical joints' pitches the same x ``length_per_angle``;
+* the base (where the robot stands in the device frame), the tool and the markers have no
+  prior: they are unknown by nature.
+
+A link's error carries every later joint with it, so in the level's coordinates (each joint's
+line in the device frame, :mod:`.chart`) the errors are correlated. With ``delta`` the level's
+joint coordinates measured from the reference (the nominal joints as the base-and-tool fit
+placed them), ``A`` the linearised effect of the link errors ``z`` on them and ``B`` that of a
+motion of the base, ``delta = A z + B b`` with ``b`` free: the prior is Gaussian with covariance
+``A S A^T`` (``S``: the deviations squared) on the complement of ``B``'s columns, and its
+residuals are ``L^-1 N^T delta`` (``N``: an orthonormal basis of that complement,
+``L L^T = N^T A S A^T N``). At the ``offsets`` level the coordinates are the offsets themselves
+(the base is a coordinate of its own): each offset over its deviation. The effects are exact to
+first order: a rotation ``w`` about ``c`` and a shift ``t`` turn line ``(u, p)`` by ``w``'s part
+normal to ``u`` and move its point by ``w x (p - c) + t``, read in the line's chart basis.
+
+Deviations are stated (:class:`Prior`: ``LENGTH,ANGLE`` for every link, the offsets and the
+scales alike) or estimated from the measurements by their marginal likelihood
+(:mod:`.evidence`), ``length_per_angle`` being then the robot's size. A deviation near zero
+holds those errors at the nominal's; a large one leaves them to the measurements.
 """
 
 from __future__ import annotations
@@ -19,25 +46,42 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import InputError
-from .chart import Estimate, all_names, local_coordinates, retract
+from ..geometry.lie import cross_rows
+from ..tolerances import RANK_RELATIVE
+from .chart import Chain, Estimate, joint_columns, line_coordinates, normal_bases, sizes
 
-__all__ = ["Prior", "prior_rows"]
+__all__ = [
+    "AUTO",
+    "CHOICES",
+    "NONE",
+    "Deviations",
+    "LinkErrors",
+    "Prior",
+    "Regulariser",
+    "link_errors",
+]
 
 Mat = NDArray[np.float64]
 
-_STEP = 1e-7  # central differences of the line chart's coordinates (smooth: 1e-14 accurate)
+AUTO = "auto"  # deviations estimated from the measurements (geometry and full levels)
+NONE = "none"  # no prior: maximum likelihood
+CHOICES = (AUTO, NONE)
+
+_STEP = 1e-7  # central differences of the line coordinates (smooth: ~1e-14 accurate)
+_RIDGE = 1e-12  # x the mean variance, added to a covariance before its Cholesky factor
 
 
 @dataclass(frozen=True, slots=True)
 class Prior:
-    """Standard deviations of the joints' parameters about the nominal.
+    """Stated standard deviations of the joints' parameters about the nominal.
 
     Attributes
     ----------
     length
-        Of lengths, in the nominal's length unit (> 0).
+        Of lengths, in the nominal's length unit (> 0): a link's shift, a sliding joint's
+        offset, a pitch per radian.
     angle
-        Of angles, in radians, and of scales (> 0).
+        Of angles, in radians (> 0): a link's turn, a turning joint's offset; and of scales.
     """
 
     length: float
@@ -49,58 +93,268 @@ class Prior:
                 raise InputError(f"the prior's {what} deviation must be a number > 0, not {value}")
 
 
-def _sigmas(est: Estimate, prior: Prior) -> Mat:
-    """Each free coordinate's deviation (``inf``: no prior on it)."""
-    kinds = dict(zip(est.chain.names, est.chain.kinds, strict=True))
-    out = []
-    for name in all_names(est):
-        owner, leaf = name.rsplit(".", 1)
-        if owner not in kinds:  # base, tool, markers
-            out.append(math.inf)
-        elif leaf.startswith("turn") or leaf == "scale":
-            out.append(prior.angle)
-        elif leaf == "offset":
-            out.append(prior.length if kinds[owner] == "prismatic" else prior.angle)
-        else:  # shifts and pitches
-            out.append(prior.length)
-    sig = np.array(out)
-    return sig if est.free is None else sig[est.free]
+@dataclass(frozen=True, slots=True)
+class Deviations:
+    """Standard deviations of the errors (module docstring).
 
-
-def prior_rows(
-    est: Estimate, reference: Estimate, prior: Prior, jacobian: bool = True
-) -> tuple[Mat, Mat | None]:
-    """The prior's residuals ``(k,)`` and their Jacobian ``(k, p)`` with respect to ``est``'s
-    free coordinates (``k``: the coordinates that have a prior).
-
-    The coordinates of ``est`` seen from ``reference`` are the chart's (:func:`.chart.
-    local_coordinates`); their derivatives are 1 for offsets, scales and pitches and, for a
-    line's turns and shifts, taken by central differences (each line's four depend on that line
-    alone).
+    Attributes
+    ----------
+    links
+        Each link's, rad (the links before the second joint, the third, ...; its shifts'
+        deviation is this x ``length_per_angle``).
+    offsets
+        The offsets', rad (x ``length_per_angle`` for sliding joints).
+    scales
+        The scales' (relative; pitches: x ``length_per_angle``).
+    length_per_angle
+        Lengths' deviations per radian of angles' (length unit per rad).
     """
-    sig = _sigmas(est, prior)
-    keep = np.isfinite(sig)
-    here = local_coordinates(reference, est)
-    r = (here / sig)[keep]
-    if not jacobian:
-        return r, None
-    p = len(sig)
-    jac = np.zeros((p, p))
-    names = [n for n, f in zip(all_names(est), _free(est), strict=True) if f]
-    for k, name in enumerate(names):
-        if not keep[k]:
+
+    links: tuple[float, ...]
+    offsets: float
+    scales: float
+    length_per_angle: float
+
+    @classmethod
+    def stated(cls, prior: Prior, links: int) -> Deviations:
+        return cls((prior.angle,) * links, prior.angle, prior.angle, prior.length / prior.angle)
+
+    @classmethod
+    def of_groups(cls, values: Mat, links: int, length_per_angle: float) -> Deviations:
+        """From :meth:`groups`' order."""
+        return cls(
+            tuple(float(v) for v in values[:links]),
+            float(values[links]),
+            float(values[links + 1]),
+            length_per_angle,
+        )
+
+    def groups(self) -> Mat:
+        """``(links + 2,)``: each link's, the offsets', the scales'."""
+        return np.array([*self.links, self.offsets, self.scales])
+
+
+@dataclass(frozen=True)
+class LinkErrors:
+    """How one level's joint coordinates move with the link errors, at a reference.
+
+    Attributes
+    ----------
+    reference
+        The prior's centre (the level's start from the base-and-tool fit, with its free mask).
+    coords
+        ``(m,)`` the coordinates with a prior, as indices of the level's coordinates.
+    at
+        ``(m,)`` the same as positions in the free coordinates.
+    slots
+        ``(m, 2)`` each one's joint and slot (0-3: turn1, turn2, shift1, shift2; 4 pitch;
+        5 offset; 6 scale).
+    project
+        ``(k, m)`` ``N^T``, the complement of the base's motions.
+    effect
+        ``(k, z)`` ``N^T A``, the errors' effect on the projected coordinates.
+    group
+        ``(z,)`` each error's deviation, an index of :meth:`Deviations.groups`.
+    length
+        ``(z,)`` whether the error is a length (its deviation x ``length_per_angle``).
+    links
+        How many links have errors of their own (``n - 1`` at the line levels, else 0).
+    """
+
+    reference: Estimate
+    coords: NDArray[np.int64]
+    at: NDArray[np.int64]
+    slots: NDArray[np.int64]
+    project: Mat
+    effect: Mat
+    group: NDArray[np.int64]
+    length: NDArray[np.bool_]
+    links: int
+
+    def present(self) -> NDArray[np.int64]:
+        """The groups of :meth:`Deviations.groups` whose errors act here."""
+        return np.unique(self.group)
+
+    def parts(self, length_per_angle: float) -> list[Mat]:
+        """``(k, k)`` per present group: the covariance at unit deviation."""
+        unit = np.where(self.length, length_per_angle, 1.0)
+        return [
+            (self.effect * np.where(self.group == g, unit, 0.0) ** 2) @ self.effect.T
+            for g in self.present()
+        ]
+
+    def covariance(self, dev: Deviations) -> Mat:
+        """``(k, k)`` the prior covariance of the projected coordinates."""
+        sigma = dev.groups()[self.group] * np.where(self.length, dev.length_per_angle, 1.0)
+        cov = (self.effect * sigma**2) @ self.effect.T
+        return cov + np.eye(len(cov)) * (_RIDGE * float(np.trace(cov)) / max(len(cov), 1))
+
+    def deviations(self, est: Estimate) -> Mat:
+        """``(m,)`` the coordinates of ``est`` seen from the reference (:func:`.chart.
+        local_coordinates` at the prior's coordinates, lines all at once)."""
+        ref = self.reference
+        out = np.zeros(len(self.coords))
+        joint, slot = self.slots[:, 0], self.slots[:, 1]
+        line = slot < 4
+        if np.any(line):
+            lines = line_coordinates(
+                ref.chain.axis, ref.chain.point, est.chain.axis, est.chain.point
+            )
+            out[line] = lines[joint[line], slot[line]]
+        for s, here, there in (
+            (4, est.chain.pitch, ref.chain.pitch),
+            (5, est.joint_offsets(), ref.joint_offsets()),
+            (6, est.chain.scale, ref.chain.scale),
+        ):
+            rows = slot == s
+            out[rows] = here[joint[rows]] - there[joint[rows]]
+        return out
+
+    def tangent(self, est: Estimate) -> Mat:
+        """``(m, p)`` the derivatives of :meth:`deviations` by ``est``'s free coordinates: 1 for
+        pitches, offsets and scales; for a line's, central differences along the chart's four
+        directions at ``est`` (:func:`.chart.retract`: a turn about ``e1`` moves the axis by
+        ``e1 x u`` and the foot point by ``-(p . (e1 x u)) u``; a shift moves the point along
+        ``e1``), all lines at once, each line's coordinates depending on that line alone."""
+        p = sum(sizes(est))
+        out = np.zeros((len(self.coords), p))
+        joint, slot = self.slots[:, 0], self.slots[:, 1]
+        rows = np.arange(len(self.coords))
+        plain = slot >= 4
+        out[rows[plain], self.at[plain]] = 1.0
+        line = ~plain
+        if not np.any(line):
+            return out
+        ref, u, point = self.reference, est.chain.axis, est.chain.point
+        e1, e2 = normal_bases(u)
+        lift1 = np.einsum("ij,ij->i", point, e2)[:, None] * u
+        lift2 = -np.einsum("ij,ij->i", point, e1)[:, None] * u
+        zero = np.zeros_like(u)
+        column = np.full((len(u), 4), -1, dtype=np.int64)  # (joint, slot) -> free position
+        column[joint[line], slot[line]] = self.at[line]
+        du = np.stack([-e2, e1, zero, zero])  # (4, n, 3): each slot's move of every line
+        dp = np.stack([lift1, lift2, e1, e2])
+        n = len(u)
+        steps = np.concatenate([u + _STEP * du, u - _STEP * du]).reshape(-1, 3)
+        points = np.concatenate([point + _STEP * dp, point - _STEP * dp]).reshape(-1, 3)
+        axis0 = np.tile(ref.chain.axis, (8, 1))
+        point0 = np.tile(ref.chain.point, (8, 1))
+        both = line_coordinates(axis0, point0, steps, points).reshape(2, 4, n, 4)
+        change = (both[0] - both[1]) / (2.0 * _STEP)  # (slot moved, joint, coordinate)
+        for s in range(4):
+            mine = line & (column[joint, s] >= 0)  # rows whose joint has this coordinate
+            out[rows[mine], column[joint[mine], s]] = change[s, joint[mine], slot[mine]]
+        return out
+
+
+@dataclass(frozen=True)
+class Regulariser:
+    """The prior's rows of one level, for given deviations: ``W delta(est)`` with the
+    whitening ``W = L^-1 N^T`` (module docstring)."""
+
+    errors: LinkErrors
+    deviations: Deviations
+    whiten: Mat
+
+    @classmethod
+    def of(cls, errors: LinkErrors, dev: Deviations) -> Regulariser:
+        factor = np.linalg.cholesky(errors.covariance(dev))
+        return cls(errors, dev, np.linalg.solve(factor, errors.project))
+
+    def rows(self, est: Estimate, jacobian: bool = True) -> tuple[Mat, Mat | None]:
+        """The prior's residuals ``(k,)`` and their Jacobian ``(k, p)`` by ``est``'s free
+        coordinates."""
+        r = self.whiten @ self.errors.deviations(est)
+        return r, (self.whiten @ self.errors.tangent(est) if jacobian else None)
+
+
+def link_errors(reference: Estimate, locations: Mat) -> LinkErrors | None:
+    """The link errors of ``reference``'s level (module docstring); ``locations`` ``(n, 3)``:
+    each joint's location in the device frame (the centre of the previous link's rotation).
+    ``None`` when no free coordinate has a prior."""
+    ref = reference
+    level, chain = ref.level, ref.chain
+    n = len(chain)
+    total = sum(sizes(ref, every=True))
+    free = np.ones(total, dtype=bool) if ref.free is None else ref.free
+    position = np.cumsum(free) - 1
+    line_at, offset_at, scale_at = joint_columns(ref)
+    entries = [(int(line_at[i, s]), i, s) for i in range(n) for s in range(5) if line_at[i, s] >= 0]
+    entries += [(int(offset_at[i]), i, 5) for i in range(n) if offset_at[i] >= 0]
+    entries += [(int(scale_at[i]), i, 6) for i in range(n) if scale_at[i] >= 0]
+    entries = sorted(e for e in entries if free[e[0]])
+    if not entries:
+        return None
+    coords = np.array([e[0] for e in entries], dtype=np.int64)
+    slots = np.array([(e[1], e[2]) for e in entries], dtype=np.int64)
+    turning = chain.turning
+    links = n - 1 if level.lines else 0
+    columns: list[Mat] = []
+    group: list[int] = []
+    length: list[bool] = []
+    flat = np.zeros((len(slots), 0))
+    if level.lines:
+        flat, columns, group, length = _link_columns(chain, slots, locations)
+    for r, (j, s) in enumerate(slots):
+        if s >= 4:  # pitch, offset, scale: errors of their own
+            col = np.zeros(len(slots))
+            col[r] = 1.0
+            columns.append(col)
+            group.append(links if s == 5 else links + 1)
+            length.append(bool(s == 4 or (s == 5 and not turning[j])))
+    effect = np.array(columns).T
+    project = np.eye(len(slots))
+    if flat.shape[1]:
+        u_b, s_b, _ = np.linalg.svd(flat, full_matrices=True)
+        rank = int(np.sum(s_b > RANK_RELATIVE * float(s_b.max(initial=0.0))))
+        project = u_b[:, rank:].T
+    if not len(project):
+        return None
+    return LinkErrors(
+        ref,
+        coords,
+        position[coords].astype(np.int64),
+        slots,
+        project,
+        project @ effect,
+        np.array(group, dtype=np.int64),
+        np.array(length, dtype=bool),
+        links,
+    )
+
+
+def _link_columns(
+    chain: Chain, slots: NDArray[np.int64], locations: Mat
+) -> tuple[Mat, list[Mat], list[int], list[bool]]:
+    """The effects of the base's motions ``(m, 6)`` and of every link error (columns, their
+    groups, whether each is a length) on the line coordinates ``slots`` (module docstring): the
+    error of the link before joint ``k`` moves the lines of joints ``k, k+1, ...``; a unit
+    rotation ``w`` about ``c`` changes a line's turn along ``e`` by ``w . e`` and its shift
+    along ``e`` by ``w . ((p - c) x e)``, a unit shift ``t`` its shift by ``t . e``."""
+    joint, slot = slots[:, 0], slots[:, 1]
+    e1, e2 = normal_bases(chain.axis)
+    e = np.where((slot % 2 == 0)[:, None], e1[joint], e2[joint])
+    is_line, is_turn = slot < 4, slot < 2
+    flat = np.zeros((len(slots), 6))
+    columns: list[Mat] = []
+    groups: list[int] = []
+    lengths: list[bool] = []
+    turning = chain.turning
+    offsets = len(chain) - 1  # the offsets' group, after the links'
+    for k in range(len(chain)):
+        moved = is_line & (joint >= k)
+        lever = cross_rows(chain.point[joint] - locations[k], e)
+        rotation = np.where(is_turn[:, None], e, lever) * moved[:, None]  # (m, 3): . w
+        shift = np.where(is_turn[:, None], 0.0, e) * moved[:, None]  # (m, 3): . t
+        u = chain.axis[k]
+        f1, f2 = normal_bases(u[None, :])
+        directions = np.array([u, f1[0], f2[0]]).T  # (3, 3): the joint's axis first
+        if k == 0:  # the base: free
+            flat = np.hstack([rotation @ directions, shift @ directions])
             continue
-        leaf = name.rsplit(".", 1)[1]
-        if leaf.startswith(("turn", "shift")):
-            step = np.zeros(p)
-            step[k] = _STEP
-            plus = local_coordinates(reference, retract(est, step))
-            minus = local_coordinates(reference, retract(est, -step))
-            jac[:, k] = (plus - minus) / (2.0 * _STEP)
-        else:
-            jac[k, k] = 1.0
-    return r, (jac / sig[:, None])[keep]
-
-
-def _free(est: Estimate) -> NDArray[np.bool_]:
-    return np.ones(len(all_names(est)), dtype=bool) if est.free is None else est.free
+        columns += list((rotation @ directions).T) + list((shift @ directions).T)
+        # about and along the joint's own axis: its offset (turning, or sliding, joint)
+        groups += [offsets if turning[k] else k - 1, k - 1, k - 1]
+        groups += [k - 1 if turning[k] else offsets, k - 1, k - 1]
+        lengths += [False, False, False, True, True, True]
+    return flat, columns, groups, lengths

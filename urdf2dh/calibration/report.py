@@ -38,6 +38,7 @@ from .identifiable import barely_moved
 from .identify import Fit, Identified
 from .measurements import Measurements
 from .outliers import Suspect
+from .prior import Deviations
 from .residuals import evaluate
 from .select import Selection
 from .start import FitOptions, to_data
@@ -336,6 +337,7 @@ def assemble(
     selection: Selection,
     found: tuple[Suspect, ...],
     rejected: bool,
+    outlier_note: str,
     convention: str | None,
     style: str,
     tol: Tolerances,
@@ -417,13 +419,13 @@ def assemble(
             + f", chance {s.chance:.1e})"
             for s in found
         )
+        many = len(found) > 1
         warnings.append(
             (
-                f"rejected {len(found)} outlier{'s' if len(found) > 1 else ''}: "
+                f"rejected {len(found)} outlier{'s' if many else ''} ({outlier_note}): "
                 if rejected
-                else f"{len(found)} measurement{'s' if len(found) > 1 else ''} the fit cannot "
-                f"explain (kept; a wrong measurement, or the model's error at an unusual "
-                "configuration; they can be rejected): "
+                else f"{len(found)} measurement{'s' if many else ''} the fit cannot explain "
+                f"({outlier_note}): "
             )
             + rows
         )
@@ -527,6 +529,7 @@ def to_dict(cal: Calibration) -> dict[str, Any]:
         "selection": None
         if sel is None
         else {
+            "method": "leave-one-configuration-out" if sel.seed is None else "folds",
             "folds": sel.folds,
             "seed": sel.seed,
             "configurations": sel.configurations,
@@ -542,6 +545,14 @@ def to_dict(cal: Calibration) -> dict[str, Any]:
                     "uncertainty": _finite(s.uncertainty),
                     "rms_rotation": None if s.rms_rotation is None else _finite(s.rms_rotation),
                     "iterations": s.iterations,
+                    "prior": None
+                    if s.prior is None
+                    else {
+                        "links": list(s.prior.links),
+                        "offsets": s.prior.offsets,
+                        "scales": s.prior.scales,
+                        "length_per_angle": s.prior.length_per_angle,
+                    },
                     "failure": s.failure,
                 }
                 for s in sel.scores
@@ -597,6 +608,12 @@ def _res_line(label: str, r: Residuals | None, unit: str) -> str:
     return text
 
 
+def _deviations(dev: Deviations) -> str:
+    """The prior's deviations in brief: the links' range, the offsets' (rad)."""
+    links = f"links {min(dev.links):.1e}..{max(dev.links):.1e}" if dev.links else "no links"
+    return f"{links}, offsets {dev.offsets:.1e} rad"
+
+
 def summary(cal: Calibration) -> str:
     """The brief text that ``urdf2dh calibrate`` prints (the report's main figures)."""
     c, noise, unit = cal.counts, cal.noise, cal.model.length_unit
@@ -610,7 +627,12 @@ def summary(cal: Calibration) -> str:
     ]
     sel = cal.selection
     if sel is not None and cal.chosen_by == "cross-validation":
-        out.append(f"levels, cross-validated over {sel.folds} folds of configurations:")
+        how = (
+            "each configuration left out in turn"
+            if sel.seed is None
+            else f"{sel.folds} folds of configurations left out in turn"
+        )
+        out.append(f"levels, judged on configurations left out of the fit ({how}):")
         for s in sel.scores:
             mark = " <- chosen" if s.level == cal.level else ""
             if s.failure is not None:
@@ -619,9 +641,10 @@ def summary(cal: Calibration) -> str:
                 )
                 continue
             rot = "" if s.rms_rotation is None else f", {s.rms_rotation:.3g} rad"
+            prior = "" if s.prior is None else f"; prior {_deviations(s.prior)}"
             out.append(
                 f"  {s.level:<10} {s.parameters:>3} parameters: fit {s.fit_rms_position:.3g}, "
-                f"cross-validated {s.rms_position:.3g} +- {s.uncertainty:.2g} {unit}{rot}{mark}"
+                f"left out {s.rms_position:.3g} +- {s.uncertainty:.2g} {unit}{rot}{prior}{mark}"
             )
         out.append(f"chosen: {sel.reason}")
     else:

@@ -30,7 +30,9 @@ as weights are right), the covariance ``s^2 (J^T J)^-1`` (through the SVD of ``J
 triangular factor, once; directions with singular values below ``RANK_RELATIVE`` x the largest
 are rank-deficient and their parameters get an infinite deviation), the numerical rank and the
 condition number of ``J_s``, and each residual's leverage (the diagonal of the hat matrix, for
-variance-component estimation).
+variance-component estimation). With a prior, the covariance is the posterior's (its rows
+included), but the rank, the condition number and the parameters not determined are the
+measurements' alone (their rows' ``J_s``): what the prior holds, the measurements did not find.
 """
 
 from __future__ import annotations
@@ -49,7 +51,7 @@ from ..tolerances import (
     RANK_RELATIVE,
 )
 from .chart import Estimate, retract
-from .prior import Prior, prior_rows
+from .prior import Regulariser
 from .residuals import Data, evaluate
 
 __all__ = ["Problem", "Solution", "Statistics", "solve", "statistics"]
@@ -72,23 +74,21 @@ class Problem:
         The measurements.
     sigma_pos, sigma_rot
         The noise levels that weigh position and rotation residuals.
-    prior, reference
-        The prior and the estimate it is centred on (both or neither).
+    prior
+        The prior's rows (:class:`.prior.Regulariser`), or ``None``.
     """
 
     data: Data
     sigma_pos: float
     sigma_rot: float
-    prior: Prior | None = None
-    reference: Estimate | None = None
+    prior: Regulariser | None = None
 
     def evaluate(self, est: Estimate, jacobian: bool = True) -> tuple[Mat, Mat | None]:
         """Residuals (the measurements', then the prior's) and their Jacobian."""
         r, jac = evaluate(est, self.data, self.sigma_pos, self.sigma_rot, jacobian)
         if self.prior is None:
             return r, jac
-        assert self.reference is not None
-        rp, jp = prior_rows(est, self.reference, self.prior, jacobian)
+        rp, jp = self.prior.rows(est, jacobian)
         r = np.concatenate([r, rp])
         if jac is not None:
             assert jp is not None
@@ -100,7 +100,7 @@ class Problem:
         return len(self.data) * self.data.rows
 
     def with_noise(self, sigma_pos: float, sigma_rot: float) -> Problem:
-        return Problem(self.data, sigma_pos, sigma_rot, self.prior, self.reference)
+        return Problem(self.data, sigma_pos, sigma_rot, self.prior)
 
 
 @dataclass(frozen=True, slots=True)
@@ -242,11 +242,17 @@ def statistics(est: Estimate, problem: Problem, exact: bool = True) -> Statistic
     v = vt[keep].T / s[keep]
     covariance = factor * (v @ v.T) / np.outer(norms, norms)
     std = np.sqrt(np.diag(covariance))
+    u = np.einsum("ij,jk->ik", jac, v)  # J_s V S^-1: the left singular vectors, no BLAS
+    leverage = np.einsum("ij,ij->i", u, u)
+    if problem.prior is not None and exact:  # what the measurements alone determine
+        _, s, vt = np.linalg.svd(_triangular(jac[: problem.data_rows]), full_matrices=True)
+        s = np.append(s, np.zeros(p - len(s)))  # fewer rows than coordinates: the rest is 0
+        keep = s > RANK_RELATIVE * s[0]
+        rank = int(np.sum(keep))
+        condition = float(s[0] / s[-1]) if s[-1] > 0.0 else math.inf
     if rank < p:  # parameters that move along an undetermined direction are not identified
         null = vt[~keep]
         std[np.abs(null).max(axis=0) > math.sqrt(RANK_RELATIVE)] = math.inf
-    u = np.einsum("ij,jk->ik", jac, v)  # J_s V S^-1: the left singular vectors, no BLAS
-    leverage = np.einsum("ij,ij->i", u, u)
     return Statistics(r, rank, condition, factor, covariance, std, leverage)
 
 

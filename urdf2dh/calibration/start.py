@@ -22,7 +22,7 @@ from ..model.poe import Joint, PoeModel
 from ..tolerances import DEFAULT, Tolerances
 from .chart import BASE_TOOL, LEVELS, Estimate, line_point
 from .measurements import Measurements
-from .prior import Prior
+from .prior import CHOICES, NONE, Prior
 from .residuals import Data
 from .rigid import fit_rigid, pose_points
 
@@ -56,7 +56,8 @@ class FitOptions:
         Parameters held at the nominal's values: names or shell-style patterns
         (``*.scale``, ``arm_7_joint.*``).
     prior
-        Deviations of the joints' parameters about the nominal (:mod:`.prior`), or ``None``.
+        The prior (:mod:`.prior`): stated deviations, ``auto`` (estimated at the geometry and
+        full levels) or ``none``.
     helical
         Revolute joints whose pitch is identified too (``("all",)`` for every one).
     keep_scale
@@ -78,7 +79,7 @@ class FitOptions:
     pose: bool = True
     level: str = "full"
     fixed: tuple[str, ...] = ()
-    prior: Prior | None = None
+    prior: Prior | str = NONE
     helical: tuple[str, ...] = ()
     keep_scale: bool = False
     keep_tool_axis: bool = False
@@ -94,6 +95,10 @@ class FitOptions:
             raise UsageError(f"frame must be device or nominal, not {shown(self.frame)}")
         if self.level not in LEVELS:
             raise UsageError(f"unknown level {shown(self.level)}; valid: {choices(LEVELS)}")
+        if not isinstance(self.prior, Prior) and self.prior not in CHOICES:
+            raise UsageError(
+                f"unknown prior {shown(str(self.prior))}; valid: {choices(CHOICES)} or a Prior"
+            )
         if self.pose and (self.noise_pos is None) != (self.noise_rot is None):
             raise UsageError("give both noise levels (position and rotation) or neither")
 

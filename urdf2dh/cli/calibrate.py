@@ -41,7 +41,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         choices=options.LEVELS,
         default="auto",
         help="how much to identify: base and tool only, and joint offsets, and every joint's "
-        "line, and joint scales; auto (default) chooses by cross-validation",
+        "line, and joint scales; auto (default) chooses the level that best predicts "
+        "configurations left out of the fit",
     )
     p.add_argument(
         "--fix",
@@ -55,9 +56,12 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--prior",
         type=options.prior,
-        metavar="LENGTH,ANGLE",
-        help="pull the joints' parameters toward the nominal's with these standard deviations "
-        "(lengths in the nominal's unit; angles in rad, also for scales)",
+        default="auto",
+        metavar="auto|none|LENGTH,ANGLE",
+        help="pull the joints' parameters toward the nominal's as errors of its links: auto "
+        "(default) with the deviations the measurements support, at the geometry and full "
+        "levels; none; or these standard deviations at every level (lengths in the nominal's "
+        "unit; angles in rad, also for scales)",
     )
     p.add_argument(
         "--convention",
@@ -98,27 +102,40 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         type=options.seed,
         default=0,
         metavar="S",
-        help="seed of the held-out draw and of the cross-validation's folds (default 0)",
+        help="seed of the held-out draw and of --folds (default 0)",
     )
     p.add_argument(
         "--folds",
         type=lambda text: options.integer(text, 2, 1000),
-        default=5,
+        default=None,
         metavar="K",
-        help="folds of the cross-validation over configurations (default %(default)s)",
+        help="judge the levels by leaving out K seeded folds of configurations in turn "
+        "(default: each configuration alone)",
     )
     p.add_argument(
         "--choose",
         choices=("simplest", "best"),
         default="simplest",
-        help="with --identify auto: the simplest level whose cross-validated error is within "
-        "its uncertainty of the best (default), or the best",
+        help="with --identify auto: the simplest level whose error on left-out configurations "
+        "is within one standard error of the best's (default), or the best",
     )
-    p.add_argument(
+    outliers = p.add_mutually_exclusive_group()
+    outliers.add_argument(
         "--reject-outliers",
-        action="store_true",
+        dest="reject",
+        action="store_const",
+        const=True,
+        default=None,
         help="reject the measurements the fit cannot explain (a chance below 1e-6 of so large "
-        "a residual from the noise) and fit again without them; by default they are listed",
+        "a residual from the noise) and fit again without them; by default they are rejected "
+        "when that predicts the other configurations better",
+    )
+    outliers.add_argument(
+        "--keep-outliers",
+        dest="reject",
+        action="store_const",
+        const=False,
+        help="keep them (they are listed)",
     )
     p.add_argument(
         "--noise-pos",
@@ -262,7 +279,7 @@ def run(args: argparse.Namespace) -> int:
         identify_level=args.identify,
         pose=pose,
         fixed=tuple(name for group in args.fix for name in group),
-        prior=None if args.prior is None else Prior(*args.prior),
+        prior=args.prior if isinstance(args.prior, str) else Prior(*args.prior),
         holdout=args.holdout,
         validation=validation,
         seed=args.seed,
@@ -275,7 +292,7 @@ def run(args: argparse.Namespace) -> int:
         keep_tool_axis=args.keep_tool_axis,
         frame=args.frame,
         layout=layout,
-        reject=args.reject_outliers,
+        reject=args.reject,
         convention=args.convention,
         style=args.style,
         tol=tol,

@@ -271,10 +271,12 @@ def renames(text: str) -> tuple[tuple[str, str], ...]:
     return tuple(out)
 
 
-def prior(text: str) -> tuple[float, float]:
+def prior(text: str) -> tuple[float, float] | str:
+    if text in ("auto", "none"):  # calibration.prior.CHOICES (not imported: --help stays fast)
+        return text
     parts = text.split(",")
     if len(parts) != 2:
-        raise argparse.ArgumentTypeError(f"'{text}' is not LENGTH,ANGLE")
+        raise argparse.ArgumentTypeError(f"'{text}' is not auto, none or LENGTH,ANGLE")
     try:
         length, angle = float(parts[0]), float(parts[1])
     except ValueError as e:
