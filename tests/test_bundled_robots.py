@@ -13,7 +13,7 @@ from urdf2dh.tolerances import EXACT as EXACT_TOL
 # These URDFs carry rounded angles (rpy="0 3.14158 0", "1.5708 ..."): so100's base z and first
 # axis are 6.3e-6 rad from parallel with a common normal 7 km away, so101's last axis and tool z
 # 2.65e-6 rad with one 3 km away. No D-H table can be both sane and exact for that geometry
-# (README, "Nearly parallel axes").
+# (docs/parallel-axes.md).
 ROUNDED = {"so100", "so101"}
 
 

@@ -112,10 +112,13 @@ def test_calibrate_writes_every_convention_and_the_report(poses, tmp_path, capsy
     )
     assert code == 0, err
     table = json.loads(out.read_text())
-    assert table["schema"] == "urdf2dh/1" and table["convention"] == "dh"
+    assert (
+        table["schema"] == "urdf2dh/schemas/table-file-1.schema.json"
+        and table["convention"] == "dh"
+    )
     assert table["check"]["max_position_error"] < 1e-10 * 300
     tree = json.loads(report.read_text())
-    assert tree["schema"] == "urdf2dh-calibration/2"
+    assert tree["schema"] == "urdf2dh/schemas/calibration-report-2.schema.json"
     counts = tree["counts"]
     assert (counts["measurements"], counts["fit"], counts["held_out"]) == (200, 150, 50)
     assert counts["parameters"] == counts["rank"] == 42

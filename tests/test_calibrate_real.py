@@ -89,7 +89,10 @@ def test_the_default_converges_and_is_never_worse_held_out_than_base_and_tool(de
     assert all(s.rms_position > 0 and s.uncertainty > 0 for s in judged)
     # the report holds every level's cross-validated error and why the choice
     tree = to_dict(cal)
-    assert tree["schema"] == "urdf2dh-calibration/2" and tree["level"] == cal.level
+    assert (
+        tree["schema"] == "urdf2dh/schemas/calibration-report-2.schema.json"
+        and tree["level"] == cal.level
+    )
     assert len(tree["selection"]["levels"]) == 4 and tree["selection"]["reason"]
     assert json.loads(json.dumps(tree)) == tree
 

@@ -36,7 +36,7 @@ def test_json_and_yaml_hold_the_spec_tree(capsys, conv):
     code, out, _ = run(capsys, "convert", "ur5", "--convention", conv, "--format", "json")
     assert code == 0
     tree = json.loads(out)
-    assert tree["schema"] == "urdf2dh/1"
+    assert tree["schema"] == "urdf2dh/schemas/table-file-1.schema.json"
     assert tree["convention"] == conv
     assert (tree["robot"], tree["source"]) == ("ur5", "ur5_robot.urdf")
     assert (tree["base_link"], tree["tip_link"]) == ("base_link", "tool0")

@@ -152,7 +152,8 @@ def test_our_kuka_and_fanuc_give_the_published_parameters(robot):
 
 
 def test_the_consumers_ee_transform_is_rotation_then_translation():
-    """What the README warns of: py-opw-kinematics' ``ee_transform`` [R, t] is F . [R, R t]."""
+    """What docs/exports/opw.md warns of: py-opw-kinematics' ``ee_transform`` [R, t] is
+    F . [R, R t]."""
     robot = Robot(KinematicModel(0.1, -0.135, 0.05, 0.615, 0.705, 0.755, 0.085), degrees=False)
     q = np.array([[0.1, 0.2, 0.3, 0.4, 0.5, 0.6]])
     tool = trans(0.1, 0.2, 0.3) @ rot_x(0.3) @ rot_z(0.2)

@@ -41,7 +41,10 @@ def test_a_symbolic_link_is_written_through_and_stays_a_link(tmp_path, capsys):
     link = tmp_path / "table.json"
     link.symlink_to(real)
     assert main(["convert", "ur5", "--format", "json", "-o", str(link)]) == 0
-    assert link.is_symlink() and '"schema": "urdf2dh/1"' in real.read_text()
+    assert (
+        link.is_symlink()
+        and '"schema": "urdf2dh/schemas/table-file-1.schema.json"' in real.read_text()
+    )
     dangling = tmp_path / "dangling.json"
     dangling.symlink_to(tmp_path / "nowhere" / "x.json")
     assert main(["convert", "ur5", "-o", str(dangling)]) == 2

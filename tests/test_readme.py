@@ -29,3 +29,18 @@ def test_ci_runs_every_real_consumer_after_the_tests():
     commands = [line for line in ci if line and not line.startswith("#")]
     assert commands[-1] == ". .venv/bin/activate && scripts/check-consumers"
     assert (ROOT / "scripts" / "check-consumers").stat().st_mode & 0o111
+
+
+def test_the_readme_is_a_front_door():
+    """At most 250 lines, one picture, links to the documentation that resolve, and no project
+    history or references to documents outside the repository."""
+    readme = (ROOT / "README.md").read_text()
+    assert len(readme.splitlines()) <= 250
+    pictures = re.findall(r"!\[[^\]]*\]\(([^)]+)\)", readme)
+    assert len(pictures) == 1 and (ROOT / pictures[0]).is_file()
+    links = re.findall(r"\]\(((?:docs/|CHANGELOG)[^)#]*)", readme)
+    assert len(links) >= 10
+    for link in links:
+        assert (ROOT / link).is_file(), link
+    for phrase in ("SPEC", "cannot run here", "before the", "architecture change"):
+        assert phrase not in readme, phrase

@@ -39,6 +39,7 @@ from ..conventions.table import Table
 from ..errors import InputError, Urdf2DhError, UsageError, choices, shown
 from ..escape import markdown_table, markdown_text
 from ..model.poe import PoeModel
+from ..schemas import CALIBRATION_REPORT
 from ..tolerances import DEFAULT, Tolerances
 from .chart import LEVELS, Estimate, absorbed, count
 from .identifiable import check_patterns
@@ -77,7 +78,7 @@ __all__ = [
 
 Mat = NDArray[np.float64]
 
-SCHEMA = "urdf2dh-calibration/2"
+SCHEMA = CALIBRATION_REPORT  # the report's ``schema`` (docs/formats/calibration-report.md)
 AUTO = "auto"  # choose the level by cross-validation
 
 # Joint values and measured points beyond these are refused: far beyond any joint's travel or any

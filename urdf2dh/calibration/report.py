@@ -1,7 +1,7 @@
 """What a calibration reports: before and after on every set, the parameters and their flags,
 the levels' cross-validation, the outliers, the output table, the warnings; as a
-:class:`~.calibration.Calibration`, as its JSON tree (``--report``, docs/calibration-report.md)
-and as the text ``calibrate`` prints.
+:class:`~.calibration.Calibration`, as its JSON tree (``--report``,
+docs/formats/calibration-report.md) and as the text ``calibrate`` prints.
 
 Residual statistics of a model on a set: the position error is the distance between the
 modelled and the measured tool point, the rotation error the angle of ``R R_meas^T``; RMS is the
@@ -513,7 +513,7 @@ def _finite(x: float) -> float | None:
 
 
 def to_dict(cal: Calibration) -> dict[str, Any]:
-    """The ``--report`` JSON tree (docs/calibration-report.md)."""
+    """The ``--report`` JSON tree (docs/formats/calibration-report.md)."""
     from ..io.poefile import poe_to_dict
 
     sel = cal.selection

@@ -297,7 +297,7 @@ class Diff:
         return sum(c.marked for c in self.changes)
 
     def to_dict(self) -> dict[str, Any]:
-        """The JSON report as a tree (docs/diff.md gives its shape)."""
+        """The JSON report as a tree (docs/commands/diff.md gives its shape)."""
         return {
             "schema": SCHEMA,
             "convention": self.convention,

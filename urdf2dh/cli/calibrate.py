@@ -12,10 +12,11 @@ from ..errors import InputError, UsageError, choices, shown
 from ..io.files import check_outputs, write_outputs
 from . import options
 
-__all__ = ["HELP", "NAME", "add_arguments", "run"]
+__all__ = ["EXAMPLE", "HELP", "NAME", "add_arguments", "run"]
 
 NAME = "calibrate"
 HELP = "identify a model's parameters from measurements"
+EXAMPLE = "urdf2dh calibrate puma560-nominal m.csv --helical all --format json -o puma-id.json"
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:

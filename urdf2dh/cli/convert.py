@@ -8,10 +8,11 @@ from ..io.files import write_output
 from . import options
 from .chains import one_tip, several_of
 
-__all__ = ["HELP", "NAME", "add_arguments", "run"]
+__all__ = ["EXAMPLE", "HELP", "NAME", "add_arguments", "run"]
 
 NAME = "convert"
 HELP = "print or write the parameter table of a chain"
+EXAMPLE = "urdf2dh convert ur5 --convention mdh --format json -o ur5-mdh.json"
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:

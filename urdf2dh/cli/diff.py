@@ -9,10 +9,11 @@ import math
 from ..io.files import write_output
 from . import options
 
-__all__ = ["HELP", "NAME", "add_arguments", "run"]
+__all__ = ["EXAMPLE", "HELP", "NAME", "add_arguments", "run"]
 
 NAME = "diff"
 HELP = "compare two parameter sets (calibration: nominal vs actual)"
+EXAMPLE = "urdf2dh diff puma560-nominal puma560-actual --convention cpc"
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:

@@ -10,10 +10,11 @@ from ..io.files import write_output
 from . import options
 from .chains import one_tip, several_of, to_directory
 
-__all__ = ["HELP", "NAME", "add_arguments", "run"]
+__all__ = ["EXAMPLE", "HELP", "NAME", "add_arguments", "run"]
 
 NAME = "export"
 HELP = "write a controller or toolbox configuration file"
+EXAMPLE = "urdf2dh export ur10 --to ur -o default_kinematics.yaml"
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:

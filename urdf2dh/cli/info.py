@@ -7,10 +7,11 @@ import argparse
 from ..io.files import write_stdout
 from . import options
 
-__all__ = ["HELP", "NAME", "add_arguments", "run"]
+__all__ = ["EXAMPLE", "HELP", "NAME", "add_arguments", "run"]
 
 NAME = "info"
 HELP = "links, joints, the chain, candidate tips, identifiability"
+EXAMPLE = "urdf2dh info ur5"
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:

@@ -21,11 +21,13 @@ RUNS_ON = (("yourdfpy", "yourdfpy"), ("Pinocchio", "pin"), ("numpy", "numpy"), (
 
 
 class Command(Protocol):
-    """A command of ``urdf2dh``: a module with its name, its one-line help, its options, and the
-    function that runs it on the parsed options and returns the exit code."""
+    """A command of ``urdf2dh``: a module with its name, its one-line help, one example that runs
+    as written (its ``-h`` ends with it; the command's page under docs/commands/ has more), its
+    options, and the function that runs it on the parsed options and returns the exit code."""
 
     NAME: str
     HELP: str
+    EXAMPLE: str
 
     def add_arguments(self, p: argparse.ArgumentParser) -> None: ...
 
@@ -104,7 +106,12 @@ def get_argument_parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action=_Version)
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     for command in commands():
-        p = sub.add_parser(command.NAME, help=command.HELP)
+        p = sub.add_parser(
+            command.NAME,
+            help=command.HELP,
+            epilog=f"example:\n  {command.EXAMPLE}",
+            formatter_class=argparse.RawDescriptionHelpFormatter,  # the example on its own line
+        )
         command.add_arguments(p)
         p.set_defaults(run=command.run)
     return parser

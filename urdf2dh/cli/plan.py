@@ -8,10 +8,11 @@ import sys
 from ..io.files import write_outputs
 from . import options
 
-__all__ = ["HELP", "NAME", "add_arguments", "run"]
+__all__ = ["EXAMPLE", "HELP", "NAME", "add_arguments", "run"]
 
 NAME = "plan"
 HELP = "choose configurations to measure for a calibration"
+EXAMPLE = "urdf2dh plan ur5 --configs 15 -o plan.csv"
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:

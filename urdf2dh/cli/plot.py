@@ -10,10 +10,11 @@ from ..errors import InputError, UsageError, choices, shown
 from ..io.files import write_output
 from . import options
 
-__all__ = ["HELP", "NAME", "add_arguments", "run"]
+__all__ = ["EXAMPLE", "HELP", "NAME", "add_arguments", "run"]
 
 NAME = "plot"
 HELP = "draw the arm at home with its frames (png, svg, pdf; html: interactive 3-D)"
+EXAMPLE = "urdf2dh plot panda --convention mdh -o panda-frames.png"
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:

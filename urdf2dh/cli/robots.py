@@ -6,10 +6,11 @@ import argparse
 
 from ..io.files import write_stdout
 
-__all__ = ["HELP", "NAME", "add_arguments", "run"]
+__all__ = ["EXAMPLE", "HELP", "NAME", "add_arguments", "run"]
 
 NAME = "robots"
 HELP = "list the bundled robots"
+EXAMPLE = "urdf2dh robots"
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:

@@ -15,10 +15,11 @@ if TYPE_CHECKING:
     from ..io.sources import Source
     from ..tolerances import Tolerances
 
-__all__ = ["HELP", "NAME", "add_arguments", "run"]
+__all__ = ["EXAMPLE", "HELP", "NAME", "add_arguments", "run"]
 
 NAME = "verify"
 HELP = "compare every convention's FK with Pinocchio's"
+EXAMPLE = "urdf2dh verify panda --samples 200"
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:

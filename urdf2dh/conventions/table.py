@@ -25,13 +25,14 @@ from ..geometry import frames, se3
 from ..model._fastfk import chain_fk
 from ..model.mimic import Mimic, actuated, row_positions
 from ..model.poe import Joint, JointKind, JointMotion, PoeModel, check_motion
+from ..schemas import TABLE_FILE
 from ..tolerances import DEFAULT
 from . import Convention, Params, get
 from .grid import flat_columns, markdown, records
 
 __all__ = ["SCHEMA", "Check", "Row", "Table"]
 
-SCHEMA = "urdf2dh/1"
+SCHEMA = TABLE_FILE  # the ``schema`` a table file is written with (docs/formats/table-file.md)
 
 Mat = NDArray[np.float64]
 

@@ -31,6 +31,7 @@ from .. import units
 from ..errors import InputError, choices, shown
 from ..geometry import se3
 from ..model.poe import KINDS, PoeModel, joint_from_twist
+from ..schemas import POE_FILE
 from ..tolerances import DEFAULT, JOINT_SCALES, Tolerances
 from .fields import check_joint_count, check_leaders, check_name, check_number, read_mimic
 
@@ -80,6 +81,10 @@ def read_poe(data: Any, display: str, tol: Tolerances = DEFAULT) -> PoeModel:
     """Build a :class:`PoeModel` from a parsed POE file, naming the joint at fault on error."""
     if not isinstance(data, dict) or data.get("format") != "poe":
         raise InputError(f"{display}: not a POE model file (needs 'format: poe')")
+    if data.get("schema", POE_FILE) != POE_FILE:
+        raise InputError(
+            f"{display}: schema must be {POE_FILE} (or absent), not {shown(data['schema'])}"
+        )
     unit = data.get("length_unit", "m")
     if not isinstance(unit, str) or not unit:
         raise InputError(f"{display}: length_unit must be a name such as m or mm")
@@ -155,6 +160,7 @@ def poe_to_dict(model: PoeModel) -> dict[str, Any]:
         joints.append(entry)
     return {
         "format": "poe",
+        "schema": POE_FILE,
         "name": model.name,
         "length_unit": model.length_unit,
         "joints": joints,

@@ -15,6 +15,7 @@ from pathlib import Path
 from ..checks import check_flag, check_instance, check_optional_name, check_source
 from ..errors import SHOWN_LENGTH, InputError, SourceError, UsageError, choices, shown
 from ..model.poe import PoeModel
+from ..schemas import TABLE_FILE as SCHEMA
 from ..tolerances import DEFAULT, Tolerances
 from .catalog import ROBOTS, Bundled, robot_path
 from .encodings import check_text, first_character
@@ -95,7 +96,7 @@ def _from_file(
             "table", display, table.robot or path.stem, poe=table.to_poe(), bundled=bundled
         )
     raise InputError(
-        f"{display}: not a URDF, POE model ('format: poe') or table ('schema: urdf2dh/1') file"
+        f"{display}: not a URDF, POE model ('format: poe') or table file ('schema: {SCHEMA}')"
     )
 
 

@@ -20,6 +20,7 @@ from ..conventions.base import Part, Value, unit_direction
 from ..conventions.table import SCHEMA, Check, Row, Table
 from ..errors import InputError, TableFileError, choices, shown
 from ..model.poe import KINDS
+from ..schemas import TABLE_FILE_NAMES
 from ..tolerances import DEFAULT, Tolerances
 from ..units import metres_per
 from .fields import check_joint_count, check_leaders, check_number, check_vector, read_mimic
@@ -55,7 +56,7 @@ def _text(data: dict[str, Any], key: str, default: str, where: str) -> str:
 
 def read_table(data: Any, display: str, tol: Tolerances = DEFAULT) -> Table:
     """Check a parsed table file and build the :class:`Table` it describes."""
-    if not isinstance(data, dict) or data.get("schema") != SCHEMA:
+    if not isinstance(data, dict) or data.get("schema") not in TABLE_FILE_NAMES:
         raise TableFileError(f"{display}: not a table file (needs schema: {SCHEMA})")
     if data.get("convention") not in NAMES:
         raise TableFileError(f"{display}: convention must be one of {choices(NAMES)}")

@@ -4,8 +4,8 @@ kinematics (:mod:`urdf2dh.model.fk`) with ``e^{ix}`` taken from a table instead 
 In the reference FK of a large batch, numpy's sines and cosines take about two thirds of the
 time. Here ``x = k h + r`` with ``h = 2 pi / STEPS``: ``e^{ikh}`` is looked up in a table of
 ``STEPS`` values and ``e^{ir}``, ``|r| <= h / 2``, is a short Taylor polynomial. That is five
-times as fast as numpy's ``cos`` and ``sin`` and makes the FK of 100,000 configurations about
-2.2 times as fast (``benchmarks/run.py``; README, Performance). Results agree with the reference
+times as fast as numpy's ``cos`` and ``sin`` and makes batch FK about twice as fast
+(``benchmarks/run.py``; docs/performance.md). Results agree with the reference
 to a few units in the last place (``tests/test_fk.py`` checks every convention).
 
 Batches below ``FAST_MIN`` configurations, and angles beyond the table's reach (huge, infinite or

@@ -298,9 +298,9 @@ class PoeModel:
         ))  # fmt: skip
 
     def size(self) -> float:
-        """The robot's size, which errors are measured against (README, "robot size"): the
-        extent at home plus the travel of the sliding joints (1 for a chain that is all at the
-        origin and cannot slide)."""
+        """The robot's size, which errors are measured against (docs/commands/index.md, "Robot
+        size"): the extent at home plus the travel of the sliding joints (1 for a chain that is
+        all at the origin and cannot slide)."""
         e = self._once("size", lambda: self.extent() + self.travel())
         return e if e > 0.0 else 1.0
 
