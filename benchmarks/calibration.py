@@ -3,7 +3,7 @@
     python benchmarks/calibration.py [--repeats 3]                  # the real data sets
     python benchmarks/calibration.py --synthetic [--poses 1000] [--datasets 1]
 
-**Real data** (the default): the three sets of ``../shared/calibration-data`` (a UR10e with a
+**Real data** (the default): the three sets of ``examples/calibration-data`` (a UR10e with a
 camera, 23 poses; a TIAGo with motion capture, 34 positions of one marker; a Franka with an
 eye-in-hand camera, 114 poses), each split as its README says (30% of the configurations held
 out, seed 0: ``*_fit.csv`` and ``*_test.csv``). Every tool fits the fit file and is judged by its
@@ -326,9 +326,7 @@ def more_datasets(nominal: PoeModel, poses: int, count: int) -> None:
 
 # ----------------------------------------------------------------------------- real data
 
-DATA = Path(__file__).resolve().parents[2] / "shared" / "calibration-data"
-if not DATA.is_dir():
-    DATA = Path("/work/shared/calibration-data")
+DATA = Path(__file__).resolve().parents[1] / "examples" / "calibration-data"
 FIGAROH_LEVELS = ("full_params", "joint_offset")
 LEVEL_NAMES = ("base-tool", "offsets", "geometry", "full")
 
@@ -366,7 +364,7 @@ class RealSet:
 
 
 def shared_sets() -> list[RealSet]:
-    """The three sets of ``../shared/calibration-data`` (its README)."""
+    """The three sets of ``examples/calibration-data`` (its README)."""
     ur10 = str(DATA / "ur10" / "ur10_robot.urdf")
     tiago = str(DATA / "tiago" / "tiago_48_schunk.urdf")
     panda = str(robot_path(ROBOTS["panda"]))

@@ -116,11 +116,7 @@ def test_the_evidence_gradient_equals_finite_differences():
     against central differences, on the UR10's real poses."""
     from pathlib import Path
 
-    data_dir = Path("/work/shared/calibration-data")
-    if not data_dir.is_dir():
-        data_dir = Path(__file__).resolve().parents[2] / "shared" / "calibration-data"
-    if not data_dir.is_dir():
-        pytest.skip("the shared calibration data")
+    data_dir = Path(__file__).resolve().parents[1] / "examples" / "calibration-data"
     from urdf2dh.calibration.measurements import read_measurements
 
     nominal = urdf2dh.load(str(data_dir / "ur10" / "ur10_robot.urdf"), tip="wrist_3_link")

@@ -1,4 +1,4 @@
-"""Calibration on the real measurements of ../shared/calibration-data (a UR10e with a camera, a
+"""Calibration on the real measurements of examples/calibration-data (a UR10e with a camera, a
 TIAGo with motion capture, a Franka with an eye-in-hand camera): the README's held-out split,
 the default command's convergence and its never being worse held out than the nominal joints
 with base and tool fitted, FIGAROH's own CSV read as it is, and every convention and format
@@ -24,9 +24,7 @@ from urdf2dh.emit.formats import FORMATS, render
 from urdf2dh.geometry.lie import rotation_of
 from urdf2dh.io.poefile import poe_to_dict
 
-DATA = Path(__file__).resolve().parents[2] / "shared" / "calibration-data"
-if not DATA.is_dir():  # the worktree layout: /work/wt/NAME, the data in /work/shared
-    DATA = Path("/work/shared/calibration-data")
+DATA = Path(__file__).resolve().parents[1] / "examples" / "calibration-data"
 
 # set: (nominal, tip, stem of the measurement files, the best anchor's held-out RMS position, m)
 SETS = {
@@ -39,8 +37,6 @@ SETS = {
     ),
     "panda": ("panda", None, "panda/panda_cam", 1.39e-3),
 }
-
-pytestmark = pytest.mark.skipif(not DATA.is_dir(), reason="the shared calibration data")
 
 
 def load(name: str):

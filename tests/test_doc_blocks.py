@@ -32,19 +32,6 @@ DOCS = [ROOT / "README.md", *sorted((ROOT / "docs").rglob("*.md"))]
 RUN = ("bash", "python")
 LINKED = ("tests", "examples", "robots", "scripts", "benchmarks", "docs")
 OPTIONAL = {"PyKDL": "Debian's python3-pykdl"}  # consumers the test extra does not install
-# the real measurements of ../shared/calibration-data (not in the repository), linked into the
-# workspace as calibration-data/ where they are found (docs/calibration.md runs on them)
-CALIBRATION_DATA = next(
-    (
-        p
-        for p in (
-            ROOT.parent / "shared" / "calibration-data",
-            Path("/work/shared/calibration-data"),
-        )
-        if p.is_dir()
-    ),
-    None,
-)
 
 
 @dataclass(frozen=True)
@@ -82,8 +69,6 @@ def _workspace(tmp_path: Path) -> dict[str, str]:
     for name in LINKED:
         if (ROOT / name).exists():
             (tmp_path / name).symlink_to(ROOT / name)
-    if CALIBRATION_DATA is not None:
-        (tmp_path / "calibration-data").symlink_to(CALIBRATION_DATA)
     bin_dir = tmp_path / ".bin"
     bin_dir.mkdir()
     shims = {"urdf2dh": f'exec "{sys.executable}" -m urdf2dh.cli "$@"'}
@@ -105,8 +90,6 @@ def _workspace(tmp_path: Path) -> dict[str, str]:
 
 
 def _missing(block: Block, env: dict[str, str]) -> str | None:
-    if "calibration-data/" in block.code and CALIBRATION_DATA is None:
-        return "the calibration data sets (../shared/calibration-data)"
     for module, where in OPTIONAL.items():
         if re.search(rf"^\s*(import|from)\s+{module}\b", block.code, re.M):
             probe = subprocess.run(
