@@ -548,7 +548,7 @@ def one_set(real: RealSet, repeats: int, work: Path) -> Row:
     times["default"], cal = best_time(partial(calibrate, nominal, fit, convention="poe"), repeats)
     held["default"] = _held_out(cal.device_model, cal, test)
     for level in LEVEL_NAMES:
-        run = partial(calibrate, nominal, fit, identify_level=level, convention="poe")
+        run = partial(calibrate, nominal, fit, level=level, convention="poe")
         times[level], other = best_time(run, repeats)
         held[level] = _held_out(other.device_model, other, test)
     tools: list[tuple[str, Any]] = [

@@ -132,7 +132,7 @@ def one(real: bench.RealSet, refit: bool) -> None:
     held_of: dict[str, float] = {}
     for score in s.scores:
         lv = score.level
-        other = calibrate(nominal, fit, identify_level=lv, convention="poe")
+        other = calibrate(nominal, fit, level=lv, convention="poe")
         held = held_of[lv] = bench._held_out(other.device_model, other, test) * 1e3
         cells = [lv, str(score.parameters), f"{score.rms_position * 1e3:.2f}"]
         if lv in combined and "base-tool" in combined:

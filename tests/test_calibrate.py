@@ -251,7 +251,7 @@ def test_a_joint_that_never_moves_is_reported_not_identified_with_the_cause():
     frozen = Measurements(
         m.joints, q, poses[:, :3, 3], quaternion_of(poses[:, :3, :3]), None, "frozen.csv"
     )
-    cal = calibrate(nominal, frozen, identify_level="full")
+    cal = calibrate(nominal, frozen, level="full")
     assert cal.counts.rank == 36 - 5 and cal.counts.parameters == 36
     lost = [p.name for p in cal.parameters if p.std is None]
     assert lost == [f"wrist_1_joint.{k}" for k in ("turn1", "turn2", "shift1", "shift2", "scale")]

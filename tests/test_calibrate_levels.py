@@ -73,7 +73,7 @@ def test_cross_validation_chooses_the_level_of_the_robot_s_errors(ur5, error, ex
 def test_a_level_asked_for_and_what_is_carried(ur5):
     actual = with_offsets(ur5, np.array([0.0, 0.004, -0.003, 0.005, -0.004, 0.0]))
     m = synthesize(actual, 30, NOISE, NOISE, seed=4)
-    cal = calibrate(ur5, m, identify_level="offsets")
+    cal = calibrate(ur5, m, level="offsets")
     assert cal.level == "offsets" and cal.chosen_by == "option"
     names = [p.name for p in cal.parameters]
     # joint 1's offset is the base's turn about its axis, joint 6's the tool's: carried
@@ -87,7 +87,7 @@ def test_a_level_asked_for_and_what_is_carried(ur5):
 def test_fixed_parameters_and_a_bad_name(ur5):
     actual = perturb(ur5, 5, 0.002, 0.002)
     m = synthesize(actual, 40, NOISE, NOISE, seed=6)
-    cal = calibrate(ur5, m, identify_level="full", fixed=("*.scale", "wrist_3_joint.*"))
+    cal = calibrate(ur5, m, level="full", fixed=("*.scale", "wrist_3_joint.*"))
     names = [p.name for p in cal.parameters]
     assert not any(n.endswith(".scale") or n.startswith("wrist_3_joint") for n in names)
     held = {h.name: h.reason for h in cal.held}
@@ -99,9 +99,9 @@ def test_fixed_parameters_and_a_bad_name(ur5):
 def test_a_tight_prior_keeps_the_nominal_and_a_loose_one_changes_nothing(ur5):
     actual = perturb(ur5, 7, 0.003, 0.003)
     m = synthesize(actual, 30, NOISE, NOISE, seed=8)
-    free = calibrate(ur5, m, identify_level="geometry", prior="none")
-    loose = calibrate(ur5, m, identify_level="geometry", prior=Prior(1.0, 1.0))
-    tight = calibrate(ur5, m, identify_level="geometry", prior=Prior(1e-7, 1e-7))
+    free = calibrate(ur5, m, level="geometry", prior="none")
+    loose = calibrate(ur5, m, level="geometry", prior=Prior(1.0, 1.0))
+    tight = calibrate(ur5, m, level="geometry", prior=Prior(1e-7, 1e-7))
     q = ur5.sample(200, 9)
     assert pose_errors(loose.model.fk_batch(q), free.model.fk_batch(q))[0] < 1e-7
     joints = [p for p in tight.parameters if not p.name.startswith(("tool", "base"))]
@@ -168,14 +168,14 @@ def test_joints_that_barely_move_and_poorly_identified_parameters_are_named(ur5)
     poses = actual.fk_batch(q)
     m = synthesize(actual, 40, NOISE, NOISE, seed=15, configurations=q)
     assert np.allclose(m.q, q) and poses.shape == (40, 4, 4)
-    cal = calibrate(ur5, m, identify_level="full")
+    cal = calibrate(ur5, m, level="full")
     assert cal.barely_moved[0][0] == "wrist_2_joint" and cal.barely_moved[0][1] < 0.03
     assert any(w.startswith("barely moved") and "wrist_2_joint" in w for w in cal.warnings)
     flagged = {p.name for p in cal.parameters if p.flag and "barely moved" in p.flag}
     assert flagged == {
         f"wrist_2_joint.{k}" for k in ("turn1", "turn2", "shift1", "shift2", "scale")
     }
-    offset_free = calibrate(ur5, m, identify_level="offsets")
+    offset_free = calibrate(ur5, m, level="offsets")
     offset = next(p for p in offset_free.parameters if p.name == "wrist_2_joint.offset")
     assert offset.flag is None or "barely moved" not in offset.flag  # an offset shows anyway
 
@@ -186,10 +186,10 @@ def test_position_measurements_without_rotation_noise_identify_everything(ur5):
     bounded, every parameter is identified, and a given level that would drown them is named."""
     actual = perturb(ur5, 15, 0.002, 0.002)
     m = synthesize(actual, 60, NOISE, 0.0, seed=16)
-    cal = calibrate(ur5, m, identify_level="full")
+    cal = calibrate(ur5, m, level="full")
     assert cal.counts.rank == cal.counts.parameters == 36
     assert not any("determine" in w for w in cal.warnings)
-    given = calibrate(ur5, m, identify_level="full", noise_pos=NOISE, noise_rot=1e-15)
+    given = calibrate(ur5, m, level="full", noise_pos=NOISE, noise_rot=1e-15)
     assert given.counts.rank == 36
     assert any("would weigh rotations" in w and "drown" in w for w in given.warnings)
 

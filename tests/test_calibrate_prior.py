@@ -171,7 +171,7 @@ def test_the_link_that_was_made_wrong_is_the_one_the_evidence_frees(ur5):
     )
     actual = PoeModel(joints, g @ ur5.home, "bent")
     m = synthesize(actual, 40, NOISE, NOISE, seed=7)
-    cal = calibrate(ur5, m, identify_level="geometry")
+    cal = calibrate(ur5, m, level="geometry")
     prior = cal.selection.score("geometry").prior
     assert prior is not None
     links = np.array(prior.links)  # the links before joints 2, 3, ...: the elbow's is 1

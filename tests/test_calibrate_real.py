@@ -130,12 +130,12 @@ def test_the_tiago_full_model_is_flagged_as_overfitted_without_a_prior():
     what noise explains, and the report says so, and flags the parameters. With the default
     prior the same level predicts the held-out configurations better than base and tool."""
     nominal, m = load("tiago")
-    cal = calibrate(nominal, m, holdout=0.3, seed=0, identify_level="full", prior="none")
+    cal = calibrate(nominal, m, holdout=0.3, seed=0, level="full", prior="none")
     held = cal.comparison("held_out")
     assert held is not None and held.after.rms_position > 2 * held.before.rms_position
     assert any("more than noise explains" in w for w in cal.warnings)
     assert any(p.flag for p in cal.parameters)
-    cal = calibrate(nominal, m, holdout=0.3, seed=0, identify_level="full")
+    cal = calibrate(nominal, m, holdout=0.3, seed=0, level="full")
     held = cal.comparison("held_out")
     assert held is not None and held.after.rms_position < held.before.rms_position
 
@@ -147,7 +147,7 @@ def test_every_convention_and_format_is_written_from_every_set(name, tmp_path, c
     nominal, m = load(name)
     level = calibrate(nominal, m).level
     for convention in (*NAMES, "poe"):
-        cal = calibrate(nominal, m, identify_level=level, convention=convention)
+        cal = calibrate(nominal, m, level=level, convention=convention)
         tree = to_dict(cal)
         assert tree["diff"]["convention"] in NAMES and json.dumps(tree)
         if convention == "poe":

@@ -117,7 +117,7 @@ def test_measure_and_calibrate_and_plan():
     markers = urdf2dh.measure(built, 10, markers=3, seed=4)
     assert len(markers) == 30 and markers.layout is not None and sorted(markers.layout) == [0, 1, 2]
 
-    cal = urdf2dh.calibrate(MODEL, m, identify_level="geometry", convention="poe")
+    cal = urdf2dh.calibrate(MODEL, m, level="geometry", convention="poe")
     assert isinstance(cal, urdf2dh.Calibration) and cal.converged
     fit = cal.comparison("fit")
     assert fit is not None and fit.after.rms_position < 1e-5 < fit.before.rms_position

@@ -429,7 +429,7 @@ def calibrate(
     nominal: PoeModel,
     measurements: Measurements,
     *,
-    identify_level: str = AUTO,
+    level: str = AUTO,
     pose: bool | None = None,
     fixed: tuple[str, ...] = (),
     prior: Prior | str = AUTO_PRIOR,
@@ -460,7 +460,7 @@ def calibrate(
         The nominal model (:func:`urdf2dh.load`).
     measurements
         What was measured (:func:`.measurements.read_measurements`, :func:`.measure.synthesize`).
-    identify_level
+    level
         ``auto`` (chosen by cross-validation), or a level of :data:`.chart.LEVELS`.
     pose
         Use the orientations (default: when the measurements have them).
@@ -518,9 +518,9 @@ def calibrate(
     if folds is not None:
         check_count(folds, "calibrate: folds", 2)
     check_count(max_iterations, "calibrate: max_iterations")
-    check_instance(identify_level, str, "calibrate: identify_level")
-    if identify_level != AUTO and identify_level not in LEVELS:
-        raise UsageError(f"unknown level {identify_level!r}; valid: {choices((AUTO, *LEVELS))}")
+    check_instance(level, str, "calibrate: level")
+    if level != AUTO and level not in LEVELS:
+        raise UsageError(f"unknown level {level!r}; valid: {choices((AUTO, *LEVELS))}")
     m = measurements
     if pose is None:
         pose = m.quaternions is not None
@@ -549,7 +549,7 @@ def calibrate(
         raise UsageError(f"the held-out fraction must be in [0, 1), not {holdout}")
     opts = FitOptions(
         pose=pose,
-        level="base-tool" if identify_level == AUTO else identify_level,
+        level="base-tool" if level == AUTO else level,
         fixed=fixed,
         prior=prior,
         helical=helical,
@@ -564,7 +564,7 @@ def calibrate(
     )
     with threadpool_limits(1, "blas"):  # small matrices: BLAS threads only cost wake-ups
         return _calibrate(
-            nominal, m, opts, identify_level, holdout, validation, seed, folds, rule, reject,
+            nominal, m, opts, level, holdout, validation, seed, folds, rule, reject,
             convention, style, tol, check_samples,
         )  # fmt: skip
 

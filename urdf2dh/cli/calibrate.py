@@ -276,7 +276,7 @@ def run(args: argparse.Namespace) -> int:
     cal = calibrate(
         nominal,
         m,
-        identify_level=args.identify,
+        level=args.identify,
         pose=pose,
         fixed=tuple(name for group in args.fix for name in group),
         prior=args.prior if isinstance(args.prior, str) else Prior(*args.prior),
