@@ -42,7 +42,7 @@ import sys
 import tempfile
 import time
 import warnings
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from functools import partial
 from pathlib import Path
 from typing import Any
@@ -350,6 +350,9 @@ class RealSet:
         How the file is read (:class:`urdf2dh.calibration.measurements.Reading`).
     anchor
         The best anchor's held-out RMS position (the data's README, m), where there is one.
+    shifted
+        Rows of the file recorded with a controller's joint offsets in its joint readings, taken
+        off before the split (:class:`Shifted`); ``None``: every row as it is.
     """
 
     name: str
@@ -361,6 +364,23 @@ class RealSet:
     files: tuple[Path, ...]
     reading: Reading = field(default_factory=Reading)
     anchor: float | None = None
+    shifted: Shifted | None = None
+
+
+@dataclass(frozen=True)
+class Shifted:
+    """Joint readings a controller's own calibration shifted: ``offsets`` (joint name -> rad)
+    are subtracted from the readings of the file's data rows ``rows`` (0-based)."""
+
+    rows: range
+    offsets: dict[str, float]
+    why: str
+
+    def take_off(self, m: Measurements) -> Measurements:
+        q = m.q.copy()
+        for name, offset in self.offsets.items():
+            q[list(self.rows), m.joints.index(name)] -= offset
+        return replace(m, q=q)
 
 
 def shared_sets() -> list[RealSet]:
@@ -391,13 +411,33 @@ def _talos(side: str) -> tuple[tuple[str, str], ...]:
     )
 
 
+PAL_OFFSETS = Shifted(
+    range(8, 16),
+    {
+        "arm_1_joint": 0.02,
+        "arm_2_joint": -0.000704814,
+        "arm_3_joint": -0.0054179,
+        "arm_4_joint": 0.0105299,
+        "arm_5_joint": -0.02,
+        "arm_6_joint": 0.0197129,
+        "arm_7_joint": -0.02,
+    },
+    "cross_valid.csv is three blocks of 8 rows reaching the same 8 points: without joint "
+    "offsets, with PAL's, with FIGAROH's motion-capture calibration (thanhndv212/figaroh @ "
+    "742cd41 : scripts/tiago_cross_valid.py, which gives PAL's 7 arm offsets and applies them "
+    "to the second block's joint values). Those rows agree with the others only with PAL's "
+    "offsets taken off their readings (scripts/session_offsets.py)",
+)
+
+
 def unseen_sets(directory: Path) -> list[RealSet]:
     """Data sets the project did not build on, their files in ``directory`` as their
     repositories name them (fetch them from there; they are not part of urdf2dh):
 
     * thanhndv212/figaroh @ 742cd41 : ``data/talos/talos_feb_arm_02_10_contact.csv``,
       ``talos_feb_arm_02_07_crane.csv``, ``talos_mars_right_arm_04_03_crane.csv`` (TALOS arm
-      positions, motion capture) and ``data/tiago/cross_valid.csv`` (a TIAGo session);
+      positions, motion capture) and ``data/tiago/cross_valid.csv`` (a TIAGo session: as it
+      is, and with PAL's joint offsets taken off the rows recorded under them, :data:`PAL_OFFSETS`);
     * thanhndv212/figaroh-plus @ c3b5172 : ``examples/talos/data/talos_full_v2.urdf``,
       ``examples/mate/urdf/mate.urdf`` and ``examples/mate/data/transformed_poses.csv`` (MATE,
       three joints, poses in degrees);
@@ -427,9 +467,13 @@ def unseen_sets(directory: Path) -> list[RealSet]:
                 (d / crane,), left),
         RealSet("TALOS right arm, crane", figaroh + "talos/" + right_crane, talos, other_hand,
                 talos, other_hand, (d / right_crane,), right),
-        RealSet("TIAGo, another session", figaroh + "tiago/cross_valid.csv", tiago,
+        RealSet("TIAGo, another session, as it is", figaroh + "tiago/cross_valid.csv", tiago,
                 "wrist_ft_tool_link", tiago, "wrist_ft_tool_link", (d / "cross_valid.csv",),
                 Reading(rename=tiago_joints)),
+        RealSet("TIAGo, another session, PAL's offsets off rows 9-16",
+                figaroh + "tiago/cross_valid.csv", tiago, "wrist_ft_tool_link", tiago,
+                "wrist_ft_tool_link", (d / "cross_valid.csv",), Reading(rename=tiago_joints),
+                shifted=PAL_OFFSETS),
         RealSet("TIAGo Pro, right arm", pro + samples, tiago_pro, "gripper_right_tool_holder",
                 tiago_pro, "gripper_right_tool_holder", (d / samples,)),
         RealSet("MATE, 3 joints, poses in degrees", mate + "transformed_poses.csv",
@@ -452,6 +496,8 @@ def load_set(real: RealSet) -> tuple[PoeModel, Measurements, Measurements]:
     if len(real.files) == 2:
         return nominal, read(real.files[0]), read(real.files[1])
     m = read(real.files[0])
+    if real.shifted is not None:
+        m = real.shifted.take_off(m)
     fit_rows, held_rows = holdout_split(m, 0.3, 0)
     return nominal, m.subset(fit_rows), m.subset(held_rows)
 

@@ -289,8 +289,8 @@ def batch_fk(count: int, repeat: int) -> list[Figure]:
         f"the URDF's reduced to the 7 arm joints. Max difference of the poses: {pos:.2e} m, "
         f"{rot:.2e} rad; largest entry {np.abs(ours - theirs).max():.2e}. One thread. The fast "
         f"path (urdf2dh/model/_fastfk.py: sines from a table) is {reference_t / ours_t:.2f}x as "
-        f"fast as the reference FK with numpy {np.__version__}'s exp (kept while >= 2x); they "
-        f"differ by {np.abs(ours - reference()).max():.1e}."
+        f"fast as the reference FK with numpy {np.__version__}'s exp (it stays while it saves"
+        f" time); they differ by {np.abs(ours - reference()).max():.1e}."
     )
     return [
         Figure(
