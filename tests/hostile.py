@@ -28,11 +28,10 @@ import numpy as np
 import yaml
 from lxml import etree
 
-from urdf2dh import cli
+from urdf2dh import cli, load
 from urdf2dh.emit.export import TARGETS
 from urdf2dh.emit.formats import FORMATS
 from urdf2dh.io.catalog import ROBOTS, robot_path
-from urdf2dh.io.sources import open_source
 
 HERE = Path(__file__).parent
 GEOMETRIES = {  # URDF file, base link, tip link
@@ -394,7 +393,7 @@ def urdf_text(geometry: str, names: Names) -> str:
 @cache
 def _poe_geometry(geometry: str) -> tuple[list[list[float]], list[list[float]], list]:
     path, base, tip = GEOMETRIES[geometry]
-    model = open_source(str(path)).model(base, tip)
+    model = load(str(path), base, tip)
     twists = [[float(x) for x in t] for t in model.twists()]
     limits = [
         [float(j.lower), float(j.upper)] if j.lower is not None else None for j in model.joints

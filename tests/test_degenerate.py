@@ -12,9 +12,9 @@ import numpy as np
 import pytest
 from oracle import assert_fk_matches, pin_reference
 
-from urdf2dh import CONVENTIONS, DEFAULT, EXACT, to_table
+from urdf2dh import CONVENTIONS, DEFAULT, EXACT, load, to_table
 from urdf2dh.cli import main
-from urdf2dh.io.sources import Source, open_source
+from urdf2dh.io.sources import Source
 from urdf2dh.io.urdf import parse_tree
 
 HALF = repr(math.pi / 2)
@@ -278,7 +278,7 @@ def test_mimic_joint_following_another_branch_stands_in_for_it(capsys):
         == 0
     )
     # off the chain, mimic joints do not matter
-    model = open_source("panda").model(tip="panda_leftfinger")
+    model = load("panda", tip="panda_leftfinger")
     assert model.n == 8 and model.warnings == ()
     assert np.isfinite(to_table(model, "dh").check.max_position_error)
 

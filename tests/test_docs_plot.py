@@ -10,10 +10,9 @@ from pathlib import Path
 
 from chains import random_chain_urdf
 
-from urdf2dh import to_table
+from urdf2dh import load, to_table
 from urdf2dh.cli import main
 from urdf2dh.emit.scene import scene
-from urdf2dh.io.sources import open_source
 
 DOC = Path(__file__).resolve().parents[1] / "docs" / "commands" / "plot.md"
 TEXT = DOC.read_text(encoding="utf-8")
@@ -35,7 +34,7 @@ def test_the_commands_run(tmp_path, monkeypatch):
 
 def test_the_samples_are_what_urdf2dh_prints(tmp_path, monkeypatch, capsys):
     hover, error = _blocks("text")
-    shown = scene(to_table(open_source("panda").model(), "mdh"))
+    shown = scene(to_table(load("panda"), "mdh"))
     assert hover.splitlines() == list(shown.frames[4].hover)
     monkeypatch.chdir(tmp_path)
     Path("long.urdf").write_text(random_chain_urdf(5, 5_000)[0])

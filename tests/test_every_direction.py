@@ -10,7 +10,7 @@ import pytest
 from oracle import assert_fk_matches, pin_reference
 
 import urdf2dh
-from urdf2dh import CONVENTIONS, to_table
+from urdf2dh import CONVENTIONS, load, to_table
 from urdf2dh.cli import main
 from urdf2dh.emit.urdf import table_to_urdf
 from urdf2dh.geometry.se3 import rpy
@@ -36,7 +36,7 @@ def close_tables(a, b, size):
 
 @pytest.mark.parametrize("robot", ROBOTS)
 def test_any_convention_to_any_other_through_table_files(robot, tmp_path, capsys):
-    model = open_source(robot).model()
+    model = load(robot)
     q = model.sample(100, 1)
     reference = model.fk_batch(q)
     size = model.size()
@@ -57,7 +57,7 @@ def test_any_convention_to_any_other_through_table_files(robot, tmp_path, capsys
 
 @pytest.mark.parametrize("robot", ROBOTS)
 def test_urdf_writer_matches_pinocchio_and_round_trips(robot, tmp_path):
-    model = open_source(robot).model()
+    model = load(robot)
     for conv in CONVENTIONS:
         table = to_table(model, conv)
         text, _ = table_to_urdf(table)
@@ -77,7 +77,7 @@ def test_urdf_writer_matches_pinocchio_and_round_trips(robot, tmp_path):
             first = to_table(again, "dh")
             second_path = tmp_path / "again.urdf"
             second_path.write_text(table_to_urdf(first)[0])
-            second = to_table(open_source(str(second_path)).model(), "dh")
+            second = to_table(load(str(second_path)), "dh")
             close_tables(first, second, again.size())
             assert [(r.lower, r.upper) for r in second.rows] == [
                 (j.lower, j.upper) for j in model.joints

@@ -20,7 +20,7 @@ import yaml
 from consumers import report
 from oracle import EXACT, assert_fk_matches, pin_reference
 
-from urdf2dh import ExportOptions, Joint, PoeModel, export
+from urdf2dh import ExportOptions, Joint, PoeModel, export, load
 from urdf2dh.conventions.opw import OpwParameters, opw_fk, opw_from_poe
 from urdf2dh.errors import ExportError, UsageError
 from urdf2dh.escape import yaml_comment
@@ -124,7 +124,7 @@ def test_every_bundled_robot_qualifies_or_is_refused_with_its_reason():
     assert sorted(OPW_ROBOTS + list(REFUSED)) == sorted(ROBOTS)
     for robot, reason in REFUSED.items():
         with pytest.raises(ExportError, match=re.escape(reason)):
-            export(open_source(robot).model(), "opw")
+            export(load(robot), "opw")
 
 
 PUBLISHED = {
@@ -139,7 +139,7 @@ PUBLISHED = {
 
 @pytest.mark.parametrize("robot", sorted(PUBLISHED))
 def test_our_kuka_and_fanuc_give_the_published_parameters(robot):
-    f = yaml.safe_load(export(open_source(robot).model(), "opw"))
+    f = yaml.safe_load(export(load(robot), "opw"))
     geometry, offsets, signs = PUBLISHED[robot]
     got = f["opw_kinematics_geometric_parameters"]
     assert list(got) == ["a1", "a2", "b", "c1", "c2", "c3", "c4"]
@@ -221,7 +221,7 @@ def _rigid(rng) -> np.ndarray:
 def test_any_base_tool_zero_and_signs_give_a_file_the_consumer_follows(robot, seed):
     """The parameters come from the geometry, whatever frames and conventions describe it: the
     moved arm's file moves as the original arm does, its intrinsic lengths unchanged."""
-    original = open_source(robot).model()
+    original = load(robot)
     rng = np.random.default_rng(seed)
     lim = original.limits()
     q0 = rng.uniform(lim[:, 0], lim[:, 1])
@@ -279,7 +279,7 @@ def _turned(model: PoeModel, i: int, about, angle: float, through=None) -> PoeMo
 
 
 def _kuka() -> PoeModel:
-    return open_source("kuka-kr6-r700-sixx").model()
+    return load("kuka-kr6-r700-sixx")
 
 
 def _broken_3_4() -> PoeModel:
@@ -357,7 +357,7 @@ def test_names_cannot_inject_yaml(tmp_path):
     urdf = urdf.replace('name="kuka-kr6-r700-sixx"', f'name="kr6{xml}"')
     path = tmp_path / "evil.urdf"
     path.write_text(urdf)
-    model = open_source(str(path)).model()
+    model = load(str(path))
     assert model.joints[2].name == "a3" + evil and model.tip_link == "tool0" + evil
     text = export(model, "opw")
     f = yaml.safe_load(text)
@@ -413,7 +413,7 @@ def test_a_table_exports_the_same_parameters_as_its_source():
     from urdf2dh.conventions.convert import to_table
     from urdf2dh.emit.export import export_table
 
-    model = open_source("fanuc-m20ia").model()
+    model = load("fanuc-m20ia")
     want = yaml.safe_load(export(model, "opw"))
     for convention in ("dh", "cpc"):
         got = yaml.safe_load(export_table(to_table(model, convention), "opw"))
@@ -437,8 +437,8 @@ def test_opw_files_carry_no_round_off(tmp_path, robot, convention):
         main(["convert", robot, "--convention", convention, "--format", "json", "-o", str(table)])
         == 0
     )
-    direct = yaml.safe_load(export(open_source(robot).model(), "opw"))
-    via = yaml.safe_load(export(open_source(str(table)).model(), "opw"))
+    direct = yaml.safe_load(export(load(robot), "opw"))
+    via = yaml.safe_load(export(load(str(table)), "opw"))
     key = "opw_kinematics_geometric_parameters"
     assert via[key] == direct[key]
     assert all(len(repr(v)) <= 6 for v in via[key].values()), via[key]  # 0.835, -0.035

@@ -26,7 +26,7 @@ from consumers import (
 )
 from oracle import assert_fk_matches, pin_reference
 
-from urdf2dh import units
+from urdf2dh import load, units
 from urdf2dh.emit.export import TARGETS, ExportOptions, export
 from urdf2dh.errors import ExportError, UsageError
 from urdf2dh.io.sources import Source, open_source
@@ -154,7 +154,7 @@ def test_the_kdl_stand_in_reads_the_documented_frames():
 
 
 def test_matlab_offsets_sit_in_fixed_bodies():
-    script = export(open_source("ur5").model(), "matlab")
+    script = export(load("ur5"), "matlab")
     assert script.count('"dh");') == 6
     # setFixedTransform(..., "dh") ignores theta of revolute joints: every row passes 0 there
     assert all(
@@ -163,7 +163,7 @@ def test_matlab_offsets_sit_in_fixed_bodies():
         if line.endswith('"dh");')
     )
     assert 'rigidBody("body1_offset")' in script  # UR5 (Wu style) has theta_1 = pi
-    mdh = export(open_source("stanford").model(), "matlab", "mdh")
+    mdh = export(load("stanford"), "matlab", "mdh")
     lines = mdh.splitlines()
     joint3 = lines.index('joint = rigidBodyJoint("joint3", "prismatic");')
     assert lines[joint3 + 2].startswith("setFixedTransform(joint, [") and " 0 " in lines[joint3 + 2]
@@ -171,7 +171,7 @@ def test_matlab_offsets_sit_in_fixed_bodies():
 
 def test_rtb_script_runs_standalone(tmp_path):
     script = tmp_path / "ur5_rtb.py"
-    script.write_text(export(open_source("ur5").model(), "rtb", style="ur"))
+    script.write_text(export(load("ur5"), "rtb", style="ur"))
     proc = subprocess.run(
         [sys.executable, str(script)], capture_output=True, text=True, timeout=300
     )
@@ -250,21 +250,21 @@ def test_genserkins_takes_arms_with_joint_zeros(case):
 def test_genserkins_reverses_a_last_joint_whose_tip_faces_against_it():
     """KUKA's and FANUC's flanges face against joint 6's axis: joint 5 turns the other way
     (gain -1 both ways), joint 2's (FANUC: 1's) zero is 90 degrees from the D-H zero."""
-    kuka = genserkins_hal(export(open_source("kuka-kr6-r700-sixx").model(), "linuxcnc"))
+    kuka = genserkins_hal(export(load("kuka-kr6-r700-sixx"), "linuxcnc"))
     assert kuka.feedback == {2: (1.0, 90.0), 5: (-1.0, 0.0)}
     assert kuka.command == {2: (1.0, -90.0), 5: (-1.0, 0.0)}
-    fanuc = genserkins_hal(export(open_source("fanuc-m20ia").model(), "linuxcnc"))
+    fanuc = genserkins_hal(export(load("fanuc-m20ia"), "linuxcnc"))
     assert fanuc.feedback == {1: (1.0, 90.0), 5: (-1.0, 180.0)}
-    ur5 = export(open_source("ur5").model(), "linuxcnc")
+    ur5 = export(load("ur5"), "linuxcnc")
     assert genserkins_hal(ur5).feedback[5] == (1.0, 180.0)  # tool0's half turn about joint 6
     assert "# joint 5: wrist_3_joint, genserkins angle q + 180.0 deg, limits -180 .. 540" in ur5
 
 
 def test_genserkins_states_the_frames_it_cannot_hold():
-    text = export(open_source("so100").model(), "linuxcnc")
+    text = export(load("so100"), "linuxcnc")
     assert "pose in base = Rz(90.0 deg) Tz(0.0 mm) . pose LinuxCNC reports." in text
     assert "pose of gripper = pose LinuxCNC reports . Rx(90.0 deg) Rz(0.0 deg)." in text
-    turned = _turn_tool(open_source(str(DATA / "genser6.urdf")).model(tip="link5"))
+    turned = _turn_tool(load(str(DATA / "genser6.urdf"), tip="link5"))
     assert "pose of link5 = pose LinuxCNC reports . Rx(90.0 deg) Rz(0.0 deg)." in export(
         turned, "linuxcnc"
     )
@@ -282,7 +282,7 @@ def test_genserkins_states_the_frames_it_cannot_hold():
 )
 def test_genserkins_refuses_what_it_cannot_carry(robot, message):
     with pytest.raises(ExportError, match=message):
-        export(open_source(robot).model(), "linuxcnc")
+        export(load(robot), "linuxcnc")
 
 
 def _turn_tool(model):
@@ -300,11 +300,11 @@ def _turn_tool(model):
 @pytest.mark.parametrize("target", sorted(TARGETS))
 def test_helical_joints_are_refused_by_every_target(target):
     with pytest.raises(ExportError, match="helical"):
-        export(open_source("puma560-actual").model(), target, opts=ExportOptions())
+        export(load("puma560-actual"), target, opts=ExportOptions())
 
 
 def test_targets_refuse_other_conventions_and_styles():
-    model = open_source("ur5").model()
+    model = load("ur5")
     refusal = (
         r"linuxcnc takes mdh tables, not dh \(row 'shoulder_pan_joint' is a D-H row: "
         r"theta, d, alpha, a\)$"

@@ -23,11 +23,10 @@ from hostile import COLLIDING, KINDS, write_source
 from oracle import assert_fk_matches
 
 import urdf2dh
-from urdf2dh import Joint, PoeModel, to_table
+from urdf2dh import Joint, PoeModel, load, to_table
 from urdf2dh.emit.export import export_table
 from urdf2dh.emit.names import RENAMED, Namespace, renaming_notes
 from urdf2dh.errors import ExportError, TableFileError
-from urdf2dh.io.sources import open_source
 
 PYKDL = real_pykdl()
 AGREE = 1e-12
@@ -49,7 +48,7 @@ def test_colliding_robots_are_written_with_their_names(corpus, names, kind):
 
 def _model(tmp_path: Path, names):
     source = write_source(tmp_path, "genser6", names, "urdf")
-    return open_source(str(tmp_path / source)).model(names.base, names.tip)
+    return load(str(tmp_path / source), names.base, names.tip)
 
 
 def _rtb_fk(script: str, q: np.ndarray) -> np.ndarray:

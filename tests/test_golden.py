@@ -13,9 +13,8 @@ from pathlib import Path
 
 import pytest
 
-from urdf2dh import to_table
+from urdf2dh import load, to_table
 from urdf2dh.emit.export import TARGETS, ExportOptions, export, export_table, table_choices
-from urdf2dh.io.sources import open_source
 
 ROOT = Path(__file__).resolve().parents[1]
 GOLDEN = ROOT / "tests" / "golden"
@@ -74,7 +73,7 @@ def _same(got: str, want: str) -> str | None:
 )
 def test_golden(name, source, target, convention, opts, request, monkeypatch):
     monkeypatch.chdir(ROOT)  # sources named relative to the repository, as in the files
-    model = open_source(source).model()
+    model = load(source)
     if TARGETS[target].reads_model:  # written from the POE model, not from a table
         text = export(model, target, opts=opts, samples=None)
     else:

@@ -14,7 +14,7 @@ from hypothesis import strategies as st
 from oracle import EXACT, assert_fk_matches, pin_reference
 from test_fk import product_of_exponentials
 
-from urdf2dh import Joint, PoeModel, to_table
+from urdf2dh import Joint, PoeModel, load, to_table
 from urdf2dh.cli import main
 from urdf2dh.conventions.dh import DhLink
 from urdf2dh.conventions.hayati import HayatiLink
@@ -53,7 +53,7 @@ def test_every_bundled_robot_is_exact_and_sane(robot):
 def test_wu_2019s_three_ill_conditioned_pairs_get_hayati_rows():
     """The actual PUMA's (base z, j1), (j2, j3) and (j6, tool z) are 2.6, 10.3 and 4.9 deg from
     parallel (Wu 2019 §V-B): the base and rows j2 and j6 take Hayati's form, the rest D-H's."""
-    table = to_table(open_source("puma560-actual").model(), "hayati")
+    table = to_table(load("puma560-actual"), "hayati")
     forms = [type(table.base).__name__] + [type(r.params).__name__ for r in table.rows]
     assert forms == [
         "HayatiLink",
@@ -67,7 +67,7 @@ def test_wu_2019s_three_ill_conditioned_pairs_get_hayati_rows():
 
 
 def test_exactly_parallel_axes_keep_wus_d_h_row_and_the_text_names_each_form(capsys):
-    table = to_table(open_source("scara").model(), "hayati")
+    table = to_table(load("scara"), "hayati")
     assert isinstance(table.rows[0].params, DhLink) and table.rows[0].params.d == 0.0
     assert main(["convert", "puma560-actual", "--convention", "hayati"]) == 0
     lines = capsys.readouterr().out.splitlines()
@@ -151,7 +151,7 @@ def test_dh_and_mdh_never_refuse_and_keep_their_declared_bound(model):
 
 
 def test_table_files_hold_each_rows_form(tmp_path):
-    model = open_source("puma560-actual").model()
+    model = load("puma560-actual")
     table = to_table(model, "hayati")
     path = tmp_path / "hayati.yaml"
     assert (
@@ -171,7 +171,7 @@ def test_table_files_hold_each_rows_form(tmp_path):
     )
     text = path.read_text()
     assert text.count("beta:") == 3  # the base and rows j2, j6: Hayati rows hold beta, no d
-    again = open_source(str(path)).model()
+    again = load(str(path))
     q = model.sample(100, 4)
     np.testing.assert_allclose(again.fk_batch(q), model.fk_batch(q), atol=1e-12 * model.size())
     back = to_table(again, "hayati")
@@ -179,7 +179,7 @@ def test_table_files_hold_each_rows_form(tmp_path):
 
 
 def test_urdf_writer_and_roboticstoolbox_carry_hayati_tables(tmp_path):
-    for robot in (open_source("scara").model(), open_source("stanford").model()):
+    for robot in (load("scara"), load("stanford")):
         table = to_table(robot, "hayati")
         path = tmp_path / "h.urdf"
         path.write_text(table_to_urdf(table)[0])
@@ -194,7 +194,7 @@ def test_urdf_writer_and_roboticstoolbox_carry_hayati_tables(tmp_path):
 
 @pytest.mark.parametrize("target", ["kdl", "matlab", "corke-matlab", "ur"])
 def test_other_targets_refuse_naming_a_hayati_row(target):
-    table = to_table(open_source("ur5").model(), "hayati")  # its wrist_3 row is a Hayati row
+    table = to_table(load("ur5"), "hayati")  # its wrist_3 row is a Hayati row
     odd = next(r for r in table.rows if isinstance(r.params, HayatiLink))
     with pytest.raises(UsageError) as e:
         export_table(table, target)

@@ -42,12 +42,11 @@ from lxml import etree
 from matlab_reader import read_matlab
 from safety import FORMULA, judge
 
-from urdf2dh import cli, to_table
+from urdf2dh import cli, load, to_table
 from urdf2dh import escape as esc
 from urdf2dh.emit.export import export_table, table_choices
 from urdf2dh.emit.scene import short
 from urdf2dh.errors import ExportError, shown, visible
-from urdf2dh.io.sources import open_source
 
 DANGEROUS = {
     "quote": "'",
@@ -138,7 +137,7 @@ def test_corpus_sample(corpus, seed):
 
 def _table(tmp_path, names, target, geometry="genser6", convention=None):
     source = write_source(tmp_path, geometry, names, "urdf")
-    model = open_source(str(tmp_path / source)).model(names.base, names.tip)
+    model = load(str(tmp_path / source), names.base, names.tip)
     convention, style = table_choices(target, convention, None)
     return to_table(model, convention, style=style)
 

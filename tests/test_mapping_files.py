@@ -10,10 +10,10 @@ from pathlib import Path
 
 import pytest
 
+from urdf2dh import load
 from urdf2dh.cli import main
 from urdf2dh.errors import InputError
 from urdf2dh.io.mappings import read_mapping
-from urdf2dh.io.sources import open_source
 
 POE = """format: poe
 name: arm
@@ -76,7 +76,7 @@ def test_non_finite_numbers_are_refused_where_a_number_is_expected(tmp_path, cap
 def test_yaml_1_2_numbers_are_read_as_yaml_1_2_reads_them(tmp_path, value, number):
     path = tmp_path / "arm.yaml"
     path.write_text(poe_text(upper=value))
-    model = open_source(str(path)).model()
+    model = load(str(path))
     assert model.joints[0].upper == number
 
 
@@ -85,7 +85,7 @@ def test_a_name_is_read_as_written(tmp_path):
     path = tmp_path / "arm.yaml"
     text = poe_text().replace("name: j1", "name: 0100").replace("name: j2", "name: 2:50")
     path.write_text(text.replace("name: arm", "name: yes"))
-    model = open_source(str(path)).model()
+    model = load(str(path))
     assert [j.name for j in model.joints] == ["0100", "2:50"] and model.name == "yes"
 
 
@@ -130,7 +130,7 @@ def test_merge_keys_still_merge_and_the_mapping_own_keys_win(tmp_path):
         "joints:\n  - {<<: *lim, name: j1, twist: [0, 0, 1, 0, 0, 0], limits: [-2, 2]}\n"
         "tool: {twist: [0, 0, 0, 100, 0, 0]}\n"
     )
-    (joint,) = open_source(str(path)).model().joints
+    (joint,) = load(str(path)).joints
     assert (joint.lower, joint.upper, joint.kind) == (-2.0, 2.0, "revolute")
 
 

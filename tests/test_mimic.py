@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 from oracle import assert_fk_matches, pin_reference
 
-from urdf2dh import to_table
+from urdf2dh import load, to_table
 from urdf2dh.cli import main
 from urdf2dh.conventions import NAMES
 from urdf2dh.emit.export import TARGETS
@@ -51,12 +51,12 @@ def test_the_rows_follow_their_leaders_and_pinocchio_agrees():
 
 
 def test_table_and_poe_files_keep_the_coupling(tmp_path, capsys):
-    model = open_source(ARM).model()
+    model = load(ARM)
     q = model.sample(100, 3)
     for fmt, name in (("json", "t.json"), ("yaml", "t.yaml"), ("poe", "t.poe.yaml")):
         path = tmp_path / name
         assert main(["convert", ARM, "--convention", "cpc", "--format", fmt, "-o", str(path)]) == 0
-        again = open_source(str(path)).model()
+        again = load(str(path))
         assert [j.mimic for j in again.joints] == [j.mimic for j in model.joints]
         np.testing.assert_allclose(again.fk_batch(q), model.fk_batch(q), atol=1e-14)
     tree = json.loads((tmp_path / "t.json").read_text())
@@ -68,7 +68,7 @@ def test_table_and_poe_files_keep_the_coupling(tmp_path, capsys):
 
 
 def test_the_urdf_writer_writes_mimic_joints_pinocchio_couples(tmp_path):
-    model = open_source(ARM).model()
+    model = load(ARM)
     for conv in ("dh", "hayati"):
         path = tmp_path / f"{conv}.urdf"
         assert (
@@ -94,7 +94,7 @@ def test_mimic_joints_of_a_millimetre_table_keep_their_meaning(tmp_path):
     urdf = tmp_path / "mm.urdf"
     assert main(["convert", str(poe), "--format", "urdf", "-o", str(urdf)]) == 0
     assert 'multiplier="0.02" offset="0.005"' in urdf.read_text()
-    model = open_source(str(poe)).model()
+    model = load(str(poe))
     written = open_source(str(urdf))
     q, reference = pin_reference(written, written.model(), samples=100)
     assert_fk_matches("mm URDF", _metres(model.fk_batch(q)), reference, 1.0, q)
@@ -107,7 +107,7 @@ def _metres(poses):
 
 
 def test_ignore_mimic_makes_them_independent(capsys):
-    model = open_source(ARM).model(ignore_mimic=True)
+    model = load(ARM, ignore_mimic=True)
     assert model.dof == 5 and all(j.mimic is None for j in model.joints)
     assert any("treated as an independent joint (--ignore-mimic)" in w for w in model.warnings)
     assert main(["verify", ARM, "--ignore-mimic", "--samples", "100"]) == 0

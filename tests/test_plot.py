@@ -14,18 +14,17 @@ import numpy as np
 import pytest
 from frames_oracle import anchor, fk_frames, named, on_ray, span
 
-from urdf2dh import to_table
+from urdf2dh import load, to_table
 from urdf2dh.cli import main
 from urdf2dh.emit.picture import COLOURS, draw
 from urdf2dh.emit.scene import ARROW, SLIDE, frames_at_home, scene
 from urdf2dh.io.catalog import ROBOTS
-from urdf2dh.io.sources import open_source
 
 STYLE = {"ur3": "ur", "ur5": "ur", "ur10": "ur"}
 
 
 def _table(robot: str, convention: str = "dh", style: str | None = None):
-    return to_table(open_source(robot).model(), convention, style=style or STYLE.get(robot, "wu"))
+    return to_table(load(robot), convention, style=style or STYLE.get(robot, "wu"))
 
 
 def _rgb(hex_colour: str) -> np.ndarray:

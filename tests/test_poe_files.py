@@ -10,11 +10,10 @@ import numpy as np
 import pytest
 import yaml
 
-from urdf2dh import to_table
+from urdf2dh import load, to_table
 from urdf2dh.cli import main
 from urdf2dh.errors import InputError
 from urdf2dh.io.poefile import read_poe
-from urdf2dh.io.sources import open_source
 
 
 def poe(joints, tool=None, **extra):
@@ -52,7 +51,7 @@ def test_unnormalised_twists_give_scale_and_pitch():
 
 
 def test_puma_actual_is_helical_where_wu_says():
-    model = open_source("puma560-actual").model()
+    model = load("puma560-actual")
     assert [j.kind for j in model.joints] == ["revolute", "revolute"] + ["helical"] * 4
     assert model.length_unit == "mm"
 
@@ -128,8 +127,8 @@ def test_format_poe_round_trip(tmp_path, capsys):
     tree = yaml.safe_load(target.read_text())
     assert tree["format"] == "poe" and len(tree["joints"]) == 7
     assert tree["joints"][0]["limits"] == pytest.approx([-2.8973, 2.8973])
-    original = open_source("panda").model()
-    again = open_source(str(target)).model()
+    original = load("panda")
+    again = load(str(target))
     q = np.random.default_rng(3).uniform(-1, 1, size=(50, 7))
     assert np.abs(original.fk_batch(q) - again.fk_batch(q)).max() < 1e-14
     # and converting the POE file gives the same D-H table as the URDF did

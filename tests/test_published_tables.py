@@ -7,16 +7,15 @@ import math
 
 import pytest
 
-from urdf2dh import to_table
+from urdf2dh import load, to_table
 from urdf2dh.check.papers import sumenkov_table3, wu2019_table2
-from urdf2dh.io.sources import open_source
 
 
 def test_ur5_recovers_universal_robots_geometry():
     # Universal Robots, "DH parameters for calculations of kinematics and dynamics" (UR5):
     # d1 0.089159, a2 -0.425, a3 -0.39225, d4 0.10915, d5 0.09465, d6 0.0823,
     # alpha pi/2, 0, 0, pi/2, -pi/2, 0.
-    table = to_table(open_source("ur5").model(), "dh")
+    table = to_table(load("ur5"), "dh")
     rows = [r.params.values() for r in table.rows]
     d = [abs(r["d"]) for r in rows]
     a = [abs(r["a"]) for r in rows]
@@ -31,7 +30,7 @@ def test_ur5_recovers_universal_robots_geometry():
 def test_panda_recovers_franka_geometry():
     # Franka Emika, "Robot and interface specifications", Denavit-Hartenberg parameters (Craig):
     # d1 0.333, d3 0.316, a4 0.0825, a5 -0.0825, d5 0.384, a7 0.088, flange d 0.107.
-    table = to_table(open_source("panda").model(), "mdh")
+    table = to_table(load("panda"), "mdh")
     rows = [r.params.values() for r in table.rows]
     assert [abs(r["d"]) for r in rows] == pytest.approx(
         [0.333, 0, 0.316, 0, 0.384, 0, 0.107], abs=1e-12
@@ -105,7 +104,7 @@ UR_TABLES = {
 
 @pytest.mark.parametrize("robot", sorted(UR_TABLES))
 def test_style_ur_prints_universal_robots_own_table(robot):
-    model = open_source(robot).model()
+    model = load(robot)
     table = to_table(model, "dh", style="ur")
     for row, (d, a, alpha) in zip(table.rows, UR_TABLES[robot], strict=True):
         p = row.params.values()

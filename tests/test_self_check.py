@@ -8,7 +8,7 @@ from dataclasses import replace
 
 import pytest
 
-from urdf2dh import CONVENTIONS, DEFAULT
+from urdf2dh import CONVENTIONS, DEFAULT, load
 from urdf2dh.cli import main
 from urdf2dh.conventions.convert import (
     DEFAULT_SAMPLES,
@@ -23,7 +23,7 @@ from urdf2dh.io.sources import open_source
 
 @pytest.mark.parametrize("conv", CONVENTIONS)
 def test_an_exact_table_is_checked_at_the_default(conv):
-    table = to_table(open_source("panda").model(), conv)
+    table = to_table(load("panda"), conv)
     assert table.check is not None and table.check.samples == DEFAULT_SAMPLES == 100
     assert table.warnings == ()
 
@@ -31,7 +31,7 @@ def test_an_exact_table_is_checked_at_the_default(conv):
 def test_a_reported_judgement_is_measured_at_more_configurations():
     """so100's base z and first axis are 6.3e-6 rad from parallel: treated as parallel, with
     the deviation measured at 1000 configurations and stated."""
-    model = open_source("so100").model()
+    model = load("so100")
     table = to_table(model, "dh")
     assert table.check is not None and table.check.samples == JUDGED_SAMPLES == 1000
     assert any(f"worst of {JUDGED_SAMPLES} checked" in w for w in table.warnings)
@@ -44,7 +44,7 @@ def test_a_reported_judgement_is_measured_at_more_configurations():
 
 
 def test_an_explicit_number_is_taken(capsys):
-    model = open_source("ur5").model()
+    model = load("ur5")
     table = to_table(model, "mdh", samples=250)
     assert table.check is not None and table.check.samples == 250
     assert main(["convert", "so100", "--format", "json", "--check-samples", "123"]) == 0
@@ -58,7 +58,7 @@ def test_the_default_catches_a_slightly_wrong_table(robot, param, relative):
     almost every configuration. Each row's parameter moved in turn (d by `relative` x size,
     an angle by `relative` rad), ten times the check's tolerance: every one is caught by a
     check at the default number of configurations."""
-    model = open_source(robot).model()
+    model = load(robot)
     table, _ = build_table(model, "dh", DEFAULT)
     size = model.size()
     step = relative * size if param == "d" else relative

@@ -531,17 +531,16 @@ def test_export_writes_one_file_per_tip_with_the_targets_suffix(capsys, tmp_path
 
 def test_the_written_tables_match_their_chains(capsys, tree, tmp_path):
     """Each file of -o DIR, read back as a SOURCE, has the FK of its own chain."""
-    from urdf2dh.io.sources import open_source
+    from urdf2dh import load
 
     out_dir = tmp_path / "out"
     assert (
         run(capsys, "convert", tree, "--all-tips", "--format", "json", "-o", f"{out_dir}/")[0] == 0
     )
     rng = np.random.default_rng(13)
-    source = open_source(str(tree))
     for tip in ("left_tip", "right_tip"):
-        model = source.model(None, tip)
-        table = open_source(str(out_dir / f"{tip}.json")).model()
+        model = load(str(tree), tip=tip)
+        table = load(str(out_dir / f"{tip}.json"))
         q = rng.uniform(-1.0, 1.0, (20, model.n)) * np.array(
             [1.0 if j.kind == "revolute" else 0.2 for j in model.joints]
         )

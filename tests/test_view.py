@@ -22,10 +22,9 @@ from chains import random_chain_urdf
 from frames_oracle import anchor, fk_frames, named, span
 from view_reader import read_page
 
-from urdf2dh import to_table
+from urdf2dh import load, to_table
 from urdf2dh.cli import main
 from urdf2dh.emit.scene import ARROW, MAX_JOINTS, NAME_CHARS, TOOL_ARROW
-from urdf2dh.io.sources import open_source
 
 CASES = (
     [("panda", c, "wu") for c in ("dh", "mdh", "cpc", "hayati")]
@@ -39,7 +38,7 @@ def _view(tmp_path, robot: str, convention: str = "dh", style: str = "wu"):
     out = tmp_path / f"{robot}-{convention}-{style}.html"
     argv = ["plot", robot, "--convention", convention, "--style", style, "-o", str(out)]
     assert main(argv) == 0
-    table = to_table(open_source(robot).model(), convention, style=style)
+    table = to_table(load(robot), convention, style=style)
     return read_page(out.read_text(encoding="utf-8")), table
 
 

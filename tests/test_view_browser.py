@@ -28,10 +28,9 @@ import pytest
 from cdp import Browser
 from frames_oracle import anchor, fk_frames, named, span
 
-from urdf2dh import to_table
+from urdf2dh import load, to_table
 from urdf2dh.cli import main
 from urdf2dh.emit.picture import COLOURS
-from urdf2dh.io.sources import open_source
 
 FLAGS = [
     "--headless",
@@ -117,7 +116,7 @@ def test_chromium_draws_the_view_offline(tmp_path, browser):
 
     page = tmp_path / "panda.html"
     assert main(["plot", "panda", "--convention", "mdh", "-o", str(page)]) == 0
-    table = to_table(open_source("panda").model(), "mdh")
+    table = to_table(load("panda"), "mdh")
     tab = browser.open(page.as_uri())
     browser.wait(tab, DRAWN)
     browser.evaluate(tab, FRAMES)

@@ -14,12 +14,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from urdf2dh import Joint, PoeModel, to_table
+from urdf2dh import Joint, PoeModel, load, to_table
 from urdf2dh.conventions.cpc import r_rows
 from urdf2dh.emit.formats import render
 from urdf2dh.geometry import frames, se3
 from urdf2dh.geometry.se3 import pose_errors
-from urdf2dh.io.sources import open_source
 from urdf2dh.tolerances import DEFAULT, EPS
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -58,7 +57,7 @@ def test_every_bundled_robot_and_vendor_chain_is_exact_as_written():
 def test_techman_cpc_directions_are_unit_vectors_as_written(name):
     """pi/2 rounded to 1.570796 leaves b_z = 1 - 5.3e-14: written as it is, never snapped to 1
     on its own (which made |b| = 1 + 5e-14 and the FK 1.1e-13 x size off)."""
-    model = open_source(str(VENDOR / "techman" / f"{name}.urdf")).model()
+    model = load(str(VENDOR / "techman" / f"{name}.urdf"))
     table = to_table(model, "cpc")
     tree = json.loads(render(table, "json"))
     directions = [tree["base"]["params"]["b"], *(j["params"]["b"] for j in tree["joints"])]

@@ -9,12 +9,11 @@ import math
 import numpy as np
 import pytest
 
-from urdf2dh import DEFAULT
+from urdf2dh import DEFAULT, load
 from urdf2dh.cli import main
 from urdf2dh.conventions import NAMES
 from urdf2dh.conventions.convert import build_table, self_check, to_table
 from urdf2dh.io.catalog import ROBOTS
-from urdf2dh.io.sources import open_source
 
 ROUND_OFF = DEFAULT.written
 
@@ -27,7 +26,7 @@ def _values(record):
 
 @pytest.mark.parametrize("robot", sorted(ROBOTS))
 def test_parameters_are_exact_where_round_off_would_show(robot, capsys):
-    model = open_source(robot).model()
+    model = load(robot)
     size = model.size()
     for conv in NAMES:
         table = to_table(model, conv)
@@ -51,7 +50,7 @@ def test_parameters_are_exact_where_round_off_would_show(robot, capsys):
 
 
 def test_the_check_is_of_the_numbers_as_written():
-    model = open_source("ur3").model()
+    model = load("ur3")
     raw, _ = build_table(model, "dh", DEFAULT)
     assert raw.rows[3].params.alpha == 1.5707963267948968  # pi/2 and round-off, before
     assert 0.0 < abs(raw.rows[3].params.a) < 1e-16

@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 import urdf2dh
+from urdf2dh import load
 from urdf2dh.cli import main
 from urdf2dh.errors import InputError, Remedy
 from urdf2dh.io.sources import open_source
@@ -22,7 +23,7 @@ PACKAGES = {"demo_description": str(DATA / "demo_description")}
 
 def test_xacro_gives_the_same_chain_as_its_expansion():
     model = open_source(XACRO, package_paths=PACKAGES).model()
-    plain = open_source(str(DATA / "demo_arm.urdf")).model()
+    plain = load(str(DATA / "demo_arm.urdf"))
     assert [j.name for j in model.joints] == [j.name for j in plain.joints]
     q = np.random.default_rng(8).uniform(-2.5, 2.5, (50, model.n))
     np.testing.assert_allclose(model.fk_batch(q), plain.fk_batch(q), atol=1e-15)

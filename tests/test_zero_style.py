@@ -7,14 +7,14 @@ from pathlib import Path
 import pytest
 from oracle import assert_fk_matches, pin_reference
 
-from urdf2dh import to_table
+from urdf2dh import load, to_table
 from urdf2dh.io.sources import open_source
 
 DATA = Path(__file__).parent / "data"
 
 
 def test_an_arm_written_without_offsets_gets_none():
-    model = open_source(str(DATA / "genser6.urdf")).model()
+    model = load(str(DATA / "genser6.urdf"))
     for convention in ("dh", "mdh"):
         table = to_table(model, convention, style="zero")
         assert [r.params.theta for r in table.rows] == [0.0] * 6, convention
