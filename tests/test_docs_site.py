@@ -122,3 +122,16 @@ def test_every_export_target_has_its_page_with_an_example():
         assert command and f"--to {target}" in command[1], target
         for heading in ("## What it writes", "## Limits", "## How it is checked"):
             assert heading in page, (target, heading)
+
+
+def test_formulas_are_mathml_and_the_site_loads_nothing_from_elsewhere(site):
+    """Every formula is drawn by the browser from MathML written at build time: no TeX left for a
+    script to typeset, no script or style fetched from another site (the site reads offline)."""
+    pages = {p: p.read_text(encoding="utf-8") for p in site.rglob("*.html")}
+    formulas = {p: text.count("<math") for p, text in pages.items()}
+    for name in ("dh", "mdh", "hayati", "poe"):
+        assert formulas[site / "conventions" / name / "index.html"] >= 1, name
+    for page, text in pages.items():
+        assert 'class="arithmatex"' not in text, page
+        fetched = re.findall(r'<(?:script|link)\b[^>]*(?:src|href)="(https?:)?//[^"]*"', text)
+        assert fetched == [], (page, fetched)
