@@ -56,7 +56,9 @@ class XacroOptions:
     Attributes
     ----------
     packages
-        ROS package name -> directory (``--package-path``).
+        ROS package name -> directory (``--package-path``). The expansion may read beneath these
+        directories and the SOURCE's, nowhere else; a name no ``$(find)`` uses gives a
+        directory to read only.
     args
         xacro argument name -> value (``--xacro-arg NAME:=VALUE``).
     timeout
