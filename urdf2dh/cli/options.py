@@ -154,7 +154,8 @@ def add_chain_options(p: argparse.ArgumentParser, several: bool = False) -> None
         default=[],
         metavar="NAME=DIR",
         help="for .xacro sources: the directory of ROS package NAME, for $(find NAME) "
-        "and package://NAME (repeatable)",
+        "and package://NAME; the expansion reads only beneath these and the SOURCE's "
+        "directory (repeatable)",
     )
     p.add_argument(
         "--xacro-arg",

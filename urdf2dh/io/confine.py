@@ -1,6 +1,6 @@
 """What a child process that runs an untrusted file does to itself first (see ``docs/security.md``).
 
-Four layers, each one holding if the others are got round:
+Five layers, each one holding if the others are got round:
 
 * :func:`limit`: resource limits: address space and CPU time bounded, no file may grow (so none
   is written), no new process for an ordinary user (``RLIMIT_NPROC`` 0; the kernel does not apply
@@ -11,6 +11,9 @@ Four layers, each one holding if the others are got round:
   the system calls that start a program or a process, signal or trace another process, open a
   socket, or create, change or remove a file; they fail with ``EPERM``, for root too, from Python
   or from machine code alike;
+* :func:`restrict_reading`: Linux's Landlock (kernel 5.13 on) makes the kernel refuse, with
+  ``EACCES``, to open, list or run any file but those beneath the directories (and the files)
+  it is given, and to write, make or remove any file at all, from Python or machine code alike;
 * :func:`guard`: a Python audit hook (PEP 578) refuses the same in Python (processes, signals,
   sockets, writing or changing files, ``ctypes``, importing a module not yet imported, the
   introspection attributes that reach frames and code) and records every file the process opens.
@@ -23,11 +26,12 @@ from __future__ import annotations
 
 import os
 import platform
+import stat
 import struct
 import sys
 from collections.abc import Callable, Iterable
 
-__all__ = ["Refused", "die_with_parent", "forbid_syscalls", "guard", "limit"]
+__all__ = ["Refused", "die_with_parent", "forbid_syscalls", "guard", "limit", "restrict_reading"]
 
 
 class Refused(PermissionError):
@@ -66,7 +70,8 @@ PR_SET_NO_NEW_PRIVS = 38
 SECCOMP_MODE_FILTER = 2  # <linux/seccomp.h>
 
 
-def _prctl() -> Callable[..., int] | None:
+def _libc_function(name: str) -> Callable[..., int] | None:
+    """The C library's function ``name`` (Linux only), setting ``errno`` for :func:`_os_error`."""
     if not sys.platform.startswith("linux"):
         return None
     import ctypes
@@ -75,8 +80,12 @@ def _prctl() -> Callable[..., int] | None:
         libc = ctypes.CDLL(None, use_errno=True)
     except OSError:
         return None
-    prctl: Callable[..., int] = libc.prctl
-    return prctl
+    function: Callable[..., int] = getattr(libc, name)
+    return function
+
+
+def _prctl() -> Callable[..., int] | None:
+    return _libc_function("prctl")
 
 
 def die_with_parent(parent: int) -> None:
@@ -217,6 +226,103 @@ def forbid_syscalls() -> bool:
     if prctl(PR_SET_NO_NEW_PRIVS, 1, 0, 0, 0) != 0:
         return False
     return prctl(PR_SET_SECCOMP, SECCOMP_MODE_FILTER, ctypes.byref(fprog), 0, 0) == 0
+
+
+# --------------------------------------------------------------------------- Landlock
+
+# <linux/landlock.h>: system call numbers (the same on every architecture that has them), the
+# file system rights and the ABI version that first knows each, the network and scope rights.
+LANDLOCK_CALLS = {"create_ruleset": 444, "add_rule": 445, "restrict_self": 446}
+LANDLOCK_CREATE_RULESET_VERSION = 1
+LANDLOCK_RULE_PATH_BENEATH = 1
+FS_EXECUTE, FS_WRITE_FILE, FS_READ_FILE, FS_READ_DIR = 1 << 0, 1 << 1, 1 << 2, 1 << 3
+FS_RIGHTS_SINCE = {  # ABI -> the file system rights it added
+    1: (1 << 13) - 1,  # EXECUTE ... MAKE_SYM: run, write, read, list, make and remove files
+    2: 1 << 13,  # REFER: link or rename a file into another directory
+    3: 1 << 14,  # TRUNCATE
+    5: 1 << 15,  # IOCTL_DEV: ioctl on a device
+}
+FILE_RIGHTS = FS_EXECUTE | FS_WRITE_FILE | FS_READ_FILE | 1 << 14 | 1 << 15  # rights of a file
+NET_RIGHTS = (1 << 0) | (1 << 1), 4  # BIND_TCP | CONNECT_TCP, from ABI 4
+SCOPES = (1 << 0) | (1 << 1), 6  # ABSTRACT_UNIX_SOCKET | SIGNAL, from ABI 6
+
+
+def landlock_abi() -> int:
+    """The Landlock ABI version the running kernel offers; 0 where there is none (not Linux,
+    a kernel before 5.13 or built without it, Landlock switched off, the call refused)."""
+    syscall = _libc_function("syscall")
+    if syscall is None:
+        return 0
+    version = syscall(LANDLOCK_CALLS["create_ruleset"], None, 0, LANDLOCK_CREATE_RULESET_VERSION)
+    return max(int(version), 0)
+
+
+def restrict_reading(trees: Iterable[str], files: Iterable[str] = ()) -> int:
+    """Let this process, from now on, read only beneath the directories ``trees`` and the files
+    ``files`` (paths the kernel resolves, symbolic links followed), and write, make or remove no
+    file; the Landlock ABI version applied, 0 where Landlock is not available (nothing changed).
+
+    Every file system right the running kernel knows is handled; beneath ``trees`` a file may
+    be read and a directory listed, ``files`` may be read; nothing else is allowed. From ABI 4
+    TCP ``bind``/``connect`` are refused too, from ABI 6 abstract Unix sockets and signals
+    to processes outside. A path that does not exist is left out.
+
+    Raises
+    ------
+    OSError
+        Landlock is there but refused the rules (the process is then not restricted).
+    """
+    abi = landlock_abi()
+    syscall = _libc_function("syscall")
+    prctl = _prctl()
+    if abi < 1 or syscall is None or prctl is None:
+        return 0
+    handled = sum(rights for since, rights in FS_RIGHTS_SINCE.items() if since <= abi)
+    fields = [handled]
+    if abi >= NET_RIGHTS[1]:
+        fields.append(NET_RIGHTS[0])
+    if abi >= SCOPES[1]:
+        fields.append(SCOPES[0])
+    # struct landlock_ruleset_attr, as long as this ABI has it (a longer one would be refused)
+    attr = struct.pack(f"={len(fields)}Q", *fields)
+    ruleset = syscall(LANDLOCK_CALLS["create_ruleset"], attr, len(attr), 0)
+    if ruleset < 0:
+        raise _os_error("landlock_create_ruleset")
+    try:
+        rules = [(t, FS_READ_FILE | FS_READ_DIR) for t in trees] + [
+            (f, FS_READ_FILE) for f in files
+        ]
+        for path, allowed in rules:
+            _add_rule(syscall, ruleset, path, allowed & handled)
+        if prctl(PR_SET_NO_NEW_PRIVS, 1, 0, 0, 0) != 0:
+            raise _os_error("prctl(PR_SET_NO_NEW_PRIVS)")
+        if syscall(LANDLOCK_CALLS["restrict_self"], ruleset, 0) != 0:
+            raise _os_error("landlock_restrict_self")
+    finally:
+        os.close(ruleset)
+    return abi
+
+
+def _add_rule(syscall: Callable[..., int], ruleset: int, path: str, allowed: int) -> None:
+    try:
+        fd = os.open(path, os.O_PATH | os.O_CLOEXEC)
+    except FileNotFoundError:
+        return
+    try:
+        if not stat.S_ISDIR(os.fstat(fd).st_mode):
+            allowed &= FILE_RIGHTS  # a file takes a file's rights only
+        rule = struct.pack("=Qi", allowed, fd)  # struct landlock_path_beneath_attr (packed)
+        if syscall(LANDLOCK_CALLS["add_rule"], ruleset, LANDLOCK_RULE_PATH_BENEATH, rule, 0) != 0:
+            raise _os_error(f"landlock_add_rule({path})")
+    finally:
+        os.close(fd)
+
+
+def _os_error(call: str) -> OSError:
+    import ctypes
+
+    number = ctypes.get_errno()
+    return OSError(number, f"{call}: {os.strerror(number)}")
 
 
 # --------------------------------------------------------------------------- audit hook

@@ -13,8 +13,14 @@ empty environment, refused processes, sockets and file changes, its expressions 
 xacro evaluates them, and bounded in time and memory (:class:`XacroOptions`: 20 s and 1 GiB by
 default, ``--xacro-timeout`` and ``--xacro-memory`` to raise them) and in what it prints
 (:data:`URDF_LIMIT`, :data:`MESSAGES_LIMIT`). Hitting a bound, or an expression refused, is a
-one-line error naming it. Everything the child starts is killed when it ends. The files the
-expansion read are inputs of the run (:func:`urdf2dh.io.files.note_input`): no output replaces them.
+one-line error naming it. Everything the child starts is killed when it ends.
+
+The expansion may read beneath the SOURCE's directory (the one its path names, symbolic links
+resolved) and the package directories only: an include, ``xacro.load_yaml`` or an include's glob
+pattern reaching any other file is a one-line error naming it (give its directory with
+``--package-path``); on Linux, Landlock has the kernel refuse any other read too. The files the
+expansion read are inputs of the run (:func:`urdf2dh.io.files.note_input`): no output replaces
+them.
 """
 
 from __future__ import annotations
@@ -50,7 +56,9 @@ class XacroOptions:
     Attributes
     ----------
     packages
-        ROS package name -> directory (``--package-path``).
+        ROS package name -> directory (``--package-path``). The expansion may read beneath these
+        directories and the SOURCE's, nowhere else; a name no ``$(find)`` uses gives a
+        directory to read only.
     args
         xacro argument name -> value (``--xacro-arg NAME:=VALUE``).
     timeout
@@ -86,7 +94,7 @@ INSTALL_HINT = "pip install xacro"
 READ_ROLE = "a file the xacro SOURCE read"
 
 
-def _module_dirs(display: str) -> list[str]:
+def module_dirs(display: str) -> list[str]:
     """The directories the child imports ``xacro`` and ``yaml`` from: where this interpreter
     finds them on its ``sys.path``, the working directory left out (a module there is not
     installed: it may be anybody's)."""
@@ -127,25 +135,15 @@ def expand(path: Path, display: str, options: XacroOptions | None = None) -> byt
     from . import child
 
     options = options or XacroOptions()
-    dirs = _module_dirs(display)
+    dirs = module_dirs(display)
     for name, directory in options.packages.items():
         if not Path(directory).is_dir():
             raise InputError(f"package {name}={directory}: no such directory")
     if not sys.executable:
         raise InputError(f"{display}: no Python interpreter to expand xacro with")
-    job = {
-        "path": str(path),
-        "packages": dict(options.packages),
-        "args": dict(options.args),
-        "memory": options.memory * 2**20,
-        "cpu": math.ceil(options.timeout) + 1,
-        "parent": os.getpid(),
-        "module_dirs": dirs,
-    }
-    argv = [sys.executable, "-I", "-S", "-B", "-X", "utf8", str(CHILD)]
     try:
         done = child.run(
-            argv, json.dumps(job).encode("utf-8"), _environment(), options.timeout,
+            child_argv(), job(path, options, dirs), _environment(), options.timeout,
             URDF_LIMIT + 2**20, MESSAGES_LIMIT,
         )  # fmt: skip
     except child.TimedOut:
@@ -178,6 +176,25 @@ def expand(path: Path, display: str, options: XacroOptions | None = None) -> byt
     return text
 
 
+def child_argv() -> list[str]:
+    """The command line of the expansion process (:mod:`.xacro_child`)."""
+    return [sys.executable, "-I", "-S", "-B", "-X", "utf8", str(CHILD)]
+
+
+def job(path: Path, options: XacroOptions, module_dirs: list[str]) -> bytes:
+    """The expansion process's job (its standard input): expand ``path`` with ``options``,
+    importing xacro and yaml from ``module_dirs``, as this process's child."""
+    return json.dumps({
+        "path": str(path),
+        "packages": dict(options.packages),
+        "args": dict(options.args),
+        "memory": options.memory * 2**20,
+        "cpu": math.ceil(options.timeout) + 1,
+        "parent": os.getpid(),
+        "module_dirs": module_dirs,
+    }).encode("utf-8")  # fmt: skip
+
+
 def _crashed(display: str, done: Finished) -> bytes:
     """The one-line error of a child that ended without its answer."""
     if done.returncode < 0:
@@ -198,6 +215,14 @@ def _error(display: str, result: Mapping[str, str]) -> InputError:
             f"{display}: reading .xacro files needs the xacro package ({text}); install it "
             f"with: {INSTALL_HINT}"
         )
+    if kind == "unreadable":
+        return InputError(
+            f"{display}: xacro may not read {result.get('file', text)}: it is outside the SOURCE's "
+            "directory and the package directories (docs/security.md)",
+            remedy=Remedy("xacro.packages", "; give a directory that holds it with {}", "NAME=DIR"),
+        )
+    if kind == "confine":
+        return InputError(f"{display}: xacro expansion could not be confined ({text})")
     if kind == "refused":
         where = result.get("file") or ""
         place = f" in {where}" if where and not _same_path(where, display) else ""

@@ -5,11 +5,21 @@
 It reads a job (JSON) on stdin, confines itself (:mod:`.confine`), expands the file and writes on
 stdout one line of JSON, then, on success, the URDF text:
 
-* ``{"read": [FILE, ...]}`` and the URDF: every file the expansion opened;
+* ``{"read": [FILE, ...], "landlock": ABI}`` and the URDF: every file the expansion opened, and
+  the Landlock ABI version that confined its reading (0: none, the kernel has no Landlock);
 * ``{"error": KIND, "message": TEXT, ...}``: KIND is ``refused`` (an expression the strict
-  evaluation refuses; with ``file`` and ``expression``), ``package`` (a ROS package not given;
-  with ``package``), ``no-xacro`` (the xacro package is not installed) or ``xacro`` (anything
-  xacro reports).
+  evaluation refuses; with ``file`` and ``expression``), ``unreadable`` (a file outside what
+  the expansion may read; with ``file``), ``package`` (a ROS package not given; with
+  ``package``), ``no-xacro`` (the xacro package is not installed), ``confine`` (Landlock is
+  there but refused the rules) or ``xacro`` (anything xacro reports).
+
+What the expansion may read (:func:`readable`): beneath the SOURCE's directory and each
+package's directory, and the SOURCE itself, symbolic links resolved as the kernel resolves them.
+Every file xacro opens (an include, ``xacro.load_yaml``) and every directory an include's glob
+pattern lists is checked against that first (:func:`_reads`); Landlock
+(:func:`.confine.restrict_reading`), where the kernel has it, then makes the kernel refuse any
+other read, the directories of the modules already loaded excepted (the interpreter's lazy
+imports of ``encodings``).
 
 Exit status 3 means out of memory. Only the standard library is imported before the job gives
 the directories of ``xacro`` and ``yaml``.
@@ -30,8 +40,10 @@ import builtins
 import contextlib
 import json
 import os
+import re
 import string
 import sys
+import types
 from collections.abc import Callable, Iterator, Mapping
 from pathlib import Path
 from types import ModuleType
@@ -45,14 +57,17 @@ __all__ = [
     "REFUSED_SYNTAX",
     "SHOWN_EXPRESSION",
     "PackageMissing",
+    "ReadRefused",
     "RefusedExpression",
     "expand",
     "main",
+    "readable",
     "refusal",
 ]
 
 OUT_OF_MEMORY = 3
 PACKAGE_URL = "package://"
+GLOB_MAGIC = re.compile("[*?[]")  # what makes an include's file name a glob pattern
 SHOWN_EXPRESSION = 120  # characters of a refused expression shown in the message
 REFUSED_SYNTAX = {
     ast.Lambda: "a lambda",
@@ -75,6 +90,14 @@ class RefusedExpression(Exception):
     def __init__(self, file: str | None, expression: str, why: str) -> None:
         super().__init__(why)
         self.file, self.expression, self.why = file, expression, why
+
+
+class ReadRefused(Exception):
+    """A file (or a directory to list) outside what the expansion may read."""
+
+    def __init__(self, file: str) -> None:
+        super().__init__(file)
+        self.file = file
 
 
 class PackageMissing(Exception):
@@ -179,6 +202,72 @@ def _refused_call(name: str, why: str) -> Callable[..., Any]:
     return refused
 
 
+# --------------------------------------------------------------------------- what may be read
+
+
+def readable(path: str, packages: Mapping[str, str]) -> tuple[list[str], list[str]]:
+    """The directory trees and the files the expansion of ``path`` may read: the directory
+    ``path`` is named in and each package's directory; ``path`` itself (the file a symbolic link
+    names may lie elsewhere). Symbolic links resolved, relative paths from the working
+    directory."""
+    source = os.path.abspath(path)
+    trees = [os.path.dirname(source), *packages.values()]
+    return [os.path.realpath(t) for t in trees], [os.path.realpath(source)]
+
+
+def _allowed(path: str, trees: list[str], files: list[str]) -> bool:
+    real = os.path.realpath(path)
+    return real in files or any(os.path.commonpath([real, t]) == t for t in trees)
+
+
+def _shown(path: str) -> str:
+    """``path`` for a message, with the file it leads to if a symbolic link makes that another."""
+    shown, real = os.path.normpath(path), os.path.realpath(path)
+    return shown if real == os.path.abspath(shown) else f"{shown} (a link to {real})"
+
+
+def _module_trees() -> list[str]:
+    """The directories the modules loaded so far came from (symbolic links resolved), those
+    beneath another left out."""
+    found = set()
+    for module in list(sys.modules.values()):
+        file = getattr(module, "__file__", None)
+        if isinstance(file, str) and os.path.isabs(file):
+            found.add(os.path.dirname(os.path.realpath(file)))
+    trees: list[str] = []
+    for directory in sorted(found):  # a directory before those beneath it
+        if not any(os.path.commonpath([directory, t]) == t for t in trees):
+            trees.append(directory)
+    return trees
+
+
+def _reads(xacro: ModuleType, trees: list[str], files: list[str]) -> None:
+    """Refuse, with :class:`ReadRefused`, xacro's opening a file outside ``trees`` and
+    ``files``, or listing a directory outside ``trees`` for an include's glob pattern."""
+    original_glob = xacro.glob.glob
+
+    def checked_open(file: Any, *args: Any, **kwargs: Any) -> Any:
+        if isinstance(file, str | bytes | os.PathLike):
+            name = os.fsdecode(file)
+            if not _allowed(name, trees, files):
+                raise ReadRefused(_shown(name))
+        return builtins.open(file, *args, **kwargs)
+
+    def checked_glob(pattern: str, *args: Any, **kwargs: Any) -> list[str]:
+        fixed = []  # the pattern's leading directories without a wildcard: the one listed
+        for part in os.path.dirname(pattern).split(os.sep):
+            if GLOB_MAGIC.search(part):
+                break
+            fixed.append(part)
+        directory = os.sep.join(fixed) or os.curdir
+        if not _allowed(directory, trees, []):
+            raise ReadRefused(_shown(directory))
+        return list(original_glob(pattern, *args, **kwargs))
+
+    xacro.open = checked_open  # type: ignore[attr-defined] # found before the builtin open
+    xacro.glob = types.SimpleNamespace(glob=checked_glob)  # type: ignore[attr-defined]
+
+
 # --------------------------------------------------------------------------- ROS packages
 
 
@@ -225,7 +314,7 @@ def _cause(error: BaseException) -> BaseException:
     ``.exc`` or ``__cause__``); else ``error`` itself."""
     cause: BaseException | None = error
     while cause is not None:
-        if isinstance(cause, RefusedExpression | PackageMissing | MemoryError):
+        if isinstance(cause, RefusedExpression | ReadRefused | PackageMissing | MemoryError):
             return cause
         cause = cause.__cause__ or getattr(cause, "exc", None)
     return error
@@ -241,6 +330,8 @@ def _failure(error: BaseException) -> dict[str, str]:
             shown = shown[:SHOWN_EXPRESSION] + "..."
         return {"error": "refused", "message": cause.why, "expression": shown,
                 "file": str(cause.file or "")}  # fmt: skip
+    if isinstance(cause, ReadRefused):
+        return {"error": "unreadable", "message": cause.file, "file": cause.file}
     if isinstance(cause, PackageMissing):
         return {"error": "package", "message": cause.package, "package": cause.package}
     return {"error": "xacro", "message": _one_line(error) or type(error).__name__}
@@ -277,6 +368,12 @@ def expand(job: Mapping[str, Any]) -> tuple[dict[str, Any], bytes]:
     except ImportError as e:
         return {"error": "no-xacro", "message": _one_line(e)}, b""
     _strict(xacro, subst)
+    trees, files = readable(job["path"], job["packages"])
+    _reads(xacro, trees, files)
+    try:  # before the seccomp filter and the guard, which refuse ctypes
+        landlock = confine.restrict_reading([*trees, *_module_trees()], files)
+    except OSError as e:
+        return {"error": "confine", "message": _one_line(e)}, b""
     confine.forbid_syscalls()
     opened: list[str] = []
     confine.guard(opened)
@@ -286,7 +383,7 @@ def expand(job: Mapping[str, Any]) -> tuple[dict[str, Any], bytes]:
         text = str(doc.toprettyxml(indent="  ")).encode("utf-8")
     except Exception as e:  # xacro raises XacroException, expat errors, OSError, NameError...
         return _failure(e), b""
-    return {"read": sorted(set(opened))}, text
+    return {"read": sorted(set(opened)), "landlock": landlock}, text
 
 
 def main() -> None:
