@@ -14,7 +14,10 @@ PAL's 7 arm offsets and applies them to the second block's joint values. This pr
   second block, added to it, or taken off another block instead;
 * the same for ``--draws`` seeded random rearrangements of PAL's offsets (the 7 values permuted
   over the joints, each sign drawn), taken off the second block: how many fit as well;
-* the same comparison on the benchmark's fit part alone (its held-out rows left aside).
+* the same comparison on the benchmark's fit part alone (its held-out rows left aside);
+* the held-out RMS position of the default, base-tool and offsets, as it is and with PAL's
+  offsets taken off, on the split's seeds 0 to ``--seeds`` - 1 (30% of the configurations held
+  out; seed 0 is the benchmark's split).
 
 A block whose readings carry offsets the others do not is a different joint zero: a calibration
 of one robot state has to take them off first (``benchmarks/calibration.py``'s
@@ -64,6 +67,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("directory", type=Path, help="the unseen sets' files")
     parser.add_argument("--draws", type=int, default=300, help="random rearrangements")
+    parser.add_argument("--seeds", type=int, default=10, help="held-out splits to judge on")
     args = parser.parse_args()
     real = next(r for r in bench.unseen_sets(args.directory) if r.shifted is not None)
     nominal, _, _ = bench.load_set(replace(real, shifted=None))
@@ -109,6 +113,26 @@ def main() -> None:
     print(f"\nthe benchmark's fit part alone ({len(fit_rows)} rows):")
     for name, case in cases[:3]:
         print(f"  {name}: {base_tool_rms(nominal, case.subset(fit_rows)):.2f} mm")
+    print(f"\nheld-out RMS position (mm) over the split's seeds 0-{args.seeds - 1}:")
+    for name, case in cases[:2]:
+        print(f"  {name}:")
+        for seed in range(args.seeds):
+            print(f"    seed {seed}: " + held_out(nominal, case, seed))
+
+
+def held_out(nominal: PoeModel, m: Measurements, seed: int) -> str:
+    """The default's held-out RMS position (and its level), base-tool's and offsets' alone, on
+    the split of ``seed`` (30% of the configurations held out)."""
+    fit_rows, held_rows = holdout_split(m, 0.3, seed)
+    fit, held = m.subset(fit_rows), m.subset(held_rows)
+    cells = []
+    for level in ("auto", "base-tool", "offsets"):
+        cal = calibrate(nominal, fit, level=level, validation=held, convention="poe")
+        judged = cal.comparison("validation")
+        assert judged is not None
+        name = f"default ({cal.level})" if level == "auto" else level
+        cells.append(f"{name} {judged.after.rms_position * 1e3:.2f}")
+    return ", ".join(cells)
 
 
 if __name__ == "__main__":
