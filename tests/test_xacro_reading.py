@@ -216,3 +216,27 @@ def test_the_expansion_runs_under_the_kernels_landlock_abi():
     assert result["landlock"] == KERNEL_ABI >= 1
     assert b'<robot name="a"' in text
     assert str(ARM_PACKAGE / "config" / "small" / "dims.yaml") in result["read"]
+
+
+def test_a_source_directly_in_the_home_directory_does_not_open_it(tmp_path, capsys, monkeypatch):
+    """A SOURCE right in the home directory reads nothing beside it (``~/.ssh`` lies there); the
+    message says why and what to do. In a directory of its own it reads its includes again."""
+    home = tmp_path / "home"
+    (home / ".ssh").mkdir(parents=True)
+    (home / ".ssh" / "id_rsa").write_text(SECRET)
+    (home / "inc.xacro").write_text(INCLUDED)
+    monkeypatch.setenv("HOME", str(home))
+    for include in (".ssh/id_rsa", "inc.xacro"):
+        source = home / "r.urdf.xacro"
+        source.write_text(ROBOT.format(body=INCLUDE.format(include), link="tip"))
+        err = refused(capsys, ["convert", str(source), "--format", "urdf"], tmp_path / "o.urdf",
+                      str(home / include))  # fmt: skip
+        assert f"the SOURCE lies directly in {home}" in err, err
+        assert "put the description in a directory of its own" in err, err
+    own = home / "robot"
+    own.mkdir()
+    (own / "inc.xacro").write_text(INCLUDED)
+    source = own / "r.urdf.xacro"
+    source.write_text(ROBOT.format(body=INCLUDE.format("inc.xacro"), link="${included}"))
+    assert main(["convert", str(source), "--format", "urdf", "-o", str(tmp_path / "o.urdf")]) == 0
+    assert 'name="included"' in (tmp_path / "o.urdf").read_text()

@@ -170,7 +170,7 @@ def expand(path: Path, display: str, options: XacroOptions | None = None) -> byt
     if not isinstance(result, dict):
         return _crashed(display, done)
     if "error" in result:
-        raise _error(display, result)
+        raise _error(display, result, _withheld(path))
     for file in result.get("read", []):
         note_input(file, READ_ROLE)
     return text
@@ -192,7 +192,26 @@ def job(path: Path, options: XacroOptions, module_dirs: list[str]) -> bytes:
         "cpu": math.ceil(options.timeout) + 1,
         "parent": os.getpid(),
         "module_dirs": module_dirs,
+        "broad": broad_directories(),
     }).encode("utf-8")  # fmt: skip
+
+
+def broad_directories() -> list[str]:
+    """Directories whose files the expansion does not read for being the SOURCE's own: the
+    user's home directory and the file system's root (a SOURCE directly in one of them would
+    open it all, ``~/.ssh`` included)."""
+    out = [os.path.abspath(os.sep)]
+    try:
+        out.append(str(Path.home()))
+    except (RuntimeError, KeyError):  # no home directory to be found
+        pass
+    return out
+
+
+def _withheld(path: Path) -> str | None:
+    """The SOURCE's directory, when it is one of :func:`broad_directories`."""
+    own = os.path.realpath(os.path.dirname(os.path.abspath(path)))
+    return next((b for b in broad_directories() if os.path.realpath(b) == own), None)
 
 
 def _crashed(display: str, done: Finished) -> bytes:
@@ -205,7 +224,7 @@ def _crashed(display: str, done: Finished) -> bytes:
     raise InputError(f"{display}: xacro expansion {how}")
 
 
-def _error(display: str, result: Mapping[str, str]) -> InputError:
+def _error(display: str, result: Mapping[str, str], withheld: str | None) -> InputError:
     """The one-line error of a failed expansion."""
     kind, text = result.get("error"), result.get("message", "")
     if kind == "package":
@@ -214,6 +233,15 @@ def _error(display: str, result: Mapping[str, str]) -> InputError:
         return InputError(
             f"{display}: reading .xacro files needs the xacro package ({text}); install it "
             f"with: {INSTALL_HINT}"
+        )
+    if kind == "unreadable" and withheld is not None:
+        return InputError(
+            f"{display}: xacro may not read {result.get('file', text)}: the SOURCE lies directly "
+            f"in {withheld}, whose files a description may not read (docs/security.md); put the "
+            "description in a directory of its own",
+            remedy=Remedy(
+                "xacro.packages", ", or give one that holds the file with {}", "NAME=DIR"
+            ),
         )
     if kind == "unreadable":
         return InputError(

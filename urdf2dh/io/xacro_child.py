@@ -44,7 +44,7 @@ import re
 import string
 import sys
 import types
-from collections.abc import Callable, Iterator, Mapping
+from collections.abc import Callable, Iterable, Iterator, Mapping
 from pathlib import Path
 from types import ModuleType
 from typing import Any
@@ -205,14 +205,20 @@ def _refused_call(name: str, why: str) -> Callable[..., Any]:
 # --------------------------------------------------------------------------- what may be read
 
 
-def readable(path: str, packages: Mapping[str, str]) -> tuple[list[str], list[str]]:
+def readable(
+    path: str, packages: Mapping[str, str], broad: Iterable[str] = ()
+) -> tuple[list[str], list[str]]:
     """The directory trees and the files the expansion of ``path`` may read: the directory
-    ``path`` is named in and each package's directory; ``path`` itself (the file a symbolic link
-    names may lie elsewhere). Symbolic links resolved, relative paths from the working
-    directory."""
+    ``path`` is named in, unless it is one of ``broad`` (the user's home directory, the file
+    system's root: a description's own directory is never one of those), and each package's
+    directory; ``path`` itself (the file a symbolic link names may lie elsewhere). Symbolic
+    links resolved, relative paths from the working directory."""
     source = os.path.abspath(path)
-    trees = [os.path.dirname(source), *packages.values()]
-    return [os.path.realpath(t) for t in trees], [os.path.realpath(source)]
+    own = os.path.realpath(os.path.dirname(source))
+    withheld = {os.path.realpath(b) for b in broad}
+    trees = [own] if own not in withheld else []
+    trees += [os.path.realpath(t) for t in packages.values()]
+    return trees, [os.path.realpath(source)]
 
 
 def _allowed(path: str, trees: list[str], files: list[str]) -> bool:
@@ -368,7 +374,7 @@ def expand(job: Mapping[str, Any]) -> tuple[dict[str, Any], bytes]:
     except ImportError as e:
         return {"error": "no-xacro", "message": _one_line(e)}, b""
     _strict(xacro, subst)
-    trees, files = readable(job["path"], job["packages"])
+    trees, files = readable(job["path"], job["packages"], job.get("broad", ()))
     _reads(xacro, trees, files)
     try:  # before the seccomp filter and the guard, which refuse ctypes
         landlock = confine.restrict_reading([*trees, *_module_trees()], files)
