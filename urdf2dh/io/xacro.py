@@ -170,7 +170,7 @@ def expand(path: Path, display: str, options: XacroOptions | None = None) -> byt
     if not isinstance(result, dict):
         return _crashed(display, done)
     if "error" in result:
-        raise _error(display, result, _withheld(path))
+        raise _error(display, result)
     for file in result.get("read", []):
         note_input(file, READ_ROLE)
     return text
@@ -208,12 +208,6 @@ def broad_directories() -> list[str]:
     return out
 
 
-def _withheld(path: Path) -> str | None:
-    """The SOURCE's directory, when it is one of :func:`broad_directories`."""
-    own = os.path.realpath(os.path.dirname(os.path.abspath(path)))
-    return next((b for b in broad_directories() if os.path.realpath(b) == own), None)
-
-
 def _crashed(display: str, done: Finished) -> bytes:
     """The one-line error of a child that ended without its answer."""
     if done.returncode < 0:
@@ -224,7 +218,7 @@ def _crashed(display: str, done: Finished) -> bytes:
     raise InputError(f"{display}: xacro expansion {how}")
 
 
-def _error(display: str, result: Mapping[str, str], withheld: str | None) -> InputError:
+def _error(display: str, result: Mapping[str, str]) -> InputError:
     """The one-line error of a failed expansion."""
     kind, text = result.get("error"), result.get("message", "")
     if kind == "package":
@@ -234,20 +228,23 @@ def _error(display: str, result: Mapping[str, str], withheld: str | None) -> Inp
             f"{display}: reading .xacro files needs the xacro package ({text}); install it "
             f"with: {INSTALL_HINT}"
         )
-    if kind == "unreadable" and withheld is not None:
-        return InputError(
-            f"{display}: xacro may not read {result.get('file', text)}: the SOURCE lies directly "
-            f"in {withheld}, whose files a description may not read (docs/security.md); put the "
-            "description in a directory of its own",
-            remedy=Remedy(
-                "xacro.packages", ", or give one that holds the file with {}", "NAME=DIR"
-            ),
-        )
     if kind == "unreadable":
+        withheld = result.get("withheld")
+        if withheld:
+            why = (
+                f"the SOURCE lies directly in {withheld}, whose files a description may not read "
+                "(docs/security.md); put the description in a directory of its own"
+            )
+            then = ", or give one that holds the file with {}"
+        else:
+            why = (
+                "it is outside the SOURCE's directory and the package directories "
+                "(docs/security.md)"
+            )
+            then = "; give a directory that holds it with {}"
         return InputError(
-            f"{display}: xacro may not read {result.get('file', text)}: it is outside the SOURCE's "
-            "directory and the package directories (docs/security.md)",
-            remedy=Remedy("xacro.packages", "; give a directory that holds it with {}", "NAME=DIR"),
+            f"{display}: xacro may not read {result.get('file', text)}: {why}",
+            remedy=Remedy("xacro.packages", then, "NAME=DIR"),
         )
     if kind == "confine":
         return InputError(f"{display}: xacro expansion could not be confined ({text})")

@@ -9,7 +9,8 @@ stdout one line of JSON, then, on success, the URDF text:
   the Landlock ABI version that confined its reading (0: none, the kernel has no Landlock);
 * ``{"error": KIND, "message": TEXT, ...}``: KIND is ``refused`` (an expression the strict
   evaluation refuses; with ``file`` and ``expression``), ``unreadable`` (a file outside what
-  the expansion may read; with ``file``), ``package`` (a ROS package not given; with
+  the expansion may read; with ``file``, and ``withheld``: the SOURCE's directory when that was
+  not read for being a broad one, else empty), ``package`` (a ROS package not given; with
   ``package``), ``no-xacro`` (the xacro package is not installed), ``confine`` (Landlock is
   there but refused the rules) or ``xacro`` (anything xacro reports).
 
@@ -93,11 +94,12 @@ class RefusedExpression(Exception):
 
 
 class ReadRefused(Exception):
-    """A file (or a directory to list) outside what the expansion may read."""
+    """A file (or a directory to list) outside what the expansion may read; ``withheld``: the
+    SOURCE's own directory when that is not read for being a broad one (:func:`readable`)."""
 
-    def __init__(self, file: str) -> None:
+    def __init__(self, file: str, withheld: str | None) -> None:
         super().__init__(file)
-        self.file = file
+        self.file, self.withheld = file, withheld
 
 
 class PackageMissing(Exception):
@@ -206,24 +208,30 @@ def _refused_call(name: str, why: str) -> Callable[..., Any]:
 
 
 def readable(
-    path: str, packages: Mapping[str, str], broad: Iterable[str] = ()
-) -> tuple[list[str], list[str]]:
-    """The directory trees and the files the expansion of ``path`` may read: the directory
-    ``path`` is named in, unless it is one of ``broad`` (the user's home directory, the file
-    system's root: a description's own directory is never one of those), and each package's
-    directory; ``path`` itself (the file a symbolic link names may lie elsewhere). Symbolic
-    links resolved, relative paths from the working directory."""
+    path: str, packages: Mapping[str, str], broad: Iterable[str]
+) -> tuple[list[str], list[str], str | None]:
+    """The directory trees and the files the expansion of ``path`` may read, and the directory
+    withheld: the directory ``path`` is named in, unless it is one of ``broad`` (the user's home
+    directory, the file system's root: a description's own directory is never one of those;
+    it is then the one withheld), and each package's directory; ``path`` itself (the file a
+    symbolic link names may lie elsewhere). Symbolic links resolved, relative paths from the
+    working directory."""
     source = os.path.abspath(path)
     own = os.path.realpath(os.path.dirname(source))
-    withheld = {os.path.realpath(b) for b in broad}
-    trees = [own] if own not in withheld else []
+    withheld = own if own in {os.path.realpath(b) for b in broad} else None
+    trees = [own] if withheld is None else []
     trees += [os.path.realpath(t) for t in packages.values()]
-    return trees, [os.path.realpath(source)]
+    return trees, [os.path.realpath(source)], withheld
+
+
+def _beneath(real: str, trees: list[str]) -> bool:
+    """Whether the resolved path ``real`` is one of ``trees`` or lies beneath one."""
+    return any(os.path.commonpath([real, t]) == t for t in trees)
 
 
 def _allowed(path: str, trees: list[str], files: list[str]) -> bool:
     real = os.path.realpath(path)
-    return real in files or any(os.path.commonpath([real, t]) == t for t in trees)
+    return real in files or _beneath(real, trees)
 
 
 def _shown(path: str) -> str:
@@ -242,21 +250,22 @@ def _module_trees() -> list[str]:
             found.add(os.path.dirname(os.path.realpath(file)))
     trees: list[str] = []
     for directory in sorted(found):  # a directory before those beneath it
-        if not any(os.path.commonpath([directory, t]) == t for t in trees):
+        if not _beneath(directory, trees):
             trees.append(directory)
     return trees
 
 
-def _reads(xacro: ModuleType, trees: list[str], files: list[str]) -> None:
+def _reads(xacro: ModuleType, trees: list[str], files: list[str], withheld: str | None) -> None:
     """Refuse, with :class:`ReadRefused`, xacro's opening a file outside ``trees`` and
-    ``files``, or listing a directory outside ``trees`` for an include's glob pattern."""
+    ``files``, or listing a directory outside ``trees`` for an include's glob pattern
+    (``withheld``: the SOURCE's directory not read, :func:`readable`)."""
     original_glob = xacro.glob.glob
 
     def checked_open(file: Any, *args: Any, **kwargs: Any) -> Any:
         if isinstance(file, str | bytes | os.PathLike):
             name = os.fsdecode(file)
             if not _allowed(name, trees, files):
-                raise ReadRefused(_shown(name))
+                raise ReadRefused(_shown(name), withheld)
         return builtins.open(file, *args, **kwargs)
 
     def checked_glob(pattern: str, *args: Any, **kwargs: Any) -> list[str]:
@@ -267,7 +276,7 @@ def _reads(xacro: ModuleType, trees: list[str], files: list[str]) -> None:
             fixed.append(part)
         directory = os.sep.join(fixed) or os.curdir
         if not _allowed(directory, trees, []):
-            raise ReadRefused(_shown(directory))
+            raise ReadRefused(_shown(directory), withheld)
         return list(original_glob(pattern, *args, **kwargs))
 
     xacro.open = checked_open  # type: ignore[attr-defined] # found before the builtin open
@@ -337,7 +346,8 @@ def _failure(error: BaseException) -> dict[str, str]:
         return {"error": "refused", "message": cause.why, "expression": shown,
                 "file": str(cause.file or "")}  # fmt: skip
     if isinstance(cause, ReadRefused):
-        return {"error": "unreadable", "message": cause.file, "file": cause.file}
+        return {"error": "unreadable", "message": cause.file, "file": cause.file,
+                "withheld": cause.withheld or ""}  # fmt: skip
     if isinstance(cause, PackageMissing):
         return {"error": "package", "message": cause.package, "package": cause.package}
     return {"error": "xacro", "message": _one_line(error) or type(error).__name__}
@@ -374,8 +384,8 @@ def expand(job: Mapping[str, Any]) -> tuple[dict[str, Any], bytes]:
     except ImportError as e:
         return {"error": "no-xacro", "message": _one_line(e)}, b""
     _strict(xacro, subst)
-    trees, files = readable(job["path"], job["packages"], job.get("broad", ()))
-    _reads(xacro, trees, files)
+    trees, files, withheld = readable(job["path"], job["packages"], job["broad"])
+    _reads(xacro, trees, files, withheld)
     try:  # before the seccomp filter and the guard, which refuse ctypes
         landlock = confine.restrict_reading([*trees, *_module_trees()], files)
     except OSError as e:
