@@ -482,22 +482,26 @@ def unseen_sets(directory: Path) -> list[RealSet]:
     ]  # fmt: skip
 
 
-def load_set(real: RealSet) -> tuple[PoeModel, Measurements, Measurements]:
-    """The nominal, the fit and the test measurements of a set."""
+def read_set(real: RealSet) -> tuple[PoeModel, tuple[Measurements, ...]]:
+    """The nominal and each file of a set as read (no offsets taken off, no split)."""
     nominal = urdf2dh.load(real.robot, tip=real.tip)
     joints = tuple(j.name for j in nominal.joints)
     sliding = tuple(j.name for j in nominal.joints if j.kind == "prismatic")
-
-    def read(path: Path) -> Measurements:
-        return read_measurements(
+    files = tuple(
+        read_measurements(
             path, joints, reading=real.reading, sliding=sliding, length_unit=nominal.length_unit
         )
+        for path in real.files
+    )
+    return nominal, files
 
-    if len(real.files) == 2:
-        return nominal, read(real.files[0]), read(real.files[1])
-    m = read(real.files[0])
-    if real.shifted is not None:
-        m = real.shifted.take_off(m)
+
+def load_set(real: RealSet) -> tuple[PoeModel, Measurements, Measurements]:
+    """The nominal, the fit and the test measurements of a set."""
+    nominal, files = read_set(real)
+    if len(files) == 2:
+        return nominal, files[0], files[1]
+    m = files[0] if real.shifted is None else real.shifted.take_off(files[0])
     fit_rows, held_rows = holdout_split(m, 0.3, 0)
     return nominal, m.subset(fit_rows), m.subset(held_rows)
 

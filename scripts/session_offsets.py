@@ -57,10 +57,8 @@ def base_tool_rms(nominal: PoeModel, m: Measurements) -> float:
 
 def shifted(m: Measurements, rows: range, offsets: np.ndarray) -> Measurements:
     """``m`` with ``offsets`` (one per joint of PAL_OFFSETS, in its order) taken off ``rows``."""
-    q = m.q.copy()
-    for name, offset in zip(bench.PAL_OFFSETS.offsets, offsets, strict=True):
-        q[list(rows), m.joints.index(name)] -= offset
-    return replace(m, q=q)
+    joints = dict(zip(bench.PAL_OFFSETS.offsets, offsets.tolist(), strict=True))
+    return replace(bench.PAL_OFFSETS, rows=rows, offsets=joints).take_off(m)
 
 
 def main() -> None:
@@ -70,14 +68,7 @@ def main() -> None:
     parser.add_argument("--seeds", type=int, default=10, help="held-out splits to judge on")
     args = parser.parse_args()
     real = next(r for r in bench.unseen_sets(args.directory) if r.shifted is not None)
-    nominal, _, _ = bench.load_set(replace(real, shifted=None))
-    m = bench.read_measurements(
-        real.files[0],
-        tuple(j.name for j in nominal.joints),
-        reading=real.reading,
-        sliding=tuple(j.name for j in nominal.joints if j.kind == "prismatic"),
-        length_unit=nominal.length_unit,
-    )
+    nominal, (m,) = bench.read_set(real)
     blocks = [range(k * BLOCK, (k + 1) * BLOCK) for k in range(len(m.q) // BLOCK)]
     pal = np.array(list(bench.PAL_OFFSETS.offsets.values()))
     print(f"{real.source}: {len(m.q)} rows, blocks of {BLOCK}")

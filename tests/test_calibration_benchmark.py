@@ -30,7 +30,7 @@ def test_offsets_come_off_the_named_rows_and_joints_only():
     # the split is the same (taken by configuration after the offsets are off)
     assert len(fit2) == len(fit) and len(test2) == len(test)
     np.testing.assert_array_equal(fit2.points, fit.points)
-    nominal, whole = bench.load_set(replace(real, files=(real.files[0], real.files[0])))[:2]
+    nominal, (whole,) = bench.read_set(real)
     taken = bench.PAL_OFFSETS.take_off(whole)
     change = whole.q - taken.q
     columns = [whole.joints.index(n) for n in bench.PAL_OFFSETS.offsets]
