@@ -117,21 +117,15 @@ def _objective(theta: Mat, lin: Linearised) -> tuple[float, Mat]:
     if not len(lin.offset):
         return _noise_only(sigma2, lin)
     tau2 = np.exp(2.0 * theta[kinds:])
-    m = np.einsum("g,gij->ij", tau2, lin.parts)
-    m[np.diag_indices_from(m)] += _RIDGE * float(np.trace(m)) / max(len(m), 1)
-    lm = _factor(m)
+    lm = _factor(_prior_covariance(tau2, lin))
     minv_g = _solve(lm, lin.shape)
-    gram = [g / s for g, s in zip(lin.gram, sigma2, strict=True)]
-    h = sum(gram) + lin.shape.T @ minv_g
-    h[np.diag_indices_from(h)] += _RIDGE * float(np.trace(h)) / max(len(h), 1)
-    b = sum(c / s for c, s in zip(lin.cross, sigma2, strict=True))
+    gram = _weighted(lin.gram, sigma2)
+    h = _ridged(_total(gram) + lin.shape.T @ minv_g)
+    b = _total(_weighted(lin.cross, sigma2))
     b = b + minv_g.T @ lin.offset
     lh = _factor(h)
     x = -_solve(lh, b)
-    errors = [
-        sq + 2.0 * float(c @ x) + float(x @ g @ x)
-        for sq, c, g in zip(lin.square, lin.cross, lin.gram, strict=True)
-    ]
+    errors = _errors(lin, x)
     v = lin.offset + lin.shape @ x
     u = _solve(lm, v)
     chi2 = sum(e / s for e, s in zip(errors, sigma2, strict=True)) + float(v @ u)
@@ -150,15 +144,8 @@ def _objective(theta: Mat, lin: Linearised) -> tuple[float, Mat]:
 
 def _noise_only(sigma2: Mat, lin: Linearised) -> tuple[float, Mat]:
     """:func:`_objective` without a prior."""
-    gram = [g / s for g, s in zip(lin.gram, sigma2, strict=True)]
-    h = sum(gram)
-    h[np.diag_indices_from(h)] += _RIDGE * float(np.trace(h)) / max(len(h), 1)
-    lh = _factor(h)
-    x = -_solve(lh, sum(c / s for c, s in zip(lin.cross, sigma2, strict=True)))
-    errors = [
-        sq + 2.0 * float(c @ x) + float(x @ g @ x)
-        for sq, c, g in zip(lin.square, lin.cross, lin.gram, strict=True)
-    ]
+    gram, lh, x = _without_prior(lin, sigma2)
+    errors = _errors(lin, x)
     chi2 = sum(e / s for e, s in zip(errors, sigma2, strict=True))
     noise = sum(n * math.log(s) for n, s in zip(lin.count, sigma2, strict=True))
     value = 0.5 * (chi2 + 2.0 * float(np.sum(np.log(np.diag(lh)))) + noise)
@@ -170,6 +157,46 @@ def _noise_only(sigma2: Mat, lin: Linearised) -> tuple[float, Mat]:
         ]
     )
     return value, grad
+
+
+def _weighted(terms: tuple[Mat, ...], sigma2: Mat) -> list[Mat]:
+    """Each kind's term over its noise variance."""
+    return [t / s for t, s in zip(terms, sigma2, strict=True)]
+
+
+def _total(terms: list[Mat]) -> Mat:
+    """The sum of ``terms``, a new array."""
+    total: Mat = sum(terms, np.zeros_like(terms[0]))
+    return total
+
+
+def _ridged(a: Mat) -> Mat:
+    """``a`` (a new matrix, changed in place) with :data:`_RIDGE` times its mean diagonal added
+    to its diagonal: what its Cholesky factor is taken of."""
+    a[np.diag_indices_from(a)] += _RIDGE * float(np.trace(a)) / max(len(a), 1)
+    return a
+
+
+def _prior_covariance(tau2: Mat, lin: Linearised) -> Mat:
+    """``M = sum_j t_j^2 M_j``, ridged."""
+    return _ridged(np.einsum("g,gij->ij", tau2, lin.parts))
+
+
+def _without_prior(lin: Linearised, sigma2: Mat) -> tuple[list[Mat], Mat, Mat]:
+    """Without a prior, at the noise variances ``sigma2``: the weighted Gram matrices, the
+    Cholesky factor of ``H`` and the minimising ``x``."""
+    gram = _weighted(lin.gram, sigma2)
+    lh = _factor(_ridged(_total(gram)))
+    x = -_solve(lh, _total(_weighted(lin.cross, sigma2)))
+    return gram, lh, x
+
+
+def _errors(lin: Linearised, x: Mat) -> list[float]:
+    """Each kind's ``|r_g(x)|^2`` at unit noise."""
+    return [
+        sq + 2.0 * float(c @ x) + float(x @ g @ x)
+        for sq, c, g in zip(lin.square, lin.cross, lin.gram, strict=True)
+    ]
 
 
 def _factor(a: Mat) -> Mat:
@@ -243,17 +270,10 @@ def _components(
     fixed = np.array([f == v for f, v in zip(floors, noise, strict=True)])
     low = np.array(floors, dtype=float)
     for _ in range(_COMPONENTS_ROUNDS):
-        sigma2 = levels**2
-        gram = [g / s for g, s in zip(lin.gram, sigma2, strict=True)]
-        h = sum(gram)
-        h[np.diag_indices_from(h)] += _RIDGE * float(np.trace(h)) / max(len(h), 1)
-        lh = _factor(h)
-        x = -_solve(lh, sum(c / s for c, s in zip(lin.cross, sigma2, strict=True)))
+        gram, lh, x = _without_prior(lin, levels**2)
         h_inv = _inverse(lh)
         new = levels.copy()
-        for g, (sq, c, gg, n) in enumerate(zip(lin.square, lin.cross, lin.gram, lin.count,
-                                               strict=True)):  # fmt: skip
-            error = sq + 2.0 * float(c @ x) + float(x @ gg @ x)
+        for g, (error, n) in enumerate(zip(_errors(lin, x), lin.count, strict=True)):
             redundancy = n - float(np.sum(h_inv * gram[g]))
             if redundancy > 0.0 and error > 0.0:
                 new[g] = math.sqrt(error / redundancy)
@@ -269,13 +289,10 @@ def _step(theta: Mat, lin: Linearised) -> Mat:
     """The minimising ``x`` of the linearised objective at ``theta``."""
     kinds = len(lin.gram)
     sigma2 = np.exp(2.0 * theta[:kinds])
-    h = sum(g / s for g, s in zip(lin.gram, sigma2, strict=True))
-    b = sum(c / s for c, s in zip(lin.cross, sigma2, strict=True))
+    h = _total(_weighted(lin.gram, sigma2))
+    b = _total(_weighted(lin.cross, sigma2))
     if len(lin.offset):
-        m = np.einsum("g,gij->ij", np.exp(2.0 * theta[kinds:]), lin.parts)
-        m[np.diag_indices_from(m)] += _RIDGE * float(np.trace(m)) / max(len(m), 1)
-        minv_g = _solve(_factor(m), lin.shape)
+        minv_g = _solve(_factor(_prior_covariance(np.exp(2.0 * theta[kinds:]), lin)), lin.shape)
         h = h + lin.shape.T @ minv_g
         b = b + minv_g.T @ lin.offset
-    h[np.diag_indices_from(h)] += _RIDGE * float(np.trace(h)) / max(len(h), 1)
-    return -_solve(_factor(h), b)
+    return -_solve(_factor(_ridged(h)), b)
