@@ -23,6 +23,7 @@ __all__ = [
     "CALIBRATION_COST",
     "CALIBRATION_GRADIENT",
     "CALIBRATION_STEP",
+    "CHOLESKY_RIDGE",
     "DEFAULT",
     "DIFF_ANGLE_DEG",
     "DIFF_LENGTH_M",
@@ -103,6 +104,11 @@ CALIBRATION_COST = 1e-8
 # RANK_RELATIVE x the largest count as zero. Identifiable directions of well-spread data lie
 # at 1e-4 and above; unidentifiable ones at round-off (1e-15).
 RANK_RELATIVE = 1e-10
+
+# A symmetric matrix whose Cholesky factor calibration takes (the prior's covariance, the
+# evidence's normal matrix) has CHOLESKY_RIDGE x its mean diagonal added to its diagonal first:
+# far below any variance that matters, it keeps a merely semi-definite matrix factorable.
+CHOLESKY_RIDGE = 1e-12
 
 # Float64 evaluation of a table's forward kinematics rounds by about FK_ROUNDING x eps x the
 # sum of its lengths (every |d|, |a|, |l| and base and tool length) at most: negligible for a

@@ -29,14 +29,13 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from .prior import LinkErrors
+from .prior import LinkErrors, ridged
 
 __all__ = ["Linearised", "maximise"]
 
 Mat = NDArray[np.float64]
 
 _LOWEST, _HIGHEST = 1e-9, 1.0  # the deviations searched, rad (and x the robot's size)
-_RIDGE = 1e-12  # x the mean diagonal, added to H before its Cholesky factor
 _SETTLED = 1e-7  # L-BFGS-B stops when f changes by less than this x |f| (its ftol): far below
 # what moves a deviation by a per cent
 _COMPONENTS_ROUNDS = 100  # variance-component iterations at most (each ~halves the error)
@@ -120,7 +119,7 @@ def _objective(theta: Mat, lin: Linearised) -> tuple[float, Mat]:
     lm = _factor(_prior_covariance(tau2, lin))
     minv_g = _solve(lm, lin.shape)
     gram = _weighted(lin.gram, sigma2)
-    h = _ridged(_total(gram) + lin.shape.T @ minv_g)
+    h = ridged(_total(gram) + lin.shape.T @ minv_g)
     b = _total(_weighted(lin.cross, sigma2))
     b = b + minv_g.T @ lin.offset
     lh = _factor(h)
@@ -170,23 +169,16 @@ def _total(terms: list[Mat]) -> Mat:
     return total
 
 
-def _ridged(a: Mat) -> Mat:
-    """``a`` (a new matrix, changed in place) with :data:`_RIDGE` times its mean diagonal added
-    to its diagonal: what its Cholesky factor is taken of."""
-    a[np.diag_indices_from(a)] += _RIDGE * float(np.trace(a)) / max(len(a), 1)
-    return a
-
-
 def _prior_covariance(tau2: Mat, lin: Linearised) -> Mat:
     """``M = sum_j t_j^2 M_j``, ridged."""
-    return _ridged(np.einsum("g,gij->ij", tau2, lin.parts))
+    return ridged(np.einsum("g,gij->ij", tau2, lin.parts))
 
 
 def _without_prior(lin: Linearised, sigma2: Mat) -> tuple[list[Mat], Mat, Mat]:
     """Without a prior, at the noise variances ``sigma2``: the weighted Gram matrices, the
     Cholesky factor of ``H`` and the minimising ``x``."""
     gram = _weighted(lin.gram, sigma2)
-    lh = _factor(_ridged(_total(gram)))
+    lh = _factor(ridged(_total(gram)))
     x = -_solve(lh, _total(_weighted(lin.cross, sigma2)))
     return gram, lh, x
 
@@ -295,4 +287,4 @@ def _step(theta: Mat, lin: Linearised) -> Mat:
         minv_g = _solve(_factor(_prior_covariance(np.exp(2.0 * theta[kinds:]), lin)), lin.shape)
         h = h + lin.shape.T @ minv_g
         b = b + minv_g.T @ lin.offset
-    return -_solve(_factor(_ridged(h)), b)
+    return -_solve(_factor(ridged(h)), b)

@@ -47,7 +47,7 @@ from numpy.typing import NDArray
 
 from ..errors import InputError
 from ..geometry.lie import cross_rows
-from ..tolerances import RANK_RELATIVE
+from ..tolerances import CHOLESKY_RIDGE, RANK_RELATIVE
 from .chart import Chain, Estimate, joint_columns, line_coordinates, normal_bases, sizes
 
 __all__ = [
@@ -59,6 +59,7 @@ __all__ = [
     "Prior",
     "Regulariser",
     "link_errors",
+    "ridged",
 ]
 
 Mat = NDArray[np.float64]
@@ -68,7 +69,13 @@ NONE = "none"  # no prior: maximum likelihood
 CHOICES = (AUTO, NONE)
 
 _STEP = 1e-7  # central differences of the line coordinates (smooth: ~1e-14 accurate)
-_RIDGE = 1e-12  # x the mean variance, added to a covariance before its Cholesky factor
+
+
+def ridged(a: Mat) -> Mat:
+    """``a`` (a new matrix, changed in place) with :data:`~urdf2dh.tolerances.CHOLESKY_RIDGE`
+    times its mean diagonal added to its diagonal: what a Cholesky factor is taken of."""
+    a[np.diag_indices_from(a)] += CHOLESKY_RIDGE * float(np.trace(a)) / max(len(a), 1)
+    return a
 
 
 @dataclass(frozen=True, slots=True)
@@ -186,8 +193,7 @@ class LinkErrors:
     def covariance(self, dev: Deviations) -> Mat:
         """``(k, k)`` the prior covariance of the projected coordinates."""
         sigma = dev.groups()[self.group] * np.where(self.length, dev.length_per_angle, 1.0)
-        cov = (self.effect * sigma**2) @ self.effect.T
-        return cov + np.eye(len(cov)) * (_RIDGE * float(np.trace(cov)) / max(len(cov), 1))
+        return ridged((self.effect * sigma**2) @ self.effect.T)
 
     def deviations(self, est: Estimate) -> Mat:
         """``(m,)`` the coordinates of ``est`` seen from the reference (:func:`.chart.
