@@ -250,7 +250,10 @@ SCOPES = (1 << 0) | (1 << 1), 6  # ABSTRACT_UNIX_SOCKET | SIGNAL, from ABI 6
 def landlock_abi() -> int:
     """The Landlock ABI version the running kernel offers; 0 where there is none (not Linux,
     a kernel before 5.13 or built without it, Landlock switched off, the call refused)."""
-    syscall = _libc_function("syscall")
+    return _landlock_version(_libc_function("syscall"))
+
+
+def _landlock_version(syscall: Callable[..., int] | None) -> int:
     if syscall is None:
         return 0
     version = syscall(LANDLOCK_CALLS["create_ruleset"], None, 0, LANDLOCK_CREATE_RULESET_VERSION)
@@ -272,8 +275,8 @@ def restrict_reading(trees: Iterable[str], files: Iterable[str] = ()) -> int:
     OSError
         Landlock is there but refused the rules (the process is then not restricted).
     """
-    abi = landlock_abi()
     syscall = _libc_function("syscall")
+    abi = _landlock_version(syscall)
     prctl = _prctl()
     if abi < 1 or syscall is None or prctl is None:
         return 0
