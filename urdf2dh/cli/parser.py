@@ -85,6 +85,7 @@ def commands() -> tuple[Command, ...]:
         diff,
         export,
         info,
+        match,
         measure,
         plan,
         plot,
@@ -92,7 +93,7 @@ def commands() -> tuple[Command, ...]:
         verify,
     )
 
-    return convert, verify, diff, info, export, plot, robots, measure, calibrate, plan
+    return convert, verify, diff, match, info, export, plot, robots, measure, calibrate, plan
 
 
 def get_argument_parser() -> argparse.ArgumentParser:

@@ -1,0 +1,669 @@
+"""``urdf2dh match TABLE SOURCE``: which table is this? What a datasheet's, a paper's or a
+vendor's table says of a robot, against the robot's model (docs/commands/match.md).
+
+:func:`match` tries every reading of TABLE that its own statements leave open (standard or
+modified D-H; degrees or radians; metres, millimetres, centimetres or inches:
+:mod:`.readings`), lays each onto SOURCE's chain (each joint's direction and zero offset, the
+base and tool transforms: :mod:`.chainfit`), refines the continuous parts by least squares, and
+judges what is left against what the table's written digits can say (each number moved by the
+step of its last digit, the effects added). The :class:`Match` says in words what differs, and
+holds TABLE corrected: SOURCE's exact table in TABLE's convention and layout (its frames the
+nearest to TABLE's that are exactly SOURCE's), checked as every table is.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..checks import check_count, check_instance, check_optional_name, check_seed, check_source
+from ..conventions.base import Guide
+from ..conventions.table import Table
+from ..errors import InputError, UsageError, choices, shown, visible
+from ..geometry import frames
+from ..model.poe import PoeModel
+from ..tolerances import DEFAULT, MATCH_ROUND_OFF, Tolerances
+from . import chainfit
+from .chainfit import Fit, Mismatch, Tolerance
+from .readings import Reading, readings
+
+__all__ = ["Disagreement", "JointMatch", "Match", "match"]
+
+Mat = NDArray[np.float64]
+
+CHECK_SAMPLES = 200  # configurations the residual and the precision bound are measured at
+FIT_SAMPLES = 24  # configurations the refinement fits
+_COLUMN = {"angle": "alpha", "distance": "a", "offset": "d", "turn": "theta"}
+
+
+@dataclass(frozen=True, slots=True)
+class JointMatch:
+    """How the table's joint follows the source's: its row, direction and zero.
+
+    The table's joint position is ``sign * q + offset`` (``q`` the source's, radians or the
+    source's length unit); ``shown`` is the offset as the words say it (a multiple of 15
+    degrees where it is one to the table's precision)."""
+
+    name: str
+    row: str
+    kind: str
+    sign: int
+    offset: float
+    shown: str
+
+
+@dataclass(frozen=True, slots=True)
+class Disagreement:
+    """A cell of TABLE that no reading, direction, offset, base or tool makes agree: its row and
+    column, the table's value and the source's in the same layout (radians or the source's
+    length unit), and the joints it lies between."""
+
+    row: str
+    column: str
+    joints: str
+    table: float
+    source: float
+
+
+@dataclass(frozen=True)
+class Match:
+    """The result of :func:`match`.
+
+    Attributes
+    ----------
+    table, source
+        What was compared (TABLE as given; SOURCE's name and chain).
+    matched
+        Whether TABLE describes SOURCE's chain at the precision it is written in.
+    reading
+        How TABLE was read: ``lengths in mm; angles in degrees; modified D-H``.
+    convention, length_unit, angle_units
+        The same as values (``dh``/``mdh``; ``mm``; ``(theta's, alpha's)`` ``deg``/``rad``).
+    joints
+        Per joint, how the table's follows the source's.
+    base
+        ``(4, 4)`` the table's base frame in SOURCE's base link.
+    tool
+        ``(4, 4)`` SOURCE's tip in the table's last frame.
+    residual, allowed
+        ``(position, rotation)``: the largest difference of the forward kinematics after the
+        match, at ``samples`` configurations, and what TABLE's written precision allows.
+    size, length_unit_source
+        SOURCE's size and length unit.
+    differences
+        What differs, in words, one item each.
+    disagreements
+        Where nothing makes them agree (empty for a match).
+    corrected
+        TABLE corrected: a checked table of SOURCE in TABLE's convention and layout (``None``
+        where TABLE does not match).
+    notes
+        What else a person should know.
+    """
+
+    table: str
+    source: str
+    matched: bool
+    reading: str
+    convention: str
+    length_unit: str
+    angle_units: tuple[str, str]
+    joints: tuple[JointMatch, ...]
+    base: Mat
+    tool: Mat
+    residual: tuple[float, float]
+    allowed: tuple[float, float]
+    samples: int
+    size: float
+    length_unit_source: str
+    differences: tuple[str, ...]
+    disagreements: tuple[Disagreement, ...] = ()
+    corrected: Table | None = None
+    notes: tuple[str, ...] = ()
+    fit: Fit | None = field(default=None, repr=False, compare=False)
+
+    def text(self) -> str:
+        """The report ``urdf2dh match`` prints."""
+        unit = visible(self.length_unit_source)
+        head = "matches" if self.matched else "no match"
+        out = [f"match: {visible(self.table)} -> {visible(self.source)}: {head}"]
+        if self.matched:
+            out.append(f"  {self.reading}")
+        else:
+            out.append(f"  the best match: {self.reading}")
+        out += [f"  {d}" for d in self.differences]
+        pos, rot = self.residual
+        apos, arot = self.allowed
+        if math.isfinite(pos):
+            out.append(
+                f"  residual after the match: {pos:.3g} {unit}, {rot:.3g} rad at {self.samples} "
+                f"configurations ({pos / self.size:.2g} x the robot's size); the table's written "
+                f"precision allows {apos:.3g} {unit}, {arot:.3g} rad"
+            )
+        if self.disagreements:
+            out.append("  they disagree at:")
+            for d in self.disagreements:
+                out.append(f"    {_disagreement(d, unit)}")
+        out += [f"  note: {n}" for n in self.notes]
+        return "\n".join(out) + "\n"
+
+    def _repr_markdown_(self) -> str:
+        """In a notebook: the report as a list."""
+        from ..escape import markdown_text
+
+        lines = self.text().splitlines()
+        return "\n".join(["**" + markdown_text(lines[0]) + "**", ""] + [
+            "- " + markdown_text(line.strip()) for line in lines[1:]]) + "\n"  # fmt: skip
+
+
+def _disagreement(d: Disagreement, unit: str) -> str:
+    if d.column in ("alpha", "theta"):
+        values = f"{math.degrees(d.table):.6g} deg in the table, {math.degrees(d.source):.6g} deg"
+    else:
+        values = f"{d.table:.6g} {unit} in the table, {d.source:.6g} {unit}"
+    return f"row {shown(d.row)} {d.column} ({d.joints}): {values} in the source"
+
+
+def match(
+    table: str | os.PathLike[str],
+    source: str | os.PathLike[str],
+    *,
+    base: str | None = None,
+    tip: str | None = None,
+    convention: str | None = None,
+    length_unit: str | None = None,
+    angle_unit: str | None = None,
+    tol: Tolerances = DEFAULT,
+    samples: int = CHECK_SAMPLES,
+    seed: int = 0,
+    xacro: Any = None,
+) -> Match:
+    """Which table is ``table``, against the chain of ``source``?
+
+    Parameters
+    ----------
+    table
+        A hand-written table (a CSV or YAML file of rows with ``theta``, ``d``, ``a``,
+        ``alpha``: :mod:`urdf2dh.io.handtable`), or any SOURCE file (a table file, a POE model
+        file, ...) whose chain is compared as it is.
+    source
+        The robot (:func:`urdf2dh.load`'s SOURCE).
+    base, tip
+        The source's chain (its defaults otherwise).
+    convention, length_unit, angle_unit
+        What the table is known to be written in (``dh`` or ``mdh``; ``m``, ``mm``, ...;
+        ``deg`` or ``rad``), where it does not say; ``None``: found.
+    tol
+        The tolerances of the corrected table's conversion and check.
+    samples, seed
+        The configurations the residual is measured at.
+    xacro
+        How a ``.xacro`` source is expanded (:class:`urdf2dh.XacroOptions`).
+
+    Returns
+    -------
+    Match
+        What differs, the residual, and TABLE corrected (where it matches).
+
+    Raises
+    ------
+    Urdf2DhError
+        A file that cannot be read (the message names it, and the row and column).
+    UsageError
+        An unknown ``convention``, ``length_unit`` or ``angle_unit``.
+    """
+    from ..io.handtable import read_hand_table
+    from ..io.sources import open_source
+
+    table = check_source(table, "match: table")
+    source = check_source(source, "match: source")
+    base = check_optional_name(base, "match: base")
+    tip = check_optional_name(tip, "match: tip")
+    check_instance(tol, Tolerances, "match: tol", "urdf2dh.Tolerances(...) or urdf2dh.DEFAULT")
+    check_count(samples, "match: samples")
+    check_seed(seed, "match: seed")
+    _check_choice(convention, ("dh", "mdh"), "convention")
+    _check_choice(angle_unit, ("deg", "rad"), "angle_unit")
+    if length_unit is not None:
+        from ..units import metres_per
+
+        try:
+            metres_per(length_unit)
+        except InputError as e:
+            raise UsageError(f"match: length_unit: {e}") from None
+    model = open_source(source, tol, xacro=xacro).model(base, tip)
+    path = _table_path(table)
+    hand = None
+    if path.suffix.lower() == ".csv" or _looks_hand_written(path):
+        hand = read_hand_table(path, table if path.name in table else path.name)
+    if hand is not None:
+        kinds = tuple(j.kind for j in model.joints)
+        options = readings(hand, kinds, model.length_unit, convention, length_unit, angle_unit)
+        return _best(table, model, [(r, _reading_model(r, model)) for r in options], tol,
+                     samples, seed)  # fmt: skip
+    other = open_source(str(path), tol).model()
+    if other.length_unit != model.length_unit:
+        from ..units import factor
+
+        other = other.scaled(factor(other.length_unit, model.length_unit), model.length_unit)
+    return _best(table, model, [(None, other)], tol, samples, seed, _table_convention(path))
+
+
+def _table_path(table: str) -> Path:
+    """TABLE's file: the file named, else the file of the bundled table of that name."""
+    from ..io.catalog import ROBOTS, robot_path
+
+    path = Path(table)
+    if not path.exists() and table in ROBOTS:
+        return robot_path(ROBOTS[table])
+    return path
+
+
+def _check_choice(value: str | None, valid: tuple[str, ...], name: str) -> None:
+    if value is not None and value not in valid:
+        raise UsageError(f"match: unknown {name} {shown(value)}; valid: {choices(valid)}")
+
+
+def _looks_hand_written(path: Path) -> bool:
+    """Whether a YAML or JSON file holds a hand-written table (not a table or POE file)."""
+    from ..io.files import read_file
+    from ..io.handtable import is_hand_table
+    from ..io.mappings import read_mapping
+
+    if path.suffix.lower() not in (".yaml", ".yml", ".json") or not path.is_file():
+        return False
+    return is_hand_table(read_mapping(path, str(path), read_file(path, str(path))))
+
+
+def _table_convention(path: Path) -> str:
+    """The convention of a table file (for the corrected table), else ``dh``."""
+    from ..io.files import read_file
+    from ..io.mappings import read_mapping
+
+    try:
+        tree = read_mapping(path, str(path), read_file(path, str(path)))
+    except InputError:
+        return "dh"
+    conv = tree.get("convention") if isinstance(tree, dict) else None
+    return conv if conv in ("dh", "mdh") else "dh"
+
+
+def _reading_model(reading: Reading, source: PoeModel) -> PoeModel | None:
+    """The reading's chain, its joints named as the source's (``None``: another joint count)."""
+    if len(reading.joint_rows) != source.n:
+        return None
+    return reading.model(tuple(j.name for j in source.joints))
+
+
+@dataclass(frozen=True, slots=True)
+class _Candidate:
+    reading: Reading | None
+    model: PoeModel
+    fit: Fit
+    residual: tuple[float, float]
+    allowed: tuple[float, float]
+
+    @property
+    def matched(self) -> bool:
+        return self.residual[0] <= self.allowed[0] and self.residual[1] <= self.allowed[1]
+
+    def rank(self, size: float) -> tuple[float, ...]:
+        f = self.fit
+        changes = (sum(s < 0 for s in f.signs) + sum(abs(o) > 1e-9 for o in f.offsets)
+                   + _moves(f.base, size) + _moves(f.tool, size))  # fmt: skip
+        badness = self.residual[0] / size + self.residual[1]
+        stated = 0 if self.reading is None else -sum(self.reading.stated)
+        return (0.0 if self.matched else 1.0, 0.0 if self.matched else f.cost, changes,
+                stated, badness)  # fmt: skip
+
+
+def _moves(t: Mat, size: float) -> int:
+    turned = not np.allclose(t[:3, :3], np.eye(3), atol=1e-9)
+    moved = not np.allclose(t[:3, 3], 0.0, atol=1e-9 * size)
+    return int(turned) + int(moved)
+
+
+def _tolerance(reading: Reading | None, size: float) -> Tolerance:
+    """How far links may disagree and still be searched on: the table's steps, with room for
+    how they add up along a link, and a floor of the source's round-off."""
+    if reading is None:
+        return Tolerance(1e3 * MATCH_ROUND_OFF, 1e3 * MATCH_ROUND_OFF * size)
+    angle = float(reading.steps[:, [0, 3]].max(initial=0.0))
+    length = float(reading.steps[:, [1, 2]].max(initial=0.0))
+    return Tolerance(
+        8.0 * angle + 1e3 * MATCH_ROUND_OFF,
+        8.0 * length + 8.0 * angle * size + 1e3 * MATCH_ROUND_OFF * size,
+    )
+
+
+def _best(
+    display: str,
+    source: PoeModel,
+    options: list[tuple[Reading | None, PoeModel | None]],
+    tol: Tolerances,
+    samples: int,
+    seed: int,
+    file_convention: str = "dh",
+) -> Match:
+    size = source.size()
+    q_fit = source.sample(FIT_SAMPLES, (seed, 1))
+    q_check = source.sample(samples, seed)
+    target = source.fk_batch(q_check)
+    candidates: list[_Candidate] = []
+    counts = set()
+    for reading, model in options:
+        if model is None:
+            assert reading is not None
+            counts.add(len(reading.joint_rows))
+            continue
+        if model.n != source.n:
+            counts.add(model.n)
+            continue
+        for fit in chainfit.fit_lines(model, source, _tolerance(reading, size))[:8]:
+            if fit.cost == 0.0:  # the links agree: the best fit of the poses
+                fit = chainfit.refine(model, source, fit, q_fit)
+            ours = chainfit.poses(fit, model, source, q_check)
+            residual = _pose_errors(ours, target)
+            allowed = _allowed(reading, fit, source, q_check, ours, size)
+            candidates.append(_Candidate(reading, model, fit, residual, allowed))
+    if not candidates:
+        found = " or ".join(str(c) for c in sorted(counts))
+        return _unmatched(display, source, samples, found)
+    best = min(candidates, key=lambda c: c.rank(size))
+    return _result(display, source, best, tol, samples, file_convention)
+
+
+def _unmatched(display: str, source: PoeModel, samples: int, found: str) -> Match:
+    """No match possible: the table has another number of joints."""
+    name = f"{source.name or source.source} ({source.base_link} -> {source.tip_link})"
+    why = (
+        f"the table has {found} joints, the source's chain {source.n}: choose the chain with "
+        "--base and --tip, or mark rows that are no joint as type fixed"
+    )
+    inf = (math.inf, math.inf)
+    return Match(display, name, False, "no reading with as many joints", "", "", ("", ""),
+                 (), np.eye(4), np.eye(4), inf, inf, samples, source.size(),
+                 source.length_unit, (why,))  # fmt: skip
+
+
+def _pose_errors(a: Mat, b: Mat) -> tuple[float, float]:
+    from ..geometry.se3 import pose_errors
+
+    return pose_errors(a, b)
+
+
+def _allowed(
+    reading: Reading | None, fit: Fit, source: PoeModel, q: Mat, ours: Mat, size: float
+) -> tuple[float, float]:
+    """What the table's written digits can change of its poses: each number moved by its step,
+    the effects added, the worst configuration; plus the source's round-off."""
+    position = np.zeros(len(q))
+    rotation = np.zeros(len(q))
+    if reading is not None:
+        names = tuple(j.name for j in source.joints)
+        for _, _, moved in reading.perturbed():
+            renamed = PoeModel(
+                tuple(replace(j, name=n) for j, n in zip(moved.joints, names, strict=True)),
+                moved.home,
+            )
+            other = chainfit.poses(fit, renamed, source, q)
+            position += np.linalg.norm(other[:, :3, 3] - ours[:, :3, 3], axis=1)
+            rotation += _turns(ours, other)
+    return (
+        float(position.max()) + MATCH_ROUND_OFF * size,
+        float(rotation.max()) + MATCH_ROUND_OFF,
+    )
+
+
+def _turns(a: Mat, b: Mat) -> Mat:
+    """The angle of each rotation from ``a`` to ``b`` ``(N,)`` (atan2: exact near 0)."""
+    m = np.einsum("nji,njk->nik", a[:, :3, :3], b[:, :3, :3])
+    sin = 0.5 * np.linalg.norm(
+        np.stack([m[:, 2, 1] - m[:, 1, 2], m[:, 0, 2] - m[:, 2, 0], m[:, 1, 0] - m[:, 0, 1]], 1),
+        axis=1,
+    )
+    cos = 0.5 * (np.trace(m, axis1=1, axis2=2) - 1.0)
+    out: Mat = np.arctan2(sin, cos)
+    return out
+
+
+def _result(
+    display: str,
+    source: PoeModel,
+    best: _Candidate,
+    tol: Tolerances,
+    samples: int,
+    file_convention: str,
+) -> Match:
+    fit, reading = best.fit, best.reading
+    size, unit = source.size(), source.length_unit
+    convention = reading.convention if reading is not None else file_convention
+    rows = (
+        [reading.names[i] for i in reading.joint_rows]
+        if reading is not None
+        else [j.name for j in best.model.joints]
+    )
+    angle_step = 0.0 if reading is None else float(reading.steps[:, [0, 3]].max(initial=0.0))
+    joints = tuple(
+        JointMatch(j.name, row, j.kind, s, o, _offset_words(o, j.kind, angle_step, unit))
+        for j, row, s, o in zip(source.joints, rows, fit.signs, fit.offsets, strict=True)
+    )
+    corrected, notes = _corrected(source, best, convention, tol, samples)
+    differences = _differences(best, source, joints)
+    disagreements = () if best.matched else _disagreements(best, corrected, rows, source)
+    source_name = f"{source.name or source.source} ({source.base_link} -> {source.tip_link})"
+    description = reading.describe() if reading is not None else "the file's own chain"
+    return Match(
+        display,
+        source_name,
+        best.matched,
+        description,
+        convention,
+        reading.length_unit if reading is not None else unit,
+        reading.angle_units if reading is not None else ("rad", "rad"),
+        joints,
+        fit.base,
+        fit.tool,
+        best.residual,
+        best.allowed,
+        samples,
+        size,
+        unit,
+        tuple(differences),
+        tuple(disagreements),
+        corrected if best.matched else None,
+        tuple(notes),
+        fit,
+    )
+
+
+def _offset_words(offset: float, kind: str, angle_step: float, unit: str) -> str:
+    if kind == "prismatic":
+        return f"{offset:.6g} {visible(unit)}"
+    special = math.pi / 12 * round(offset / (math.pi / 12))
+    if abs(offset - special) <= max(angle_step, 1e-9):
+        return f"{math.degrees(special):+.0f} deg" if special else "0"
+    return f"{math.degrees(offset):+.6g} deg"
+
+
+def _differences(best: _Candidate, source: PoeModel, joints: tuple[JointMatch, ...]) -> list[str]:
+    out = []
+    for i, j in enumerate(joints, 1):
+        label = f"joint {i} ({shown(j.name)}, row {shown(j.row)})"
+        if j.sign < 0:
+            out.append(f"{label} turns the other way" if j.kind != "prismatic"
+                       else f"{label} slides the other way")  # fmt: skip
+        if j.shown != "0":
+            zero = "its zero is" if j.kind != "prismatic" else "its zero lies"
+            out.append(f"{label}: {zero} {j.shown} from the source's")
+    unit = visible(source.length_unit)
+    base_link = shown(source.base_link) if source.base_link else "the source's base"
+    tip_link = shown(source.tip_link) if source.tip_link else "the source's tip"
+    fit, size = best.fit, source.size()
+    base_words = _transform_words(fit.base, unit, size)
+    tool_words = _transform_words(fit.tool, unit, size)
+    first, last = source.joints[0], source.joints[-1]
+    at_tip = source.home[:3, :3] @ fit.tool[:3, :3].T  # the table's last frame at home
+    same_base = _turns_about(fit.base[:3, :3], first.axis) and first.kind == "revolute"
+    same_tool = _turns_about(fit.tool[:3, :3], at_tip.T @ last.axis) and last.kind == "revolute"
+    if not base_words:
+        out.append(f"base: the table's frame 0 is {base_link}")
+    else:
+        out.append(f"base: the table's frame 0 is {base_words} from {base_link}" + (
+            " (the same as joint 1's zero turned so)" if same_base else ""))  # fmt: skip
+    if not tool_words:
+        out.append(f"tool: {tip_link} is the table's last frame")
+    else:
+        out.append(f"tool: {tip_link} is {tool_words} from the table's last frame" + (
+            " (the same as the last joint's zero turned so)" if same_tool else ""))  # fmt: skip
+    return out
+
+
+def _turns_about(r: Mat, axis: Mat) -> bool:
+    """Whether the rotation ``r`` turns about ``axis`` (and turns at all)."""
+    turn = np.array([r[2, 1] - r[1, 2], r[0, 2] - r[2, 0], r[1, 0] - r[0, 1]])
+    if float(np.trace(r)) > 3.0 - 1e-12:
+        return False
+    if np.linalg.norm(turn) < 1e-9:  # a half turn: about an axis that r keeps
+        return bool(np.allclose(r @ axis, axis, atol=1e-9))
+    return bool(np.linalg.norm(np.cross(turn / np.linalg.norm(turn), axis)) < 1e-9)
+
+
+def _transform_words(t: Mat, unit: str, size: float) -> str:
+    """A transform in words: ``0.1 m along z, turned 180 deg about z`` ('' for the identity)."""
+    parts = []
+    p = t[:3, 3]
+    if np.abs(p).max() > 1e-9 * size:
+        axes = [k for k in range(3) if abs(p[k]) > 1e-9 * size]
+        if len(axes) == 1:
+            parts.append(f"{p[axes[0]]:.6g} {unit} along {'xyz'[axes[0]]}")
+        else:
+            parts.append("at (" + ", ".join(f"{v:.6g}" for v in p) + f") {unit}")
+    r = t[:3, :3]
+    angle = math.acos(max(-1.0, min(1.0, (float(np.trace(r)) - 1.0) / 2.0)))
+    if angle > 1e-9:
+        axis = _rotation_axis(r, angle)
+        named = [k for k in range(3) if abs(abs(axis[k]) - 1.0) < 1e-9]
+        degrees = math.degrees(angle)
+        shown_angle = f"{degrees:.0f}" if abs(degrees - round(degrees)) < 1e-7 else f"{degrees:.6g}"
+        if named:
+            k = named[0]
+            sign = "" if axis[k] > 0 else "-"
+            parts.append(f"turned {sign}{shown_angle} deg about {'xyz'[k]}")
+        else:
+            text = ", ".join(f"{v:.4g}" for v in axis)
+            parts.append(f"turned {shown_angle} deg about ({text})")
+    return ", ".join(parts)
+
+
+def _rotation_axis(r: Mat, angle: float) -> Mat:
+    if angle < math.pi - 1e-6:
+        v = np.array([r[2, 1] - r[1, 2], r[0, 2] - r[2, 0], r[1, 0] - r[0, 1]])
+        axis: Mat = v / np.linalg.norm(v)
+        return axis
+    # a half turn: the axis is the column of R + I of largest norm
+    m = r + np.eye(3)
+    k = int(np.argmax(np.linalg.norm(m, axis=0)))
+    v = m[:, k] / np.linalg.norm(m[:, k])
+    out: Mat = v if v[np.argmax(np.abs(v))] > 0 else -v
+    return out
+
+
+def _corrected(
+    source: PoeModel, best: _Candidate, convention: str, tol: Tolerances, samples: int
+) -> tuple[Table | None, list[str]]:
+    """SOURCE's exact table in the table's convention, its frames nearest the table's (as
+    laid onto the source), its joints turning as the table's: TABLE corrected."""
+    from ..conventions.convert import to_table
+    from ..errors import Urdf2DhError
+
+    fit = best.fit
+    flipped = PoeModel(
+        tuple(
+            replace(j, axis=-j.axis, scale=-j.scale) if s < 0 else j
+            for j, s in zip(source.joints, fit.signs, strict=True)
+        ),
+        source.home, source.name, source.source, source.base_link, source.tip_link,
+        source.length_unit, source.warnings,
+    )  # fmt: skip
+    at_zero = np.array(fit.offsets)
+    if best.reading is not None:
+        table_frames = best.reading.frames(at_zero)
+    else:
+        table_frames = _model_frames(best.model, at_zero)
+    guide = Guide(tuple(frames.frame_of(fit.base @ f) for f in table_frames))
+    try:
+        return to_table(flipped, convention, tol, style=guide), []
+    except Urdf2DhError as e:
+        return None, [f"TABLE corrected cannot be written: {e}"]
+
+
+def _model_frames(model: PoeModel, q: Mat) -> list[Mat]:
+    """A model's frame on each joint axis, then its tip, at joint positions ``q``."""
+    links, motions = model.link_form()
+    out, f = [], np.eye(4)
+    for i in range(model.n):
+        f = f @ links[i]
+        out.append(f)
+        rot, trans = motions[i]
+        c, s = math.cos(rot * q[i]), math.sin(rot * q[i])
+        f = f @ np.array([[c, -s, 0, 0], [s, c, 0, 0], [0, 0, 1, trans * q[i]], [0, 0, 0, 1.0]])
+    out.append(f @ links[-1])
+    return out
+
+
+def _disagreements(
+    best: _Candidate, corrected: Table | None, rows: list[str], source: PoeModel
+) -> list[Disagreement]:
+    """The cells where the chains disagree (the links' mismatches), with the source's value in
+    the table's layout where the corrected table has it."""
+    out = []
+    names = [j.name for j in source.joints]
+    seen: set[tuple[str, str]] = set()
+    tol = _tolerance(best.reading, source.size())
+    tolerance = {"alpha": tol.angle, "theta": tol.angle, "a": tol.length, "d": tol.length}
+    for m in best.fit.mismatches:
+        column = _COLUMN[m.what]
+        if m.what in ("angle", "distance"):
+            joints = f"joints {m.link + 1} and {m.link + 2}: " + (
+                "the angle between their axes" if m.what == "angle" else "their axes' distance"
+            )
+            row_index = m.link if best.reading is None or best.reading.convention == "dh" else (
+                m.link + 1)  # fmt: skip
+        else:
+            joints = f"joint {m.link + 1}: " + (
+                "where its links meet its axis" if m.what == "offset" else "its axis' turn"
+            )
+            row_index = m.link
+        row = rows[row_index] if row_index < len(rows) else names[min(row_index, len(names) - 1)]
+        table_value, source_value = _cell_values(m, best, corrected, row_index, column)
+        if (row, column) in seen or abs(table_value - source_value) <= tolerance[column]:
+            continue  # the same cell twice, or a cell the source's layout gives as written
+        seen.add((row, column))
+        out.append(Disagreement(row, column, joints, table_value, source_value))
+    return out
+
+
+def _cell_values(
+    m: Mismatch, best: _Candidate, corrected: Table | None, row: int, column: str
+) -> tuple[float, float]:
+    """The table's cell and the corrected table's (SOURCE's in the table's layout), where both
+    exist; else the link's own figures."""
+    reading = best.reading
+    if reading is not None and corrected is not None and row < corrected.n:
+        index = reading.joint_rows[row]
+        table_value = float(reading.values[index, ("theta", "d", "a", "alpha").index(column)])
+        params = corrected.rows[row].params.values()
+        if column in params:
+            value = params[column]
+            assert isinstance(value, float)
+            return table_value, value
+    if m.what == "offset":
+        return m.table, m.source
+    return m.table, m.source
