@@ -122,11 +122,11 @@ def native_stderr() -> Iterator[list[str]]:
 
 def _build(pin: Any, source: Source, mimic: bool) -> Any:
     """Pinocchio's model of the URDF text; an ``InputError`` with urdfdom's first reason."""
-    assert source.urdf_text is not None
+    assert source.document is not None
     error: BaseException | None = None
     with native_stderr() as log:  # urdfdom writes its reasons there, several lines a fault
         try:
-            return _pinocchio_model(source.urdf_text, mimic)
+            return _pinocchio_model(source.document, mimic)
         except Exception as e:  # Pinocchio raises RuntimeError/ValueError with C++ text
             error = e
     reasons = [line.split(":", 1)[1] for line in log if line.startswith("Error:")]
