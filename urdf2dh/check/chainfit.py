@@ -46,11 +46,18 @@ __all__ = ["BEAM", "Fit", "LinkEquation", "Mismatch", "Tolerance", "fit_lines", 
 Mat = NDArray[np.float64]
 
 #: Partial chains kept at each link of the search (the best by mismatch).
-BEAM = 64
+BEAM = 128
 # A free slide is pulled towards 0 with this weight (against 1 for the links' equations), so
 # that it is 0 where nothing fixes it and anything where something does.
 _WEAK = 1e-6
+# ... and a prismatic joint's offset with this one: where a slide of the base or tool along
+# parallel axes is the same as the offset, the base or tool takes it.
+_PREFER = 1e-3
 _FLIP = np.diag([1.0, -1.0, -1.0, 1.0])  # Rx(pi)
+# The refinement's finite-difference step (rad, and x robot size), and the RMS difference below
+# which it stops (float64 forward kinematics is itself good to a few 1e-16).
+_STEP = 1e-7
+_ROUND_OFF = 1e-15
 
 
 @dataclass(frozen=True, slots=True)
@@ -155,16 +162,17 @@ def _crossing(x: Mat) -> Mat:
 def _skew_parts(x: Mat) -> list[tuple[float, float, float, float]]:
     """The two D-H links ``(theta, d, alpha, a)`` from the z axis to ``x``'s z axis (skew or
     intersecting lines): along the common normal one way and the other."""
-    u, p = x[:3, 2], x[:3, 3]
-    rho = math.hypot(u[0], u[1])
+    ux, uy, uz = (float(c) for c in x[:3, 2])
+    px, py, pz = (float(c) for c in x[:3, 3])
+    rho = math.hypot(ux, uy)
     if rho == 0.0:  # parallel to z (only where the other link is not: a mismatch anyway)
-        return [(0.0, 0.0, math.atan2(0.0, u[2]), float(math.hypot(p[0], p[1])))] * 2
-    n = np.array([-u[1], u[0], 0.0]) / rho
-    m = np.cross(p, u)
-    d = (u[0] * m[1] - u[1] * m[0]) / (rho * rho)
-    a = float(p @ n)
-    theta = math.atan2(n[1], n[0])
-    alpha = math.atan2(rho, u[2])
+        return [(0.0, 0.0, math.atan2(0.0, uz), math.hypot(px, py))] * 2
+    nx, ny = -uy / rho, ux / rho  # the common normal z x u
+    mx, my = py * uz - pz * uy, pz * ux - px * uz  # the line's moment p x u
+    d = (ux * my - uy * mx) / (rho * rho)
+    a = px * nx + py * ny
+    theta = math.atan2(ny, nx)
+    alpha = math.atan2(rho, uz)
     return [(theta, d, alpha, a), (wrap_angle(theta + math.pi), d, -alpha, -a)]
 
 
@@ -244,10 +252,10 @@ def fit_lines(table: PoeModel, source: PoeModel, tol: Tolerance, beam: int = BEA
                 grown.append(_Partial((*p.signs, s), (*p.equations, eq), cost))
         grown.sort(key=lambda p: (p.cost, sum(s < 0 for s in p.signs)))
         partials = grown[:beam]
-    fits = [_solve(p, ga, gs, source, tol, flips) for p in partials]
+    agreeing = [p for p in partials if p.cost == 0.0] or partials[:1]
+    fits = [_solve(p, ga, gs, source, tol, flips) for p in agreeing]
     fits.sort(key=lambda f: (f.cost, sum(s < 0 for s in f.signs)))
-    agreeing = [f for f in fits if f.cost == 0.0]
-    return agreeing or fits[:1]
+    return [f for f in fits if f.cost == 0.0] or fits[:1]
 
 
 def _solve(
@@ -336,8 +344,8 @@ def _slides(
             rows.append((coefficients, eq.t, 1.0, i + 1))
     for i in range(n):
         arrive, leave = index[i]
-        if arrive != leave:  # a prismatic joint: offset 0 at the ends, small elsewhere
-            weight = 1.0 if i in (0, n - 1) else _WEAK
+        if arrive != leave:  # a prismatic joint: offset 0 at the ends, else preferably 0
+            weight = 1.0 if i in (0, n - 1) else _PREFER
             rows.append(({leave: 1.0, arrive: -1.0}, 0.0, weight, -1))
     for v in range(count):
         rows.append(({v: 1.0}, 0.0, _WEAK, -1))
@@ -382,16 +390,57 @@ def _errors(a: Mat, b: Mat, size: float) -> Mat:
     return out
 
 
-def refine(table: PoeModel, source: PoeModel, fit: Fit, q: Mat, iterations: int = 40) -> Fit:
+def place(table: PoeModel, source: PoeModel, fit: Fit, q: Mat) -> Fit:
+    """``fit`` with the base's and tool's translations and the prismatic joints' directions
+    and offsets solved by linear least squares over the positions at configurations ``q``, its
+    rotations and revolute offsets kept. With those fixed, a position is affine in the sliding
+    joints' positions, and so linear in the translations, in each sliding joint's gain on the
+    source's ``q`` (its direction: the sign) and in its offset. The link equations leave these
+    loose: a prismatic joint's axis is a direction, not a line, and turning it round changes no
+    angle."""
+    sliding = [i for i, j in enumerate(source.joints) if j.kind == "prismatic"]
+    target = source.fk_batch(q)[:, :3, 3]
+    at = positions(fit, source, q)
+    at[:, sliding] = 0.0
+    still = table.fk_batch(at)
+    rb = fit.base[:3, :3]
+    columns = [np.broadcast_to(np.eye(3), (len(q), 3, 3)), rb @ still[:, :3, :3]]
+    for i in sliding:  # each sliding joint's direction at these configurations
+        moved = at.copy()
+        moved[:, i] = 1.0
+        v = (rb @ (table.fk_batch(moved)[:, :3, 3] - still[:, :3, 3]).T).T
+        drive = source.joints[i].scale * q[:, i]
+        columns += [(v * drive[:, None])[..., None], v[..., None]]
+    a = np.concatenate(columns, axis=2).reshape(-1, 6 + 2 * len(sliding))
+    b = (target - (rb @ still[:, :3, 3].T).T).ravel()
+    x = np.linalg.lstsq(a, b, rcond=None)[0]
+    base, tool = fit.base.copy(), fit.tool.copy()
+    base[:3, 3], tool[:3, 3] = x[:3], x[3:6]
+    signs, offsets = list(fit.signs), list(fit.offsets)
+    for k, i in enumerate(sliding):
+        signs[i] = 1 if x[6 + 2 * k] >= 0.0 else -1
+        offsets[i] = float(x[7 + 2 * k])
+    return Fit(tuple(signs), tuple(offsets), base, tool, fit.mismatches, fit.cost, fit.equations)
+
+
+def refine(
+    table: PoeModel,
+    source: PoeModel,
+    fit: Fit,
+    q: Mat,
+    held: frozenset[int] = frozenset(),
+    iterations: int = 40,
+) -> Fit:
     """``fit`` with its base, tool and offsets moved to the least squares of the pose
     differences at configurations ``q`` (Levenberg-Marquardt; joint 1's and the last joint's
-    offsets stay 0, the base and tool take them): where the chains agree only to the table's
-    written precision, the closed-form fit of one link's equations is not the best fit of all."""
+    offsets stay 0, the base and tool take them, and so do the joints in ``held``): where the
+    chains agree only to the table's written precision, the closed-form fit of one link's
+    equations is not the best fit of all."""
     from ..geometry.se3 import twist_exp
 
     n, size = len(fit.signs), source.size()
     target = source.fk_batch(q)
-    free = list(range(1, n - 1))
+    free = [i for i in range(1, n - 1) if i not in held]
 
     def moved(x: Mat) -> Fit:
         offsets = np.array(fit.offsets)
@@ -407,27 +456,28 @@ def refine(table: PoeModel, source: PoeModel, fit: Fit, q: Mat, iterations: int 
     x = np.zeros(12 + len(free))
     r = residual(x)
     cost, damping = float(r @ r), 1e-3
+    floor = r.size * _ROUND_OFF**2  # below this, steps only chase round-off
     for _ in range(iterations):
-        small, step = False, 1e-7
+        if cost <= floor:
+            break
         jac = np.empty((r.size, x.size))
         for k in range(x.size):
             e = np.zeros(x.size)
-            e[k] = step
-            jac[:, k] = (residual(x + e) - r) / step
+            e[k] = _STEP
+            jac[:, k] = (residual(x + e) - r) / _STEP
         normal = jac.T @ jac
         gradient = jac.T @ r
-        improved = False
         while damping < 1e12:
             dx = np.linalg.solve(normal + damping * np.diag(np.diag(normal) + 1e-30), -gradient)
             trial = residual(x + dx)
             trial_cost = float(trial @ trial)
             if trial_cost < cost:
-                improved = True
-                x, r, damping = x + dx, trial, max(damping / 3.0, 1e-12)
-                small = float(np.abs(dx).max()) < 1e-13 or cost - trial_cost <= 1e-15 * cost
-                cost = trial_cost
                 break
             damping *= 5.0
-        if not improved or small:
+        else:
+            break  # no step lowers the cost: a minimum
+        gain = cost - trial_cost
+        x, r, cost, damping = x + dx, trial, trial_cost, max(damping / 3.0, 1e-12)
+        if gain <= 1e-12 * (cost + gain):
             break
     return moved(x)

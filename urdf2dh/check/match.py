@@ -27,11 +27,11 @@ from ..conventions.base import Guide
 from ..conventions.table import Table
 from ..errors import InputError, UsageError, choices, shown, visible
 from ..geometry import frames
+from ..io.readings import Reading, readings
 from ..model.poe import PoeModel
 from ..tolerances import DEFAULT, MATCH_ROUND_OFF, Tolerances
 from . import chainfit
 from .chainfit import Fit, Mismatch, Tolerance
-from .readings import Reading, readings
 
 __all__ = ["Disagreement", "JointMatch", "Match", "match"]
 
@@ -39,6 +39,7 @@ Mat = NDArray[np.float64]
 
 CHECK_SAMPLES = 200  # configurations the residual and the precision bound are measured at
 FIT_SAMPLES = 24  # configurations the refinement fits
+FITS = 4  # of each reading's fits that agree link by link (symmetries), the best refined
 _COLUMN = {"angle": "alpha", "distance": "a", "offset": "d", "turn": "theta"}
 
 
@@ -105,6 +106,9 @@ class Match:
         where TABLE does not match).
     notes
         What else a person should know.
+    fit, chain
+        The match itself (directions, offsets, base and tool) and TABLE's chain as read, for
+        :meth:`poses`.
     """
 
     table: str
@@ -127,6 +131,15 @@ class Match:
     corrected: Table | None = None
     notes: tuple[str, ...] = ()
     fit: Fit | None = field(default=None, repr=False, compare=False)
+    chain: PoeModel | None = field(default=None, repr=False, compare=False)
+
+    def poses(self, q: NDArray[np.float64], source: PoeModel) -> Mat:
+        """TABLE's poses ``(N, 4, 4)`` at ``source``'s configurations ``q`` ``(N, dof)``, the
+        match applied: ``base . T_table(sign * q + offset) . tool`` (to compare with
+        ``source.fk_batch(q)``)."""
+        if self.fit is None or self.chain is None:
+            raise ValueError("Match.poses: no fit (the table has another number of joints)")
+        return chainfit.poses(self.fit, self.chain, source, np.asarray(q, dtype=float))
 
     def text(self) -> str:
         """The report ``urdf2dh match`` prints."""
@@ -354,7 +367,7 @@ def _best(
     size = source.size()
     q_fit = source.sample(FIT_SAMPLES, (seed, 1))
     q_check = source.sample(samples, seed)
-    target = source.fk_batch(q_check)
+    target, fit_target = source.fk_batch(q_check), source.fk_batch(q_fit)
     candidates: list[_Candidate] = []
     counts = set()
     for reading, model in options:
@@ -365,18 +378,101 @@ def _best(
         if model.n != source.n:
             counts.add(model.n)
             continue
-        for fit in chainfit.fit_lines(model, source, _tolerance(reading, size))[:8]:
-            if fit.cost == 0.0:  # the links agree: the best fit of the poses
-                fit = chainfit.refine(model, source, fit, q_fit)
-            ours = chainfit.poses(fit, model, source, q_check)
-            residual = _pose_errors(ours, target)
-            allowed = _allowed(reading, fit, source, q_check, ours, size)
-            candidates.append(_Candidate(reading, model, fit, residual, allowed))
+        fits = chainfit.fit_lines(model, source, _tolerance(reading, size))
+        if fits[0].cost == 0.0:  # the links agree: placed, the nearest few refined
+            placed = [chainfit.place(model, source, fit, q_fit) for fit in fits]
+            placed.sort(key=lambda f: _badness(f, model, source, q_fit, fit_target, size))
+            fits = [chainfit.refine(model, source, fit, q_fit) for fit in placed[:FITS]]
+        for fit in fits:
+            candidates.append(_judged(reading, model, fit, source, q_check, target,
+                                      fit.cost == 0.0))  # fmt: skip
     if not candidates:
         found = " or ".join(str(c) for c in sorted(counts))
         return _unmatched(display, source, samples, found)
     best = min(candidates, key=lambda c: c.rank(size))
+    best = _judged(best.reading, best.model, best.fit, source, q_check, target)
+    if best.matched:
+        best = _snapped(best, source, q_fit, q_check, target)
     return _result(display, source, best, tol, samples, file_convention)
+
+
+def _badness(
+    fit: Fit, model: PoeModel, source: PoeModel, q: Mat, target: Mat, size: float
+) -> float:
+    pos, rot = _pose_errors(chainfit.poses(fit, model, source, q), target)
+    return pos / size + rot
+
+
+def _judged(
+    reading: Reading | None,
+    model: PoeModel,
+    fit: Fit,
+    source: PoeModel,
+    q: Mat,
+    target: Mat,
+    bound: bool = True,
+) -> _Candidate:
+    """A fit with its residual and what the table's precision allows (``bound``: worked out;
+    else only the source's round-off, for a fit whose links disagree anyway)."""
+    ours = chainfit.poses(fit, model, source, q)
+    allowed = _allowed(reading if bound else None, fit, source, q, ours, source.size())
+    return _Candidate(reading, model, fit, _pose_errors(ours, target), allowed)
+
+
+def _snapped(
+    candidate: _Candidate, source: PoeModel, q_fit: Mat, q_check: Mat, target: Mat
+) -> _Candidate:
+    """The candidate with each offset that can be a round value at the table's precision made
+    one (a prismatic joint's 0, where a slide of the base or tool along its axis is the same;
+    a revolute joint's multiple of 15 degrees), the base, tool and other offsets fitted again."""
+    fit, held = candidate.fit, set[int]()
+    for i, joint in enumerate(source.joints):
+        if i in (0, source.n - 1):
+            continue
+        offset = fit.offsets[i]
+        if joint.kind == "prismatic":
+            target_value = 0.0
+        else:
+            target_value = math.pi / 12 * round(offset / (math.pi / 12))
+        if abs(target_value - offset) <= 1e-15:
+            continue
+        offsets = list(fit.offsets)
+        offsets[i] = target_value
+        trial_fit = chainfit.refine(candidate.model, source, replace(fit, offsets=tuple(offsets)),
+                                    q_fit, frozenset(held | {i}))  # fmt: skip
+        trial = _judged(candidate.reading, candidate.model, trial_fit, source, q_check, target)
+        if trial.matched:
+            candidate, fit = trial, trial_fit
+            held.add(i)
+    size = source.size()
+    clean = replace(fit, base=_rounded(fit.base, size), tool=_rounded(fit.tool, size))
+    trial = _judged(candidate.reading, candidate.model, clean, source, q_check, target)
+    return trial if trial.matched else candidate
+
+
+def _rounded(t: Mat, size: float) -> Mat:
+    """A base or tool transform with its fit's round-off taken off: a turn within
+    :data:`~urdf2dh.tolerances.MATCH_ROUND_OFF` of a multiple of 15 degrees about an axis
+    within it of a coordinate axis made that, a translation component within it x size of 0
+    made 0."""
+    from ..geometry.se3 import rot_axis
+
+    out = t.copy()
+    r = t[:3, :3]
+    angle = math.acos(max(-1.0, min(1.0, (float(np.trace(r)) - 1.0) / 2.0)))
+    step = math.pi / 12
+    if angle > 0.0:
+        axis = _rotation_axis(r, angle)
+        nearest = np.round(axis)
+        if np.abs(axis - nearest).max() <= MATCH_ROUND_OFF and np.abs(nearest).sum() == 1.0:
+            axis = nearest
+        whole = step * round(angle / step)
+        if abs(angle - whole) <= MATCH_ROUND_OFF:
+            angle = whole
+        out[:3, :3] = rot_axis(axis, angle)
+    p = out[:3, 3]
+    out[:3, 3] = np.where(np.abs(p) <= MATCH_ROUND_OFF * size, 0.0, p)
+    return out
 
 
 def _unmatched(display: str, source: PoeModel, samples: int, found: str) -> Match:
@@ -450,13 +546,22 @@ def _result(
         else [j.name for j in best.model.joints]
     )
     angle_step = 0.0 if reading is None else float(reading.steps[:, [0, 3]].max(initial=0.0))
+    length_step = max(
+        0.0 if reading is None else float(reading.steps[:, [1, 2]].max(initial=0.0)),
+        MATCH_ROUND_OFF * size,
+    )
     joints = tuple(
-        JointMatch(j.name, row, j.kind, s, o, _offset_words(o, j.kind, angle_step, unit))
+        JointMatch(
+            j.name, row, j.kind, s, o, _offset_words(o, j.kind, angle_step, length_step, unit)
+        )
         for j, row, s, o in zip(source.joints, rows, fit.signs, fit.offsets, strict=True)
     )
     corrected, notes = _corrected(source, best, convention, tol, samples)
     differences = _differences(best, source, joints)
-    disagreements = () if best.matched else _disagreements(best, corrected, rows, source)
+    disagreements: list[Disagreement] = []
+    if not best.matched:
+        disagreements = _cell_disagreements(best, corrected, source) or _disagreements(
+            best, corrected, rows, source)  # fmt: skip
     source_name = f"{source.name or source.source} ({source.base_link} -> {source.tip_link})"
     description = reading.describe() if reading is not None else "the file's own chain"
     return Match(
@@ -480,12 +585,15 @@ def _result(
         corrected if best.matched else None,
         tuple(notes),
         fit,
+        best.model,
     )
 
 
-def _offset_words(offset: float, kind: str, angle_step: float, unit: str) -> str:
+def _offset_words(
+    offset: float, kind: str, angle_step: float, length_step: float, unit: str
+) -> str:
     if kind == "prismatic":
-        return f"{offset:.6g} {visible(unit)}"
+        return "0" if abs(offset) <= length_step else f"{offset:+.6g} {visible(unit)}"
     special = math.pi / 12 * round(offset / (math.pi / 12))
     if abs(offset - special) <= max(angle_step, 1e-9):
         return f"{math.degrees(special):+.0f} deg" if special else "0"
@@ -516,12 +624,12 @@ def _differences(best: _Candidate, source: PoeModel, joints: tuple[JointMatch, .
         out.append(f"base: the table's frame 0 is {base_link}")
     else:
         out.append(f"base: the table's frame 0 is {base_words} from {base_link}" + (
-            " (the same as joint 1's zero turned so)" if same_base else ""))  # fmt: skip
+            " (about joint 1's axis: equally, joint 1's zero)" if same_base else ""))  # fmt: skip
     if not tool_words:
         out.append(f"tool: {tip_link} is the table's last frame")
     else:
         out.append(f"tool: {tip_link} is {tool_words} from the table's last frame" + (
-            " (the same as the last joint's zero turned so)" if same_tool else ""))  # fmt: skip
+            " (about the last joint's axis: equally, its zero)" if same_tool else ""))  # fmt: skip
     return out
 
 
@@ -615,6 +723,52 @@ def _model_frames(model: PoeModel, q: Mat) -> list[Mat]:
         c, s = math.cos(rot * q[i]), math.sin(rot * q[i])
         f = f @ np.array([[c, -s, 0, 0], [s, c, 0, 0], [0, 0, 1, trans * q[i]], [0, 0, 0, 1.0]])
     out.append(f @ links[-1])
+    return out
+
+
+def _cell_disagreements(
+    best: _Candidate, corrected: Table | None, source: PoeModel
+) -> list[Disagreement]:
+    """TABLE's cells against TABLE corrected (SOURCE's exact table in TABLE's layout), where a
+    cell's value is SOURCE's own geometry: the angle and distance between consecutive axes, and
+    the distance along an axis between its neighbours' normals; theta is a joint's zero and the
+    first and last rows' lengths the base's and tool's, so they are not compared. Cells that
+    differ by more than twice their written step are disagreements."""
+    reading = best.reading
+    if reading is None or corrected is None:
+        return []
+    rows = reading.joint_rows
+    if rows != list(range(rows[0], rows[0] + len(rows))):
+        return []  # fixed rows between joints: no row-by-row layout
+    n, size = source.n, source.size()
+    sliding = [j.kind == "prismatic" for j in source.joints]
+    out = []
+    for k in range(n):
+        link = k if reading.convention == "dh" else k - 1  # the link a row's alpha and a hold
+        cells = []
+        if 0 <= link < n - 1 and not (sliding[link] or sliding[link + 1]):
+            cells += ["alpha", "a"]
+        if 0 < k < n - 1 and not any(sliding[k - 1 : k + 2]):
+            cells.append("d")
+        params = corrected.rows[k].params.values()
+        for column in cells:
+            j = ("theta", "d", "a", "alpha").index(column)
+            table_value = float(reading.values[rows[k], j])
+            value = params[column]
+            assert isinstance(value, float)
+            floor = MATCH_ROUND_OFF * (1.0 if column == "alpha" else size)
+            difference = table_value - value
+            if column == "alpha":
+                difference = math.remainder(difference, 2.0 * math.pi)
+            if abs(difference) > 2.0 * float(reading.steps[rows[k], j]) + floor:
+                joints = (
+                    f"joints {link + 1} and {link + 2}: the "
+                    + ("angle between their axes" if column == "alpha" else "axes' distance")
+                    if column != "d"
+                    else f"joint {k + 1}: where its neighbours' normals meet its axis"
+                )
+                out.append(Disagreement(reading.names[rows[k]], column, joints, table_value,
+                                        value))  # fmt: skip
     return out
 
 

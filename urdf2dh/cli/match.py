@@ -13,7 +13,7 @@ __all__ = ["EXAMPLE", "HELP", "NAME", "add_arguments", "run"]
 
 NAME = "match"
 HELP = "find how a hand-written D-H table differs from a robot's model"
-EXAMPLE = "urdf2dh match references/ur5-dh.yaml ur5"
+EXAMPLE = "urdf2dh match ur5-dh ur5"
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:

@@ -1,4 +1,5 @@
-"""Bundled robots: the serial arms that example-robot-data ships, plus the models in ``robots/``.
+"""Bundled robots: the serial arms that example-robot-data ships, plus the models in ``robots/``
+and the vendors' published tables in ``robots/references/`` (each file names its source).
 
 example-robot-data 6 installs data only (no Python module): its URDFs live under
 ``<site-packages>/cmeel.prefix/share/example-robot-data/robots/``. Each entry names its file and a
@@ -201,6 +202,40 @@ ROBOTS: dict[str, Bundled] = {
             None,
             None,
             "PUMA 560 calibrated POE model (Wu 2019 Table I), helical joints",
+        ),
+        *(
+            Bundled(
+                f"{model}-dh",
+                OURS + f"references/{model}-dh.yaml",
+                None,
+                None,
+                f"{title}: Universal Robots' published D-H table (reference)",
+            )
+            for model, title in [
+                ("ur3", "UR3"),
+                ("ur5", "UR5"),
+                ("ur10", "UR10"),
+                ("ur3e", "UR3e"),
+                ("ur5e", "UR5e"),
+                ("ur10e", "UR10e"),
+                ("ur16e", "UR16e"),
+                ("ur20", "UR20"),
+                ("ur30", "UR30"),
+            ]
+        ),
+        Bundled(
+            "panda-mdh",
+            OURS + "references/panda-mdh.yaml",
+            None,
+            None,
+            "Franka Emika Panda: Franka's published modified D-H table (reference)",
+        ),
+        Bundled(
+            "puma560-wu2019-dh",
+            OURS + "references/puma560-wu2019-dh.yaml",
+            None,
+            None,
+            "PUMA 560 nominal: Wu 2019 Table II's D-H table (reference)",
         ),
     ]
 }

@@ -9,6 +9,9 @@ reader     recognised by                                      module
            (a root other than ``<robot>`` is its error)
 ``poe``    a YAML or JSON mapping with ``format: poe``         :mod:`.poefile`
 ``table``  a YAML or JSON mapping with a ``schema`` key        :mod:`.tablefile`
+``hand``   a YAML or JSON list of rows ``theta, d, a, alpha``  :mod:`.readings` (its format:
+           (or under ``joints:``) that says its convention    :mod:`.handtable`)
+           and units: a datasheet's table
 =========  =================================================  ===============================
 
 The first reader in :data:`READERS` that claims a file reads it. Adding a format is its module
@@ -213,6 +216,13 @@ def _mapping_key(key: str, value: str | None = None) -> Callable[[Content], bool
     return claims
 
 
+def _hand_table(content: Content) -> bool:
+    """A claim on a hand-written table (:func:`~urdf2dh.io.handtable.is_hand_table`)."""
+    from .handtable import is_hand_table
+
+    return is_hand_table(content.mapping)
+
+
 READERS: dict[str, Reader] = {
     r.name: r
     for r in [
@@ -231,6 +241,13 @@ READERS: dict[str, Reader] = {
             f"table file ('schema: {TABLE_FILE}')",
             "tablefile",
             _mapping_key("schema"),
+        ),
+        Reader(
+            "hand",
+            "hand-written table",
+            "hand-written table (rows of theta, d, a, alpha, with convention and units)",
+            "readings",
+            _hand_table,
         ),
     ]
 }

@@ -18,13 +18,19 @@ from __future__ import annotations
 import math
 from collections.abc import Iterator
 from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
 
-from ..io.handtable import COLUMNS, HandRow, HandTable
+from ..errors import InputError
 from ..model.poe import Joint, JointKind, PoeModel
 from ..units import metres_per
+from .handtable import COLUMNS, HandRow, HandTable
+
+if TYPE_CHECKING:
+    from .sources import Content, Source
+    from .sources import Reading as SourceReading
 
 __all__ = ["LENGTH_UNITS", "SPECIAL_ANGLE", "Reading", "readings"]
 
@@ -169,6 +175,12 @@ def readings(
     lengths = [stated_length] if stated_length else list(LENGTH_UNITS)
     theta_units = _angle_choices(table, "theta", angle_unit)
     alpha_units = _angle_choices(table, "alpha", angle_unit)
+    silent = _all_zero(table, "theta") or _all_zero(table, "alpha")
+    separate = bool(angle_unit or table.angle_unit("theta") or table.angle_unit("alpha"))
+    if _all_zero(table, "theta"):  # a column of zeros says nothing: read as the other
+        theta_units = alpha_units
+    elif _all_zero(table, "alpha"):
+        alpha_units = theta_units
     kinds = _kinds(table.rows, source_kinds)
     stated = (
         bool(convention or table.convention),
@@ -181,6 +193,8 @@ def readings(
             factor = metres_per(length) / metres_per(source_unit)
             for theta_unit in theta_units:
                 for alpha_unit in alpha_units:
+                    if alpha_unit != theta_unit and (silent or not separate):
+                        continue  # one unit for all angles, unless the table says otherwise
                     values, steps = _numbers(table.rows, (theta_unit, alpha_unit), factor)
                     out.append(Reading(conv, (theta_unit, alpha_unit), length, factor, kinds,
                                        values, steps, tuple(r.name for r in table.rows),
@@ -195,9 +209,11 @@ def _angle_choices(table: HandTable, column: str, given: str | None) -> list[str
     # a column whose angles reach beyond a turn is in degrees
     if any(abs(r.number(column).value) > 2.0 * math.pi + 1e-9 for r in table.rows):
         return ["deg"]
-    if all(r.number(column).value == 0.0 for r in table.rows):
-        return ["rad"]  # nothing to read: the unit does not matter
     return ["deg", "rad"]
+
+
+def _all_zero(table: HandTable, column: str) -> bool:
+    return all(r.number(column).value == 0.0 for r in table.rows)
 
 
 def _kinds(rows: tuple[HandRow, ...], source_kinds: tuple[str, ...]) -> tuple[str, ...]:
@@ -255,3 +271,32 @@ def with_joint_names(reading: Reading, names: tuple[str, ...]) -> Reading:
     for i, name in zip(reading.joint_rows, names, strict=False):
         renamed[i] = name
     return replace(reading, names=tuple(renamed))
+
+
+def read_source(content: Content, reading: SourceReading) -> Source:
+    """A hand-written table as a SOURCE (the ``hand`` entry of
+    :data:`~urdf2dh.io.sources.READERS`): its one reading, which its ``convention`` and
+    ``units`` must fix (``urdf2dh match`` finds them where it does not say)."""
+    from .handtable import from_tree
+    from .sources import Source
+
+    table = from_tree(content.mapping, content.display)
+    unit = table.length_unit
+    options = readings(table, (), unit or "m")
+    if table.convention is None or unit is None or len(options) != 1:
+        missing = [what for what, known in (("convention", table.convention),
+                   ("units.length", unit)) if known is None]  # fmt: skip
+        if not missing:
+            missing = ["units.angle"]
+        raise InputError(
+            f"{content.display}: a hand-written table read as a model must say its "
+            f"{' and '.join(missing)} (urdf2dh match finds what a table does not say)"
+        )
+    one = options[0]
+    model = one.model()
+    assert unit is not None
+    named = replace(model, name=content.name(table.robot or content.path.stem),
+                    source=content.display, length_unit=unit)  # fmt: skip
+    return Source(
+        "hand-written table", content.display, named.name, poe=named, bundled=content.bundled
+    )
