@@ -21,11 +21,14 @@ __all__ = [
     "LEVELS",
     "add_chain",
     "add_chain_options",
+    "add_like",
     "add_markers",
     "add_reading",
     "add_tolerances",
+    "check_like",
     "fraction",
     "integer",
+    "like",
     "names",
     "nominal",
     "nonnegative_float",
@@ -181,6 +184,38 @@ def add_chain_options(p: argparse.ArgumentParser, several: bool = False) -> None
         metavar="MIB",
         help="for .xacro sources: memory the expansion may use (default %(default)s)",
     )
+
+
+def add_like(p: argparse.ArgumentParser) -> None:
+    p.add_argument(
+        "--like",
+        metavar="NOMINAL",
+        help="with --format urdf: write NOMINAL (a URDF) with only its joint origins and axes "
+        "changed, so that its forward kinematics is the model's while every link keeps its "
+        "visual, collision and inertial elements in its own frame",
+    )
+
+
+def like(args: argparse.Namespace, model: PoeModel, tol: Tolerances) -> str:
+    """The URDF ``--like NOMINAL`` asks for (``--format urdf`` or no format), its notes on
+    stderr."""
+    import sys
+
+    from ..emit.urdf_like import urdf_like
+
+    result = urdf_like(model, args.like, tol=tol, xacro=xacro_options(args))
+    for note in result.notes:
+        print(f"urdf2dh: {note}", file=sys.stderr)
+    print(f"urdf2dh: {result.summary()}", file=sys.stderr)
+    return result.text
+
+
+def check_like(args: argparse.Namespace, default: str = "text") -> None:
+    """``--like`` writes a URDF: with ``--format urdf`` (or none given)."""
+    from ..errors import UsageError
+
+    if args.like and args.format not in ("urdf", default):
+        raise UsageError(f"--like writes a URDF: --format urdf, not {args.format}")
 
 
 def add_tolerances(p: argparse.ArgumentParser) -> None:
