@@ -9,6 +9,8 @@ reader     recognised by                                      module
            (a root other than ``<robot>`` is its error)
 ``poe``    a YAML or JSON mapping with ``format: poe``         :mod:`.poefile`
 ``table``  a YAML or JSON mapping with a ``schema`` key        :mod:`.tablefile`
+``ur``     a YAML mapping ``kinematics: {shoulder: ...}``   :mod:`.urkinematics`
+           (Universal Robots' kinematics file)
 ``hand``   a YAML or JSON list of rows ``theta, d, a, alpha``  :mod:`.readings` (its format:
            (or under ``joints:``) that says its convention    :mod:`.handtable`)
            and units: a datasheet's table
@@ -216,6 +218,13 @@ def _mapping_key(key: str, value: str | None = None) -> Callable[[Content], bool
     return claims
 
 
+def _ur_kinematics(content: Content) -> bool:
+    """A claim on a UR kinematics file (:func:`~urdf2dh.io.urkinematics.is_ur_kinematics`)."""
+    from .urkinematics import is_ur_kinematics
+
+    return is_ur_kinematics(content.mapping)
+
+
 def _hand_table(content: Content) -> bool:
     """A claim on a hand-written table (:func:`~urdf2dh.io.handtable.is_hand_table`)."""
     from .handtable import is_hand_table
@@ -241,6 +250,13 @@ READERS: dict[str, Reader] = {
             f"table file ('schema: {TABLE_FILE}')",
             "tablefile",
             _mapping_key("schema"),
+        ),
+        Reader(
+            "ur",
+            "UR kinematics",
+            "UR kinematics file ('kinematics: {shoulder: ...}')",
+            "urkinematics",
+            _ur_kinematics,
         ),
         Reader(
             "hand",
