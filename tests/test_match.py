@@ -18,7 +18,7 @@ from urdf2dh import units
 from urdf2dh.check.match import match
 from urdf2dh.errors import InputError
 from urdf2dh.geometry import se3
-from urdf2dh.io.catalog import ROBOTS, robot_path
+from urdf2dh.io.catalog import lookup, robot_path
 from urdf2dh.io.handtable import read_hand_table
 from urdf2dh.io.tablefile import read_table
 
@@ -94,23 +94,30 @@ def agrees(result, source, size):
 
 # ----------------------------------------------------------------------------- the references
 
-REFERENCES = [
+SHIPPED = [
     ("ur3-dh", "ur3", {}),
     ("ur5-dh", "ur5", {}),
     ("ur10-dh", "ur10", {}),
     ("ur10e-dh", UR10E, {"base": "base_link", "tip": "tool0"}),
     ("panda-mdh", "panda", {}),
     ("puma560-wu2019-dh", "puma560-nominal", {}),
+    ("kuka-kr6-r700-sixx-opw", "kuka-kr6-r700-sixx", {}),
+    ("fanuc-m20ia-opw", "fanuc-m20ia", {}),
 ]
 
 
-@pytest.mark.parametrize(("reference", "robot", "chain"), REFERENCES)
+@pytest.mark.parametrize(("reference", "robot", "chain"), SHIPPED)
 def test_shipped_references_match_their_robots(reference, robot, chain):
     result = match(reference, robot, **chain)
     source = urdf2dh.load(robot, **chain)
     assert result.matched, result.text()
     assert result.residual[0] <= 1e-9 * source.size() and result.residual[1] <= 1e-9
     expected = urdf2dh.load(reference)  # read as a model too, in its own units
+    if reference.endswith("-opw"):  # OPW's frames are the support packages' own
+        assert result.reading == "the file's own chain"
+        assert np.allclose(result.base, np.eye(4), atol=1e-9)
+        assert np.allclose(result.tool, np.eye(4), atol=1e-9 * source.size())
+        return
     assert result.convention == ("mdh" if reference == "panda-mdh" else "dh")
     assert result.length_unit == expected.length_unit
     assert [j.sign for j in result.joints] == [1] * source.n
@@ -124,7 +131,7 @@ def test_shipped_references_match_their_robots(reference, robot, chain):
     corrected = result.corrected
     assert corrected is not None and corrected.convention == result.convention
     assert corrected.check.max_position_error <= 1e-14 * source.size() * 10
-    table = read_hand_table(robot_path(ROBOTS[reference]))
+    table = read_hand_table(robot_path(lookup(reference)))
     joints = [r for r in table.rows if r.kind != "fixed"]
     factor = units.factor(expected.length_unit, source.length_unit)
     for row, written in zip(corrected.rows[1:-1], joints[1:-1], strict=True):

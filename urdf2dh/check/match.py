@@ -270,12 +270,11 @@ def match(
 
 def _table_path(table: str) -> Path:
     """TABLE's file: the file named, else the file of the bundled table of that name."""
-    from ..io.catalog import ROBOTS, robot_path
+    from ..io.catalog import lookup, robot_path
 
     path = Path(table)
-    if not path.exists() and table in ROBOTS:
-        return robot_path(ROBOTS[table])
-    return path
+    bundled = None if path.exists() else lookup(table)
+    return path if bundled is None else robot_path(bundled)
 
 
 def _check_choice(value: str | None, valid: tuple[str, ...], name: str) -> None:

@@ -15,7 +15,15 @@ from pathlib import Path
 
 from ..errors import InputError
 
-__all__ = ["ROBOTS", "Bundled", "example_robot_data_dir", "our_robots_dir", "robot_path"]
+__all__ = [
+    "REFERENCES",
+    "ROBOTS",
+    "Bundled",
+    "example_robot_data_dir",
+    "lookup",
+    "our_robots_dir",
+    "robot_path",
+]
 
 ERD = "erd:"  # file under example-robot-data's robots/
 OURS = "ours:"  # file under this project's robots/
@@ -203,6 +211,15 @@ ROBOTS: dict[str, Bundled] = {
             None,
             "PUMA 560 calibrated POE model (Wu 2019 Table I), helical joints",
         ),
+    ]
+}
+
+
+#: Vendors' published tables (``robots/references/``, each file naming its source): TABLEs for
+#: ``urdf2dh match`` and, as they state their convention and units, SOURCEs like the robots.
+REFERENCES: dict[str, Bundled] = {
+    b.name: b
+    for b in [
         *(
             Bundled(
                 f"{model}-dh",
@@ -231,6 +248,20 @@ ROBOTS: dict[str, Bundled] = {
             "Franka Emika Panda: Franka's published modified D-H table (reference)",
         ),
         Bundled(
+            "kuka-kr6-r700-sixx-opw",
+            OURS + "references/kuka-kr6-r700-sixx-opw.yaml",
+            None,
+            None,
+            "KUKA KR 6 R700 sixx: OPW parameters as opw_kinematics publishes them (reference)",
+        ),
+        Bundled(
+            "fanuc-m20ia-opw",
+            OURS + "references/fanuc-m20ia-opw.yaml",
+            None,
+            None,
+            "FANUC M-20iA: ROS-Industrial's OPW parameters (reference)",
+        ),
+        Bundled(
             "puma560-wu2019-dh",
             OURS + "references/puma560-wu2019-dh.yaml",
             None,
@@ -239,6 +270,11 @@ ROBOTS: dict[str, Bundled] = {
         ),
     ]
 }
+
+
+def lookup(name: str) -> Bundled | None:
+    """The bundled robot or reference table called ``name``, if there is one."""
+    return ROBOTS.get(name) or REFERENCES.get(name)
 
 
 def example_robot_data_dir() -> Path:

@@ -1,5 +1,6 @@
 """SOURCE resolution (docs/commands/index.md): a file in one of the formats of :data:`READERS`,
-or a bundled robot (:data:`~urdf2dh.io.catalog.ROBOTS`), whose installed file is read the same way.
+or a bundled robot (:data:`~urdf2dh.io.catalog.ROBOTS`) or reference table
+(:data:`~urdf2dh.io.catalog.REFERENCES`), whose installed file is read the same way.
 
 =========  =================================================  ===============================
 reader     recognised by                                      module
@@ -11,6 +12,11 @@ reader     recognised by                                      module
 ``table``  a YAML or JSON mapping with a ``schema`` key        :mod:`.tablefile`
 ``ur``     a YAML mapping ``kinematics: {shoulder: ...}``   :mod:`.urkinematics`
            (Universal Robots' kinematics file)
+``hal``    a ``.hal`` file, or text with                    :mod:`.halfile`
+           ``setp genserkins.`` lines (LinuxCNC)
+``opw``    a YAML mapping with                              :mod:`.opwfile`
+           ``opw_kinematics_geometric_parameters`` (or a
+           group of one holding it)
 ``hand``   a YAML or JSON list of rows ``theta, d, a, alpha``  :mod:`.readings` (its format:
            (or under ``joints:``) that says its convention    :mod:`.handtable`)
            and units: a datasheet's table
@@ -39,7 +45,7 @@ from ..checks import check_flag, check_instance, check_optional_name, check_sour
 from ..errors import SHOWN_LENGTH, InputError, SourceError, Urdf2DhError, UsageError, choices, shown
 from ..schemas import TABLE_FILE
 from ..tolerances import DEFAULT, Tolerances
-from .catalog import ROBOTS, Bundled, robot_path
+from .catalog import REFERENCES, ROBOTS, Bundled, lookup, robot_path
 from .encodings import check_text, first_character, xml_root
 from .files import SOURCE_ROLE, read_file
 from .xacro import XacroOptions
@@ -225,6 +231,20 @@ def _ur_kinematics(content: Content) -> bool:
     return is_ur_kinematics(content.mapping)
 
 
+def _hal(content: Content) -> bool:
+    """A claim on a genserkins HAL file (:func:`~urdf2dh.io.halfile.is_hal`)."""
+    from .halfile import is_hal
+
+    return is_hal(content.data, content.suffix)
+
+
+def _opw(content: Content) -> bool:
+    """A claim on an OPW parameter file (:func:`~urdf2dh.io.opwfile.is_opw`)."""
+    from .opwfile import is_opw
+
+    return is_opw(content.mapping)
+
+
 def _hand_table(content: Content) -> bool:
     """A claim on a hand-written table (:func:`~urdf2dh.io.handtable.is_hand_table`)."""
     from .handtable import is_hand_table
@@ -257,6 +277,20 @@ READERS: dict[str, Reader] = {
             "UR kinematics file ('kinematics: {shoulder: ...}')",
             "urkinematics",
             _ur_kinematics,
+        ),
+        Reader(
+            "hal",
+            "LinuxCNC HAL",
+            "LinuxCNC genserkins HAL file (.hal, 'setp genserkins.')",
+            "halfile",
+            _hal,
+        ),
+        Reader(
+            "opw",
+            "OPW",
+            "OPW parameter file ('opw_kinematics_geometric_parameters')",
+            "opwfile",
+            _opw,
         ),
         Reader(
             "hand",
@@ -316,8 +350,8 @@ def open_source(
     path = Path(source)
     if _exists(path):
         return _from_file(path, source, reading, None)
-    if source in ROBOTS:
-        bundled = ROBOTS[source]
+    bundled = lookup(source)
+    if bundled is not None:
         file = robot_path(bundled)
         return _from_file(file, file.name, Reading(tol), bundled)
     looks_like_file = any(ch in source for ch in "/\\.")
@@ -326,7 +360,7 @@ def open_source(
         raise SourceError(f"{shortened}: no such file")
     raise SourceError(
         f"{shown(source)} is neither a file nor a bundled robot; bundled robots are "
-        f"{choices(ROBOTS, limit=30)}"
+        f"{choices(ROBOTS, limit=30)}, reference tables {choices(REFERENCES, limit=30)}"
     )
 
 
