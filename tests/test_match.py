@@ -163,8 +163,9 @@ def perturbed(robot, kind, seed, tmp_path, rounding=12):
     tool = random_transform(rng, size) if kind == "tool" or every else np.eye(4)
     model = placed(turned(at_zero(source, delta), flips), base, tool)
     length, angle = ("mm", "deg") if kind == "units" or every else ("m", "rad")
-    table = urdf2dh.to_table(model, convention)
-    path = write_table(table, tmp_path / f"{robot}-{kind}-{seed}.csv", length, angle, rounding,
+    table = urdf2dh.to_table(model.scaled(units.metres_per(model.length_unit), "m"), convention)
+    name = Path(robot).stem
+    path = write_table(table, tmp_path / f"{name}-{kind}-{seed}.csv", length, angle, rounding,
                        shuffle=every)  # fmt: skip
     return path, source, {"convention": convention, "length": length, "angle": angle,
                           "delta": delta, "flips": flips}  # fmt: skip

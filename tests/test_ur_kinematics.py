@@ -260,3 +260,25 @@ def test_bad_kinematics_files(text, message, tmp_path):
     path.write_text(text)
     with pytest.raises(InputError, match=message):
         urdf2dh.load(str(path))
+
+
+def test_a_factory_calibration_into_the_vendors_urdf(tmp_path):
+    """The story of the issue: a robot's calibration file put into its vendor's URDF with
+    --like (the UR10e description of examples/calibration-data): every link keeps its meshes,
+    moves by the calibration's millimetres, and the URDF moves as the controller does."""
+    from urdf2dh.emit.urdf_like import urdf_like
+
+    rows = dh_rows("ur10e", CALIBRATIONS["ur10e-b"])
+    path = tmp_path / "calibration.yaml"
+    path.write_text(kinematics_file(joint_origins(rows), calib(rows)))
+    nominal = ROOT / "examples" / "calibration-data" / "ur10" / "ur10_robot.urdf"
+    result = urdf_like(urdf2dh.load(str(path)), str(nominal))
+    written = tmp_path / "calibrated.urdf"
+    written.write_text(result.text)
+    assert result.text.count("<mesh ") == nominal.read_text().count("<mesh ")
+    arm = [m for m in result.moved if not m.tool]
+    assert arm and max(m.distance for m in arm) < 0.005 and max(m.angle for m in arm) < 0.02
+    model = urdf2dh.load(str(written), base="base_link", tip="tool0")
+    q = model.sample(200, 9)
+    pos, rot = se3.pose_errors(model.fk_batch(q), dh_fk(rows, q))
+    assert pos <= 1e-12 * model.size() and rot <= 1e-12
