@@ -139,6 +139,27 @@ def test_linuxcnc_export_reads_back_as_the_same_table(robot, length, tmp_path):
     same_table(table.to_poe(), back, "mdh", "zero")
 
 
+@pytest.mark.parametrize("target", ["linuxcnc", "opw"])
+def test_names_of_any_length_and_character_read_back(target, tmp_path):
+    """Names with quotes, backslashes, line breaks and letters beyond ASCII, one of 1500
+    characters (HAL cuts comment lines at 1000 bytes), come back as they were."""
+    from dataclasses import replace
+
+    source = urdf2dh.load("kuka-kr6-r700-sixx")
+    names = ['a "quoted" \\ name', "line\nbreak", "joint # 3", "ünïcode ✓", "x" * 1500, ""]
+    source = replace(
+        source,
+        joints=tuple(replace(j, name=n or "j6") for j, n in zip(source.joints, names, strict=True)),
+        name='robot \\ "x"\n',
+        base_link="base\u202e",
+    )
+    path = tmp_path / "file"
+    path.write_text(export(source, target))
+    back = urdf2dh.load(str(path))
+    assert [j.name for j in back.joints] == [j.name for j in source.joints]
+    assert (back.name, back.base_link) == (source.name, source.base_link)
+
+
 def test_a_hal_file_without_urdf2dhs_comments(tmp_path):
     """A configuration's own genserkins lines: six joints in millimetres, said in a warning."""
     lines = [line for line in export(urdf2dh.load(GENSER6), "linuxcnc").splitlines()

@@ -74,7 +74,7 @@ def read_hal(text: str, display: str) -> PoeModel:
     gains, offsets = np.ones(LINKS), np.zeros(LINKS)
     chain: dict[str, Any] = {}
     names: dict[int, str] = {}
-    for number, line in enumerate(text.splitlines(), 1):
+    for number, line in _lines(text):
         where = f"{display}: line {number}"
         if (m := _CHAIN.match(line)) is not None:
             chain = _json(m.group(1), where)
@@ -143,6 +143,33 @@ def read_hal(text: str, display: str) -> PoeModel:
         raise InputError(f"{display}: the chain's robot, base_link and tip_link are names")
     return PoeModel(tuple(joints), frame, text_fields["robot"], display, text_fields["base_link"],
                     text_fields["tip_link"], unit, warnings)  # fmt: skip
+
+
+def _lines(text: str) -> list[tuple[int, str]]:
+    """The file's lines with their numbers, a chain or joint comment whose JSON does not end on
+    its line joined with the comment lines after it (:func:`~urdf2dh.escape.hal_comment` cuts
+    lines of more than 1000 bytes: ``# `` starts each piece after the first)."""
+    lines = text.splitlines()
+    out, i = [], 0
+    while i < len(lines):
+        line, number = lines[i], i + 1
+        i += 1
+        m = _CHAIN.match(line) or _JOINT.match(line)
+        while m is not None and not _whole(m.groups()[-1]) and i < len(lines):
+            if not lines[i].startswith("# "):
+                break
+            line, i = line + lines[i][2:], i + 1
+            m = _CHAIN.match(line) or _JOINT.match(line)
+        out.append((number, line))
+    return out
+
+
+def _whole(text: str) -> bool:
+    try:
+        json.loads(text.replace("\\\\", "\\"))
+    except json.JSONDecodeError:
+        return False
+    return True
 
 
 def _number(text: str, where: str) -> float:

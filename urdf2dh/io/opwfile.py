@@ -10,10 +10,11 @@ OPW entries, and what ``export --to opw`` writes (docs/exports/opw.md; the model
 
 The same keys may stand under one group's name (a MoveIt ``kinematics.yaml``). What OPW cannot
 hold, ``export --to opw`` writes beside them and the reader takes back: ``urdf2dh_base_transform``
-and ``urdf2dh_tool_transform`` (``xyz``, URDF ``rpy``: ``pose = B . F . T``) and
-``urdf2dh_chain`` (the robot, its base and tip links, its joints' names). A file without them is
-OPW's own frames, its joints ``joint_1`` ... ``joint_6``. Offsets and signs default to 0 and 1
-where absent, as the consumers take them.
+and ``urdf2dh_tool_transform`` (``xyz``, URDF ``rpy``: ``pose = B . F . T``) and the comment
+``# urdf2dh chain: {...}`` (JSON: the robot, its base and tip links, its joints' names; names
+are in comments only, as everywhere in the file). A file without them is OPW's own frames, its
+joints ``joint_1`` ... ``joint_6``. Offsets and signs default to 0 and 1 where absent, as the
+consumers take them.
 """
 
 from __future__ import annotations
@@ -38,8 +39,9 @@ __all__ = ["GEOMETRY_KEY", "is_opw", "read_opw", "read_source"]
 GEOMETRY_KEY = "opw_kinematics_geometric_parameters"
 OFFSETS_KEY = "opw_kinematics_joint_offsets"
 SIGNS_KEY = "opw_kinematics_joint_sign_corrections"
-EXTRA = ("urdf2dh_base_transform", "urdf2dh_tool_transform", "urdf2dh_chain")
+EXTRA = ("urdf2dh_base_transform", "urdf2dh_tool_transform")
 _ROSPARAM = re.compile(r"^\s*(deg|rad)\s*\(\s*([-+]?[0-9.eE+-]+)\s*\)\s*$")
+_CHAIN = re.compile(r"^#\s*urdf2dh chain: (.*)$", re.MULTILINE)
 
 
 def _block(tree: Any) -> Mapping[str, Any] | None:
@@ -87,7 +89,24 @@ def _transform(tree: Mapping[str, Any], key: str, display: str) -> np.ndarray:
     return se3.from_rpy(xyz, rpy)
 
 
-def read_opw(tree: Any, display: str) -> PoeModel:
+def _chain(text: str, display: str) -> dict[str, Any]:
+    """The chain ``export --to opw`` names in its comment (the comment shows backslashes
+    doubled, :func:`~urdf2dh.errors.visible`), or ``{}``."""
+    import json
+
+    match = _CHAIN.search(text)
+    if match is None:
+        return {}
+    try:
+        chain = json.loads(match.group(1).replace("\\\\", "\\"))
+    except json.JSONDecodeError as e:
+        raise InputError(f"{display}: the urdf2dh chain comment is malformed ({e.msg})") from None
+    if not isinstance(chain, dict):
+        raise InputError(f"{display}: the urdf2dh chain comment must hold a mapping")
+    return chain
+
+
+def read_opw(tree: Any, display: str, text: str = "") -> PoeModel:
     """The chain of an OPW parameter file (module docstring).
 
     Raises
@@ -122,18 +141,18 @@ def read_opw(tree: Any, display: str) -> PoeModel:
         raise InputError(f"{display}: {SIGNS_KEY} must be six of 1 or -1, not {shown(signs)}")
     base = _transform(block, EXTRA[0], display)
     tool = _transform(block, EXTRA[1], display)
-    chain = block.get(EXTRA[2]) or {}
-    names = chain.get("joints", list(JOINT_NAMES)) if isinstance(chain, Mapping) else None
+    chain = _chain(text, display)
+    names = chain.get("joints", list(JOINT_NAMES))
     if not isinstance(names, list) or len(names) != 6 or not all(isinstance(n, str) for n in names):
-        raise InputError(f"{display}: {EXTRA[2]}.joints must be six names")
-    text = {k: chain.get(k, "") for k in ("robot", "base_link", "tip_link")}
-    if not all(isinstance(v, str) for v in text.values()):
-        raise InputError(f"{display}: {EXTRA[2]}: robot, base_link and tip_link are names")
+        raise InputError(f"{display}: the urdf2dh chain comment's joints must be six names")
+    links = {k: chain.get(k, "") for k in ("robot", "base_link", "tip_link")}
+    if not all(isinstance(v, str) for v in links.values()):
+        raise InputError(f"{display}: the urdf2dh chain's robot, base_link and tip_link are names")
     a1, a2, b, c1, c2, c3, c4 = lengths
     params = OpwParameters(a1, a2, b, c1, c2, c3, c4, offsets, tuple(int(s) for s in signs),
                            base, tool)  # fmt: skip
-    return opw_to_poe(params, tuple(names), text["robot"], display, text["base_link"],
-                      text["tip_link"])  # fmt: skip
+    return opw_to_poe(params, tuple(names), links["robot"], display, links["base_link"],
+                      links["tip_link"])  # fmt: skip
 
 
 def read_source(content: Content, reading: Reading) -> Source:
@@ -143,6 +162,7 @@ def read_source(content: Content, reading: Reading) -> Source:
 
     from .sources import Source
 
-    model = read_opw(content.mapping, content.display)
+    text = content.data.decode("utf-8", errors="replace")
+    model = read_opw(content.mapping, content.display, text)
     model = replace(model, name=content.name(model.name or content.path.stem))
     return Source("OPW", content.display, model.name, poe=model, bundled=content.bundled)

@@ -360,7 +360,8 @@ def open_source(
         raise SourceError(f"{shortened}: no such file")
     raise SourceError(
         f"{shown(source)} is neither a file nor a bundled robot; bundled robots are "
-        f"{choices(ROBOTS, limit=30)}, reference tables {choices(REFERENCES, limit=30)}"
+        f"{choices(ROBOTS, limit=30)} (urdf2dh robots lists them, and {len(REFERENCES)} "
+        "reference tables)"
     )
 
 

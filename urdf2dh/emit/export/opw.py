@@ -15,9 +15,9 @@ consumers ignore: ``urdf2dh_base_transform`` (OPW's base frame in the chain's ba
 ``urdf2dh_tool_transform`` (the tip link in OPW's flange frame, ``T``), each as ``xyz`` (metres) and
 ``rpy`` (radians, URDF's ``R = Rz(yaw) Ry(pitch) Rx(roll)``), so that
 ``pose(q) = B . F(theta) . T``. Both are the identity when the base link's z lies on axis 1 and
-the tip sits on axis 6 facing along it, as in the support packages. A last block,
-``urdf2dh_chain``, names the robot, its base and tip links and its joints, with which urdf2dh
-reads the file back as a SOURCE (:mod:`urdf2dh.io.opwfile`).
+the tip sits on axis 6 facing along it, as in the support packages. A last comment,
+``# urdf2dh chain: {...}``, names the robot, its base and tip links and its joints (JSON), with
+which urdf2dh reads the file back as a SOURCE (:mod:`urdf2dh.io.opwfile`).
 
 Names from the source appear only in comments, each line made safe by
 :func:`~urdf2dh.escape.yaml_comment`.
@@ -95,22 +95,19 @@ def render_model(model: PoeModel, opts: ExportOptions, samples: int | None = Non
     lines.extend(yaml_comment(line) for line in _frames_note(model, p, numbers))
     lines.extend(_transform("urdf2dh_base_transform", p.base, numbers))
     lines.extend(_transform("urdf2dh_tool_transform", p.tool, numbers))
-    lines.append(yaml_comment("The chain these parameters describe (urdf2dh reads the file back"))
-    lines.append(yaml_comment("as a SOURCE with its names; the consumers ignore it):"))
-    lines.append(_chain(model))
+    lines.append(yaml_comment(_chain(model)))
     return "\n".join(lines) + "\n"
 
 
 def _chain(model: PoeModel) -> str:
-    """``urdf2dh_chain``: the robot, its base and tip links, its joints' names (escaped as YAML
-    escapes them)."""
-    import yaml
+    """``urdf2dh chain: {...}``, the comment urdf2dh reads the file back with
+    (:mod:`urdf2dh.io.opwfile`): the robot, its base and tip links, its joints' names, as one
+    line of JSON (ASCII: the names whatever they hold)."""
+    import json
 
     chain = {"robot": model.name, "base_link": model.base_link, "tip_link": model.tip_link,
              "joints": [j.name for j in model.joints]}  # fmt: skip
-    text = yaml.safe_dump({"urdf2dh_chain": chain}, sort_keys=False, default_flow_style=None,
-                          allow_unicode=False, width=1_000_000)  # fmt: skip
-    return str(text).rstrip("\n")
+    return "urdf2dh chain: " + json.dumps(chain)
 
 
 def render(table: Table, opts: ExportOptions) -> str:
