@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 from mjcf_oracle import agrees, opened, oracles_differ, pinocchio_model, write
 
-from urdf2dh.check.verify import PINOCCHIO_MISREADS
+from urdf2dh.check.verify import PINOCCHIO_MISREADS, PINOCCHIO_WORLD_BODY
 from urdf2dh.errors import ChainError
 from urdf2dh.io.mjcf import FEATURES
 from urdf2dh.io.sources import open_source
@@ -214,6 +214,15 @@ def test_pinocchio_does_not_read_frames(tmp_path):
     text = CASES["<frame> elements: nested, around bodies, joints and sites, with childclass"][0]
     model = pinocchio_model(text)
     assert model.nq == 0 and opened(tmp_path, text).mjcf.nq == 3  # the bodies in frames are lost
+
+
+def test_a_chain_from_the_world_through_a_placed_body_without_joints(tmp_path):
+    """Pinocchio drops where a jointless body of <worldbody> stands (Menagerie's UR10e: its
+    base turned a quarter about z): MuJoCo alone judges a chain from the world through one."""
+    source = opened(tmp_path, arm(base='euler="0 0 90"'))
+    agrees(source, source.model("world", "tool"), PINOCCHIO_WORLD_BODY)
+    agrees(source, source.model("base", "tool"))  # from the body itself, both judge
+    assert oracles_differ(source.document.decode(), "tool", 3) > 1e-6
 
 
 def test_features_a_model_does_not_use_are_not_noted(tmp_path):

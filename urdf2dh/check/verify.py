@@ -58,6 +58,7 @@ __all__ = [
     "ORACLES",
     "ORACLE_CHOICES",
     "PINOCCHIO_MISREADS",
+    "PINOCCHIO_WORLD_BODY",
     "Abstention",
     "ModelCheck",
     "Oracle",
@@ -193,6 +194,8 @@ PINOCCHIO_MISREADS = {
     "joint-pos-defaults": "does not take a joint's pos from its default class",
     "unnamed-body": "merges unnamed bodies",
 }
+#: What Pinocchio 4.1 does with a body of the world body that has no joint (tested likewise).
+PINOCCHIO_WORLD_BODY = "drops the pos and orientation of a body without joints in <worldbody>"
 
 
 def _model_from_mjcf(pin: Any, source: Source, poe: PoeModel) -> tuple[Any, Mapping, int, int]:
@@ -221,6 +224,16 @@ def _model_from_mjcf(pin: Any, source: Source, poe: PoeModel) -> tuple[Any, Mapp
             f"file's joints {elements.nq}",
         )
     mapping = [(elements.joints[j.name].qpos, 1, j.scale, 0.0) for j in poe.joints]
+    tree = source.tree
+    assert tree is not None
+    if poe.base_link == tree.root and poe.tip_link != tree.root:
+        first = tree.chain(tree.root, poe.tip_link)[0]
+        if first.type == "fixed" and not np.array_equal(first.origin, np.eye(4)):
+            raise OracleError(
+                "pinocchio",
+                f"{source.display}: Pinocchio {pin.__version__} {PINOCCHIO_WORLD_BODY}, and the "
+                f"chain runs from the world through body {shown(first.child)}",
+            )
 
     def frame(link: str) -> int:
         element = elements.links[link]
