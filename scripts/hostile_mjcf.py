@@ -118,7 +118,7 @@ def declaration(rng: Rng, tmp: Path, i: int) -> Case:
 def beyond_bounds(rng: Rng, tmp: Path, i: int) -> Case:
     """Bodies nested beyond the XML bound (in one file, or spliced from includes), more bodies
     or joints than urdf2dh reads, an attribute over libxml2's 10 MB."""
-    what = str(rng.choice(["deep", "deep includes", "bodies", "joints", "attribute"]))
+    what = str(rng.choice(["deep", "deep includes", "bodies", "sites", "joints", "attribute"]))
     path = tmp / f"case{i}.xml"
     if what == "deep":
         text = "<mujoco><worldbody>" + "<body>" * 300 + "</body>" * 300 + "</worldbody></mujoco>"
@@ -135,6 +135,10 @@ def beyond_bounds(rng: Rng, tmp: Path, i: int) -> Case:
     elif what == "bodies":
         text = "<mujoco><worldbody>" + "<body/>" * (JOINTS + 2) + "</worldbody></mujoco>"
         refusal = f"more than {JOINTS + 1:,} bodies"
+    elif what == "sites":
+        sites = "".join(f'<site name="s{k}"/>' for k in range(JOINTS + 2))
+        text = f"<mujoco><worldbody><body>{sites}</body></worldbody></mujoco>"
+        refusal = f"more than {JOINTS + 1:,} bodies and sites"
     elif what == "joints":
         text = (
             "<mujoco><worldbody><body>" + "<joint/>" * (JOINTS + 1) + "</body></worldbody></mujoco>"

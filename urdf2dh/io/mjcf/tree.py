@@ -150,6 +150,7 @@ class _Builder:
         self.refs: dict[str, float] = {}  # the tree's joint -> its ref (qpos units)
         self.features: set[str] = set()
         self.bodies = 0
+        self.sites = 0
         self.mjcf_joints = 0
         self.nq = 0
         self.body_names = {el.get("name") for el in doc.root.iter("body") if el.get("name")}
@@ -256,17 +257,22 @@ class _Builder:
             self.features.add("unnamed-body")
         if given and (given == WORLD or self.links.get(given, Element("", None)).kind == "body"):
             raise InputError(f"{self.display}: body {shown(given)} is declared twice")
-        if self.bodies > JOINTS + 1:
-            raise InputError(
-                f"{self.display}: more than {JOINTS + 1:,} bodies; urdf2dh reads MJCF models of "
-                f"at most {JOINTS:,} joints ({JOINTS + 1:,} bodies)"
-            )
+        self._count()
         where = self.where(el)
         inner = el.get("childclass")
         cls = childclass if inner is None else self.defaults.check(inner, where, "childclass")
         placed = frame @ pose(el.get, self.compiler, where, noted=self.features)
         name = self._link(given or f"(body {self.bodies})", Element("body", given))
         self._contents(el, name, parent, placed, cls)
+
+    def _count(self) -> None:
+        """Refuse a model of more bodies and named sites than :data:`~urdf2dh.tolerances.JOINTS`
+        + 1 (a URDF's bound on its links)."""
+        if self.bodies + self.sites > JOINTS + 1:
+            raise InputError(
+                f"{self.display}: more than {JOINTS + 1:,} bodies and sites; urdf2dh reads MJCF "
+                f"models of at most {JOINTS:,} joints and {JOINTS + 1:,} bodies and sites"
+            )
 
     def _fixed(self, parent: str, child: str, origin: Mat, name: str) -> None:
         """An edge of no joint from ``parent`` to ``child``."""
@@ -396,6 +402,8 @@ class _Builder:
         given = el.get("name")
         if not given:
             return  # an unnamed site is no frame anyone can name
+        self.sites += 1
+        self._count()
         where = self.where(el)
         get = self.defaults.lookup(el, cls, where)
         if any(a not in el.attrib and get(a) is not None for a in _PLACEMENT):
