@@ -61,12 +61,16 @@ def _write(path: Path, text: str) -> str:
     return str(path)
 
 
-def include_escape(rng: Rng, tmp: Path, i: int) -> Case:
+ESCAPES = ("parent", "absolute", "symlink", "etc")
+WRONG_INCLUDES = ("missing", "itself", "twice", "empty name")
+
+
+def include_escape(rng: Rng, tmp: Path, i: int, what: str | None = None) -> Case:
     """An include of a file outside the SOURCE's directory: ``../``, absolute, a link out."""
     home = tmp / f"case{i}"
     home.mkdir()
     outside = _write(tmp / f"secret{i}.xml", "<mujoco><default/></mujoco>")
-    what = str(rng.choice(["parent", "absolute", "symlink", "etc"]))
+    what = what or str(rng.choice(ESCAPES))
     name = {"parent": f"../secret{i}.xml", "absolute": outside, "etc": "/etc/passwd"}.get(
         what, "link.xml"
     )
@@ -76,11 +80,11 @@ def include_escape(rng: Rng, tmp: Path, i: int) -> Case:
     return Case("include escape", what, path, "is outside the SOURCE's directory", COMMANDS)
 
 
-def include_wrong(rng: Rng, tmp: Path, i: int) -> Case:
-    """An include of a missing file, of itself, of a file twice, or a chain of them."""
+def include_wrong(rng: Rng, tmp: Path, i: int, what: str | None = None) -> Case:
+    """An include of a missing file, of itself, of a file twice, or with no name."""
     home = tmp / f"case{i}"
     home.mkdir()
-    what = str(rng.choice(["missing", "itself", "twice", "empty name"]))
+    what = what or str(rng.choice(WRONG_INCLUDES))
     _write(home / "part.xml", "<mujoco><default/></mujoco>")
     head = {
         "missing": '<include file="nowhere.xml"/>',

@@ -11,7 +11,10 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "scripts"))
 
 import hostile_mjcf
+import numpy as np
 from hostile_files import report
+
+from urdf2dh.cli import main
 
 
 def test_a_seeded_sample_of_every_class_keeps_every_invariant():
@@ -37,3 +40,27 @@ def test_every_number_and_contradiction_names_its_element(tmp_path):
         cases.append(hostile_mjcf.Case("contradiction", str(slots), path, refusal, ("convert",)))
     outcomes = [hostile_mjcf.run_case(c, tmp_path, i) for i, c in enumerate(cases)]
     assert not [o for o in outcomes if o.problems], report(outcomes)
+
+
+def test_every_include_escape_and_wrong_include_is_refused(tmp_path):
+    rng = np.random.default_rng(0)
+    cases = [hostile_mjcf.include_escape(rng, tmp_path, i, what)
+             for i, what in enumerate(hostile_mjcf.ESCAPES)]  # fmt: skip
+    cases += [hostile_mjcf.include_wrong(rng, tmp_path, 10 + i, what)
+              for i, what in enumerate(hostile_mjcf.WRONG_INCLUDES)]  # fmt: skip
+    outcomes = [hostile_mjcf.run_case(c, tmp_path, i) for i, c in enumerate(cases)]
+    assert not [o for o in outcomes if o.problems], report(outcomes, hostile_mjcf.CLASSES)
+
+
+def test_a_source_directly_in_the_home_directory_includes_nothing(tmp_path, monkeypatch, capsys):
+    monkeypatch.setenv("HOME", str(tmp_path))
+    (tmp_path / "part.xml").write_text("<mujoco><default/></mujoco>")
+    model = tmp_path / "arm.xml"
+    model.write_text(hostile_mjcf.arm(head='<include file="part.xml"/>'))
+    assert main(["info", str(model)]) == 2
+    err = capsys.readouterr().err
+    assert f"the SOURCE lies directly in {tmp_path}" in err and err.count("\n") == 1
+    (tmp_path / "robot").mkdir()  # in a directory of its own, it reads its tree
+    (tmp_path / "robot" / "part.xml").write_text("<mujoco><default/></mujoco>")
+    (tmp_path / "robot" / "arm.xml").write_text(model.read_text())
+    assert main(["info", str(tmp_path / "robot" / "arm.xml")]) == 0
