@@ -6,6 +6,7 @@ or a bundled robot (:data:`~urdf2dh.io.catalog.ROBOTS`) or reference table
 reader     recognised by                                      module
 =========  =================================================  ===============================
 ``xacro``  the name ending ``.xacro``                         :mod:`.xacro` (expanded to URDF)
+``mjcf``   XML whose root element is ``<mujoco>``             :mod:`.mjcf`
 ``urdf``   XML: the name ending ``.urdf``, or text from ``<``  :mod:`.urdf`
            (a root other than ``<robot>`` is its error)
 ``poe``    a YAML or JSON mapping with ``format: poe``         :mod:`.poefile`
@@ -52,6 +53,7 @@ from .xacro import XacroOptions
 
 if TYPE_CHECKING:
     from ..model.poe import PoeModel
+    from .mjcf import MjcfElements
     from .urdf import UrdfTree
 
 __all__ = [
@@ -87,6 +89,9 @@ class Source:
         The chain itself, for sources without a tree (POE and table files).
     bundled
         The bundled robot it is, if any (its default base and tip).
+    mjcf
+        For an MJCF file: its tree's links and joints as the model's bodies, sites and joints,
+        and the features it uses (what an oracle reading the same file needs).
     """
 
     kind: str
@@ -96,6 +101,7 @@ class Source:
     document: bytes | None = None
     poe: PoeModel | None = None
     bundled: Bundled | None = None
+    mjcf: MjcfElements | None = None
 
     def model(
         self,
@@ -256,6 +262,7 @@ READERS: dict[str, Reader] = {
     r.name: r
     for r in [
         Reader("xacro", "xacro", "xacro file (.xacro)", "xacro", lambda c: c.suffix == ".xacro"),
+        Reader("mjcf", "MJCF", "MJCF (<mujoco>)", "mjcf", lambda c: c.xml_root == "mujoco"),
         Reader(
             "urdf",
             "URDF",
