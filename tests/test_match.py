@@ -100,6 +100,7 @@ SHIPPED = [
     ("ur10-dh", "ur10", {}),
     ("ur10e-dh", UR10E, {"base": "base_link", "tip": "tool0"}),
     ("panda-mdh", "panda", {}),
+    ("panda-mdh", "fr3-mjcf", {}),  # Menagerie's FR3 (MJCF): the Panda's kinematics
     ("puma560-wu2019-dh", "puma560-nominal", {}),
     ("kuka-kr6-r700-sixx-opw", "kuka-kr6-r700-sixx", {}),
     ("fanuc-m20ia-opw", "fanuc-m20ia", {}),
@@ -241,6 +242,17 @@ def test_a_table_of_another_robot_is_no_match_naming_the_joints(tmp_path):
     # a table of another kind of arm: the rows where the geometry differs are named
     other = match("ur5-dh", "kuka-kr6-r700-sixx")
     assert not other.matched and len(other.disagreements) >= 3
+
+
+def test_menageries_ur5e_is_not_urs_table():
+    """MuJoCo Menagerie's UR5e (MJCF) has its own dimensions (a3 0.392 m, d4 0.134 m, d5 0.1 m
+    against UR's 0.3922, 0.1333, 0.0997): no match, those cells named; the words of a
+    near-identity turn are a number, never NaN."""
+    result = match("ur5e-dh", "ur5e-mjcf")
+    assert not result.matched
+    named = {(d.row, d.column) for d in result.disagreements}
+    assert named == {("3", "a"), ("4", "d"), ("5", "d")}
+    assert "nan" not in result.text()
 
 
 def test_another_number_of_joints_is_no_match():

@@ -458,10 +458,9 @@ def _rounded(t: Mat, size: float) -> Mat:
 
     out = t.copy()
     r = t[:3, :3]
-    angle = math.acos(max(-1.0, min(1.0, (float(np.trace(r)) - 1.0) / 2.0)))
+    angle, axis = _turn(r)
     step = math.pi / 12
     if angle > 0.0:
-        axis = _rotation_axis(r, angle)
         nearest = np.round(axis)
         if np.abs(axis - nearest).max() <= MATCH_ROUND_OFF and np.abs(nearest).sum() == 1.0:
             axis = nearest
@@ -653,9 +652,8 @@ def _transform_words(t: Mat, unit: str, size: float) -> str:
         else:
             parts.append("at (" + ", ".join(f"{v:.6g}" for v in p) + f") {unit}")
     r = t[:3, :3]
-    angle = math.acos(max(-1.0, min(1.0, (float(np.trace(r)) - 1.0) / 2.0)))
+    angle, axis = _turn(r)
     if angle > 1e-9:
-        axis = _rotation_axis(r, angle)
         named = [k for k in range(3) if abs(abs(axis[k]) - 1.0) < 1e-9]
         degrees = math.degrees(angle)
         shown_angle = f"{degrees:.0f}" if abs(degrees - round(degrees)) < 1e-7 else f"{degrees:.6g}"
@@ -669,17 +667,20 @@ def _transform_words(t: Mat, unit: str, size: float) -> str:
     return ", ".join(parts)
 
 
-def _rotation_axis(r: Mat, angle: float) -> Mat:
-    if angle < math.pi - 1e-6:
-        v = np.array([r[2, 1] - r[1, 2], r[0, 2] - r[2, 0], r[1, 0] - r[0, 1]])
-        axis: Mat = v / np.linalg.norm(v)
-        return axis
-    # a half turn: the axis is the column of R + I of largest norm
-    m = r + np.eye(3)
-    k = int(np.argmax(np.linalg.norm(m, axis=0)))
-    v = m[:, k] / np.linalg.norm(m[:, k])
-    out: Mat = v if v[np.argmax(np.abs(v))] > 0 else -v
-    return out
+def _turn(r: Mat) -> tuple[float, Mat]:
+    """A rotation's angle in ``[0, pi]`` and its axis (:func:`~urdf2dh.geometry.lie.log_so3`:
+    exact for tiny angles, where ``acos`` of the trace is not); a half turn's axis with its
+    largest component positive."""
+    from ..geometry.lie import log_so3
+
+    w = log_so3(r)
+    angle = float(np.linalg.norm(w))
+    if angle == 0.0:
+        return 0.0, np.array([0.0, 0.0, 1.0])
+    axis: Mat = w / angle
+    if angle > math.pi - 1e-6 and axis[np.argmax(np.abs(axis))] < 0:
+        axis = -axis
+    return angle, axis
 
 
 def _corrected(

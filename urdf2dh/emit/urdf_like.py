@@ -35,6 +35,7 @@ from .._version import __version__
 from ..conventions.table import Check
 from ..errors import ConversionError, ExportError, InputError, shown, visible
 from ..geometry import se3
+from ..geometry.lie import log_so3
 from ..model.poe import PoeModel
 from ..tolerances import DEFAULT, Tolerances
 
@@ -477,7 +478,7 @@ def _moves(
         after = after @ origins.get(j.name, j.origin)
         distance = float(np.linalg.norm(after[:3, 3] - before[:3, 3]))
         m = before[:3, :3].T @ after[:3, :3]
-        angle = math.acos(max(-1.0, min(1.0, (float(np.trace(m)) - 1.0) / 2.0)))
+        angle = float(np.linalg.norm(log_so3(m)))  # exact near 0, where acos(trace) is not
         if distance > 1e-12 * size or angle > 1e-12:
             out.append(LinkMove(j.child, distance, angle, tool))
     return tuple(out)

@@ -41,6 +41,7 @@ from numpy.typing import NDArray
 
 from ..errors import InputError, shown
 from ..geometry import se3
+from ..geometry.lie import log_so3
 from ..tolerances import HASH_DECIMALS
 from .fields import check_number
 
@@ -236,7 +237,7 @@ def _eigen_note(rpy: Mat, eigen: Mat) -> str:
     """What reading the angles as ``ur_macro.xacro`` does, not as ``ur_calibration`` wrote
     them, costs the description: the largest turn between the two readings of a joint origin."""
     turn = max(
-        math.acos(max(-1.0, min(1.0, (float(np.trace(a[:3, :3].T @ b[:3, :3])) - 1.0) / 2.0)))
+        float(np.linalg.norm(log_so3(a[:3, :3].T @ b[:3, :3])))
         for a, b in zip(rpy, eigen, strict=True)
     )
     return (
