@@ -175,6 +175,40 @@ def test_real_calibrations_read_as_the_controller_moves(robot, tmp_path):
     assert pos <= 1e-12 * model.size() and rot <= 1e-12
 
 
+def test_the_shipped_calibration_file_is_the_tests_own():
+    """tests/data/vendor/universal-robots' file (docs/commands/match.md runs it) is this
+    module's kinematics file of the documented UR10e calibration, as ur_calibration writes it."""
+    rows = dh_rows("ur10e", CALIBRATIONS["ur10e-b"])
+    path = (
+        ROOT / "tests" / "data" / "vendor" / "universal-robots" / "ur10e-factory-calibration.yaml"
+    )
+    body = "".join(line for line in path.read_text().splitlines(True) if not line.startswith("#"))
+    assert body == kinematics_file(joint_origins(rows), calib(rows))
+    assert urdf2dh.load(str(path)).warnings == ()  # its hash is the controller table's
+
+
+@pytest.mark.parametrize("robot", sorted(CALIBRATIONS))
+def test_the_nominal_table_against_a_calibration_is_the_nearest_no_match(robot, tmp_path):
+    """UR's published table against one arm's factory calibration: no match (the arm differs
+    by up to ~0.2 deg and ~1 mm), and the best match is the obvious one, no joint turned round
+    and every zero within a degree, the cells named with the source's values near the table's
+    (d of hundreds of metres, D-H's far normals of nearly parallel axes, not shown; said)."""
+    model = robot.partition("-")[0]
+    rows = dh_rows(model, CALIBRATIONS[robot])
+    path = tmp_path / f"{robot}.yaml"
+    path.write_text(kinematics_file(joint_origins(rows), calib(rows)))
+    result = urdf2dh.match(f"{model}-dh", str(path))
+    assert not result.matched and result.convention == "dh"
+    assert [j.sign for j in result.joints] == [1] * 6
+    assert max(abs(j.offset) for j in result.joints) < math.radians(1.0)
+    assert result.residual[0] < 0.01 * result.size
+    assert result.disagreements
+    for d in result.disagreements:
+        limit = math.radians(1.0) if d.column == "alpha" else 0.01
+        assert abs(d.source - d.table) < limit, d
+    assert any("nearly parallel" in note for note in result.notes)
+
+
 @pytest.mark.parametrize("robot", ["ur10e-b", "ur10"])
 def test_the_same_chain_as_the_description_xacro_builds_from_the_file(robot, tmp_path):
     rows = dh_rows(robot.partition("-")[0], CALIBRATIONS[robot])

@@ -40,13 +40,25 @@ from numpy.typing import NDArray
 
 from ..geometry.frames import wrap_angle
 from ..model.poe import PoeModel
+from ..tolerances import DIFF_PARALLEL_DEG
 
-__all__ = ["BEAM", "Fit", "LinkEquation", "Mismatch", "Tolerance", "fit_lines", "link_equations"]
+__all__ = [
+    "BEAM",
+    "DISAGREEING",
+    "Fit",
+    "LinkEquation",
+    "Mismatch",
+    "Tolerance",
+    "fit_lines",
+    "link_equations",
+]
 
 Mat = NDArray[np.float64]
 
 #: Partial chains kept at each link of the search (the best by mismatch).
 BEAM = 128
+#: Fits returned where no way of laying the chains agrees (the best by their links' mismatch).
+DISAGREEING = 4
 # A free slide is pulled towards 0 with this weight (against 1 for the links' equations), so
 # that it is 0 where nothing fixes it and anything where something does.
 _WEAK = 1e-6
@@ -54,6 +66,11 @@ _WEAK = 1e-6
 # parallel axes is the same as the offset, the base or tool takes it.
 _PREFER = 1e-3
 _FLIP = np.diag([1.0, -1.0, -1.0, 1.0])  # Rx(pi)
+# Axes this close to (anti-)parallel (rad) in a link where the chains disagree anyway are
+# compared as parallel ones (where each crosses the plane normal to the first axis), not along
+# their common normal: that normal runs off far away for nearly parallel axes (a calibrated
+# robot's: d of hundreds of metres), and with it every angle the link equations give.
+_NEAR_PARALLEL = math.radians(DIFF_PARALLEL_DEG)
 # The refinement's finite-difference step (rad, and x robot size), and the RMS difference below
 # which it stops (float64 forward kinematics is itself good to a few 1e-16).
 _STEP = 1e-7
@@ -182,7 +199,8 @@ def link_equations(g: Mat, h: Mat, tol: Tolerance, positions: bool = True) -> Li
     ug, uh = g[:3, 2], h[:3, 2]
     alpha_g = math.atan2(math.hypot(ug[0], ug[1]), ug[2])  # the angle between the axes
     alpha_h = math.atan2(math.hypot(uh[0], uh[1]), uh[2])
-    if max(_off_parallel(ug), _off_parallel(uh)) <= tol.angle:
+    off = max(_off_parallel(ug), _off_parallel(uh))
+    if off <= tol.angle or (off <= _NEAR_PARALLEL and abs(alpha_g - alpha_h) > tol.angle):
         eps = math.copysign(1.0, uh[2])
         flip_g, flip_h = (0.0 if ug[2] > 0 else math.pi), (0.0 if eps > 0 else math.pi)
         cg, ch = _crossing(g), _crossing(h)
@@ -218,6 +236,13 @@ def link_equations(g: Mat, h: Mat, tol: Tolerance, positions: bool = True) -> Li
                         (part_g[2], part_h[2]), (part_g[3], part_h[3]))  # fmt: skip
 
 
+def _level(cost: float) -> float:
+    """A disagreement to 9 significant digits: costs equal but for round-off (a flipped joint
+    whose links' angles and distances are the same, as a right angle's are) tie, and the
+    fewer flips win."""
+    return float(f"{cost:.9g}")
+
+
 @dataclass(frozen=True, slots=True)
 class _Partial:
     signs: tuple[int, ...]
@@ -227,7 +252,9 @@ class _Partial:
 
 def fit_lines(table: PoeModel, source: PoeModel, tol: Tolerance, beam: int = BEAM) -> list[Fit]:
     """The ways of laying ``table`` onto ``source`` (same number of joints), best first: every
-    one whose links all agree within ``tol``, or else the best one found.
+    one whose links all agree within ``tol``, or else the :data:`DISAGREEING` best found (by
+    their links' disagreement: directions that differ little there, as near-parallel axes'
+    do, are told apart by the refinement's residual).
 
     Each :class:`Fit` holds directions, offsets, base and tool solved in closed form and by
     linear least squares from the link equations (the module docstring); it is exact where
@@ -250,12 +277,12 @@ def fit_lines(table: PoeModel, source: PoeModel, tol: Tolerance, beam: int = BEA
                 eq = link_equations(g, gs[i], tol, not (prismatic[i - 1] or prismatic[i]))
                 cost = p.cost + max(eq.mismatch(tol) - 1.0, 0.0)
                 grown.append(_Partial((*p.signs, s), (*p.equations, eq), cost))
-        grown.sort(key=lambda p: (p.cost, sum(s < 0 for s in p.signs)))
+        grown.sort(key=lambda p: (_level(p.cost), sum(s < 0 for s in p.signs)))
         partials = grown[:beam]
-    agreeing = [p for p in partials if p.cost == 0.0] or partials[:1]
+    agreeing = [p for p in partials if p.cost == 0.0] or partials[:DISAGREEING]
     fits = [_solve(p, ga, gs, source, tol, flips) for p in agreeing]
-    fits.sort(key=lambda f: (f.cost, sum(s < 0 for s in f.signs)))
-    return [f for f in fits if f.cost == 0.0] or fits[:1]
+    fits.sort(key=lambda f: (_level(f.cost), sum(s < 0 for s in f.signs)))
+    return [f for f in fits if f.cost == 0.0] or fits
 
 
 def _solve(

@@ -29,7 +29,7 @@ from ..errors import InputError, UsageError, choices, shown, visible
 from ..geometry import frames
 from ..io.readings import Reading, readings
 from ..model.poe import PoeModel
-from ..tolerances import DEFAULT, MATCH_ROUND_OFF, Tolerances
+from ..tolerances import DEFAULT, DIFF_PARALLEL_DEG, MATCH_ROUND_OFF, Tolerances
 from . import chainfit
 from .chainfit import Fit, Mismatch, Tolerance
 
@@ -40,6 +40,8 @@ Mat = NDArray[np.float64]
 CHECK_SAMPLES = 200  # configurations the residual and the precision bound are measured at
 FIT_SAMPLES = 24  # configurations the refinement fits
 FITS = 4  # of each reading's fits that agree link by link (symmetries), the best refined
+NEAREST = 6  # candidates refined where nothing matches (the best match shown)
+AS_NEAR = 2.0  # ... residuals this many times the least are as near: the fewest changes wins
 _COLUMN = {"angle": "alpha", "distance": "a", "offset": "d", "turn": "theta"}
 
 
@@ -389,10 +391,35 @@ def _best(
         found = " or ".join(str(c) for c in sorted(counts))
         return _unmatched(display, source, samples, found)
     best = min(candidates, key=lambda c: c.rank(size))
+    if not best.matched:
+        best = _nearest(candidates, source, q_fit, q_check, target)
     best = _judged(best.reading, best.model, best.fit, source, q_check, target)
     if best.matched:
         best = _snapped(best, source, q_fit, q_check, target)
     return _result(display, source, best, tol, samples, file_convention)
+
+
+def _nearest(
+    candidates: list[_Candidate], source: PoeModel, q_fit: Mat, q_check: Mat, target: Mat
+) -> _Candidate:
+    """The best match where nothing matches: the :data:`NEAREST` candidates whose links
+    disagree least placed and refined, then the one with the smallest residual, or, among
+    those within :data:`AS_NEAR` times it, the one with the fewest changes."""
+    size = source.size()
+    fit_target = source.fk_batch(q_fit)
+    leading = sorted(candidates, key=lambda c: c.rank(size))[:NEAREST]
+    refined = []
+    for c in leading:
+        placed = chainfit.place(c.model, source, c.fit, q_fit)
+        fit = chainfit.refine(c.model, source, placed, q_fit)
+        if _badness(fit, c.model, source, q_fit, fit_target, size) > _badness(
+            c.fit, c.model, source, q_fit, fit_target, size
+        ):
+            fit = c.fit  # the refinement went astray: the fit of the links' equations
+        refined.append(_judged(c.reading, c.model, fit, source, q_check, target, False))
+    least = min(c.rank(size)[-1] for c in refined)
+    near = [c for c in refined if c.rank(size)[-1] <= AS_NEAR * least]
+    return min(near, key=lambda c: c.rank(size)[2:])
 
 
 def _badness(
@@ -560,6 +587,7 @@ def _result(
     if not best.matched:
         disagreements = _cell_disagreements(best, corrected, source) or _disagreements(
             best, corrected, rows, source)  # fmt: skip
+        notes += _near_parallel_note(best, source)
     source_name = f"{source.name or source.source} ({source.base_link} -> {source.tip_link})"
     description = reading.describe() if reading is not None else "the file's own chain"
     return Match(
@@ -726,6 +754,36 @@ def _model_frames(model: PoeModel, q: Mat) -> list[Mat]:
     return out
 
 
+def _near_parallel(best: _Candidate, source: PoeModel) -> list[tuple[int, float]]:
+    """The links (0-based, with the source's angle between its axes) whose axes are within
+    :data:`~urdf2dh.tolerances.DIFF_PARALLEL_DEG` of (anti-)parallel in the source or the table
+    but not parallel in both: D-H's common normal runs off there (a calibrated robot's d of
+    hundreds of metres), and with it d and a."""
+    out = []
+    for link in range(source.n - 1):
+        angles = []
+        for model in (source, best.model):
+            u, v = model.joints[link].axis, model.joints[link + 1].axis
+            angles.append(math.atan2(float(np.linalg.norm(np.cross(u, v))), abs(float(u @ v))))
+        near = max(angles) <= math.radians(DIFF_PARALLEL_DEG)
+        if near and max(angles) > MATCH_ROUND_OFF:
+            out.append((link, angles[0]))
+    return out
+
+
+def _near_parallel_note(best: _Candidate, source: PoeModel) -> tuple[str, ...]:
+    links = _near_parallel(best, source)
+    if not links or best.reading is None:
+        return ()
+    pairs = ", ".join(f"{k + 1} and {k + 2} ({math.degrees(a):.3g} deg)" for k, a in links)
+    return (
+        f"joints {pairs} are nearly parallel in the source (or the table) but not parallel in "
+        "both: D-H's common normal runs off there, and d and a with it (Wu 2019 sec. V-B); their "
+        "distance is compared where the second axis crosses the plane normal to the first, d "
+        "next to them not at all",
+    )
+
+
 def _cell_disagreements(
     best: _Candidate, corrected: Table | None, source: PoeModel
 ) -> list[Disagreement]:
@@ -733,7 +791,9 @@ def _cell_disagreements(
     cell's value is SOURCE's own geometry: the angle and distance between consecutive axes, and
     the distance along an axis between its neighbours' normals; theta is a joint's zero and the
     first and last rows' lengths the base's and tool's, so they are not compared. Cells that
-    differ by more than twice their written step are disagreements."""
+    differ by more than twice their written step are disagreements. Next to nearly parallel
+    axes (:func:`_near_parallel`) the distance is the link equations' (where the second axis
+    crosses the plane normal to the first) and d is not compared."""
     reading = best.reading
     if reading is None or corrected is None:
         return []
@@ -742,13 +802,15 @@ def _cell_disagreements(
         return []  # fixed rows between joints: no row-by-row layout
     n, size = source.n, source.size()
     sliding = [j.kind == "prismatic" for j in source.joints]
+    near = {k for k, _ in _near_parallel(best, source)}
+    equations = best.fit.equations
     out = []
     for k in range(n):
         link = k if reading.convention == "dh" else k - 1  # the link a row's alpha and a hold
         cells = []
         if 0 <= link < n - 1 and not (sliding[link] or sliding[link + 1]):
             cells += ["alpha", "a"]
-        if 0 < k < n - 1 and not any(sliding[k - 1 : k + 2]):
+        if 0 < k < n - 1 and not any(sliding[k - 1 : k + 2]) and not {k - 1, k} & near:
             cells.append("d")
         params = corrected.rows[k].params.values()
         for column in cells:
@@ -756,6 +818,8 @@ def _cell_disagreements(
             table_value = float(reading.values[rows[k], j])
             value = params[column]
             assert isinstance(value, float)
+            if column == "a" and link in near and link < len(equations):
+                value = math.copysign(equations[link].a[1], table_value)
             floor = MATCH_ROUND_OFF * (1.0 if column == "alpha" else size)
             difference = table_value - value
             if column == "alpha":
