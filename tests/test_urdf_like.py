@@ -211,6 +211,8 @@ def run(*args):
 def test_cli(tmp_path):
     proc = run("convert", "ur5", "--like", "ur5", "--format", "csv")
     assert proc.returncode == 2 and "--like writes a URDF" in proc.stderr
+    proc = run("convert", "ur5", "--like", "", "--format", "urdf")  # not taken for no --like
+    assert proc.returncode == 2 and "--like: NOMINAL is empty" in proc.stderr and not proc.stdout
     out = tmp_path / "cal.urdf"
     proc = run("calibrate", NOMINAL, str(UR10 / "ur10_pose_fit.csv"), "--tip", "tool0",
                "--like", NOMINAL, "--frame", "device", "-o", str(out))  # fmt: skip

@@ -211,9 +211,12 @@ def like(args: argparse.Namespace, model: PoeModel, tol: Tolerances) -> str:
 
 
 def check_like(args: argparse.Namespace, default: str = "text") -> None:
-    """``--like`` writes a URDF: with ``--format urdf`` (or none given)."""
+    """``--like`` writes a URDF: with ``--format urdf`` (or none given), into a NOMINAL that is
+    named (an empty one is not taken for none)."""
     from ..errors import UsageError
 
+    if args.like == "":
+        raise UsageError("--like: NOMINAL is empty (the path of the URDF to write into)")
     if args.like and args.format not in ("urdf", default):
         raise UsageError(f"--like writes a URDF: --format urdf, not {args.format}")
 

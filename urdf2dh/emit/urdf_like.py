@@ -106,7 +106,7 @@ class UrdfLike:
         moved = (
             ""
             if far is None or turned is None
-            else f"; the arm's links moved at most {far.distance:.3g} ({visible(far.link)}) "
+            else f"; the arm's links moved at most {far.distance:.3g} m ({visible(far.link)}) "
             f"and {math.degrees(turned.angle):.3g} deg ({visible(turned.link)})"
         )
         tool = f"; {visible(self.tool_joint)} takes the tool" if self.tool_joint else ""
@@ -172,6 +172,7 @@ def urdf_like(
     tip = check_optional_name(tip, "urdf_like: tip")
     check_count(samples, "urdf_like: samples")
     source = open_source(nominal, tol, xacro=xacro)
+    nominal = source.display  # as messages and comments show it (one line, visible)
     if source.tree is None or source.document is None:
         raise InputError(
             f"{nominal}: --like takes a URDF (or xacro file), not a {source.kind} file"
