@@ -321,9 +321,9 @@ class Diff:
 
             return json.dumps(self.to_dict(), indent=2) + "\n"
         if fmt != "text":
-            raise UsageError(
-                f"unknown diff format {shown(fmt)}; valid: {choices(('text', 'json'))}"
-            )
+            from ..emit.formats import DIFF_FORMATS
+
+            raise UsageError(f"unknown diff format {shown(fmt)}; valid: {choices(DIFF_FORMATS)}")
         return _text(self)
 
     def _repr_markdown_(self) -> str:

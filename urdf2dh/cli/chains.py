@@ -33,6 +33,7 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from ..emit.formats import SUFFIXES
 from ..errors import ChainError, Urdf2DhError, UsageError, shown
 from ..io.files import write_directory
 from ..tolerances import JOINTS
@@ -68,15 +69,7 @@ __all__ = [
 ]
 
 #: ``convert --format`` -> the suffix of each file in ``-o DIR``.
-FORMAT_SUFFIXES = {
-    "text": ".txt",
-    "json": ".json",
-    "yaml": ".yaml",
-    "csv": ".csv",
-    "markdown": ".md",
-    "urdf": ".urdf",
-    "poe": ".poe.yaml",
-}
+FORMAT_SUFFIXES = {fmt: suffixes[0] for fmt, suffixes in SUFFIXES.items()}
 
 #: Formats that hold several tables on stdout (the others need ``-o DIR``).
 STDOUT_FORMATS = ("text", "markdown", "json", "yaml")

@@ -26,9 +26,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         default=NAMES[0],
         help="parameter convention (default %(default)s)",
     )
-    p.add_argument(
-        "--format", choices=FORMATS, default="text", help="output format (default %(default)s)"
-    )
+    options.add_format(p, FORMATS)
     p.add_argument(
         "--style",
         choices=STYLES,
@@ -50,8 +48,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from ..conventions.convert import to_table
-    from ..emit.formats import render
+    from ..emit.formats import FORMATS, render
 
+    args.format = options.output_format(args, FORMATS)  # before anything is read
     tol = options.tolerances(args)
     if several_of(args):
         return _convert_tips(args)
