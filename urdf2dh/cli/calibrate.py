@@ -67,8 +67,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         "--convention",
         choices=(*NAMES, "poe"),
         default=None,
-        help="convention of the output (default: dh where it is exact and sane, else hayati); "
-        "poe writes a POE model file",
+        help="convention of the output (default dh, or hayati where a D-H table is not the one "
+        "to write: docs/parallel-axes.md); poe writes a POE model file",
     )
     options.add_format(p, FORMATS, "; with --convention poe: yaml or json")
     p.add_argument("--style", choices=STYLES, default="wu", help="D-H choices (see convert)")
