@@ -34,7 +34,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from ..emit.formats import SUFFIXES
-from ..errors import ChainError, Urdf2DhError, UsageError, shown
+from ..errors import ChainError, Urdf2DhError, UsageError, near, shown
 from ..io.files import write_directory
 from ..tolerances import JOINTS
 
@@ -121,7 +121,8 @@ def chain_tips(
         from ..io.urdf.tree import names
 
         raise ChainError(
-            f"{tree.path}: unknown base link {shown(base)}; links are {names(tree.links)}"
+            f"{tree.path}: unknown base link {shown(base)}{near(base, tree.links)}; links are "
+            f"{names(tree.links)}"
         )
     if not all_tips:
         chosen = list(tips or ())

@@ -8,9 +8,11 @@ from __future__ import annotations
 
 import argparse
 import sys
+from collections.abc import Sequence
 from typing import Any, Protocol
 
 from .. import _version
+from ..errors import near
 from ..io.files import drop_stdout, write_stdout
 
 __all__ = ["RUNS_ON", "ArgumentParser", "Command", "get_argument_parser", "version_text"]
@@ -63,8 +65,44 @@ class _Version(argparse.Action):
 class ArgumentParser(argparse.ArgumentParser):
     """argparse's parser, except that help, usage and version text that cannot be written to
     stdout (a full disk, ``> /dev/full``) is an error, as any other failed write
-    (:func:`urdf2dh.io.files.write_stdout`); argparse itself ignores it. Every command's parser is
-    one (``add_subparsers`` makes its parsers of the parent's class)."""
+    (:func:`urdf2dh.io.files.write_stdout`); argparse itself ignores it; and that a misspelled
+    command, choice or option is answered with the closest valid ones ("did you mean ...?").
+    Every command's parser is one (``add_subparsers`` makes its parsers of the parent's
+    class)."""
+
+    def _check_value(self, action: argparse.Action, value: Any) -> None:
+        # argparse's check of a value against the choices (commands, conventions, formats, ...)
+        if action.choices is None or value in action.choices:
+            return
+        listed = ", ".join(map(repr, action.choices))
+        hint = near(str(value), [str(c) for c in action.choices])
+        raise argparse.ArgumentError(
+            action, f"invalid choice: {value!r}{hint} (choose from {listed})"
+        )
+
+    def parse_args(  # type: ignore[override]
+        self, args: Sequence[str] | None = None, namespace: argparse.Namespace | None = None
+    ) -> argparse.Namespace:
+        parsed, extras = self.parse_known_args(args, namespace)
+        if extras:
+            parser = self._command_parser(parsed)
+            options = [o for o in parser._option_string_actions if o.startswith("--")]
+            hints = "".join(
+                near(extra.split("=", 1)[0], options, quoted=False)
+                for extra in extras
+                if extra.startswith("--")
+            )
+            parser.error(f"unrecognized arguments: {' '.join(extras)}{hints}")
+        return parsed
+
+    def _command_parser(self, parsed: argparse.Namespace) -> argparse.ArgumentParser:
+        """The parser of the command ``parsed`` names (this one where it names none)."""
+        for action in self._actions:
+            if isinstance(action, argparse._SubParsersAction):
+                found = action.choices.get(getattr(parsed, "command", None) or "")
+                if isinstance(found, argparse.ArgumentParser):
+                    return found
+        return self
 
     def _print_message(self, message: str, file: Any = None) -> None:
         # the one place argparse writes: help, usage, --version and its error messages

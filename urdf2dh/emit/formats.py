@@ -18,7 +18,7 @@ import json
 from typing import TYPE_CHECKING
 
 from ..conventions.grid import flat_columns, markdown, records, text
-from ..errors import UsageError, choices
+from ..errors import UsageError, choices, near
 from ..escape import csv_cell
 
 if TYPE_CHECKING:
@@ -109,7 +109,7 @@ def render(table: Table, fmt: str) -> str:
 
         tree = poe_to_dict(table.to_poe())
         return str(yaml.safe_dump(tree, sort_keys=False, default_flow_style=None))
-    raise UsageError(f"unknown format '{fmt}'; valid: {choices(FORMATS)}")
+    raise UsageError(f"unknown format '{fmt}'{near(fmt, FORMATS)}; valid: {choices(FORMATS)}")
 
 
 def _csv(table: Table) -> str:

@@ -13,7 +13,7 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 
 from ..checks import check_flag, check_instance, check_optional_name, check_source
-from ..errors import SHOWN_LENGTH, InputError, SourceError, UsageError, choices, shown
+from ..errors import SHOWN_LENGTH, InputError, SourceError, UsageError, choices, near, shown
 from ..model.poe import PoeModel
 from ..schemas import TABLE_FILE as SCHEMA
 from ..tolerances import DEFAULT, Tolerances
@@ -131,7 +131,8 @@ def open_source(
         shortened = source if len(source) <= SHOWN_LENGTH else shown(source)
         raise SourceError(f"{shortened}: no such file")
     raise SourceError(
-        f"{shown(source)} is neither a file nor a bundled robot; bundled robots are "
+        f"{shown(source)} is neither a file nor a bundled robot{near(source, ROBOTS)}; bundled "
+        "robots are "
         f"{choices(ROBOTS, limit=30)}"
     )
 

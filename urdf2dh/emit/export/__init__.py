@@ -28,7 +28,7 @@ import importlib
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
-from ...errors import UsageError, choices
+from ...errors import UsageError, choices, near
 
 if TYPE_CHECKING:
     from ...conventions.table import Table
@@ -138,7 +138,9 @@ TARGETS: dict[str, Target] = {
 
 def _target(name: str) -> Target:
     if name not in TARGETS:
-        raise UsageError(f"unknown export target '{name}'; valid: {choices(TARGETS)}")
+        raise UsageError(
+            f"unknown export target '{name}'{near(name, TARGETS)}; valid: {choices(TARGETS)}"
+        )
     return TARGETS[name]
 
 
