@@ -326,6 +326,16 @@ class Diff:
             raise UsageError(f"unknown diff format {shown(fmt)}; valid: {choices(DIFF_FORMATS)}")
         return _text(self)
 
+    def __str__(self) -> str:
+        """The report as ``urdf2dh diff`` prints it."""
+        return _text(self)
+
+    def __repr__(self) -> str:
+        return (
+            f"<Diff {self.convention}: {shown(self.nominal)} -> {shown(self.actual)}, "
+            f"{self.marked} of {len(self.changes)} parameters marked>"
+        )
+
     def _repr_markdown_(self) -> str:
         """In a notebook: the changed parameters as a table, marked ones in bold (names
         escaped)."""
