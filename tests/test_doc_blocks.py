@@ -35,7 +35,11 @@ from markdown_it import MarkdownIt
 from test_docs_site import _nav_pages
 
 ROOT = Path(__file__).resolve().parents[1]
-DOCS = [ROOT / "README.md", *sorted((ROOT / "docs").rglob("*.md"))]
+GALLERY = ROOT / "docs" / "gallery"  # its examples run in tests/test_gallery.py, output checked
+DOCS = [
+    ROOT / "README.md",
+    *sorted(p for p in (ROOT / "docs").rglob("*.md") if GALLERY not in p.parents),
+]
 RUN = ("bash", "python")
 LINKED = ("tests", "examples", "robots", "scripts", "benchmarks", "docs")
 OPTIONAL = {"PyKDL": "Debian's python3-pykdl"}  # consumers the test extra does not install
@@ -191,6 +195,8 @@ def test_the_blocks_are_found():
 
 
 def test_every_page_of_the_site_is_run():
-    """Every page the site builds (mkdocs.yml's nav) is one whose blocks this module runs."""
+    """Every page the site builds (mkdocs.yml's nav) is one whose blocks this module runs, or
+    one of the gallery's (tests/test_gallery.py runs them)."""
     nav = _nav_pages(yaml.safe_load((ROOT / "mkdocs.yml").read_text())["nav"])
-    assert {ROOT / "docs" / page for page in nav} <= set(DOCS)
+    gallery = set(GALLERY.glob("*.md"))
+    assert {ROOT / "docs" / page for page in nav} <= set(DOCS) | gallery
