@@ -15,7 +15,14 @@ from .. import _version
 from ..errors import near
 from ..io.files import drop_stdout, write_stdout
 
-__all__ = ["RUNS_ON", "ArgumentParser", "Command", "get_argument_parser", "version_text"]
+__all__ = [
+    "RUNS_ON",
+    "ArgumentParser",
+    "Command",
+    "command_of",
+    "get_argument_parser",
+    "version_text",
+]
 
 #: What ``--version`` names besides urdf2dh: the distributions it runs on (PyPI names; the
 #: Pinocchio wheel is ``pin``).
@@ -133,9 +140,17 @@ def commands() -> tuple[Command, ...]:
     return convert, verify, diff, info, export, plot, robots, measure, calibrate, plan
 
 
-def get_argument_parser() -> argparse.ArgumentParser:
+def command_of(argv: list[str]) -> str:
+    """The command a command line names: its first argument, unless that is an option (``""``:
+    then no command's options are needed, or all are, for ``--help``)."""
+    return argv[0] if argv and not argv[0].startswith("-") else ""
+
+
+def get_argument_parser(only: str | None = None) -> argparse.ArgumentParser:
     """The argument parser of the ``urdf2dh`` command; each command's parser holds the function
-    that runs it (``args.run``)."""
+    that runs it (``args.run``). With ``only``, the options of that command alone are declared
+    (a run parses one command's: :func:`urdf2dh.cli.run.main` builds no other's); every command
+    is listed all the same."""
     parser = ArgumentParser(
         prog="urdf2dh",
         description="Turn a robot's URDF (or POE model) into exact Denavit-Hartenberg, "
@@ -150,6 +165,7 @@ def get_argument_parser() -> argparse.ArgumentParser:
             epilog=f"example:\n  {command.EXAMPLE}",
             formatter_class=argparse.RawDescriptionHelpFormatter,  # the example on its own line
         )
-        command.add_arguments(p)
+        if only is None or only == command.NAME:
+            command.add_arguments(p)
         p.set_defaults(run=command.run)
     return parser
