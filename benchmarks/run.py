@@ -398,6 +398,10 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     quick = args.quick
     compileall.compile_dir(ROOT / "urdf2dh", quiet=1)  # the bytecode `pip install` writes
+    # the new processes run this checkout's urdf2dh, whatever else is installed
+    os.environ["PYTHONPATH"] = os.pathsep.join(
+        filter(None, [str(ROOT), os.environ.get("PYTHONPATH")])
+    )
     print(
         f"# urdf2dh benchmark{' (quick)' if quick else ''}\n\nPython {platform.python_version()}"
         f", Pinocchio {pin.__version__}, yourdfpy {yourdfpy.__version__}, numpy "

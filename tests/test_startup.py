@@ -68,3 +68,4 @@ def test_convert_imports_neither_pinocchio_nor_trimesh(argv):
 def test_verify_does_import_pinocchio():
     code, heavy = imported("verify", "ur5", "--samples", "10")
     assert code == 0 and "pinocchio" in heavy
+    assert set(heavy).isdisjoint(set(NOT_FOR_CONVERT) - {"pinocchio"}), heavy
