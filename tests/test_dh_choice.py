@@ -5,11 +5,12 @@ what the program prints."""
 from __future__ import annotations
 
 import re
-import shlex
+import subprocess
 from pathlib import Path
 
 import numpy as np
 import pytest
+from test_doc_blocks import _workspace
 
 import urdf2dh
 from urdf2dh.calibration.report import output_table
@@ -68,20 +69,31 @@ def test_convert_writes_hayati_where_dh_is_not_the_table_to_write(angle, tmp_pat
 
 @pytest.mark.parametrize("target", sorted(t for t in TARGETS if not TARGETS[t].reads_model))
 def test_every_export_applies_the_rule(target, tmp_path, capsys):
-    source = arm(tmp_path, 0.01)
+    """rtb writes its Hayati robot; a target of D-H tables only writes the far rows (exact) with
+    the reason in its header, and refuses the table that deviates beyond what was asked."""
+    convention = TARGETS[target].conventions[0]
     out = tmp_path / f"x{TARGETS[target].suffix}"
-    code = main(["export", source, "--to", target, "-o", str(out)])
+    code = main(["export", arm(tmp_path, 0.01), "--to", target, "-o", str(out)])
     err = capsys.readouterr().err
     if "hayati" in TARGETS[target].conventions:  # rtb: its Hayati robot
         assert code == 0 and "Hayati" in out.read_text()
-    else:
-        assert code == 2 and not out.exists()
-        convention = TARGETS[target].conventions[0]
-        assert f"{convention} would put row 'j1' 29.8 m away" in err
-        assert err.rstrip().endswith(f"--convention {convention} writes it all the same"), err
-        code = main(["export", source, "--to", target, "--convention", convention])
-        err = capsys.readouterr().err
-        assert code == 0 or (target == "ur" and "a UR arm has 6 joints" in err), err
+        return
+    if target == "ur":  # a UR arm has 6 joints: refused for that before anything else
+        assert code == 2 and "a UR arm has 6 joints" in err
+        return
+    assert code == 0, err
+    assert (
+        f"{convention} would put row 'j1' 29.8 m away (d), 51 times the robot's size; written in "
+        f"{convention} all the same: the reader takes D-H tables only, and this one is exact"
+    ) in out.read_text()
+    out.unlink()
+    assert main(["export", arm(tmp_path, 2e-4), "--to", target, "-o", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert f"{convention} would treat 'j1' and 'j2', 0.0002 rad from parallel" in err
+    assert err.rstrip().endswith(f"--convention {convention} writes it all the same"), err
+    assert not out.exists()
+    assert main(["export", arm(tmp_path, 2e-4), "--to", target, "--convention", convention]) == 0
+    capsys.readouterr()
 
 
 def test_calibrate_chooses_by_the_same_rule(tmp_path):
@@ -104,18 +116,21 @@ def test_every_bundled_robot_keeps_its_d_h_tables(robot):
         assert objection(model, table, DEFAULT) is None, robot
 
 
-def test_the_page_shows_what_the_program_prints(tmp_path, monkeypatch, capsys):
+def test_the_page_shows_what_the_program_prints(tmp_path):
     """docs/parallel-axes.md's block under "When D-H is not the table to write": each line of
     its output block is a line the commands above it print."""
     page = (ROOT / "docs" / "parallel-axes.md").read_text()
     section = page.split("## When D-H is not the table to write", 1)[1].split("\n## ", 1)[0]
     commands = re.search(r"```bash\n(.*?)```", section, re.S)[1]
     shown = re.search(r"```text\n(.*?)```", section, re.S)[1].splitlines()
-    monkeypatch.chdir(tmp_path)
-    printed = []
-    for line in commands.splitlines():
-        argv = shlex.split(line.split("||")[0], comments=True)
-        main(argv[1:])
-        out, err = capsys.readouterr()
-        printed += out.splitlines() + err.splitlines()
+    proc = subprocess.run(
+        ["bash", "-euo", "pipefail", "-c", commands],
+        cwd=tmp_path,
+        env=_workspace(tmp_path),
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    assert proc.returncode == 0, proc.stderr
+    printed = (proc.stdout + proc.stderr).splitlines()
     assert shown and all(line in printed for line in shown), (shown, printed)

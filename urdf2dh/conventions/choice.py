@@ -13,8 +13,10 @@ as parallel, with their deviation declared). It is not the table to write when
   beyond what was asked for.
 
 Then :func:`choose` writes the ``hayati`` table instead (exact, every length within the
-geometry's own distances) where the reader takes one, and an export target that reads D-H only
-refuses the chain. A convention asked for by name is written as asked.
+geometry's own distances) where the reader takes one. A reader of D-H tables only (most export
+targets) gets the D-H table of far rows all the same, which is exact, with the reason among its
+warnings, and is refused the one that deviates beyond what was asked (:attr:`Objection.exact`).
+A convention asked for by name is written as asked.
 """
 
 from __future__ import annotations
@@ -30,21 +32,34 @@ if TYPE_CHECKING:
     from ..tolerances import Tolerances
     from .table import Table
 
-__all__ = ["D_H", "FALLBACK", "Choice", "choose", "objection"]
+__all__ = ["D_H", "FALLBACK", "Choice", "Objection", "choose", "objection"]
 
 D_H = ("dh", "mdh")  # the conventions built on common normals, which the rule judges
 FALLBACK = "hayati"  # exact where D-H is not, with every length within the geometry's own
 
 
 @dataclass(frozen=True, slots=True)
+class Objection:
+    """Why a D-H table is not the one to write; ``exact``: whether it is exact all the same
+    (rows far away, within the bound it declares), or deviates beyond what was asked."""
+
+    reason: str
+    exact: bool
+
+
+@dataclass(frozen=True, slots=True)
 class Choice:
-    """The table to write, and why it is not the one first in line (``None``: it is)."""
+    """The table to write; ``objection`` to the one first in line (``None``: none), and
+    ``reason``, what the table's first warning says of it (``None``: nothing)."""
 
     table: Table
+    objection: Objection | None
     reason: str | None
 
 
-def objection(model: PoeModel, table: Table, tol: Tolerances, style: str = "wu") -> str | None:
+def objection(
+    model: PoeModel, table: Table, tol: Tolerances, style: str = "wu"
+) -> Objection | None:
     """Why ``table`` (of ``model``, in ``style``) is not the table to write, or ``None`` (module
     docstring); tables of conventions other than ``dh`` and ``mdh`` have none."""
     if table.convention not in D_H:
@@ -54,9 +69,10 @@ def objection(model: PoeModel, table: Table, tol: Tolerances, style: str = "wu")
     for row in table.rows:
         for key, value in row.params.scalars().items():
             if key in ("d", "a") and abs(value) > far:
-                return (
+                return Objection(
                     f"{name} would put row {visible(row.name)!r} {abs(value):.3g} {unit} away "
-                    f"({key}), {abs(value) / size:.3g} times the robot's size"
+                    f"({key}), {abs(value) / size:.3g} times the robot's size",
+                    True,
                 )
     _, result = build_table(model, name, tol, style)
     unasked = tuple(
@@ -65,10 +81,11 @@ def objection(model: PoeModel, table: Table, tol: Tolerances, style: str = "wu")
     pos, rot = deviation_bound(unasked, model.reach() + model.travel())
     if unasked and (pos > tol.report * size or rot > tol.report):
         j = max(unasked, key=lambda j: j.angle)
-        return (
+        return Objection(
             f"{name} would treat {visible(j.first)!r} and {visible(j.second)!r}, "
             f"{j.angle:.3g} rad from parallel (beyond --parallel-angle {tol.parallel_angle:g}), "
-            f"as parallel: a deviation of up to {pos:.3g} {unit}, {rot:.3g} rad"
+            f"as parallel: a deviation of up to {pos:.3g} {unit}, {rot:.3g} rad",
+            False,
         )
     return None
 
@@ -83,7 +100,8 @@ def choose(
 ) -> Choice:
     """The table of ``convention`` (the reader's first), unless :func:`objection` has one: then
     the ``fallback`` table (``hayati``), or with ``fallback=None`` (a reader of D-H only) the
-    ``convention``'s table all the same, with the reason, for the reader to refuse it.
+    ``convention``'s table all the same, the reason its first warning where it is exact (the
+    reader refuses it where it is not).
 
     Raises
     ------
@@ -92,12 +110,20 @@ def choose(
     """
     table = to_table(model, convention, tol, samples=samples, style=style)
     problem = objection(model, table, tol, style)
-    if problem is None or fallback is None:
-        return Choice(table, problem)
+    if problem is None:
+        return Choice(table, None, None)
+    if fallback is None:
+        if not problem.exact:
+            return Choice(table, problem, None)
+        reason = (
+            f"{problem.reason}; written in {convention} all the same: the reader takes D-H "
+            "tables only, and this one is exact"
+        )
+        return Choice(replace(table, warnings=(reason, *table.warnings)), problem, reason)
     chosen = to_table(model, fallback, tol, samples=samples, style="wu")
     reason = (
-        f"written in {fallback}, not {convention}: {problem}; {fallback} is exact and every "
-        f"length stays within the geometry's own distances (--convention {convention} writes "
-        f"{convention} all the same)"
+        f"written in {fallback}, not {convention}: {problem.reason}; {fallback} is exact and "
+        f"every length stays within the geometry's own distances (--convention {convention} "
+        f"writes {convention} all the same)"
     )
-    return Choice(replace(chosen, warnings=(reason, *chosen.warnings)), reason)
+    return Choice(replace(chosen, warnings=(reason, *chosen.warnings)), problem, reason)

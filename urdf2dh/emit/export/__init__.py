@@ -192,7 +192,8 @@ def export(
         The table the target reads (``None``: the target's own, D-H for every target that reads
         a table, unless a D-H table is not the one to write,
         :mod:`urdf2dh.conventions.choice`: then the target's ``hayati`` table where it reads one,
-        else an :class:`~urdf2dh.errors.ExportError` saying why).
+        else the D-H table with the reason among its warnings where it is exact, and an
+        :class:`~urdf2dh.errors.ExportError` saying why where it is not).
     opts
         The length unit of targets that fix one, and the tolerances (:class:`ExportOptions`).
     samples
@@ -211,12 +212,13 @@ def export(
         An unknown target, convention or style, or one the target cannot take.
     ExportError
         A model the target cannot represent (the message says why), or (``convention=None``)
-        one whose D-H table is not the one to write, for a target that reads no other.
+        one whose D-H table deviates beyond what was asked, for a target that reads no other.
     ConversionError
         The table failed its self-check.
     """
     from ...checks import check_count, check_instance
     from ...conventions.choice import FALLBACK, choose
+    from ...conventions.convert import to_table
     from ...errors import ExportError, Remedy
     from ...model.poe import PoeModel
     from .common import ExportOptions
@@ -232,11 +234,14 @@ def export(
     if t.reads_model:
         return t.render_model(model, opts, samples)
     fallback = FALLBACK if asked is None and FALLBACK in t.conventions else None
+    if asked is not None:
+        table = to_table(model, convention, opts.tol, samples=samples, style=style)
+        return export_table(table, target, opts)
     chosen = choose(model, convention, opts.tol, samples, style, fallback)
-    if asked is None and chosen.reason is not None and fallback is None:
+    if chosen.objection is not None and not chosen.objection.exact and fallback is None:
         raise ExportError(
             f"export target {target} reads {' and '.join(t.conventions)} tables, and "
-            f"{chosen.reason}",
+            f"{chosen.objection.reason}",
             remedy=Remedy("convention", "; {} writes it all the same", convention),
         )
     return export_table(chosen.table, target, opts)
