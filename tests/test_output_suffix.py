@@ -103,3 +103,13 @@ def test_calibrate_writes_the_table_file_its_name_says(tmp_path, capsys):
     argv = ["calibrate", "puma560-nominal", str(m), "--identify", "offsets", "-o", str(poe)]
     assert main([*argv, "--convention", "poe", "--format", "yaml"]) == 0
     assert yaml.safe_load(written(poe, capsys))["format"] == "poe"
+
+
+def test_a_poe_model_file_may_be_named_yaml(tmp_path, capsys):
+    """A POE model file is a YAML document: `--format poe -o x.yaml` writes it; `--format yaml -o
+    x.poe.yaml` (a table file named as a POE model file) is refused."""
+    out = tmp_path / "panda.yaml"
+    assert main(["convert", "panda", "--format", "poe", "-o", str(out)]) == 0
+    assert yaml.safe_load(written(out, capsys))["format"] == "poe"
+    assert main(["convert", "panda", "--format", "yaml", "-o", str(tmp_path / "p.poe.yaml")]) == 2
+    assert "names a poe file" in capsys.readouterr().err

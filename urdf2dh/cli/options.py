@@ -223,6 +223,8 @@ def output_format(
         )
     if args.format is None:
         return named or formats[0]
+    if named == "yaml" and args.format == "poe":
+        return "poe"  # a POE model file is a YAML document: x.yaml says no other
     if named is not None and named != args.format:
         raise UsageError(
             f"-o {shown(output)} names a {named} file, --format {args.format} another: leave "
