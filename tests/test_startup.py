@@ -11,10 +11,10 @@ import sys
 
 import pytest
 
-HEAVY = ("numpy", "yourdfpy", "trimesh", "scipy", "pinocchio", "lxml")
-# what a conversion needs none of: Pinocchio, and trimesh's package with what it imports
+HEAVY = ("numpy", "yourdfpy", "trimesh", "scipy", "pinocchio", "lxml", "mujoco")
+# what a conversion needs none of: Pinocchio, MuJoCo, and trimesh's package with what it imports
 NOT_FOR_CONVERT = (
-    "pinocchio", "yourdfpy", "trimesh", "scipy", "networkx", "PIL", "shapely", "rtree",
+    "pinocchio", "mujoco", "yourdfpy", "trimesh", "scipy", "networkx", "PIL", "shapely", "rtree",
     "matplotlib", "plotly", "pandas",
 )  # fmt: skip
 
@@ -56,6 +56,7 @@ def test_help_imports_no_heavy_package(argv):
         ["convert", "ur5"],
         ["convert", "panda", "--convention", "cpc", "--format", "json"],
         ["convert", "puma560-actual", "--convention", "mdh", "--format", "yaml"],
+        ["convert", "fr3-mjcf"],
     ],
 )
 def test_convert_imports_neither_pinocchio_nor_trimesh(argv):
