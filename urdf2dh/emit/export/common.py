@@ -137,8 +137,13 @@ class Numbers:
 
     def position(self, kind: str) -> Callable[[float], str]:
         """The text of a joint position of a ``kind`` of joint: an angle for a revolute
-        joint, a length for a prismatic one (limits, home positions)."""
-        return self.ang if kind == "revolute" else self.lin
+        joint (:meth:`turn`), a length for a prismatic one (limits, home positions)."""
+        return self.turn if kind == "revolute" else self.lin
+
+    def turn(self, x: float) -> str:
+        """A joint angle's text (a limit): as :meth:`ang`, but a multiple of pi/2 is not
+        wrapped into [-pi, pi], so that a limit of 4 pi stays 4 pi."""
+        return num(float(f"{written_angle(x, self.written, wrap=False):.15g}"))
 
     def matrix(self, m: np.ndarray) -> list[list[float]]:
         """A 4x4 transform's entries: rotation as angles, translation as lengths."""
