@@ -89,7 +89,11 @@ def test_families_name_each_solver_and_why_not():
     assert [f.name for f in puma.families] == ["spherical wrist", "OPW", "general 6R"]
     assert puma.refused == ()
     panda = families(load("panda"))
-    assert [f.name for f in panda.families] == ["7R with a locked joint (joint 4, 5, 6 or 7 held)"]
+    # joint 4's limits exclude 0
+    assert [f.name for f in panda.families] == [
+        "7R with a locked joint (joint 5, 6 or 7 held at 0)"
+    ]
+    assert panda.reason("eaik") is None
     assert panda.reason("ikdh") == "not 6R: ikdh takes six revolute joints, the chain has 7 joints"
     stanford = families(load("stanford"))
     assert stanford.reason("eaik") == "not 6R: EAIK takes revolute joints only, not joints 3 " \

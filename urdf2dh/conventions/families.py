@@ -46,8 +46,10 @@ __all__ = [
     "Relations",
     "eaik_family",
     "families",
+    "held_family",
     "ikdh_method",
     "kinds_of",
+    "lockable",
     "refusal",
     "rtb_method",
 ]
@@ -264,23 +266,34 @@ def families(model: PoeModel, tol: Tolerances = DEFAULT) -> Families:
         refused.append(("ikdh", ikdh))
     if isinstance(rtb, str):
         refused.append(("rtb", rtb))
-    if r.kinds == "R" * 7:
-        locks = _lockable(model, tol)
-        if locks:
-            held = ", ".join(map(str, locks[:-1])) + (" or " if len(locks) > 1 else "")
-            name = f"7R with a locked joint (joint {held}{locks[-1]} held)"
-            found.append(Family(name, (), (("eaik", "EAIK's fixed_axes"),)))
+    locks = lockable(model, tol)
+    if locks:
+        held = ", ".join(map(str, locks[:-1])) + (" or " if len(locks) > 1 else "")
+        name = f"7R with a locked joint (joint {held}{locks[-1]} held at 0)"
+        found.append(Family(name, (), (("eaik", f"joint {locks[-1]} held: EAIK's fixed_axes"),)))
+        refused = [x for x in refused if x[0] != "eaik"]
     return Families(r, tuple(found), tuple(sorted(refused, key=lambda x: IK_TARGETS.index(x[0]))))
 
 
-def _lockable(model: PoeModel, tol: Tolerances) -> tuple[int, ...]:
-    """The joints of a 7R chain that, held at 0, leave a chain EAIK solves."""
+def held_family(
+    model: PoeModel, k: int, tol: Tolerances = DEFAULT
+) -> tuple[str, tuple[int, ...], str] | str:
+    """EAIK's family (:func:`eaik_family`) of ``model``'s chain with joint ``k`` (1-based) held
+    at 0, its axes numbered in the shorter chain, or why it has none."""
     from .convert import to_table
 
-    out = []
-    for k in range(model.n):
-        held = replace(model, joints=model.joints[:k] + model.joints[k + 1 :])
-        chain = analytic_form(to_table(held, "dh", tol), tol)
-        if isinstance(eaik_family(Relations.of(chain)), tuple):
-            out.append(k + 1)
-    return tuple(out)
+    held = replace(model, joints=model.joints[: k - 1] + model.joints[k:])
+    return eaik_family(Relations.of(analytic_form(to_table(held, "dh", tol), tol)))
+
+
+def lockable(model: PoeModel, tol: Tolerances = DEFAULT) -> tuple[int, ...]:
+    """The joints (1-based) of a chain of seven revolute joints that, held at 0 (within their
+    limits), leave a chain EAIK solves (EAIK's ``fixed_axes``); none for any other chain."""
+    if kinds_of(model.joints) != "R" * 7:
+        return ()
+    return tuple(
+        k
+        for k, joint in enumerate(model.joints, 1)
+        if (joint.lower is None or joint.upper is None or joint.lower <= 0.0 <= joint.upper)
+        and isinstance(held_family(model, k, tol), tuple)
+    )

@@ -29,6 +29,7 @@ from .common import (
     header,
     require,
 )
+from .solvers import rtb_form
 
 __all__ = ["render"]
 
@@ -44,8 +45,8 @@ def _se3(parts: list[tuple[str, float]], numbers: Numbers) -> str:
     """``SE3.Rz(..) * SE3.Tz(..) * ...``; zero factors dropped (``SE3()`` if all are)."""
     terms = []
     for op, value in parts:
-        text = numbers.ang(value) if op.startswith("R") else numbers.lin(value)
-        if float(text) != 0.0:
+        text = numbers.pi_ang(value) if op.startswith("R") else numbers.lin(value)
+        if text != "0.0":
             terms.append(f"SE3.{op}({text})")
     return " * ".join(terms) or "SE3()"
 
@@ -95,10 +96,10 @@ def _link(table: Table, row: Row, numbers: Numbers) -> str:
     p = floats(row.params)
     cls = CLASSES[(table.convention, row.kind)]
     if row.kind == "revolute":
-        args = [f"d={numbers.lin(p['d'])}", f"offset={numbers.ang(p['theta'])}"]
+        args = [f"d={numbers.lin(p['d'])}", f"offset={numbers.pi_ang(p['theta'])}"]
     else:
-        args = [f"theta={numbers.ang(p['theta'])}", f"offset={numbers.lin(p['d'])}"]
-    args[1:1] = [f"a={numbers.lin(p['a'])}", f"alpha={numbers.ang(p['alpha'])}"]
+        args = [f"theta={numbers.pi_ang(p['theta'])}", f"offset={numbers.lin(p['d'])}"]
+    args[1:1] = [f"a={numbers.lin(p['a'])}", f"alpha={numbers.pi_ang(p['alpha'])}"]
     if row.lower is not None and row.upper is not None:
         lim = numbers.position(row.kind)
         args.append(f"qlim=[{lim(row.lower)}, {lim(row.upper)}]")
@@ -107,20 +108,25 @@ def _link(table: Table, row: Row, numbers: Numbers) -> str:
 
 
 def render(table: Table, opts: ExportOptions) -> str:
-    """A Python script defining ``robot``, a roboticstoolbox ``DHRobot`` of the table."""
+    """A Python script defining ``robot``, a roboticstoolbox ``DHRobot`` of the table (of its
+    analytic form where roboticstoolbox's analytic IK can take it: module doc)."""
     require(table, "rtb", ("dh", "mdh", "hayati"))
     numbers = Numbers.of(table, opts.tol)
     if table.convention == "hayati":
         return _render_ets(table, numbers)
-    base, tool = _motions(table.base), _motions(table.tool)
+    form = rtb_form(table, opts)
+    rows = table.rows if form.chain is None else form.chain.rows
+    base, tool = _motions(table.base), form.tool_motions + _motions(table.tool)
     classes = sorted({CLASSES[(table.convention, r.kind)] for r in table.rows})
-    out = [python_docstring(header(table, "roboticstoolbox-python DHRobot"), block=True), ""]
+    out = [python_docstring(form.lines, block=True), ""]
+    out.append("from math import pi")
+    out.append("")
     out.append(f"from roboticstoolbox import DHRobot, {', '.join(classes)}")
     out.append("from spatialmath import SE3")
     out.append("")
     out.append("robot = DHRobot(")
     out.append("    [")
-    out.extend(_link(table, r, numbers) for r in table.rows)
+    out.extend(_link(table, r, numbers) for r in rows)
     out.append("    ],")
     out.append(f"    name={python_string(table.robot or 'robot')},")
     out.append(f"    base={_se3(base, numbers)},")
