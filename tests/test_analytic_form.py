@@ -106,3 +106,20 @@ def test_families_of_a_chain_without_joints():
 
     f = families(PoeModel((), np.eye(4)))
     assert f.relations is None and f.families == () and f.reason("eaik") == "no joints"
+
+
+def test_info_names_the_families_and_the_exports(capsys):
+    from urdf2dh import info
+    from urdf2dh.cli import main
+
+    assert main(["info", "puma560-nominal"]) == 0
+    out = capsys.readouterr().out
+    assert "analytic IK: axes 4, 5, 6 meet in one point; axes 1, 2 meet; axes 2, 3 parallel" in out
+    assert "  spherical wrist (axes 4, 5, 6): --to eaik (EAIK 6R-SPHERICAL_*), --to rtb " \
+           "(closed form)\n" in out  # fmt: skip
+    assert "  OPW: --to opw (ortho-parallel base, spherical wrist)\n" in out
+    assert "  general 6R: --to ikdh (Husty-Pfurner)\n" in out
+    described = info("stanford")
+    assert described.families is not None
+    assert described.families.reason("ikdh") is not None
+    assert "- not ikdh: not 6R" in described._repr_markdown_()
