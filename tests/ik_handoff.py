@@ -15,13 +15,16 @@ from __future__ import annotations
 import json
 import math
 import os
+import re
 import time
 from collections import Counter
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Any
 
 import numpy as np
+import yaml
 
 from urdf2dh import PoeModel
 from urdf2dh.check.verify import pinocchio_evaluator
@@ -106,8 +109,6 @@ def judge(
 def declared(text: str) -> tuple[float, float]:
     """The deviation from the source a generated file declares (its length unit, radians; 0
     for an exact file): ``declared bound against the source: X unit, Y rad``."""
-    import re
-
     m = re.search(r"declared bound against the source: (\S+) \S+, (\S+) rad", text)
     return (0.0, 0.0) if m is None else (float(m[1]), float(m[2]))
 
@@ -150,6 +151,51 @@ def scripted(target: str, consumer: str, label: str, path: str,
                                rot=EXACT + rotation)  # fmt: skip
     report(target, consumer, errors, model.size())
     return Scripted(source, model, script, robot), q
+
+
+def eaik_solutions(robot: Any, pose: np.ndarray, n: int = 6) -> np.ndarray:
+    """EAIK's exact solutions for ``pose`` (its ``is_LS`` rows are left out)."""
+    solution = robot.IK(pose)
+    return solution.Q[~solution.is_LS] if solution.num_solutions() else np.zeros((0, n))
+
+
+class IkdhFile:
+    """A written file as ikdh reads it, with the ``base`` and ``tool`` beside."""
+
+    def __init__(self, text: str, directory: Path) -> None:
+        path = directory / "robot.yaml"
+        path.write_text(text)
+        import ikdh
+
+        self.robot = ikdh.load_robot(str(path))  # the consumer's own reader
+        self.solver = ikdh.Solver(self.robot.dh, self.robot.limits)
+        blocks = yaml.safe_load(text)
+        self.base, self.tool = (np.array(blocks[k], dtype=float) for k in ("base", "tool"))
+        self.unit = re.search(r"Lengths in (\w+),", text)[1]  # type: ignore[index]
+
+    def to_file(self, pose: np.ndarray, metres: float) -> np.ndarray:
+        """A pose of the source (its unit: ``metres`` each) as the solver is asked for it."""
+        scaled = pose.copy()
+        scaled[:3, 3] *= metres / {"mm": 1e-3, "m": 1.0}[self.unit]
+        return np.linalg.inv(self.base) @ scaled @ np.linalg.inv(self.tool)
+
+    def fk(self, q: np.ndarray, metres: float) -> np.ndarray:
+        """ikdh's forward kinematics with base and tool, in the source's unit."""
+        import ikdh
+
+        out = np.array([self.base @ ikdh.forward_kin(self.robot.dh, np.degrees(r)) @ self.tool
+                        for r in q])  # fmt: skip
+        out[:, :3, 3] *= {"mm": 1e-3, "m": 1.0}[self.unit] / metres
+        return out
+
+    def solve(self, pose: np.ndarray, metres: float) -> np.ndarray:
+        return np.radians(np.array(self.solver.solve(self.to_file(pose, metres)))).reshape(-1, 6)
+
+    def reaches(self, pose: np.ndarray, q: np.ndarray, metres: float) -> bool:
+        """ikdh's Newton step from ``q`` (``solve_from_seed``) stays at ``q``: the file's robot
+        reaches the pose there."""
+        found = self.solver.solve_from_seed(self.to_file(pose, metres), np.degrees(q), 100)
+        return len(found) == 1 and angle_gaps(np.radians(np.array(found)), q)[0] <= SAME
 
 
 def record(result: HandOff) -> None:

@@ -14,7 +14,7 @@ from importlib.metadata import version as metadata_version
 import numpy as np
 import pytest
 from ik_corpus import VENDOR, dh_urdf, ikdh_robots, sample, six_axis_robots
-from ik_handoff import BOUND, judge, record, refusal, scripted
+from ik_handoff import BOUND, eaik_solutions, judge, record, refusal, scripted
 
 from urdf2dh import export, load, to_table
 from urdf2dh.conventions.analytic import analytic_form
@@ -30,15 +30,10 @@ REFUSED = {  # bundled 6-joint chains EAIK cannot take, and why
 }
 
 
-def exact_solutions(robot, pose: np.ndarray, n: int = 6) -> np.ndarray:
-    solution = robot.IK(pose)
-    return solution.Q[~solution.is_LS] if solution.num_solutions() else np.zeros((0, n))
-
-
 def handoff(label: str, path: str):
     run, q = scripted("eaik", CONSUMER, label, path, lambda robot, row: robot.fwdKin(row), POSES)
     result = judge("eaik", CONSUMER, label, run.source, run.model, q,
-                   lambda T: exact_solutions(run.robot, T))  # fmt: skip
+                   lambda T: eaik_solutions(run.robot, T))  # fmt: skip
     record(result)
     assert result.within(BOUND), result.text()
     assert not result.missed, f"{result.text()}: {result.missed[:3]}"
@@ -99,10 +94,10 @@ def test_a_7r_arm_solves_with_a_joint_held():
     assert "robot = HomogeneousRobot(frames, fixed_axes=[(6, 0.0)])" in run.script
     q[:, 6] = 0.0
     result = judge("eaik", CONSUMER, "panda (joint 7 held)", run.source, run.model, q,
-                   lambda T: exact_solutions(run.robot, T, 7))  # fmt: skip
+                   lambda T: eaik_solutions(run.robot, T, 7))  # fmt: skip
     record(result)
     assert result.within(BOUND) and not result.missed, result.text()
-    assert np.all(np.array([len(exact_solutions(run.robot, T, 7)) for T in
+    assert np.all(np.array([len(eaik_solutions(run.robot, T, 7)) for T in
                             [run.robot.fwdKin(r) for r in q[:5]]]) > 0)  # fmt: skip
 
 

@@ -21,7 +21,7 @@ import pytest
 import yaml
 from consumers import report
 from ik_corpus import VENDOR, dh_urdf, ikdh_robots, sample, six_axis_robots
-from ik_handoff import BOUND, SAME, angle_gaps, judge, record, refusal
+from ik_handoff import BOUND, IkdhFile, judge, record, refusal
 from oracle import assert_fk_matches
 
 from urdf2dh import ExportOptions, PoeModel, export, load
@@ -37,41 +37,6 @@ REFUSED = {
     "stanford": "ikdh: joints 'joint3' (prismatic) cannot be written; ikdh has revolute joints",
     "puma560-actual": "ikdh: joints 'j3' (helical)",
 }
-
-
-class IkdhFile:
-    """A written file as ikdh reads it, with the ``base`` and ``tool`` beside."""
-
-    def __init__(self, text: str, directory: Path) -> None:
-        path = directory / "robot.yaml"
-        path.write_text(text)
-        self.robot = ikdh.load_robot(str(path))  # the consumer's own reader
-        self.solver = ikdh.Solver(self.robot.dh, self.robot.limits)
-        blocks = yaml.safe_load(text)
-        self.base, self.tool = (np.array(blocks[k], dtype=float) for k in ("base", "tool"))
-        self.unit = re.search(r"Lengths in (\w+),", text)[1]  # type: ignore[index]
-
-    def to_file(self, pose: np.ndarray, metres: float) -> np.ndarray:
-        """A pose of the source (its unit: ``metres`` each) as the solver is asked for it."""
-        scaled = pose.copy()
-        scaled[:3, 3] *= metres / {"mm": 1e-3, "m": 1.0}[self.unit]
-        return np.linalg.inv(self.base) @ scaled @ np.linalg.inv(self.tool)
-
-    def fk(self, q: np.ndarray, metres: float) -> np.ndarray:
-        """ikdh's forward kinematics with base and tool, in the source's unit."""
-        out = np.array([self.base @ ikdh.forward_kin(self.robot.dh, np.degrees(r)) @ self.tool
-                        for r in q])  # fmt: skip
-        out[:, :3, 3] *= {"mm": 1e-3, "m": 1.0}[self.unit] / metres
-        return out
-
-    def solve(self, pose: np.ndarray, metres: float) -> np.ndarray:
-        return np.radians(np.array(self.solver.solve(self.to_file(pose, metres)))).reshape(-1, 6)
-
-    def reaches(self, pose: np.ndarray, q: np.ndarray, metres: float) -> bool:
-        """ikdh's Newton step from ``q`` (``solve_from_seed``) stays at ``q``: the file's robot
-        reaches the pose there."""
-        found = self.solver.solve_from_seed(self.to_file(pose, metres), np.degrees(q), 100)
-        return len(found) == 1 and angle_gaps(np.radians(np.array(found)), q)[0] <= SAME
 
 
 def handoff(label: str, path: str, directory: Path, opts: ExportOptions | None = None) -> None:
@@ -159,3 +124,13 @@ def test_exact_multiples_of_pi_are_written_as_ikdh_reads_them(tmp_path):
     written = re.search(r"^  alpha: \[(.*)\]$", text, re.M)[1].split(", ")  # type: ignore[index]
     assert set(written) <= set(exact) and "pi/2" in written, written
     assert list(IkdhFile(text, tmp_path).robot.dh.alpha) == [exact[w] for w in written]
+
+
+def test_reversed_limits_are_refused_as_ikdh_would_return_nothing(tmp_path):
+    """ikdh's own file of the Comau Smart5 NJ 210-3.1 SH gives joint 3 [-21.3, -288] degrees,
+    and ikdh solves nothing with it: the export refuses such a joint, naming it."""
+    path = next(p for p in ikdh_robots() if p.stem == "comau_smart5_nj_210_3_1_sh")
+    urdf = tmp_path / "comau.urdf"
+    urdf.write_text(dh_urdf(path))
+    with pytest.raises(ExportError, match=r"ikdh: joint 'j3' has its lower limit -0\.371755 above"):
+        export(load(str(urdf)), "ikdh")

@@ -37,6 +37,7 @@ NO_SOLVER = {
     "talos-left-arm": "no symbolic solution for this robot",
     "tm5-900-nominal.urdf": "recovered the configuration for only",
     "tm14-nominal.urdf": "recovered the configuration for only",
+    "kuka-kr210l150.urdf": "no symbolic solution for this robot",
 }
 NOT_ANALYTIC = {"puma560-actual": "helical"}  # refused by the rtb export
 # roboticstoolbox's closed form loses accuracy on some branches of some poses: on its own UR5

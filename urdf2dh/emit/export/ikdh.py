@@ -28,7 +28,7 @@ import numpy as np
 from ... import units
 from ...conventions.families import ikdh_method, kinds_of
 from ...conventions.table import Table
-from ...errors import ExportError
+from ...errors import ExportError, shown
 from ...escape import ikdh_name, yaml_comment
 from .common import (
     ExportOptions,
@@ -61,6 +61,13 @@ def render(table: Table, opts: ExportOptions) -> str:
     why = ikdh_method(kinds_of(table.rows))
     if why is not None:
         raise ExportError(f"ikdh: {why}")
+    for row in table.rows:
+        if row.lower is not None and row.upper is not None and row.lower > row.upper:
+            raise ExportError(
+                f"ikdh: joint {shown(row.name)} has its lower limit {row.lower:.6g} above its "
+                f"upper limit {row.upper:.6g}; ikdh keeps only solutions within [lower, upper], "
+                "so it would return none"
+            )
     unit = opts.units or UNITS[0]
     if unit not in UNITS:
         raise ExportError(f"ikdh: the length unit must be mm or m, not '{unit}'")
