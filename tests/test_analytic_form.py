@@ -98,7 +98,9 @@ def test_families_name_each_solver_and_why_not():
     stanford = families(load("stanford"))
     assert stanford.reason("eaik") == "not 6R: EAIK takes revolute joints only, not joints 3 " \
                                       "(prismatic)"  # fmt: skip
-    assert [f.exports for f in stanford.families] == [(("rtb", "closed form"),)]
+    assert [(f.name, f.exports) for f in stanford.families] == [
+        ("spherical wrist", (("rtb", "closed form"),))
+    ]
 
 
 def test_families_of_a_chain_without_joints():

@@ -119,6 +119,12 @@ class AnalyticChain:
     snaps: tuple[Snap, ...]
     check: Check
 
+    def __post_init__(self) -> None:
+        for name in ("base", "tool"):
+            m = np.array(getattr(self, name), dtype=float)
+            m.flags.writeable = False
+            object.__setattr__(self, name, m)
+
     @property
     def n(self) -> int:
         return len(self.rows)

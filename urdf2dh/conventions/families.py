@@ -88,7 +88,8 @@ class Relations:
         )
 
     def structure(self) -> str:
-        """``axes 2, 3, 4 parallel; axes 5, 6 meet`` (or ``no axes parallel or meeting``)."""
+        """``axes 2, 3, 4 parallel; axes 5, 6 meet`` (or ``no consecutive axes parallel or
+        meeting``)."""
         parts = [f"axes {i}, {i + 1}, {i + 2} meet in one point" for i in self.concurrent]
         parts += [f"axes {i}, {i + 1}, {i + 2} parallel" for i in range(1, len(self.kinds) - 1)
                   if self.parallel_three(i)]  # fmt: skip
@@ -250,7 +251,8 @@ def families(model: PoeModel, tol: Tolerances = DEFAULT) -> Families:
     else:
         refused.append(("eaik", eaik))
         if isinstance(rtb, tuple) and rtb[0] == "closed form":
-            found.append(Family("closed form", rtb[1], (("rtb", "closed form"),)))
+            name = "spherical wrist" if rtb[1][0] in r.concurrent else "three parallel axes"
+            found.append(Family(name, rtb[1], (("rtb", "closed form"),)))
     try:
         opw_from_poe(model, tol)
         found.append(Family("OPW", (), (("opw", "ortho-parallel base, spherical wrist"),)))
