@@ -68,15 +68,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         "--convention",
         choices=(*NAMES, "poe"),
         default=None,
-        help="convention of the output (default: dh where it is exact and sane, else hayati); "
-        "poe writes a POE model file",
+        help="convention of the output (default dh, or hayati where a D-H table is not the one "
+        "to write: docs/parallel-axes.md); poe writes a POE model file",
     )
-    p.add_argument(
-        "--format",
-        choices=FORMATS,
-        default="text",
-        help="output format (default %(default)s; with --convention poe: yaml or json)",
-    )
+    options.add_format(p, FORMATS, "; with --convention poe: yaml or json")
     p.add_argument("--style", choices=STYLES, default="wu", help="D-H choices (see convert)")
     p.add_argument("-o", "--output", metavar="FILE", help="write the model to FILE")
     p.add_argument("--report", metavar="FILE.json", help="write the calibration report (JSON)")
@@ -227,9 +222,20 @@ def run(args: argparse.Namespace) -> int:
     from ..calibration.measurements import read_layout, read_measurements
     from ..calibration.prior import Prior
     from ..calibration.report import summary, to_dict
+    from ..emit.formats import FORMATS
     from .options import tolerances
 
+    # before anything is read
+    args.format = options.output_format(args, FORMATS, poe_file=args.convention == "poe")
     tol = tolerances(args)
+    options.check_like(args)
+    if args.like and args.frame == "device":
+        raise UsageError(
+            "--like writes the model into NOMINAL's base link: --frame nominal, not device"
+        )
+    frame = args.frame or ("nominal" if args.like else "device")
+    if args.like and args.convention:
+        raise UsageError("--like writes a URDF; --convention does not apply")
     nominal = options.nominal(args, tol)
     joints = tuple(j.name for j in nominal.joints)
     sliding = tuple(j.name for j in nominal.joints if j.kind == "prismatic")
@@ -262,14 +268,6 @@ def run(args: argparse.Namespace) -> int:
             "tool (--marker-layout FILE, marker,x,y,z) to define the tool frame"
         )
     check_outputs([args.output, args.report, args.plot])  # before the fit, which may take long
-    options.check_like(args)
-    if args.like and args.frame == "device":
-        raise UsageError(
-            "--like writes the model into NOMINAL's base link: --frame nominal, not device"
-        )
-    frame = args.frame or ("nominal" if args.like else "device")
-    if args.like and args.convention:
-        raise UsageError("--like writes a URDF; --convention does not apply")
     if args.convention == "poe" and args.format not in ("yaml", "poe", "text", "json"):
         raise UsageError(
             f"--convention poe writes a POE model file: --format yaml or json, not {args.format}"

@@ -12,7 +12,7 @@ import math
 from dataclasses import replace
 
 from ..checks import check_count, check_instance, check_seed
-from ..errors import ConversionError, UsageError, choices, shown
+from ..errors import ConversionError, UsageError, choices, near, shown
 from ..geometry.normals import Judgement
 from ..geometry.se3 import pose_errors
 from ..model.fk import chains_fk
@@ -58,7 +58,7 @@ def build_table(
             takers = [c.name for c in REGISTRY.values() if c.guided]
             raise UsageError(f"a guide applies to {', '.join(takers)} tables, not {conv.name}")
     elif style not in STYLES:
-        raise UsageError(f"unknown style '{style}'; valid: {choices(STYLES)}")
+        raise UsageError(f"unknown style '{style}'{near(style, STYLES)}; valid: {choices(STYLES)}")
     elif style not in conv.styles:
         takers = [c.name for c in REGISTRY.values() if style in c.styles]
         raise UsageError(f"style {style} applies to {', '.join(takers)} tables, not {conv.name}")

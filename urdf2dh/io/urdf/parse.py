@@ -167,7 +167,8 @@ def yourdfpy_robot(root: Any, display: str) -> Any:
     check does not read and urdfdom refuses) is such a failure too, not a numpy warning;
     underflow (``rpy="1e-300 1e-300 0"``) is no fault."""
     import numpy as np
-    import yourdfpy
+
+    from ._yourdfpy import urdf as yourdfpy  # its element parsers, without trimesh's package
 
     robot = yourdfpy.Robot(name=root.get("name"))
     for kind, parse, items in (
