@@ -8,6 +8,7 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 import urdf2dh
@@ -109,9 +110,19 @@ def test_published_opw_files_read_as_rosparam_writes_them(tmp_path):
          "opw_kinematics_joint_sign_corrections: [1, 1, 2, 1, 1, 1]\n", "six of 1 or -1"),
         ("opw_kinematics_geometric_parameters: {a1: 0, a2: 0, b: 0, c1: 1, c2: 1, c3: 1, c4: 0}\n"
          "opw_kinematics_joint_offsets: [0, 0]\n", "must be a list of six"),
+        ("dh: {a: [0, 0], d: [0], alpha: [0], theta: [0]}\n", r"dh\.a must be a list of 6"),
+        ("dh: {a: [0,0,0,0,0,0], d: [0,0,0,0,0,0], alpha: [0,0,0,0,0,tau], theta: [0,0,0,0,0,0]}\n",
+         r"dh\.alpha\[5\] must be a number, pi, pi/N or pi\*N, not 'tau'"),
+        ("dh: {a: [0,0,0,0,0,0], d: [0,0,0,0,0,0], alpha: [0,0,0,0,0,0], theta: [0,0,0,0,0,0]}\n"
+         "base: [[2, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]\n",
+         "not a rigid transform"),
+        ("dh: {a: [0,0,0,0,0,0], d: [0,0,0,0,0,0], alpha: [0,0,0,0,0,0], theta: [0,0,0,0,0,0]}\n"
+         "limits: {J1: [10]}\n", r"limits\.J1 must be \[lower, upper\]"),
+        ("dh: {a: [0,0,0,0,0,0], d: [0,0,0,0,0,0], alpha: [0,0,0,0,0,0], theta: [0,0,0,0,0,0]}\n"
+         '# urdf2dh chain: {"unit": "furlong"}\n', "unit must be mm or m"),
     ],
 )  # fmt: skip
-def test_bad_opw_files(text, message, tmp_path):
+def test_bad_opw_and_ikdh_files(text, message, tmp_path):
     path = tmp_path / "bad.yaml"
     path.write_text(text)
     with pytest.raises(InputError, match=message):
@@ -139,7 +150,7 @@ def test_linuxcnc_export_reads_back_as_the_same_table(robot, length, tmp_path):
     same_table(table.to_poe(), back, "mdh", "zero")
 
 
-@pytest.mark.parametrize("target", ["linuxcnc", "opw"])
+@pytest.mark.parametrize("target", ["linuxcnc", "opw", "ikdh"])
 def test_names_of_any_length_and_character_read_back(target, tmp_path):
     """Names with quotes, backslashes, line breaks and letters beyond ASCII, one of 1500
     characters (HAL cuts comment lines at 1000 bytes), come back as they were."""
@@ -186,11 +197,64 @@ def test_bad_hal_files(tmp_path):
 
 
 def test_every_whole_chain_export_is_a_source():
-    """The export targets whose files describe a whole chain are read back; those that write
-    programs (scripts for toolboxes) are not."""
+    """The export targets whose files describe a whole chain are read back; the others write
+    programs (scripts for toolboxes and solvers)."""
     from urdf2dh.emit.export import TARGETS
     from urdf2dh.io.sources import READERS
 
-    files = {"ur": "ur", "opw": "opw", "linuxcnc": "hal"}
+    files = {"ur": "ur", "opw": "opw", "linuxcnc": "hal", "ikdh": "ikdh"}
     assert set(files) <= set(TARGETS) and set(files.values()) <= set(READERS)
     assert all(TARGETS[t].suffix in (".yaml", ".hal") for t in files)
+    programs = {t for t in TARGETS if t not in files}
+    assert all(TARGETS[t].suffix in (".py", ".m") for t in programs), programs
+
+
+def limits(model):
+    return [x for j in model.joints for x in (j.lower, j.upper)]
+
+
+IKDH_ARMS = [("kuka-kr6-r700-sixx", None), ("ur5", "m"), ("fanuc-m20ia", None), (GENSER6, None),
+             (str(VENDOR / "fanuc-lrmate200id.urdf"), "mm")]  # fmt: skip
+
+
+@pytest.mark.parametrize(("robot", "length"), IKDH_ARMS)
+def test_ikdh_export_reads_back_as_the_same_table(robot, length, tmp_path):
+    """The D-H table, base and tool, names, unit and limits (the made-up +-180 deg of a joint
+    without limits left out) of the table the file was written from."""
+    source = urdf2dh.load(robot)
+    table = urdf2dh.to_table(source, "dh")
+    path = tmp_path / "robot.yaml"
+    path.write_text(export(source, "ikdh", opts=ExportOptions(units=length)))
+    back = urdf2dh.load(str(path))
+    assert back.warnings == () and back.length_unit == (length or "mm")
+    assert (back.name, back.base_link, back.tip_link) == (table.robot, table.base_link,
+                                                          table.tip_link)  # fmt: skip
+    assert limits(back) == pytest.approx(limits(source), abs=1e-12)
+    fk_agrees(table.to_poe(), back, 1e-12)
+    same_table(table.to_poe(), back, "dh")
+
+
+def test_ikdhs_own_robot_files_read_as_ikdh_reads_them():
+    """ikdh's bundled robots (RoboDK's arms; a sample): the chain ikdh's own reader makes of
+    each, in metres, said in a warning."""
+    import ikdh
+    from ik_corpus import ikdh_robots, sample
+
+    for path in sample(ikdh_robots(), 25, 35):
+        model = urdf2dh.load(str(path))
+        assert model.length_unit == "m" and "no urdf2dh chain comment" in model.warnings[0]
+        robot = ikdh.load_robot(str(path))
+        dh = [list(getattr(robot.dh, k)) for k in ("a", "d", "alpha", "theta")]
+        lo, hi = np.radians(list(robot.limits.lo)), np.radians(list(robot.limits.hi))
+        assert limits(model) == pytest.approx(
+            [x for pair in zip(lo, hi, strict=True) for x in pair]
+        )
+        q = model.sample(50, 3)
+        want = []
+        for config in q:
+            t = np.eye(4)
+            for (a, d, alpha, theta), qi in zip(zip(*dh, strict=True), config, strict=True):
+                t = t @ se3.dh_matrix(theta + qi, d, alpha, a)
+            want.append(t)
+        pos, rot = se3.pose_errors(model.fk_batch(q), np.array(want))
+        assert pos <= 1e-14 * model.size() and rot <= 1e-14, path.name

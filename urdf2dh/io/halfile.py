@@ -21,7 +21,6 @@ A file without those comments is six joints ``joint_0`` ... ``joint_5`` in milli
 
 from __future__ import annotations
 
-import json
 import math
 import re
 from typing import TYPE_CHECKING, Any
@@ -31,6 +30,7 @@ import numpy as np
 from ..errors import InputError, shown
 from ..geometry import se3
 from ..units import metres_per
+from .chaincomment import chain_links, decoded
 from .fields import check_number
 
 if TYPE_CHECKING:
@@ -52,13 +52,6 @@ def is_hal(data: bytes, suffix: str) -> bool:
     return suffix == ".hal" or b"setp genserkins." in data
 
 
-def _json(text: str, where: str) -> Any:
-    try:  # the comment shows backslashes doubled (escape.visible)
-        return json.loads(text.replace("\\\\", "\\"))
-    except json.JSONDecodeError as e:
-        raise InputError(f"{where}: malformed ({e.msg})") from None
-
-
 def read_hal(text: str, display: str) -> PoeModel:
     """The chain of a genserkins HAL file (module docstring).
 
@@ -77,12 +70,12 @@ def read_hal(text: str, display: str) -> PoeModel:
     for number, line in _lines(text):
         where = f"{display}: line {number}"
         if (m := _CHAIN.match(line)) is not None:
-            chain = _json(m.group(1), where)
+            chain = decoded(m.group(1), where)
             if not isinstance(chain, dict):
                 raise InputError(f"{where}: the chain comment must hold a mapping")
             continue
         if (m := _JOINT.match(line)) is not None:
-            name = _json(m.group(2), where)
+            name = decoded(m.group(2), where)
             if not isinstance(name, str):
                 raise InputError(f"{where}: a joint's name must be a string, not {shown(name)}")
             names[int(m.group(1))] = name
@@ -138,11 +131,8 @@ def read_hal(text: str, display: str) -> PoeModel:
             f"{display}: no urdf2dh chain comment: six joints joint_0 .. joint_5, lengths in mm "
             "(genserkins has no unit; the machine's INI file says it)",
         )
-    text_fields = {k: chain.get(k, "") for k in ("robot", "base_link", "tip_link")}
-    if not all(isinstance(v, str) for v in text_fields.values()):
-        raise InputError(f"{display}: the chain's robot, base_link and tip_link are names")
-    return PoeModel(tuple(joints), frame, text_fields["robot"], display, text_fields["base_link"],
-                    text_fields["tip_link"], unit, warnings)  # fmt: skip
+    robot, base_link, tip_link = chain_links(chain, display)
+    return PoeModel(tuple(joints), frame, robot, display, base_link, tip_link, unit, warnings)
 
 
 def _lines(text: str) -> list[tuple[int, str]]:
@@ -166,8 +156,8 @@ def _lines(text: str) -> list[tuple[int, str]]:
 
 def _whole(text: str) -> bool:
     try:
-        json.loads(text.replace("\\\\", "\\"))
-    except json.JSONDecodeError:
+        decoded(text, "")
+    except InputError:
         return False
     return True
 
@@ -198,10 +188,4 @@ def _world(value: Any, display: str) -> np.ndarray:
 def read_source(content: Content, reading: Reading) -> Source:
     """A genserkins HAL file as a SOURCE (the ``hal`` entry of
     :data:`~urdf2dh.io.sources.READERS`)."""
-    from dataclasses import replace
-
-    from .sources import Source
-
-    model = read_hal(content.data.decode("utf-8", errors="replace"), content.display)
-    model = replace(model, name=content.name(model.name or content.path.stem))
-    return Source("LinuxCNC HAL", content.display, model.name, poe=model, bundled=content.bundled)
+    return content.chain_source("LinuxCNC HAL", read_hal(content.text, content.display))

@@ -28,6 +28,7 @@ import numpy as np
 
 from ..errors import InputError, shown
 from ..geometry import se3
+from .chaincomment import chain_links, find_chain
 from .fields import check_number, check_vector
 
 if TYPE_CHECKING:
@@ -41,7 +42,6 @@ OFFSETS_KEY = "opw_kinematics_joint_offsets"
 SIGNS_KEY = "opw_kinematics_joint_sign_corrections"
 EXTRA = ("urdf2dh_base_transform", "urdf2dh_tool_transform")
 _ROSPARAM = re.compile(r"^\s*(deg|rad)\s*\(\s*([-+]?[0-9.eE+-]+)\s*\)\s*$")
-_CHAIN = re.compile(r"^#\s*urdf2dh chain: (.*)$", re.MULTILINE)
 
 
 def _block(tree: Any) -> Mapping[str, Any] | None:
@@ -89,23 +89,6 @@ def _transform(tree: Mapping[str, Any], key: str, display: str) -> np.ndarray:
     return se3.from_rpy(xyz, rpy)
 
 
-def _chain(text: str, display: str) -> dict[str, Any]:
-    """The chain ``export --to opw`` names in its comment (the comment shows backslashes
-    doubled, :func:`~urdf2dh.errors.visible`), or ``{}``."""
-    import json
-
-    match = _CHAIN.search(text)
-    if match is None:
-        return {}
-    try:
-        chain = json.loads(match.group(1).replace("\\\\", "\\"))
-    except json.JSONDecodeError as e:
-        raise InputError(f"{display}: the urdf2dh chain comment is malformed ({e.msg})") from None
-    if not isinstance(chain, dict):
-        raise InputError(f"{display}: the urdf2dh chain comment must hold a mapping")
-    return chain
-
-
 def read_opw(tree: Any, display: str, text: str = "") -> PoeModel:
     """The chain of an OPW parameter file (module docstring).
 
@@ -141,28 +124,18 @@ def read_opw(tree: Any, display: str, text: str = "") -> PoeModel:
         raise InputError(f"{display}: {SIGNS_KEY} must be six of 1 or -1, not {shown(signs)}")
     base = _transform(block, EXTRA[0], display)
     tool = _transform(block, EXTRA[1], display)
-    chain = _chain(text, display)
+    chain = find_chain(text, display)
     names = chain.get("joints", list(JOINT_NAMES))
     if not isinstance(names, list) or len(names) != 6 or not all(isinstance(n, str) for n in names):
         raise InputError(f"{display}: the urdf2dh chain comment's joints must be six names")
-    links = {k: chain.get(k, "") for k in ("robot", "base_link", "tip_link")}
-    if not all(isinstance(v, str) for v in links.values()):
-        raise InputError(f"{display}: the urdf2dh chain's robot, base_link and tip_link are names")
+    robot, base_link, tip_link = chain_links(chain, display)
     a1, a2, b, c1, c2, c3, c4 = lengths
     params = OpwParameters(a1, a2, b, c1, c2, c3, c4, offsets, tuple(int(s) for s in signs),
                            base, tool)  # fmt: skip
-    return opw_to_poe(params, tuple(names), links["robot"], display, links["base_link"],
-                      links["tip_link"])  # fmt: skip
+    return opw_to_poe(params, tuple(names), robot, display, base_link, tip_link)
 
 
 def read_source(content: Content, reading: Reading) -> Source:
     """An OPW parameter file as a SOURCE (the ``opw`` entry of
     :data:`~urdf2dh.io.sources.READERS`)."""
-    from dataclasses import replace
-
-    from .sources import Source
-
-    text = content.data.decode("utf-8", errors="replace")
-    model = read_opw(content.mapping, content.display, text)
-    model = replace(model, name=content.name(model.name or content.path.stem))
-    return Source("OPW", content.display, model.name, poe=model, bundled=content.bundled)
+    return content.chain_source("OPW", read_opw(content.mapping, content.display, content.text))

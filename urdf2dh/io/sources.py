@@ -195,6 +195,19 @@ class Content:
         """The robot's name: a bundled robot's, else ``own`` (the file's)."""
         return self.bundled.name if self.bundled else own
 
+    @property
+    def text(self) -> str:
+        """The bytes as UTF-8 text (a character that is not, as U+FFFD)."""
+        return self.data.decode("utf-8", errors="replace")
+
+    def chain_source(self, kind: str, model: PoeModel) -> Source:
+        """The :class:`Source` of a file that holds one chain, ``model``: named as a bundled
+        robot is, else as the model names itself, else as the file."""
+        from dataclasses import replace
+
+        model = replace(model, name=self.name(model.name or self.path.stem))
+        return Source(kind, self.display, model.name, poe=model, bundled=self.bundled)
+
 
 @dataclass(frozen=True, slots=True)
 class Reader:
@@ -260,6 +273,13 @@ def _opw(content: Content) -> bool:
     return is_opw(content.mapping)
 
 
+def _ikdh(content: Content) -> bool:
+    """A claim on an ikdh robot file (:func:`~urdf2dh.io.ikdhfile.is_ikdh`)."""
+    from .ikdhfile import is_ikdh
+
+    return is_ikdh(content.mapping)
+
+
 def _hand_table(content: Content) -> bool:
     """A claim on a hand-written table (:func:`~urdf2dh.io.handtable.is_hand_table`)."""
     from .handtable import is_hand_table
@@ -308,6 +328,7 @@ READERS: dict[str, Reader] = {
             "opwfile",
             _opw,
         ),
+        Reader("ikdh", "ikdh", "ikdh robot file ('dh: {a, d, alpha, theta}')", "ikdhfile", _ikdh),
         Reader(
             "hand",
             "hand-written table",

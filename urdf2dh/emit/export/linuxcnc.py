@@ -250,11 +250,13 @@ def _chain_notes(table: Table, g: Genser, numbers: Numbers, unit: str) -> list[s
     joint with its name (JSON strings, ASCII: the names whatever they hold)."""
     import json
 
+    from ...io.chaincomment import encoded
+
     world = None if g.world is None else [g.world[0], numbers.length(g.world[1])]
     chain = {"robot": table.robot, "base_link": table.base_link, "tip_link": table.tip_link,
              "unit": unit, "world": world,
              "tool_turn": None if g.tool_turn is None else list(g.tool_turn)}  # fmt: skip
-    lines = ["urdf2dh chain: " + json.dumps(chain)]
+    lines = [encoded(chain)]
     lines += [f"urdf2dh joint {i}: " + json.dumps(r.name) for i, r in enumerate(table.rows)]
     return lines
 

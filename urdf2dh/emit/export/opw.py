@@ -103,11 +103,11 @@ def _chain(model: PoeModel) -> str:
     """``urdf2dh chain: {...}``, the comment urdf2dh reads the file back with
     (:mod:`urdf2dh.io.opwfile`): the robot, its base and tip links, its joints' names, as one
     line of JSON (ASCII: the names whatever they hold)."""
-    import json
+    from ...io.chaincomment import encoded
 
-    chain = {"robot": model.name, "base_link": model.base_link, "tip_link": model.tip_link,
-             "joints": [j.name for j in model.joints]}  # fmt: skip
-    return "urdf2dh chain: " + json.dumps(chain)
+    names = [j.name for j in model.joints]
+    return encoded({"robot": model.name, "base_link": model.base_link,
+                    "tip_link": model.tip_link, "joints": names})  # fmt: skip
 
 
 def render(table: Table, opts: ExportOptions) -> str:
