@@ -39,6 +39,7 @@ from ..errors import InputError, shown, visible
 from ..escape import markdown_table, markdown_text
 from ..geometry.frames import axis_frame, unit
 from ..geometry.se3 import matrix_of
+from ..io.fields import JointBound
 from ..io.sources import Source, open_source
 from ..io.urdf.chain import final_leader
 from ..io.xacro import XacroOptions
@@ -49,6 +50,7 @@ from ..progress import progress
 from ..tolerances import DEFAULT, EPS, VERIFY_JOINTS, Tolerances
 
 __all__ = [
+    "VERIFY_BOUND",
     "ModelCheck",
     "VerifyReport",
     "check_verifiable",
@@ -170,16 +172,23 @@ def _on_a_large_stack(work: Callable[[], _T]) -> _T:
     return value  # type: ignore[no-any-return]
 
 
+#: verify's bound on the joints of a SOURCE (a URDF's every joint: Pinocchio builds the whole
+#: file), checked by the reader once the joints are counted (:func:`open_source`'s ``bound``)
+#: and again of the model (:func:`check_verifiable`).
+VERIFY_BOUND = JointBound(
+    VERIFY_JOINTS,
+    "verify checks",
+    "(Pinocchio's model of more takes minutes and gigabytes to build)",
+)
+
+
 def check_verifiable(source: Source, poe: PoeModel) -> None:
     """Refuse a model larger than :data:`~urdf2dh.tolerances.VERIFY_JOINTS` joints (a URDF's
     every joint: Pinocchio builds the whole file), naming the bound."""
-    joints = len(source.tree.joints) if source.tree is not None else poe.n
-    if joints > VERIFY_JOINTS:
-        what = "the URDF has" if source.tree is not None else "the chain has"
-        raise InputError(
-            f"{source.display}: {what} {joints:,} joints; verify checks at most "
-            f"{VERIFY_JOINTS:,} (Pinocchio's model of more takes minutes and gigabytes to build)"
-        )
+    if source.tree is not None:
+        VERIFY_BOUND.check(len(source.tree.joints), source.display, "the URDF has")
+    else:
+        VERIFY_BOUND.check(poe.n, source.display, "the chain has")
 
 
 def _model_from_urdf(
@@ -556,7 +565,9 @@ def verify(
     check_seed(seed, "verify: seed")
     check_instance(tol, Tolerances, "verify: tol", "urdf2dh.Tolerances(...) or urdf2dh.DEFAULT")
     if not isinstance(source, Source):
-        source = open_source(check_source(source, "verify: source"), tol, xacro=xacro)
+        source = open_source(
+            check_source(source, "verify: source"), tol, xacro=xacro, bound=VERIFY_BOUND
+        )
     model = source.model(
         check_optional_name(base, "verify: base"),
         check_optional_name(tip, "verify: tip"),

@@ -12,6 +12,7 @@ from ..errors import InputError, shown
 from ..tolerances import MAX_MARKERS, MAX_SAMPLES, MAX_SEED
 
 if TYPE_CHECKING:
+    from ..io.fields import JointBound
     from ..io.sources import Source
     from ..io.xacro import XacroOptions
     from ..model.poe import PoeModel
@@ -236,13 +237,15 @@ def xacro_options(args: argparse.Namespace) -> XacroOptions:
     )
 
 
-def source(args: argparse.Namespace, tol: Tolerances | None = None) -> Source:
+def source(
+    args: argparse.Namespace, tol: Tolerances | None = None, bound: JointBound | None = None
+) -> Source:
     """The SOURCE the options name, opened with their xacro options (and ``tol`` for reading a
-    POE or table file)."""
+    POE or table file, ``bound`` the command's bound on a URDF's joints)."""
     from ..io.sources import open_source
     from ..tolerances import DEFAULT
 
-    return open_source(args.source, tol or DEFAULT, xacro=xacro_options(args))
+    return open_source(args.source, tol or DEFAULT, xacro=xacro_options(args), bound=bound)
 
 
 # --------------------------------------------------------------------------- calibration

@@ -42,8 +42,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from ..check.verify import VERIFY_BOUND
+
     tol = options.tolerances(args)
-    source = options.source(args, tol)
+    source = options.source(args, tol, VERIFY_BOUND)
     if not several_of(args):
         if _verify_chain(args, source, args.base, one_tip(args), tol):
             say("verify: all conventions agree with Pinocchio")

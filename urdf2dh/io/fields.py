@@ -12,6 +12,7 @@ from __future__ import annotations
 import math
 import re
 from collections.abc import Sequence
+from dataclasses import dataclass
 from typing import Any
 
 from ..errors import InputError, shown
@@ -19,6 +20,7 @@ from ..model.mimic import Followed, Mimic
 from ..tolerances import JOINTS, LARGEST_NUMBER
 
 __all__ = [
+    "JointBound",
     "check_joint_count",
     "check_leaders",
     "check_name",
@@ -139,6 +141,35 @@ def check_joint_count(count: int, where: str, error: type[InputError] = InputErr
     """At most :data:`~urdf2dh.tolerances.JOINTS` joints in a POE or table file."""
     if count > JOINTS:
         raise error(f"{where}: {count:,} joints; urdf2dh reads chains of at most {JOINTS:,}")
+
+
+@dataclass(frozen=True, slots=True)
+class JointBound:
+    """A bound a command sets on the joints of its SOURCE, checked by the reader as soon as they
+    are counted (a URDF's joint elements once parsed, before anything is built from them).
+
+    Attributes
+    ----------
+    most
+        The most joints accepted.
+    command
+        Who says so, in the message (``"verify checks"``).
+    why
+        Why, in the message (``"(Pinocchio's model of more takes minutes ...)"``).
+    """
+
+    most: int
+    command: str
+    why: str = ""
+
+    def check(self, count: int, display: str, what: str) -> None:
+        """Refuse ``count`` joints beyond the bound: ``"<display>: <what> <count> joints;
+        <command> at most <most> <why>"``."""
+        if count > self.most:
+            raise InputError(
+                f"{display}: {what} {count:,} joints; {self.command} at most {self.most:,}"
+                + (f" {self.why}" if self.why else "")
+            )
 
 
 def check_leaders(joints: Sequence[Followed], where: str,

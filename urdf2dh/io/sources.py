@@ -19,6 +19,7 @@ from ..schemas import TABLE_FILE as SCHEMA
 from ..tolerances import DEFAULT, Tolerances
 from .catalog import ROBOTS, Bundled, robot_path
 from .encodings import check_text, first_character
+from .fields import JointBound
 from .files import SOURCE_ROLE, read_file
 from .mappings import read_mapping
 from .urdf import UrdfTree, parse_tree, tree_to_poe
@@ -67,6 +68,7 @@ def _from_file(
     tol: Tolerances,
     bundled: Bundled | None,
     xacro: XacroOptions | None = None,
+    bound: JointBound | None = None,
 ) -> Source:
     role = f"the installed file of bundled robot '{bundled.name}'" if bundled else SOURCE_ROLE
     data = read_file(path, display, role)
@@ -77,7 +79,7 @@ def _from_file(
 
         data = expand(path, display, xacro)
     if suffix in (".xacro", ".urdf", ".xml") or first_character(data) == "<":
-        tree = parse_tree(data, display)
+        tree = parse_tree(data, display, bound)
         return Source(
             "urdf", display, bundled.name if bundled else tree.name, tree, tree.xml, bundled=bundled
         )
@@ -105,11 +107,13 @@ def open_source(
     tol: Tolerances = DEFAULT,
     package_paths: Mapping[str, str] | None = None,
     xacro: XacroOptions | None = None,
+    bound: JointBound | None = None,
 ) -> Source:
     """Resolve SOURCE: an existing file, else a bundled robot name (``urdf2dh robots``).
 
     ``package_paths`` maps ROS package names to directories, and ``xacro`` says how to expand
-    ``.xacro`` sources (its packages joined with ``package_paths``).
+    ``.xacro`` sources (its packages joined with ``package_paths``). ``bound``: a command's bound
+    on a URDF's joints, refused as soon as they are counted (before the tree is built).
     """
     if package_paths:
         xacro = replace(xacro or XacroOptions(), packages={
@@ -121,11 +125,11 @@ def open_source(
         )
     path = Path(source)
     if _exists(path):
-        return _from_file(path, source, tol, None, xacro)
+        return _from_file(path, source, tol, None, xacro, bound)
     if source in ROBOTS:
         bundled = ROBOTS[source]
         file = robot_path(bundled)
-        return _from_file(file, file.name, tol, bundled)
+        return _from_file(file, file.name, tol, bundled, bound=bound)
     looks_like_file = any(ch in source for ch in "/\\.")
     if looks_like_file:
         shortened = source if len(source) <= SHOWN_LENGTH else shown(source)

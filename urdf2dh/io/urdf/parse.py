@@ -18,6 +18,7 @@ from typing import Any
 from ...errors import InputError, shown
 from ...tolerances import JOINTS
 from ..encodings import check_text, sniff
+from ..fields import JointBound
 from ..files import read_file
 from .tree import UrdfTree, build_tree
 from .validate import check_robot
@@ -138,9 +139,10 @@ def parse_xml(xml: bytes, display: str) -> Any:
         raise InputError(f"{display}: not enough memory to parse the XML") from e
 
 
-def check_size(root: Any, display: str) -> None:
+def check_size(root: Any, display: str, bound: JointBound | None = None) -> None:
     """Refuse a URDF of more than :data:`~urdf2dh.tolerances.JOINTS` joints (or links than a tree
-    of as many joints has), before anything is done per element."""
+    of as many joints has), or more joints than the command's ``bound``, before anything is done
+    per element."""
     for kind, most in (("joint", JOINTS), ("link", JOINTS + 1)):
         count = sum(1 for _ in root.iterchildren(kind))
         if count > most:
@@ -148,6 +150,8 @@ def check_size(root: Any, display: str) -> None:
                 f"{display}: {count:,} {kind}s; urdf2dh reads URDFs of at most {JOINTS:,} joints "
                 f"({JOINTS + 1:,} links)"
             )
+        if kind == "joint" and bound is not None:
+            bound.check(count, display, "the URDF has")
 
 
 def yourdfpy_robot(root: Any, display: str) -> Any:
@@ -177,7 +181,7 @@ def yourdfpy_robot(root: Any, display: str) -> Any:
     return robot
 
 
-def parse_tree(data: bytes, display: str) -> UrdfTree:
+def parse_tree(data: bytes, display: str, bound: JointBound | None = None) -> UrdfTree:
     """Parse URDF text into a checked :class:`UrdfTree`.
 
     Parameters
@@ -186,6 +190,8 @@ def parse_tree(data: bytes, display: str) -> UrdfTree:
         The file's bytes (UTF-8, or any encoding its BOM or XML declaration names).
     display
         The file's name in messages.
+    bound
+        A command's bound on the joints (all of the file's), checked once they are counted.
 
     Returns
     -------
@@ -200,7 +206,7 @@ def parse_tree(data: bytes, display: str) -> UrdfTree:
     check_text(data, display, "URDF XML")
     xml = document(data, display)
     root = parse_xml(xml, display)
-    check_size(root, display)
+    check_size(root, display, bound)
     check_robot(root, display)
     return build_tree(yourdfpy_robot(root, display), display, xml)
 
