@@ -52,6 +52,7 @@ from .. import units
 from ..errors import InputError, UsageError, choices, shown
 from ..escape import csv_cell, csv_names, markdown_table, markdown_text
 from ..io.files import read_file
+from ..numerals import read_decimal
 from ..tolerances import QUATERNION_NORM
 
 __all__ = [
@@ -385,18 +386,9 @@ def _rows(text: str) -> Iterator[tuple[int, list[str]]]:
 
 
 def _number(raw: list[str], k: int, name: str, where: str) -> float:
-    text_value = raw[k].strip()
-    try:
-        value = float(text_value)
-    except ValueError:
-        raise InputError(
-            f"{where}, column {shown(name)}: {shown(text_value)} is not a number"
-        ) from None
-    if not math.isfinite(value):
-        raise InputError(
-            f"{where}, column {shown(name)}: {shown(text_value)} is not a finite number"
-        )
-    return value
+    """The cell's number, by the one grammar of urdf2dh's files (:mod:`urdf2dh.numerals`);
+    spaces and tabs around it are allowed."""
+    return read_decimal(raw[k].strip(" \t"), f"{where}, column {shown(name)}")
 
 
 def _text(path: str | Path, display: str) -> str:
