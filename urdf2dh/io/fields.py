@@ -3,8 +3,9 @@
 :class:`~urdf2dh.errors.InputError` (or the subclass the reader passes) naming the field and
 saying what was expected and what came.
 
-Numbers come as YAML 1.2 and JSON read them (:mod:`.mappings`); where text arrives that a YAML
-1.1 reader would have read as a number or a boolean, the message says so (:func:`yaml11_note`).
+Numbers come as YAML 1.2 and JSON read them (:mod:`.mappings`), of urdf2dh's one number grammar
+(:mod:`urdf2dh.numerals`); where text arrives, the message says why it is not a number, or what a
+YAML 1.1 reader would have read it as (:func:`yaml11_note`).
 """
 
 from __future__ import annotations
@@ -17,6 +18,7 @@ from typing import Any
 
 from ..errors import InputError, shown
 from ..model.mimic import Followed, Mimic
+from ..numerals import why_not
 from ..tolerances import JOINTS, LARGEST_NUMBER
 
 __all__ = [
@@ -36,7 +38,7 @@ def check_number(value: Any, where: str, error: type[InputError] = InputError) -
     :data:`~urdf2dh.tolerances.LARGEST_NUMBER`; ``error`` naming
     ``where`` for anything else (booleans, strings, non-finite or huge numbers)."""
     if isinstance(value, bool) or not isinstance(value, int | float):
-        note = yaml11_note(value) if isinstance(value, str) else ""
+        note = _text_note(value) if isinstance(value, str) else ""
         raise error(f"{where} must be a number, not {shown(value)}{note}")
     try:
         out = float(value)
@@ -49,6 +51,16 @@ def check_number(value: Any, where: str, error: type[InputError] = InputError) -
             f"{where} is {out:.3g}: beyond {LARGEST_NUMBER:g}, no kinematic number is that large"
         )
     return out
+
+
+def _text_note(text: str) -> str:
+    """Why ``text``, where a number is expected, is not one: another base or not finite (YAML
+    1.2 reads these as numbers, urdf2dh's grammar does not), what YAML 1.1 would read it as, or
+    the grammar's reason."""
+    reason = why_not(text)
+    if reason.startswith(("hexadecimal", "octal", "not finite", "digits that")):
+        return f" ({reason})"
+    return yaml11_note(text) or ("" if reason == "not a decimal number" else f" ({reason})")
 
 
 # Text that YAML 1.1 readers (PyYAML's default loader, ROS 1's rosparam) take for a number or a

@@ -23,7 +23,15 @@ from ..files import read_file
 from .tree import UrdfTree, build_tree
 from .validate import check_robot
 
-__all__ = ["check_size", "document", "load_tree", "parse_tree", "parse_xml", "yourdfpy_robot"]
+__all__ = [
+    "check_size",
+    "document",
+    "keep_attribute_whitespace",
+    "load_tree",
+    "parse_tree",
+    "parse_xml",
+    "yourdfpy_robot",
+]
 
 # An XML declaration and its pseudo-attributes (XML 1.0 §2.8); read from the bytes of a file
 # without a BOM, where it is ASCII whatever the encoding it declares.
@@ -34,6 +42,16 @@ _VERSION_1 = re.compile(rb"1\.[0-9]+")  # the versions libxml2 reads; "0.0" and 
 _LXML_SOURCE = re.compile(r" \(<string>, line [0-9]+\)$")  # lxml's suffix: the line is in it
 # libxml2's advice to its callers (an option urdf2dh does not set), not to a URDF's author
 _PARSER_HINT = re.compile(r",? (?:try|use|see) (?:XML_PARSE_HUGE|xmlCtxtSetMaxAmplification)[^,]*")
+# An attribute value holding a tab, line feed or carriage return (the quick test), and the markup
+# of a document as keep_attribute_whitespace walks it: comments, CDATA sections, processing
+# instructions and the document type declaration passed over, start tags with their values
+_SPACED_VALUE = re.compile(rb"""=[ \t\r\n]*(?:"[^"<]*[\t\r\n][^"<]*"|'[^'<]*[\t\r\n][^'<]*')""")
+_MARKUP = re.compile(
+    rb"<!--.*?-->|<!\[CDATA\[.*?\]\]>|<\?.*?\?>|<!DOCTYPE(?:[^\[>]|\[.*?\])*>"
+    rb"""|<[^\s/!?>][^\s/>]*(?:\s+[^\s=/>]+\s*=\s*(?:"[^"<]*"|'[^'<]*'))*\s*/?>""",
+    re.S,
+)
+_VALUE = re.compile(rb"""=(\s*)("[^"<]*"|'[^'<]*')""")
 _UTF8 = ("utf-8", "ascii")  # codec names (codecs.lookup) whose text is UTF-8 as it stands
 _WIDE = ("utf-16", "utf-32")  # declared without a BOM, yet the declaration was ASCII: UTF-8 too
 
@@ -107,6 +125,29 @@ def document(data: bytes, display: str) -> bytes:
     return _decode(body, codec, display)
 
 
+def keep_attribute_whitespace(xml: bytes) -> bytes:
+    """``xml`` with each tab and line break inside an attribute value written as a character
+    reference, so that lxml keeps it as urdfdom's XML parser (tinyxml2) does.
+
+    A conforming XML parser (lxml) turns each tab, line feed and carriage return of an attribute
+    value into a space (XML 1.0, section 3.3.3); tinyxml2 keeps them (CR LF and CR become LF), and
+    urdfdom, which separates numbers at spaces only, then refuses ``xyz="0<TAB>0 1"``. Written as
+    ``&#9;`` and ``&#10;``, they reach urdf2dh's check as they reach urdfdom. A document without
+    such a value (nearly every file) is returned as it is."""
+    if not _SPACED_VALUE.search(xml):
+        return xml
+
+    def value(m: re.Match[bytes]) -> bytes:
+        text = m[2].replace(b"\r\n", b"\n").replace(b"\r", b"\n")
+        return b"=" + m[1] + text.replace(b"\t", b"&#9;").replace(b"\n", b"&#10;")
+
+    def markup(m: re.Match[bytes]) -> bytes:
+        tag = m[0]
+        return tag if tag[1:2] in (b"!", b"?") else _VALUE.sub(value, tag)
+
+    return _MARKUP.sub(markup, xml)
+
+
 def parse_xml(xml: bytes, display: str) -> Any:
     """lxml's element tree of a UTF-8 document (comments and processing instructions dropped;
     no entity from outside the document is read, nothing from the network).
@@ -155,29 +196,28 @@ def check_size(root: Any, display: str, bound: JointBound | None = None) -> None
 
 
 def yourdfpy_robot(root: Any, display: str) -> Any:
-    """yourdfpy's ``Robot`` of a checked root element, made by its element parsers (the ones
-    ``URDF.load`` uses), link by link and joint by joint so that a failure names the element.
+    """yourdfpy's ``Robot`` of a checked root element: its links by name, and its joints made by
+    yourdfpy's joint parser (the one ``URDF.load`` uses), joint by joint so that a failure names
+    the joint.
 
-    A floating-point fault in its matrix code (a link's visual origin ``inf``, which the strict
-    check does not read and urdfdom refuses) is such a failure too, not a numpy warning;
-    underflow (``rpy="1e-300 1e-300 0"``) is no fault."""
+    A link's inertial, visual and collision elements are not read: the chain needs none of them,
+    and urdfdom (Pinocchio's reader) keeps a link whatever they hold, so a file Pinocchio loads is
+    not refused for them. A floating-point fault in yourdfpy's matrix code is a failure naming the
+    joint, not a numpy warning; underflow (``rpy="1e-300 1e-300 0"``) is no fault."""
     import numpy as np
     import yourdfpy
 
     robot = yourdfpy.Robot(name=root.get("name"))
-    for kind, parse, items in (
-        ("link", yourdfpy.URDF._parse_link, robot.links),
-        ("joint", yourdfpy.URDF._parse_joint, robot.joints),
-    ):
-        for el in root.iterchildren(kind):
-            try:
-                with np.errstate(over="raise", invalid="raise", divide="raise"):
-                    items.append(parse(el))
-            except Exception as e:  # yourdfpy raises many kinds (ValueError, KeyError, ...)
-                reason = " ".join(f"{type(e).__name__}: {e}".split())
-                raise InputError(
-                    f"{display}: {kind} {shown(el.get('name'))}: yourdfpy cannot read it ({reason})"
-                ) from e
+    robot.links.extend(yourdfpy.Link(name=el.get("name")) for el in root.iterchildren("link"))
+    for el in root.iterchildren("joint"):
+        try:
+            with np.errstate(over="raise", invalid="raise", divide="raise"):
+                robot.joints.append(yourdfpy.URDF._parse_joint(el))
+        except Exception as e:  # yourdfpy raises many kinds (ValueError, KeyError, ...)
+            reason = " ".join(f"{type(e).__name__}: {e}".split())
+            raise InputError(
+                f"{display}: joint {shown(el.get('name'))}: yourdfpy cannot read it ({reason})"
+            ) from e
     return robot
 
 
@@ -205,7 +245,7 @@ def parse_tree(data: bytes, display: str, bound: JointBound | None = None) -> Ur
     """
     check_text(data, display, "URDF XML")
     xml = document(data, display)
-    root = parse_xml(xml, display)
+    root = parse_xml(keep_attribute_whitespace(xml), display)
     check_size(root, display, bound)
     check_robot(root, display)
     return build_tree(yourdfpy_robot(root, display), display, xml)

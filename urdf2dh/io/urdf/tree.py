@@ -51,9 +51,13 @@ class UrdfJoint:
         ``(3,)`` read-only: the unit axis in the joint's frame for a moving joint (normalised as
         urdfdom does); as written for the other types.
     lower, upper
-        Position limits, or ``None`` where absent (always ``None`` for continuous joints).
+        Position limits, or ``None`` where absent (always ``None`` for continuous joints);
+        ``lower <= upper``.
     mimic, multiplier, offset
         The joint this one mimics (``None`` if none): ``q = multiplier * q_mimic + offset``.
+    swapped
+        The file's ``<limit>`` has ``lower`` above ``upper``: they are read as the range between
+        them (as Gazebo's URDF reader reads them), and the chain's model warns of it.
     """
 
     name: str
@@ -67,6 +71,7 @@ class UrdfJoint:
     mimic: str | None
     multiplier: float = 1.0
     offset: float = 0.0
+    swapped: bool = False
 
     def __post_init__(self) -> None:
         if self.type not in JOINT_TYPES:
@@ -175,6 +180,9 @@ def _joint(j: Any) -> UrdfJoint:
     lower = upper = None
     if j.limit is not None and j.type != "continuous":
         lower, upper = j.limit.lower, j.limit.upper
+    swapped = lower is not None and upper is not None and lower > upper
+    if swapped:
+        lower, upper = upper, lower
     mimic = j.mimic
     return UrdfJoint(
         j.name,
@@ -188,6 +196,7 @@ def _joint(j: Any) -> UrdfJoint:
         None if mimic is None else mimic.joint,
         1.0 if mimic is None else float(mimic.multiplier),
         0.0 if mimic is None else float(mimic.offset),
+        swapped,
     )
 
 
