@@ -51,8 +51,8 @@ class UrdfJoint:
         ``(3,)`` read-only: the unit axis in the joint's frame for a moving joint (normalised as
         urdfdom does); as written for the other types.
     lower, upper
-        Position limits, or ``None`` where absent (always ``None`` for continuous joints);
-        ``lower <= upper``.
+        Position limits of a revolute or prismatic joint (``None`` for the other types, and
+        where the file has no ``<limit>``); ``lower <= upper``.
     mimic, multiplier, offset
         The joint this one mimics (``None`` if none): ``q = multiplier * q_mimic + offset``.
     swapped
@@ -178,8 +178,9 @@ def _joint(j: Any) -> UrdfJoint:
         x, y, z = axis.tolist()
         axis /= math.sqrt(x * x + y * y + z * z)
     lower = upper = None
-    if j.limit is not None and j.type != "continuous":
-        lower, upper = j.limit.lower, j.limit.upper
+    if j.limit is not None and j.type in ("revolute", "prismatic"):  # urdfdom: absent is 0
+        lower = 0.0 if j.limit.lower is None else j.limit.lower
+        upper = 0.0 if j.limit.upper is None else j.limit.upper
     swapped = lower is not None and upper is not None and lower > upper
     if swapped:
         lower, upper = upper, lower

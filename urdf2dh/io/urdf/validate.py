@@ -189,7 +189,9 @@ def _check_axis(el: Any, jtype: str, where: str) -> None:
         )
 
 
-def _check_joint(el: Any, display: str, links: set[str], joints: set[str]) -> None:
+def _check_joint(
+    el: Any, display: str, links: set[str], joints: set[str], version: tuple[int, int]
+) -> None:
     name = el.get("name")
     if not name:
         raise InputError(f"{display}: a <joint> has no name attribute")
@@ -223,10 +225,12 @@ def _check_joint(el: Any, display: str, links: set[str], joints: set[str]) -> No
             f"Pinocchio, refuses one without){hint}"
         )
     if limit is not None:
-        _check_limit(limit, jtype, where)
+        _check_limit(limit, jtype, where, version)
     if (mimic := sub.get("mimic")) is not None:
-        if not mimic.get("joint"):
+        if mimic.get("joint") is None:
             raise InputError(f"{where} has a <mimic> without a joint attribute")
+        if not mimic.get("joint"):
+            raise InputError(f"{where} has a <mimic> with an empty joint name")
         for attr in ("multiplier", "offset"):
             _attribute(mimic, attr, 1, f"mimic {attr}", where)
     for tag, needed, attributes in _JOINT_PARTS:
@@ -237,7 +241,11 @@ def _check_joint(el: Any, display: str, links: set[str], joints: set[str]) -> No
                 f"{where}: <{tag}> has no {' or '.join(needed)} attribute (urdfdom refuses it)"
             )
         for attr in attributes:
-            _attribute(el, attr, 1, f"{tag} {attr}", where, None)
+            value = _attribute(el, attr, 1, f"{tag} {attr}", where, None)
+            if value is not None and value[0] < 0.0 and (tag, attr) in _NOT_NEGATIVE:
+                raise InputError(
+                    f"{where}: {tag} {attr} {shown(el.get(attr))} is negative (urdfdom refuses it)"
+                )
 
 
 # The other elements of a joint that urdfdom reads: the attributes one of which it needs, and
@@ -251,10 +259,17 @@ _JOINT_PARTS = (
     ),
     ("calibration", (), ("rising", "falling")),
 )
+_NOT_NEGATIVE = {("dynamics", "friction")}
+# A <limit>'s attributes that URDF 1.2 adds, which urdfdom reads as numbers not below 0
+_LIMITS_1_2 = ("acceleration", "deceleration", "jerk")
 
 
-def _check_limit(limit: Any, jtype: str, where: str) -> None:
-    """A joint's ``<limit>``: its numbers, and the effort and velocity urdfdom needs."""
+def _check_limit(limit: Any, jtype: str, where: str, version: tuple[int, int]) -> None:
+    """A joint's ``<limit>`` as urdfdom (and Pinocchio) read it: its numbers; effort and velocity
+    present (before URDF 1.2) and not negative (on a moving joint; on any, from 1.2); from 1.2,
+    a revolute or prismatic joint's lower and upper present, lower not above upper, and
+    acceleration, deceleration and jerk not negative."""
+    bounds = []
     for attr in ("lower", "upper"):
         value = _attribute(limit, attr, 1, f"limit {attr}", where)
         if jtype == "revolute" and value is not None and abs(value[0]) > LARGEST_URDF_ANGLE:
@@ -263,31 +278,50 @@ def _check_limit(limit: Any, jtype: str, where: str) -> None:
                 f"revolute joint (beyond ±{LARGEST_URDF_ANGLE:g} rad; a joint without limits "
                 'is type="continuous")'
             )
-    for attr in ("effort", "velocity"):  # not used, but urdfdom and Pinocchio need them
+        if value is not None:
+            bounds.append(value[0])
+        elif version >= (1, 2) and jtype in ("revolute", "prismatic"):
+            raise InputError(
+                f"{where}: <limit> has no {attr} attribute (urdfdom refuses a {jtype} joint's "
+                "limit without lower and upper in a URDF of version 1.2)"
+            )
+    needed = ("effort", "velocity") if version < (1, 2) else ()  # read by urdfdom, not by us
+    signed = version >= (1, 2) or jtype in MOVING_TYPES
+    for attr in ("effort", "velocity", *(_LIMITS_1_2 if version >= (1, 2) else ())):
         text = limit.get(attr)
         if text is None:
-            raise InputError(
-                f"{where}: <limit> has no {attr} attribute (urdfdom refuses a limit without "
-                "effort and velocity)"
-            )
-        if numbers(text, 1, f"limit {attr}", where, None)[0] < 0.0:
+            if attr in needed:
+                raise InputError(
+                    f"{where}: <limit> has no {attr} attribute (urdfdom refuses a limit without "
+                    "effort and velocity)"
+                )
+            continue
+        if numbers(text, 1, f"limit {attr}", where, None)[0] < 0.0 and signed:
             raise InputError(
                 f"{where}: limit {attr} {shown(text)} is negative (urdfdom refuses it)"
             )
+    if version >= (1, 2) and len(bounds) == 2 and bounds[0] > bounds[1]:
+        raise InputError(
+            f"{where}: limit lower {shown(limit.get('lower'))} is above upper "
+            f"{shown(limit.get('upper'))} (urdfdom refuses it in a URDF of version 1.2)"
+        )
 
 
-def _check_version(root: Any, display: str) -> None:
+def _check_version(root: Any, display: str) -> tuple[int, int]:
     """``<robot version>`` as urdfdom reads it (``URDFVersion``): two parts, each a whole
-    ``strtol`` that is not negative, taken as an unsigned 32-bit number; 1.0 to 1.2."""
+    ``strtol`` that is not negative, taken as an unsigned 32-bit number; 1.0 to 1.2. The version
+    read (1.0 where none is given)."""
     text = root.get("version")
     if text is None:
-        return
+        return (1, 0)
     parts = text.split(".")
+    if len(parts) > 1 and not parts[-1]:
+        parts.pop()  # urdfdom's split_string keeps no empty last part ("1.0." is 1.0)
     if len(parts) == 2 and all(_VERSION_PART.fullmatch(part) for part in parts):
         values = [int(part.lstrip(_LEADING)) for part in parts]
-        read = tuple(min(v, 2**63 - 1) % 2**32 for v in values)
-        if min(values) >= 0 and read in _VERSIONS:
-            return
+        major, minor = (min(v, 2**63 - 1) % 2**32 for v in values)
+        if min(values) >= 0 and (major, minor) in _VERSIONS:
+            return major, minor
     raise InputError(
         f"{display}: <robot version={shown(text)}> is not a version urdfdom reads (MAJOR.MINOR, "
         "1.0 to 1.2)"
@@ -313,7 +347,7 @@ def check_robot(root: Any, display: str) -> None:
         raise InputError(f"{display}: not a URDF robot (root element is <{root.tag}>)")
     if not root.get("name"):
         raise InputError(f"{display}: <robot> has no name attribute")
-    _check_version(root, display)
+    version = _check_version(root, display)
     materials: set[str] = set()
     for el in root.iterchildren("material"):  # urdfdom keeps one material of each name
         name = el.get("name") or ""  # a material without a name is named "" to urdfdom
@@ -334,4 +368,4 @@ def check_robot(root: Any, display: str) -> None:
         raise InputError(f"{display}: robot {shown(root.get('name'))} declares no links")
     joints: set[str] = set()
     for el in root.iterchildren("joint"):
-        _check_joint(el, display, links, joints)
+        _check_joint(el, display, links, joints, version)
