@@ -29,7 +29,6 @@ invariant. tests/test_urdfdom_parity.py runs a seeded sample.
 
 from __future__ import annotations
 
-import argparse
 import contextlib
 import io
 import sys
@@ -40,6 +39,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+from corpus_main import corpus_main
 
 from urdf2dh.check.verify import native_stderr
 from urdf2dh.cli import main as cli
@@ -453,13 +453,7 @@ def report(outcomes: list[Outcome]) -> str:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--count", type=int, default=600, help="cases (default 600)")
-    parser.add_argument("--seed", type=int, default=0, help="seed of the cases (default 0)")
-    args = parser.parse_args(argv)
-    outcomes = run_corpus(args.count, args.seed)
-    print(report(outcomes))
-    return 1 if any(o.problems for o in outcomes) else 0
+    return corpus_main(__doc__, run_corpus, report, 600, argv)
 
 
 if __name__ == "__main__":
