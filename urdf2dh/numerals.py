@@ -28,12 +28,16 @@ import re
 
 from .errors import InputError, shown
 
-__all__ = ["DECIMAL", "decimal", "read_decimal", "why_not"]
+__all__ = ["DECIMAL", "INTEGER", "decimal", "integer", "read_decimal", "why_not"]
 
 #: The grammar, as a regular expression (without anchors).
 DECIMAL = r"[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?"
 
+#: An integer (a count, a marker's number): decimal ASCII digits with an optional sign.
+INTEGER = r"[+-]?[0-9]+"
+
 _DECIMAL = re.compile(DECIMAL)
+_INTEGER = re.compile(INTEGER)
 _NOT_FINITE = re.compile(r"[+-]?\.?(?:nan|inf|infinity)", re.IGNORECASE)
 _BASES = (
     (re.compile(r"[+-]?0[xX][0-9a-fA-F_]*"), "hexadecimal"),
@@ -49,6 +53,12 @@ def decimal(text: str) -> float | None:
         return None
     value = float(text)  # the grammar is a subset of Python's float syntax
     return value if math.isfinite(value) else None
+
+
+def integer(text: str) -> int | None:
+    """The value of ``text`` if it is an integer of the grammar (nothing around it), else
+    ``None`` (Python's ``int`` also takes ``1_000``, ``１`` and white space)."""
+    return int(text) if _INTEGER.fullmatch(text) else None
 
 
 def why_not(text: str) -> str:
