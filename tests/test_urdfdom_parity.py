@@ -165,3 +165,23 @@ def test_json_numbers_follow_the_grammar_too(tmp_path):
             open_source(str(path))
     path.write_text(json.dumps(tree))
     assert np.allclose(open_source(str(path)).model().home[:3, 3], [1, 0, 0])
+
+
+@pytest.mark.parametrize("text", ["-1.2_396", "\uff11", "0x1F", "nan", "1,5"])
+def test_options_and_marker_layouts_hold_numbers_in_the_same_grammar(text, tmp_path, capsys):
+    from urdf2dh.calibration.measurements import read_layout
+
+    for argv, said in (
+        (["convert", "ur5", f"--parallel-angle={text}"], f"'{text}' is not a number"),
+        (["verify", "ur5", "--samples", text.replace("-", "")], "is not an integer"),
+    ):
+        with pytest.raises(SystemExit) as e:  # argparse's usage error
+            main(argv)
+        assert e.value.code == 2 and said in capsys.readouterr().err
+    layout = tmp_path / "layout.csv"
+    layout.write_text(f'marker,x,y,z\n0,1,"{text}",3\n', encoding="utf-8")
+    with pytest.raises(InputError, match=r"x, y, z must be (numbers|finite)"):
+        read_layout(layout)
+    layout.write_text(f'marker,x,y,z\n"{text}",1,2,3\n', encoding="utf-8")
+    with pytest.raises(InputError, match="is not an integer"):
+        read_layout(layout)
