@@ -41,7 +41,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "tests"))
 
 from chains import random_chain_urdf  # noqa: E402  (tests/chains.py)
-from corpus_main import corpus_main  # noqa: E402  (beside this script)
+from corpus_main import corpus_main as seeded_main  # noqa: E402  (beside this script)
 
 from urdf2dh.check.verify import native_stderr  # noqa: E402
 from urdf2dh.cli import main as cli  # noqa: E402
@@ -513,12 +513,13 @@ def run_corpus(count: int, seed: int) -> list[Outcome]:
             _SOCKETS.clear()
 
 
-def report(outcomes: list[Outcome]) -> str:
-    """Runs by class and outcome, then every case that broke an invariant."""
+def report(outcomes: list[Outcome], classes: dict[str, object] | None = None) -> str:
+    """Runs by class (of ``classes``, default :data:`CLASSES`) and outcome, then every case
+    that broke an invariant."""
     lines = [f"{len(outcomes)} hostile inputs, {sum(len(o.runs) for o in outcomes)} runs", ""]
     by_class = Counter((o.case.kind, r.code) for o in outcomes for r in o.runs)
     lines.append("By class (runs by exit code):")
-    for kind in CLASSES:
+    for kind in CLASSES if classes is None else classes:
         codes = {code: n for (k, code), n in by_class.items() if k == kind}
         if codes:
             shown = ", ".join(f"exit {c}: {n}" for c, n in sorted(codes.items()))
@@ -531,8 +532,21 @@ def report(outcomes: list[Outcome]) -> str:
     return "\n".join(lines)
 
 
+def corpus_main(
+    argv: list[str] | None,
+    description: str,
+    run: Callable[[int, int], list[Outcome]],
+    classes: dict[str, object],
+    count: int,
+) -> int:
+    """A corpus script's command line: ``--count`` cases, ``--seed``; the report by
+    ``classes``; exit 1 if a case broke an invariant (scripts/hostile_mjcf.py runs its own
+    corpus through it)."""
+    return seeded_main(description, run, lambda outcomes: report(outcomes, classes), count, argv)
+
+
 def main(argv: list[str] | None = None) -> int:
-    return corpus_main(__doc__, run_corpus, report, 240, argv)
+    return corpus_main(argv, __doc__.splitlines()[0], run_corpus, CLASSES, 240)
 
 
 if __name__ == "__main__":

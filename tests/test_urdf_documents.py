@@ -186,10 +186,10 @@ def test_what_pinocchio_refuses_is_one_line_with_urdfdoms_reason(capfd):
     from urdf2dh.io.sources import open_source
 
     source = open_source("ur5")
-    text = source.urdf_text.replace(b'effort="150.0" ', b"", 1)
-    assert text != source.urdf_text
+    text = source.document.replace(b'effort="150.0" ', b"", 1)
+    assert text != source.document
     with pytest.raises(InputError) as e:
-        verify(dataclasses.replace(source, urdf_text=text), samples=5)
+        verify(dataclasses.replace(source, document=text), samples=5)
     assert str(e.value) == (
         "ur5_robot.urdf: Pinocchio cannot load it (urdfdom: joint [shoulder_pan_joint]: limit "
         "has no effort)"

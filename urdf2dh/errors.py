@@ -21,6 +21,7 @@ __all__ = [
     "ConversionError",
     "ExportError",
     "InputError",
+    "OracleError",
     "Remedy",
     "SourceError",
     "TableFileError",
@@ -87,6 +88,15 @@ class TableFileError(InputError):
 
 class ExportError(InputError):
     """A chain that an export target cannot carry; the message names the target and says why."""
+
+
+class OracleError(InputError):
+    """An oracle (``pinocchio``, ``mujoco``) that cannot judge a chain: ``oracle`` names it, the
+    message says why."""
+
+    def __init__(self, oracle: str, message: str, remedy: Remedy | None = None) -> None:
+        super().__init__(message, remedy=remedy)
+        self.oracle = oracle
 
 
 class ConversionError(Urdf2DhError):

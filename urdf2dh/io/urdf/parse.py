@@ -20,6 +20,7 @@ from ...tolerances import JOINTS
 from ..encodings import check_text, sniff
 from ..fields import JointBound
 from ..files import read_file
+from ..sources import Content, Reading, Source
 from .tree import UrdfTree, build_tree
 from .validate import check_robot
 
@@ -30,6 +31,7 @@ __all__ = [
     "load_tree",
     "parse_tree",
     "parse_xml",
+    "read_source",
     "yourdfpy_robot",
 ]
 
@@ -255,3 +257,16 @@ def load_tree(path: str | Path, display: str | None = None) -> UrdfTree:
     """Read and check a URDF file (``display`` names it in messages; default: ``path``)."""
     shown = display or str(path)
     return parse_tree(read_file(Path(path), shown), shown)
+
+
+def read_source(content: Content, reading: Reading) -> Source:
+    """The SOURCE of a URDF file (the ``urdf`` entry of :data:`~urdf2dh.io.sources.READERS`)."""
+    return urdf_source(content, content.data, reading)
+
+
+def urdf_source(content: Content, data: bytes, reading: Reading) -> Source:
+    """The SOURCE of URDF text ``data`` read from ``content``'s file (or expanded from it), with
+    ``reading``'s bound on its joints."""
+    tree = parse_tree(data, content.display, reading.bound)
+    return Source("urdf", content.display, content.name(tree.name), tree, tree.xml,
+                  bundled=content.bundled)  # fmt: skip
