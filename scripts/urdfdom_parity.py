@@ -244,7 +244,7 @@ def mutate_limit(rng: Rng, r: Robot) -> tuple[str, str | None]:
             ["lower", "upper", "effort", "velocity"], int(rng.integers(3)), replace=False
         ):
             del j.elements["limit"][str(attribute)]
-        return f"{j.name} continuous with {j.elements['limit']}", j.name
+        return f"{j.name} {j.type} with {j.elements['limit']}", j.name
     if what == "none":
         j.elements["limit"] = None
     elif what == "drop":

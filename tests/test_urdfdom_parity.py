@@ -185,3 +185,17 @@ def test_options_and_marker_layouts_hold_numbers_in_the_same_grammar(text, tmp_p
     layout.write_text(f'marker,x,y,z\n"{text}",1,2,3\n', encoding="utf-8")
     with pytest.raises(InputError, match="is not an integer"):
         read_layout(layout)
+
+
+def test_a_fixed_joints_axis_is_not_read_as_urdfdom_reads_none():
+    text = (
+        _gripper("0", "0.04")
+        .replace('type="prismatic"', 'type="fixed"')
+        .replace('<axis xyz="1 0 0"/>', '<axis xyz="nan x"/>')
+    )
+    assert urdfdom_parity.pinocchio_model(text) is not None  # Pinocchio loads it
+    assert parse_tree(text.encode(), "g.urdf").joints["finger"].type == "fixed"
+    broken = text.replace('type="fixed"', 'type="planar"')  # a planar joint's axis is read
+    assert urdfdom_parity.pinocchio_model(broken) is None
+    with pytest.raises(InputError, match="joint 'finger': axis xyz 'nan x'"):
+        parse_tree(broken.encode(), "g.urdf")

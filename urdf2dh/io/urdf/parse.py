@@ -212,6 +212,9 @@ def yourdfpy_robot(root: Any, display: str) -> Any:
     robot = yourdfpy.Robot(name=root.get("name"))
     robot.links.extend(yourdfpy.Link(name=el.get("name")) for el in root.iterchildren("link"))
     for el in root.iterchildren("joint"):
+        if el.get("type") in ("fixed", "floating"):  # urdfdom reads no axis of these
+            for axis in el.findall("axis"):
+                el.remove(axis)
         try:
             with np.errstate(over="raise", invalid="raise", divide="raise"):
                 robot.joints.append(yourdfpy.URDF._parse_joint(el))

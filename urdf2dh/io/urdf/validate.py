@@ -54,6 +54,7 @@ __all__ = ["JOINT_TYPES", "MOVING_TYPES", "check_robot", "numbers"]
 
 JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed", "floating", "planar")
 MOVING_TYPES = ("revolute", "continuous", "prismatic")  # the types whose axis gives a D-H row
+_AXISLESS = ("fixed", "floating")  # the types whose <axis> urdfdom does not read
 
 _LEADING = " \t\n\v\f\r"  # white space strToDouble skips before a number (none after it)
 _DECIMAL = re.compile(f"[{_LEADING}]*{DECIMAL}")
@@ -162,7 +163,10 @@ def _attribute(
 
 
 def _check_axis(el: Any, jtype: str, where: str) -> None:
-    """A moving joint's axis must normalise as urdfdom and Pinocchio do (module docstring)."""
+    """A moving joint's axis must normalise as urdfdom and Pinocchio do (module docstring); a
+    fixed or floating joint's is not read (urdfdom reads none)."""
+    if jtype in _AXISLESS:
+        return
     text = el.get("xyz")
     if text is None:
         if jtype in MOVING_TYPES:
