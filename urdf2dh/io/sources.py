@@ -37,12 +37,12 @@ from ..schemas import TABLE_FILE
 from ..tolerances import DEFAULT, Tolerances
 from .catalog import ROBOTS, Bundled, robot_path
 from .encodings import check_text, first_character, xml_root
-from .fields import JointBound
 from .files import SOURCE_ROLE, read_file
 from .xacro import XacroOptions
 
 if TYPE_CHECKING:
     from ..model.poe import PoeModel
+    from .fields import JointBound
     from .mjcf import MjcfElements
     from .urdf import UrdfTree
 
