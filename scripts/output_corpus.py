@@ -104,15 +104,16 @@ def _file(path: Path, mode: int, owner: tuple[int, int] | None = None) -> None:
     path.chmod(mode)
 
 
-def make_case(rng: Rng, i: int) -> Case:
-    """Case ``i``: its class drawn in turn, its details from ``rng``."""
+def make_case(rng: Rng, i: int, commands: tuple[tuple[str, ...], ...] = COMMANDS) -> Case:
+    """Case ``i``: its class drawn in turn, its details (and its command, one of ``commands``)
+    from ``rng``."""
     classes = [
         k
         for k in CLASSES
         if (ROOTED or k != "owner") and (k != "read-only dir" or SETPRIV or not ROOTED)
     ]
     kind = classes[i % len(classes)]
-    command = COMMANDS[int(rng.integers(len(COMMANDS)))]
+    command = commands[int(rng.integers(len(commands)))]
     return CLASSES[kind](rng, kind, command)
 
 
@@ -413,11 +414,14 @@ def judge(
     return problems
 
 
-def run_corpus(count: int, seed: int) -> list[Outcome]:
+def run_corpus(
+    count: int, seed: int, commands: tuple[tuple[str, ...], ...] = COMMANDS
+) -> list[Outcome]:
+    """``count`` seeded cases, each run in a fresh directory of its own."""
     rng = np.random.default_rng(seed)
     outcomes = []
     for i in range(count):
-        case = make_case(rng, i)
+        case = make_case(rng, i, commands)
         d = Path(tempfile.mkdtemp(prefix="urdf2dh-output-"))
         try:
             outcomes.append(run_case(case, d))

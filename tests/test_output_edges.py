@@ -30,9 +30,7 @@ def _shell(script: str, cwd: Path, *prefix: str) -> subprocess.CompletedProcess:
     )
 
 
-@pytest.mark.parametrize(
-    "args", ["convert ur5", "convert ur5 -h", "--version", "info ur5", "robots", "plan ur5 -h"]
-)
+@pytest.mark.parametrize("args", ["convert ur5", "convert ur5 -h", "--version", "robots"])
 def test_a_closed_stdout_is_a_failed_write(tmp_path, args):
     proc = _shell(f'"$PY" -m urdf2dh.cli {args} >&-', tmp_path)
     assert (proc.returncode, proc.stderr) == (
