@@ -5,6 +5,7 @@ and in radians)."""
 from __future__ import annotations
 
 import math
+import re
 import subprocess
 import sys
 from importlib.metadata import version as metadata_version
@@ -177,6 +178,11 @@ def test_rtb_script_runs_standalone(tmp_path):
     )
     assert proc.returncode == 0, proc.stderr
     assert "DHRobot: ur5, 6 joints (RRRRRR), standard DH" in proc.stdout
+    # what it prints shows no round-off: right angles as 90.0 degrees, and the URDF's pi/2
+    # written 1.57079632679 (4.9e-12 rad off) not as 2.8e-10 degrees, nor in the pose
+    assert "90.0°" in proc.stdout and "-90.0°" in proc.stdout
+    assert re.search(r"\d\.\d{5,}°|e-\d+", proc.stdout) is None, proc.stdout
+    assert "alpha=pi/2" in script.read_text()  # exact, as Python reads it
 
 
 # --------------------------------------------------------------------------- linuxcnc
@@ -363,3 +369,16 @@ def test_help_imports_no_heavy_optional_package():
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
     assert proc.returncode == 0, proc.stderr
     assert proc.stdout.strip().splitlines()[-1] == "[]"
+
+
+def test_the_linuxcnc_header_names_the_unit_of_its_values():
+    """The file's first lines say the unit its A and D values are in (not the source's, m)."""
+    model = load("tests/data/genser6.urdf")
+    values = {}
+    for unit in ("mm", "inch"):
+        text = export(model, "linuxcnc", opts=ExportOptions(units=unit))
+        assert f"# Lengths in {unit} unless stated, angles in radians." in text.splitlines()[:4]
+        lines = [line for line in text.splitlines() if line.startswith("setp genserkins.")]
+        values[unit] = np.array([float(line.split()[-1]) for line in lines if "ALPHA" not in line])
+    assert model.length_unit == "m" and np.abs(values["mm"]).max() > 100.0  # mm, not m
+    assert np.allclose(values["mm"], 25.4 * values["inch"], rtol=1e-12, atol=1e-9)

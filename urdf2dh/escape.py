@@ -267,6 +267,22 @@ def markdown_table(head: Sequence[str], body: Iterable[Sequence[str]], texts: in
     return ["| " + " | ".join(head) + " |", align, *("| " + " | ".join(r) + " |" for r in body)]
 
 
+def text_table(head: Sequence[str], body: Iterable[Sequence[str]], texts: int = 1) -> list[str]:
+    """The lines of a table for a terminal: ``head``, a rule, and the rows of ``body`` (each
+    cell :func:`visible` text already), in columns two spaces apart, the first ``texts``
+    left-aligned, the others (numbers) right-aligned."""
+    rows = [list(head), *(list(r) for r in body)]
+    widths = [max(len(r[i]) for r in rows) for i in range(len(head))]
+
+    def line(cells: Sequence[str]) -> str:
+        return "  ".join(
+            c.ljust(w) if i < texts else c.rjust(w)
+            for i, (c, w) in enumerate(zip(cells, widths, strict=True))
+        ).rstrip()
+
+    return [line(rows[0]), "  ".join("-" * w for w in widths), *(line(r) for r in rows[1:])]
+
+
 # what spreadsheets read as the start of a formula (OWASP, "CSV Injection"), the full-width
 # forms included (an IME writes them, and some spreadsheets take ＝ for =); tab and CR never
 # start a cell's text, which is :func:`visible`

@@ -334,6 +334,11 @@ class Tolerances:
     report: float = 1e-14
     written: float = 4 * EPS
 
+    def __repr__(self) -> str:
+        # the values that differ from the defaults: short, and what one passes to get it back
+        changed = (f for f in fields(self) if getattr(self, f.name) != f.default)
+        return f"Tolerances({', '.join(f'{f.name}={getattr(self, f.name)!r}' for f in changed)})"
+
     def __post_init__(self) -> None:
         for f in fields(self):
             value = getattr(self, f.name)

@@ -41,7 +41,7 @@ import fnmatch
 import io
 import math
 import re
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -49,8 +49,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .. import units
-from ..errors import InputError, UsageError, choices, shown
-from ..escape import csv_cell, csv_names, markdown_table, markdown_text
+from ..errors import InputError, UsageError, choices, shown, visible
+from ..escape import csv_cell, csv_names, markdown_table, markdown_text, text_table
 from ..io.files import read_file
 from ..numerals import decimal, integer, read_decimal, why_not
 from ..tolerances import QUATERNION_NORM
@@ -185,11 +185,29 @@ class Measurements:
     def _repr_markdown_(self) -> str:
         """In a notebook: how many rows of what, and the first rows as a table (names
         escaped)."""
+        title, head, body, more = self._layout(markdown_text)
+        return "\n".join([title, "", *markdown_table(head, body, texts=0), *more]) + "\n"
+
+    def __str__(self) -> str:
+        """How many rows of what, and the first rows as a table."""
+        title, head, body, more = self._layout(visible)
+        return "\n".join([title, "", *text_table(head, body, texts=0), *more]) + "\n"
+
+    def __repr__(self) -> str:
+        kind = "poses" if self.quaternions is not None else "positions"
+        where = f" from {shown(self.source)}" if self.source else ""
+        return f"<Measurements: {len(self)} {kind} of {len(self.joints)} joints{where}>"
+
+    def _layout(
+        self, text: Callable[[str], str]
+    ) -> tuple[str, list[str], list[list[str]], list[str]]:
+        """The title, the first rows' table and what follows it, names as ``text`` writes
+        them."""
         kind = "poses" if self.quaternions is not None else "positions"
         markers = "" if self.markers is None else f" of {len(self.marker_ids())} markers"
         _, configs = self.configurations()
-        where = f" from {markdown_text(self.source)}" if self.source else ""
-        head = [*map(markdown_text, self.joints), "x", "y", "z"]
+        where = f" from {text(self.source)}" if self.source else ""
+        head = [*map(text, self.joints), "x", "y", "z"]
         if self.quaternions is not None:
             head += ["qx", "qy", "qz", "qw"]
         if self.markers is not None:
@@ -202,11 +220,9 @@ class Measurements:
             if self.markers is not None:
                 cells.insert(0, str(int(self.markers[i])))
             body.append(cells)
-        out = [f"{len(self)} measured {kind}{markers} at {configs} configurations{where}", ""]
-        out += markdown_table(head, body, texts=0)
-        if len(self) > SHOWN_ROWS:
-            out.append(f"\n... {len(self) - SHOWN_ROWS} more rows")
-        return "\n".join(out) + "\n"
+        title = f"{len(self)} measured {kind}{markers} at {configs} configurations{where}"
+        more = ["", f"... {len(self) - SHOWN_ROWS} more rows"] if len(self) > SHOWN_ROWS else []
+        return title, head, body, more
 
     def marker_ids(self) -> list[int]:
         """The distinct markers, ascending (``[0]`` without a marker column)."""

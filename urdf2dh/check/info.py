@@ -8,7 +8,7 @@ from collections import Counter
 from dataclasses import dataclass
 
 from ..checks import check_flag, check_optional_name, check_source
-from ..errors import ChainError, choices, visible
+from ..errors import ChainError, choices, shown, visible
 from ..escape import markdown_table, markdown_text
 from ..io.sources import Source, open_source
 from ..io.xacro import XacroOptions
@@ -115,6 +115,16 @@ class Info:
         )
         out.extend(f"warning: {v(w)}" for w in model.warnings)
         return out
+
+    def __str__(self) -> str:
+        """What ``urdf2dh info`` prints."""
+        return self.text()
+
+    def __repr__(self) -> str:
+        return (
+            f"<Info {shown(self.robot)} ({self.kind}): {self.links} links, "
+            f"{len(self.joints)} joints>"
+        )
 
     def _repr_markdown_(self) -> str:
         """In a notebook: the chain's joints and counts as tables (names escaped)."""

@@ -635,6 +635,17 @@ class VerifyReport:
         out.extend(f"  warning: {v(w)}" for w in self.warnings())
         return out
 
+    def __str__(self) -> str:
+        """The report as ``urdf2dh verify`` prints it."""
+        return "\n".join(self.lines()) + "\n"
+
+    def __repr__(self) -> str:
+        verdict = "ok" if self.ok else f"FAILED: {', '.join(self.failed)}"
+        return (
+            f"<VerifyReport {shown(self.robot)}: {len(self.checks)} models against Pinocchio at "
+            f"{self.samples} configurations, {visible(verdict)}>"
+        )
+
     def _repr_markdown_(self) -> str:
         """In a notebook: each model's errors against each oracle as a table (names escaped)."""
         t, unit = markdown_text, markdown_text(self.length_unit)

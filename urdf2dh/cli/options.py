@@ -8,7 +8,7 @@ from __future__ import annotations
 import argparse
 from typing import TYPE_CHECKING
 
-from ..errors import InputError, shown
+from ..errors import InputError, UsageError, choices, shown
 from ..tolerances import MAX_MARKERS, MAX_SAMPLES, MAX_SEED
 
 if TYPE_CHECKING:
@@ -22,6 +22,7 @@ __all__ = [
     "LEVELS",
     "add_chain",
     "add_chain_options",
+    "add_format",
     "add_markers",
     "add_reading",
     "add_tolerances",
@@ -30,6 +31,7 @@ __all__ = [
     "names",
     "nominal",
     "nonnegative_float",
+    "output_format",
     "package_path",
     "parallel_angle",
     "positive_float",
@@ -194,6 +196,56 @@ def add_chain_options(p: argparse.ArgumentParser, several: bool = False) -> None
         metavar="MIB",
         help="for .xacro sources: memory the expansion may use (default %(default)s)",
     )
+
+
+def add_format(p: argparse.ArgumentParser, formats: tuple[str, ...], also: str = "") -> None:
+    """``--format``, one of ``formats``; without it, the suffix of ``-o FILE`` chooses
+    (:func:`output_format`), else the first of ``formats``. ``also``: more help text."""
+    p.add_argument(
+        "--format",
+        choices=formats,
+        default=None,
+        help=f"output format (default: the one the suffix of -o FILE names, else {formats[0]}"
+        f"{also})",
+    )
+
+
+def output_format(
+    args: argparse.Namespace, formats: tuple[str, ...], poe_file: bool = False
+) -> str:
+    """The format a command writes: ``--format``, or the one the suffix of ``-o FILE`` names
+    (``.json``, ``.yaml``, ``.csv``, ...: :data:`urdf2dh.emit.formats.SUFFIXES`), or the first of
+    ``formats``. Called before anything is read. ``poe_file``: the command writes a POE model
+    file, whose YAML form a ``.poe.yaml`` name names.
+
+    Raises
+    ------
+    UsageError
+        The suffix names a format that ``--format`` contradicts, or one the command does not
+        write (``diff -o d.yaml``).
+    """
+    from ..emit.formats import format_of
+    from .chains import names_directory
+
+    output = args.output
+    named = None if output is None or names_directory(output) else format_of(output)
+    if poe_file and named == "poe":
+        named = "yaml"
+    if named is not None and named not in formats:
+        raise UsageError(
+            f"-o {shown(output)}: a file of that name is {named}, which {args.command} does not "
+            f"write; its formats are {choices(formats)}"
+        )
+    if args.format is None:
+        return named or formats[0]
+    if named == "yaml" and args.format == "poe":
+        return "poe"  # a POE model file is a YAML document: x.yaml says no other
+    if named is not None and named != args.format:
+        raise UsageError(
+            f"-o {shown(output)} names a {named} file, --format {args.format} another: leave "
+            "--format out (the suffix chooses), or name the file for its format"
+        )
+    return str(args.format)
 
 
 def add_tolerances(p: argparse.ArgumentParser) -> None:

@@ -32,7 +32,16 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from ..checks import check_flag, check_instance, check_optional_name, check_source
-from ..errors import SHOWN_LENGTH, InputError, SourceError, Urdf2DhError, UsageError, choices, shown
+from ..errors import (
+    SHOWN_LENGTH,
+    InputError,
+    SourceError,
+    Urdf2DhError,
+    UsageError,
+    choices,
+    near,
+    shown,
+)
 from ..schemas import TABLE_FILE
 from ..tolerances import DEFAULT, Tolerances
 from .catalog import ROBOTS, Bundled, robot_path
@@ -304,7 +313,8 @@ def open_source(
         shortened = source if len(source) <= SHOWN_LENGTH else shown(source)
         raise SourceError(f"{shortened}: no such file")
     raise SourceError(
-        f"{shown(source)} is neither a file nor a bundled robot; bundled robots are "
+        f"{shown(source)} is neither a file nor a bundled robot{near(source, ROBOTS)}; bundled "
+        "robots are "
         f"{choices(ROBOTS, limit=30)}"
     )
 

@@ -207,7 +207,8 @@ def yourdfpy_robot(root: Any, display: str) -> Any:
     not refused for them. A floating-point fault in yourdfpy's matrix code is a failure naming the
     joint, not a numpy warning; underflow (``rpy="1e-300 1e-300 0"``) is no fault."""
     import numpy as np
-    import yourdfpy
+
+    from ._yourdfpy import urdf as yourdfpy  # its element parsers, without trimesh's package
 
     robot = yourdfpy.Robot(name=root.get("name"))
     robot.links.extend(yourdfpy.Link(name=el.get("name")) for el in root.iterchildren("link"))

@@ -16,7 +16,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from ...errors import ChainError, InputError, Remedy, choices, shown
+from ...errors import ChainError, InputError, Remedy, choices, near, shown
 from .validate import JOINT_TYPES, MOVING_TYPES
 
 __all__ = ["UrdfJoint", "UrdfTree", "build_links", "build_tree", "names"]
@@ -182,7 +182,8 @@ class UrdfTree:
         for role, link in (("base", base), ("tip", tip)):
             if link not in self.children and link not in self.parent_joint and link != self.root:
                 raise ChainError(
-                    f"{self.path}: unknown {role} link {shown(link)}; links are {names(self.links)}"
+                    f"{self.path}: unknown {role} link {shown(link)}"
+                    f"{near(link, self.links)}; links are {names(self.links)}"
                 )
         out: list[UrdfJoint] = []
         link = tip
