@@ -48,7 +48,7 @@ ROOTED = os.geteuid() == 0
 SETPRIV = shutil.which("setpriv")
 COMMANDS = (
     ("convert", "ur5"),
-    ("convert", "ur5", "--format", "json"),
+    ("convert", "ur5", "--convention", "hayati"),
     ("convert", str(ROOT / "tests" / "data" / "genser6.urdf"), "--convention", "mdh"),
     ("export", "ur5", "--to", "rtb"),
 )
@@ -119,7 +119,7 @@ def make_case(rng: Rng, i: int, commands: tuple[tuple[str, ...], ...] = COMMANDS
 
 def new_file(rng: Rng, kind: str, command: tuple[str, ...]) -> Case:
     umask = int(rng.choice(UMASKS))
-    name = str(rng.choice(["out.txt", "table.yaml", "sub dir/out", "ü.py"]))
+    name = str(rng.choice(["out.txt", "table.txt", "sub dir/out.txt", "ü.txt", "out"]))
 
     def setup(d: Path) -> str:
         (d / name).parent.mkdir(exist_ok=True)
@@ -294,15 +294,20 @@ def snapshot(d: Path) -> dict[str, tuple[object, ...]]:
     return out
 
 
-_REFERENCE: dict[tuple[str, ...], bytes] = {}
+_REFERENCE: dict[tuple[tuple[str, ...], str], bytes] = {}
 
 
-def reference(command: tuple[str, ...]) -> bytes:
-    """What a plain run of ``command`` writes to stdout (once per command)."""
-    if command not in _REFERENCE:
-        _REFERENCE[command] = subprocess.run(_argv(command), capture_output=True, check=True,
-                                             env=_env()).stdout  # fmt: skip
-    return _REFERENCE[command]
+def reference(command: tuple[str, ...], name: str) -> bytes:
+    """What a plain run of ``command`` writes to a new file named ``name`` (the name's suffix
+    may choose the format), once per command and name."""
+    key = (command, Path(name).name)
+    if key not in _REFERENCE:
+        with tempfile.TemporaryDirectory(prefix="urdf2dh-output-reference-") as directory:
+            target = Path(directory) / key[1]
+            subprocess.run(_argv(command, str(target)), capture_output=True, check=True,
+                           env=_env())  # fmt: skip
+            _REFERENCE[key] = target.read_bytes()
+    return _REFERENCE[key]
 
 
 def _env() -> dict[str, str]:
@@ -391,7 +396,7 @@ def judge(
     if case.expect == "written" and codes and codes[0] == 0:
         target = d / case.target
         data = target.read_bytes() if target.exists() else b""
-        if data != reference(case.command):
+        if data != reference(case.command, output or case.target):
             problems.append(f"{case.target} is not what a plain run writes ({len(data)} bytes)")
         st = os.lstat(target)
         if case.new:
