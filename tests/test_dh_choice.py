@@ -78,8 +78,9 @@ def test_every_export_applies_the_rule(target, tmp_path, capsys):
     if "hayati" in TARGETS[target].conventions:  # rtb: its Hayati robot
         assert code == 0 and "Hayati" in out.read_text()
         return
-    if target == "ur":  # a UR arm has 6 joints: refused for that before anything else
-        assert code == 2 and "a UR arm has 6 joints" in err
+    six = {"ur": "a UR arm has 6 joints", "eaik": "not 6R", "ikdh": "not 6R"}
+    if target in six:  # six joints or none: refused for that before anything else
+        assert code == 2 and six[target] in err and "3" in err, err
         return
     assert code == 0, err
     assert (

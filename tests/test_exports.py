@@ -303,6 +303,26 @@ def _turn_tool(model):
 # --------------------------------------------------------------------------- refusals, CLI
 
 
+LIMITS = """<robot name="turns"><link name="a"/><link name="b"/><link name="c"/>
+<joint name="j1" type="revolute"><parent link="a"/><child link="b"/><axis xyz="0 0 1"/>
+<limit lower="-12.566370614359172" upper="12.566370614359172" effort="1" velocity="1"/></joint>
+<joint name="j2" type="revolute"><parent link="b"/><child link="c"/><origin xyz="0.3 0 0"/>
+<axis xyz="0 0 1"/><limit lower="-6.283185307179586" upper="3.141592653589793" effort="1"
+velocity="1"/></joint></robot>"""
+
+
+def test_joint_limits_that_are_whole_turns_are_written_as_they_are(tmp_path):
+    """A limit of exactly 4 pi is not an angle to wrap into [-pi, pi] (which made it 0)."""
+    path = tmp_path / "turns.urdf"
+    path.write_text(LIMITS)
+    model = load(str(path))
+    script = export(model, "rtb")
+    assert "qlim=[-12.5663706143592, 12.5663706143592]" in script
+    assert "qlim=[-6.28318530717959, 3.14159265358979]" in script
+    assert "'qlim', [-12.5663706143592 12.5663706143592]" in export(model, "corke-matlab")
+    assert "PositionLimits = [-6.28318530717959 3.14159265358979]" in export(model, "matlab")
+
+
 @pytest.mark.parametrize("target", sorted(TARGETS))
 def test_helical_joints_are_refused_by_every_target(target):
     with pytest.raises(ExportError, match="helical"):

@@ -85,7 +85,7 @@ def test_repr_stays_one_line_for_names_with_line_breaks(values):
 def test_tolerances_show_what_differs_from_the_defaults():
     assert repr(urdf2dh.DEFAULT) == "Tolerances()"
     assert repr(urdf2dh.EXACT) == (
-        "Tolerances(parallel_angle=0.0, intersect_distance=0.0, sane_factor=0.0)"
+        "Tolerances(parallel_angle=0.0, intersect_distance=0.0, sane_factor=0.0, solver_snap=0.0)"
     )
     tol = urdf2dh.Tolerances(parallel_angle=1e-6)
     assert eval(repr(tol), {"Tolerances": urdf2dh.Tolerances}) == tol

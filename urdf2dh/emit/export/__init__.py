@@ -15,6 +15,8 @@ target             file                                                  convent
 ``kdl``            PyKDL ``Chain`` script                                dh, mdh      any
 ``corke-matlab``   Peter Corke's MATLAB toolbox ``SerialLink`` script    dh, mdh      any
 ``opw``            OPW kinematics parameters (``opw_kinematics`` YAML)   (POE model)  -
+``eaik``           EAIK ``HomogeneousRobot`` script (analytic IK)        dh           wu
+``ikdh``           ikdh robot file (Husty-Pfurner general 6R IK)         dh           any
 =================  ====================================================  ===========  ========
 
 The first convention and style listed are the defaults. ``opw`` reads the POE model itself (its
@@ -132,6 +134,22 @@ TARGETS: dict[str, Target] = {
             (),
             ".yaml",
         ),
+        Target(
+            "eaik",
+            "eaik",
+            "EAIK HomogeneousRobot script: analytic IK, every branch",
+            ("dh",),
+            ("wu",),
+            ".py",
+        ),
+        Target(
+            "ikdh",
+            "ikdh",
+            "ikdh robot file: Husty-Pfurner general 6R IK (mm; base and tool beside)",
+            ("dh",),
+            ("wu", "ur", "zero"),
+            ".yaml",
+        ),
     ]
 }
 
@@ -187,7 +205,7 @@ def export(
         The robot (:func:`urdf2dh.load`).
     target
         A name in :data:`TARGETS` (``ur``, ``linuxcnc``, ``rtb``, ``matlab``, ``kdl``,
-        ``corke-matlab``, ``opw``).
+        ``corke-matlab``, ``opw``, ``eaik``, ``ikdh``).
     convention, style
         The table the target reads (``None``: the target's own, D-H for every target that reads
         a table, unless a D-H table is not the one to write,

@@ -13,6 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...conventions import Params, get
+from ...conventions.analytic import pi_text
 from ...conventions.base import written_angle, written_length
 from ...conventions.grid import summary
 from ...conventions.table import Table
@@ -44,8 +45,8 @@ class ExportOptions:
     Attributes
     ----------
     units
-        The length unit of targets that fix one (``mm`` or ``inch`` for ``linuxcnc``; ``None``:
-        the target's default).
+        The length unit of targets that fix one (``mm`` or ``inch`` for ``linuxcnc``, ``mm`` or
+        ``m`` for ``ikdh``; ``None``: the target's default, ``mm``).
     tol
         The tolerances that decide what counts as zero, and the table's self-check.
     """
@@ -131,14 +132,24 @@ class Numbers:
         """An angle's text."""
         return num(self.angle(x))
 
+    def pi_ang(self, x: float) -> str:
+        """An angle's text with a multiple of pi/2 as ``pi/2``, ``pi``, ... (exact where the
+        reader defines ``pi``: Python with ``from math import pi``, ikdh's robot file)."""
+        return pi_text(written_angle(x, self.written)) or self.ang(x)
+
     def lin(self, x: float) -> str:
         """A length's text, in the target's unit."""
         return num(self.length(x))
 
     def position(self, kind: str) -> Callable[[float], str]:
         """The text of a joint position of a ``kind`` of joint: an angle for a revolute
-        joint, a length for a prismatic one (limits, home positions)."""
-        return self.ang if kind == "revolute" else self.lin
+        joint (:meth:`turn`), a length for a prismatic one (limits, home positions)."""
+        return self.turn if kind == "revolute" else self.lin
+
+    def turn(self, x: float) -> str:
+        """A joint angle's text (a limit): as :meth:`ang`, but a multiple of pi/2 is not
+        wrapped into [-pi, pi], so that a limit of 4 pi stays 4 pi."""
+        return num(float(f"{written_angle(x, self.written, wrap=False):.15g}"))
 
     def matrix(self, m: np.ndarray) -> list[list[float]]:
         """A 4x4 transform's entries: rotation as angles, translation as lengths."""

@@ -25,10 +25,7 @@ to 1e-9 degree (rtb prints every digit, and a URDF's pi/2 written ``1.5707963267
 
 from __future__ import annotations
 
-import math
-
 from ...conventions import Params
-from ...conventions.base import written_angle
 from ...conventions.table import Row, Table
 from ...escape import python_docstring, python_string
 from .common import (
@@ -38,6 +35,7 @@ from .common import (
     header,
     require,
 )
+from .solvers import rtb_form
 
 __all__ = ["render"]
 
@@ -49,23 +47,11 @@ CLASSES = {
 }
 
 
-QUARTERS = {-2: "-pi", -1: "-pi/2", 1: "pi/2", 2: "pi"}  # multiples of 90 degrees, as written
-
-
-def _angle(x: float, numbers: Numbers) -> str:
-    """An angle's text: ``pi/2``, ``pi``, ... for a multiple of 90 degrees (exact as Python reads
-    it), else the number as every target writes it."""
-    value = written_angle(x, numbers.written)
-    quarter = round(value / (0.5 * math.pi))
-    if quarter in QUARTERS and value == quarter * (0.5 * math.pi):
-        return QUARTERS[quarter]
-    return numbers.ang(x)
-
-
 def _factor(op: str, value: float, numbers: Numbers) -> str | None:
-    """An elementary motion's argument, or None for a zero one."""
+    """An elementary motion's argument (a multiple of pi/2 as ``pi/2``, ...), or None for a
+    zero one."""
     if op.startswith("R"):
-        return None if numbers.angle(value) == 0.0 else _angle(value, numbers)
+        return None if numbers.angle(value) == 0.0 else numbers.pi_ang(value)
     return None if numbers.length(value) == 0.0 else numbers.lin(value)
 
 
@@ -116,10 +102,10 @@ def _link(table: Table, row: Row, numbers: Numbers) -> str:
     p = floats(row.params)
     cls = CLASSES[(table.convention, row.kind)]
     if row.kind == "revolute":
-        args = [f"d={numbers.lin(p['d'])}", f"offset={_angle(p['theta'], numbers)}"]
+        args = [f"d={numbers.lin(p['d'])}", f"offset={numbers.pi_ang(p['theta'])}"]
     else:
-        args = [f"theta={_angle(p['theta'], numbers)}", f"offset={numbers.lin(p['d'])}"]
-    args[1:1] = [f"a={numbers.lin(p['a'])}", f"alpha={_angle(p['alpha'], numbers)}"]
+        args = [f"theta={numbers.pi_ang(p['theta'])}", f"offset={numbers.lin(p['d'])}"]
+    args[1:1] = [f"a={numbers.lin(p['a'])}", f"alpha={numbers.pi_ang(p['alpha'])}"]
     if row.lower is not None and row.upper is not None:
         lim = numbers.position(row.kind)
         args.append(f"qlim=[{lim(row.lower)}, {lim(row.upper)}]")
@@ -128,21 +114,24 @@ def _link(table: Table, row: Row, numbers: Numbers) -> str:
 
 
 def render(table: Table, opts: ExportOptions) -> str:
-    """A Python script defining ``robot``, a roboticstoolbox ``DHRobot`` of the table."""
+    """A Python script defining ``robot``, a roboticstoolbox ``DHRobot`` of the table (of its
+    analytic form where roboticstoolbox's analytic IK can take it: module doc)."""
     require(table, "rtb", ("dh", "mdh", "hayati"))
     numbers = Numbers.of(table, opts.tol)
     if table.convention == "hayati":
         return _render_ets(table, numbers)
-    base, tool = _motions(table.base), _motions(table.tool)
+    form = rtb_form(table, opts)
+    rows = table.rows if form.chain is None else form.chain.rows
+    base, tool = _motions(table.base), form.tool_motions + _motions(table.tool)
     classes = sorted({CLASSES[(table.convention, r.kind)] for r in table.rows})
-    out = [python_docstring(header(table, "roboticstoolbox-python DHRobot"), block=True), ""]
+    out = [python_docstring(form.lines, block=True), ""]
     out += ["import copy", "from math import degrees, pi, radians", ""]
     out.append(f"from roboticstoolbox import DHRobot, {', '.join(classes)}")
     out.append("from spatialmath import SE3")
     out.append("")
     out.append("robot = DHRobot(")
     out.append("    [")
-    out.extend(_link(table, r, numbers) for r in table.rows)
+    out.extend(_link(table, r, numbers) for r in rows)
     out.append("    ],")
     out.append(f"    name={python_string(table.robot or 'robot')},")
     out.append(f"    base={_se3(base, numbers)},")
@@ -152,7 +141,8 @@ def render(table: Table, opts: ExportOptions) -> str:
     out += [
         'if __name__ == "__main__":',
         "    # rtb prints every digit of an angle: the robot shown, and its pose at home, have",
-        "    # them to 1e-9 degree (robot keeps them exactly, a URDF's rounding of pi/2 included)",
+        "    # them to 1e-9 degree, its base and tool to 1e-9 (robot keeps them exactly, a URDF's",
+        "    # rounding of pi/2 included)",
         "    shown = copy.deepcopy(robot)",
         "    for link in shown.links:",
         "        link.alpha = radians(round(degrees(link.alpha), 9))",
@@ -160,6 +150,8 @@ def render(table: Table, opts: ExportOptions) -> str:
         "            link.offset = radians(round(degrees(link.offset), 9))",
         "        else:",
         "            link.theta = radians(round(degrees(link.theta), 9))",
+        "    shown.base = SE3(robot.base.A.round(9), check=False)",
+        "    shown.tool = SE3(robot.tool.A.round(9), check=False)",
         "    print(shown)",
         "    print(shown.fkine([0.0] * shown.n))",
     ]
