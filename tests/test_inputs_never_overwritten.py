@@ -215,7 +215,9 @@ def test_measure_writes_both_files_or_neither(inputs, capsys, monkeypatch):
     monkeypatch.setattr(files.tempfile, "mkstemp", mkstemp)
     argv = ["measure", "arm.urdf", "--configs", "5", "--markers", "2"]
     assert main([*argv, "-o", "m.csv", "--marker-layout", "lay.csv"]) == 2
-    assert "cannot write (Permission denied)" in capsys.readouterr().err
+    assert f"lay.csv: cannot write in directory '{inputs}' (Permission denied)" in (
+        capsys.readouterr().err
+    )
     assert not (inputs / "m.csv").exists() and not (inputs / "lay.csv").exists()
     assert [p.name for p in inputs.iterdir() if p.name.startswith(".")] == []
     monkeypatch.setattr(files.tempfile, "mkstemp", real)

@@ -52,6 +52,7 @@ from .. import units
 from ..errors import InputError, UsageError, choices, shown, visible
 from ..escape import csv_cell, csv_names, markdown_table, markdown_text, text_table
 from ..io.files import read_file
+from ..numerals import decimal, integer, read_decimal, why_not
 from ..tolerances import QUATERNION_NORM
 
 __all__ = [
@@ -401,18 +402,9 @@ def _rows(text: str) -> Iterator[tuple[int, list[str]]]:
 
 
 def _number(raw: list[str], k: int, name: str, where: str) -> float:
-    text_value = raw[k].strip()
-    try:
-        value = float(text_value)
-    except ValueError:
-        raise InputError(
-            f"{where}, column {shown(name)}: {shown(text_value)} is not a number"
-        ) from None
-    if not math.isfinite(value):
-        raise InputError(
-            f"{where}, column {shown(name)}: {shown(text_value)} is not a finite number"
-        )
-    return value
+    """The cell's number, by the one grammar of urdf2dh's files (:mod:`urdf2dh.numerals`);
+    spaces and tabs around it are allowed."""
+    return read_decimal(raw[k].strip(" \t"), f"{where}, column {shown(name)}")
 
 
 def _text(path: str | Path, display: str) -> str:
@@ -494,13 +486,10 @@ def read_measurements(
             orient = [_number(raw, k, shown_names[k], where) for k in layout.euler]
         mark = None
         if layout.marker is not None:
-            text_value = raw[layout.marker].strip()
-            try:
-                mark = int(text_value, 10)
-            except ValueError:
-                raise InputError(
-                    f"{where}, column 'marker': {shown(text_value)} is not an integer"
-                ) from None
+            text_value = raw[layout.marker].strip(" \t")
+            mark = integer(text_value)
+            if mark is None:
+                raise InputError(f"{where}, column 'marker': {shown(text_value)} is not an integer")
             if mark < 0:
                 raise InputError(f"{where}, column 'marker': {mark} is negative")
         for cols, marker in zip(layout.points, layout.point_ids, strict=True):
@@ -627,20 +616,22 @@ def read_layout(path: str | Path, display: str | None = None) -> dict[int, Mat]:
         row, line = len(out) + 1, reader.line_num
         if len(raw) != 4:
             raise InputError(f"{_where(display, row, line)}: {len(raw)} fields, not 4")
-        try:
-            mark = int(raw[0].strip(), 10)
-        except ValueError:
+        mark = integer(raw[0].strip(" \t"))
+        if mark is None:
             raise InputError(
                 f"{_where(display, row, line, MARKER)}: {shown(raw[0].strip())} is not an integer"
-            ) from None
+            )
         if mark in out:
             raise InputError(f"{_where(display, row, line, MARKER)}: marker {mark} appears twice")
-        try:
-            xyz = np.array([float(v) for v in raw[1:]])
-        except ValueError:
-            raise InputError(f"{_where(display, row, line)}: x, y, z must be numbers") from None
-        if not np.all(np.isfinite(xyz)):
-            raise InputError(f"{_where(display, row, line)}: x, y, z must be finite")
+        values = [decimal(v.strip(" \t")) for v in raw[1:]]
+        if any(v is None for v in values):
+            bad = next(v for v in raw[1:] if decimal(v.strip(" \t")) is None)
+            reason = why_not(bad.strip(" \t"))
+            problem = "must be finite" if reason == "not finite" else "must be numbers"
+            raise InputError(
+                f"{_where(display, row, line)}: x, y, z {problem} ({shown(bad)}: {reason})"
+            )
+        xyz = np.array(values, dtype=float)
         out[mark] = xyz
         if len(out) > MAX_MEASUREMENTS:
             raise InputError(f"{display}: more than {MAX_MEASUREMENTS} markers")

@@ -40,6 +40,7 @@ def console() -> None:
 
 def _main(argv: list[str] | None, restore: bool) -> int:
     with interrupts.handled(restore), files.one_run():
+        files.standard_streams()  # before anything is opened: a closed stdout is no file's number
         try:
             # imported here, not with this module: the run handles Ctrl-C from its first line on
             from .parser import command_of, get_argument_parser
