@@ -110,7 +110,13 @@ def test_published_opw_files_read_as_rosparam_writes_them(tmp_path):
          "opw_kinematics_joint_sign_corrections: [1, 1, 2, 1, 1, 1]\n", "six of 1 or -1"),
         ("opw_kinematics_geometric_parameters: {a1: 0, a2: 0, b: 0, c1: 1, c2: 1, c3: 1, c4: 0}\n"
          "opw_kinematics_joint_offsets: [0, 0]\n", "must be a list of six"),
+        ("opw_kinematics_geometric_parameters: {a1: 0, a2: 0, b: 0, c1: 1, c2: 1, c3: 1, c4: 0}\n"
+         "opw_kinematics_joint_offsets: [0, 0, deg(1.2.3), 0, 0, 0]\n", r"must be a number, deg"),
+        ("opw_kinematics_geometric_parameters: {a1: 0, a2: 0, b: 0, c1: 1, c2: 1, c3: 1, c4: 0}\n"
+         "opw_kinematics_joint_offsets: [0, 0, deg(1e999), 0, 0, 0]\n", "beyond the range"),
         ("dh: {a: [0, 0], d: [0], alpha: [0], theta: [0]}\n", r"dh\.a must be a list of 6"),
+        ("dh: {a: [0,0,0,0,0,0], d: [0,0,0,0,0,0], alpha: [0,0,0,0,0,pi/0], theta: [0,0,0,0,0,0]}"
+         "\n", r"dh\.alpha\[5\]: 'pi/0' divides by zero"),
         ("dh: {a: [0,0,0,0,0,0], d: [0,0,0,0,0,0], alpha: [0,0,0,0,0,tau], theta: [0,0,0,0,0,0]}\n",
          r"dh\.alpha\[5\] must be a number, pi, pi/N or pi\*N, not 'tau'"),
         ("dh: {a: [0,0,0,0,0,0], d: [0,0,0,0,0,0], alpha: [0,0,0,0,0,0], theta: [0,0,0,0,0,0]}\n"
@@ -186,7 +192,10 @@ def test_a_hal_file_without_urdf2dhs_comments(tmp_path):
 def test_bad_hal_files(tmp_path):
     path = tmp_path / "bad.hal"
     path.write_text("setp genserkins.A-0 wide\n")
-    with pytest.raises(InputError, match=r"genserkins\.A-0 must be a number"):
+    with pytest.raises(InputError, match=r"genserkins\.A-0: 'wide' is not a number"):
+        urdf2dh.load(str(path))
+    path.write_text("setp genserkins.D-1 1_0\n")  # the one number grammar: no '_' groups
+    with pytest.raises(InputError, match=r"genserkins\.D-1: '1_0' is not a number"):
         urdf2dh.load(str(path))
     path.write_text("setp urdf2dh-fb-2.gain 2.0\n")
     with pytest.raises(InputError, match="must be 1 or -1"):

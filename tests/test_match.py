@@ -312,6 +312,10 @@ def test_cli_no_match_exits_1_and_writes_nothing(tmp_path):
         ("joint,theta,d,a,alpha,colour\n1,0,0,0,0,red\n", "unknown column 'colour'"),
         ("theta,d,a,alpha\n0,0,x,0\n", "row 'joint1': a must be a number"),
         ("theta [furlong],d,a,alpha\n0,0,0,0\n", "an angle's unit is deg or rad"),
+        # the one number grammar (urdf2dh.numerals): Python's float takes these, urdf2dh not
+        ("theta,d,a,alpha\n0,0,\u0661,0\n", "not '\u0661' (digits that are not ASCII"),
+        ("theta,d,a,alpha\n0,0,0.4_25,0\n", "not '0.4_25' (digits grouped with '_'"),
+        ("theta,d,a,alpha\n0,0,0,pi/1e999\n", "beyond the range of float64"),
     ],
 )
 def test_bad_tables_are_errors_naming_the_file_row_and_column(text, message, tmp_path):

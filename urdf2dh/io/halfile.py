@@ -29,6 +29,7 @@ import numpy as np
 
 from ..errors import InputError, shown
 from ..geometry import se3
+from ..numerals import read_decimal
 from ..units import metres_per
 from .chaincomment import chain_links, decoded
 from .fields import check_number
@@ -163,11 +164,8 @@ def _whole(text: str) -> bool:
 
 
 def _number(text: str, where: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        raise InputError(f"{where} must be a number, not {shown(text)}") from None
-    return check_number(value, where)
+    """A HAL value by the one number grammar (:mod:`urdf2dh.numerals`), within the bounds."""
+    return check_number(read_decimal(text, where), where)
 
 
 def _pair(value: Any, where: str) -> tuple[float, float]:

@@ -33,6 +33,7 @@ from pathlib import Path
 from typing import Any, Literal
 
 from ..errors import InputError, choices, shown
+from ..numerals import DECIMAL, decimal, why_not
 from ..units import metres_per
 from .encodings import check_text
 from .fields import check_joint_count
@@ -71,9 +72,9 @@ _KINDS = {
     "fixed": "fixed", "f": "fixed", "flange": "fixed", "tool": "fixed",
 }  # fmt: skip
 _HEADER = re.compile(r"^\s*([^\[\(]*?)\s*(?:[\[\(]\s*([^\]\)]*?)\s*[\]\)])?\s*$")
-_NUMBER = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
+_NUMBER = DECIMAL  # the one number grammar (urdf2dh.numerals): ASCII digits
 _PI = re.compile(rf"^([-+]?)\s*(?:({_NUMBER})\s*\*?\s*)?(?:pi|π)\s*(?:/\s*({_NUMBER}))?$")
-_VARIABLE = re.compile(r"^\s*(q|θ|theta|th|d)_?\{?\d*\}?\s*(?:([-+])\s*(.*))?$", re.IGNORECASE)
+_VARIABLE = re.compile(r"^\s*(q|θ|theta|th|d)_?\{?[0-9]*\}?\s*(?:([-+])\s*(.*))?$", re.IGNORECASE)
 _SYMBOLS = {"theta": ("q", "θ", "theta", "th"), "d": ("q", "d")}
 
 
@@ -426,16 +427,20 @@ def _number(text: str, where: str) -> Written:
     match = _PI.match(compact)
     if match is not None and unit is None:
         sign = -1.0 if match.group(1) == "-" else 1.0
-        factor = float(match.group(2)) if match.group(2) else 1.0
-        divisor = float(match.group(3)) if match.group(3) else 1.0
+        factor = decimal(match.group(2)) if match.group(2) else 1.0
+        divisor = decimal(match.group(3)) if match.group(3) else 1.0
+        if factor is None or divisor is None:
+            raise InputError(f"{where}: {shown(text)}: a number beyond the range of float64")
         if divisor == 0.0:
             raise InputError(f"{where}: {shown(text)} divides by zero")
         return _checked(sign * factor * math.pi / divisor, 0.0, "rad", text, where)
-    if not re.fullmatch(_NUMBER, compact):
+    value = decimal(compact)
+    if value is None:
+        reason = why_not(compact)
         raise InputError(
             f"{where} must be a number, a fraction of pi or an angle in degrees, not {shown(text)}"
+            + ("" if reason == "not a decimal number" else f" ({reason})")
         )
-    value = float(compact)
     step = 0.0 if unit == "deg" and value == round(value) else _step(compact)
     return _checked(value, step, unit, text, where)
 

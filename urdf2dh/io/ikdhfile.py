@@ -36,6 +36,7 @@ import numpy as np
 
 from ..errors import InputError, shown
 from ..geometry import se3
+from ..numerals import read_decimal
 from .chaincomment import chain_links, find_chain
 from .fields import check_number
 
@@ -67,8 +68,11 @@ def _value(value: Any, angle: bool, where: str) -> float:
         if m is None:
             raise InputError(f"{where} must be a number, pi, pi/N or pi*N, not {shown(value)}")
         sign, op, n = m.groups()
-        x = math.pi if op is None else math.pi / float(n) if op == "/" else math.pi * float(n)
-        return -x if sign else x
+        k = 1.0 if n is None else read_decimal(n, where)
+        if op == "/" and k == 0.0:
+            raise InputError(f"{where}: {shown(value)} divides by zero")
+        x = math.pi / k if op == "/" else math.pi * k
+        return check_number(-x if sign else x, where)
     return check_number(value, where)
 
 

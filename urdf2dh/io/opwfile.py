@@ -28,6 +28,7 @@ import numpy as np
 
 from ..errors import InputError, shown
 from ..geometry import se3
+from ..numerals import DECIMAL, read_decimal
 from .chaincomment import chain_links, find_chain
 from .fields import check_number, check_vector
 
@@ -41,7 +42,7 @@ GEOMETRY_KEY = "opw_kinematics_geometric_parameters"
 OFFSETS_KEY = "opw_kinematics_joint_offsets"
 SIGNS_KEY = "opw_kinematics_joint_sign_corrections"
 EXTRA = ("urdf2dh_base_transform", "urdf2dh_tool_transform")
-_ROSPARAM = re.compile(r"^\s*(deg|rad)\s*\(\s*([-+]?[0-9.eE+-]+)\s*\)\s*$")
+_ROSPARAM = re.compile(rf"^\s*(deg|rad)\s*\(\s*({DECIMAL})\s*\)\s*$")
 
 
 def _block(tree: Any) -> Mapping[str, Any] | None:
@@ -65,7 +66,7 @@ def _angle(value: Any, where: str) -> float:
         match = _ROSPARAM.match(value)
         if match is None:
             raise InputError(f"{where} must be a number, deg(x) or rad(x), not {shown(value)}")
-        x = check_number(float(match.group(2)), where)
+        x = check_number(read_decimal(match.group(2), where), where)
         return math.radians(x) if match.group(1) == "deg" else x
     return check_number(value, where)
 
