@@ -59,8 +59,10 @@ __all__ = [
     "MAX_MEASUREMENTS",
     "POINT",
     "QUATERNION",
+    "AsRead",
     "Measurements",
     "Reading",
+    "euler_quaternions",
     "read_configurations",
     "read_layout",
     "read_measurements",
@@ -134,6 +136,54 @@ class Reading:
             raise UsageError(f"two columns are renamed to {shown(twice)}")
 
 
+@dataclass(frozen=True, slots=True)
+class AsRead:
+    """How a file was read: the facts a diagnosis needs to read it differently
+    (:mod:`.diagnosis`), and the length unit its user works in.
+
+    Attributes
+    ----------
+    reading
+        The :class:`Reading` it was read with.
+    model_unit
+        The length unit its lengths were converted into (the nominal's), or ``None`` when they
+        were kept as the file holds them.
+    joint_columns
+        The file's header name read as each joint (the chain's order).
+    point_columns
+        The file's header names read as ``x, y, z`` (one point per row), else ``()``.
+    orientation_columns
+        The file's header names read as ``qx, qy, qz, qw``, or as the three angles (in the order
+        :attr:`Reading.euler` takes them), else ``()``.
+    angles
+        ``(N, 3)`` the three angle columns as the file holds them (rows as the measurements'),
+        or ``None``.
+    """
+
+    reading: Reading
+    model_unit: str | None
+    joint_columns: tuple[str, ...]
+    point_columns: tuple[str, ...] = ()
+    orientation_columns: tuple[str, ...] = ()
+    angles: Mat | None = None
+
+    @property
+    def length_unit(self) -> str | None:
+        """The file's length unit, when its lengths were converted from it (else ``None``)."""
+        if self.model_unit is None:
+            return None
+        return self.reading.length_unit
+
+    def subset(self, rows: NDArray[np.int64]) -> AsRead:
+        """The same, for the measurements at ``rows``."""
+        if self.angles is None:
+            return self
+        return AsRead(
+            self.reading, self.model_unit, self.joint_columns, self.point_columns,
+            self.orientation_columns, self.angles[rows],
+        )  # fmt: skip
+
+
 SHOWN_ROWS = 10  # the rows of measurements a notebook shows
 
 
@@ -159,6 +209,8 @@ class Measurements:
         Where the markers sit: marker -> ``(3,)`` point in the tool frame (length unit), when
         known (synthetic measurements: :func:`~.measure.measure`); ``None`` otherwise.
         :func:`~urdf2dh.calibrate` takes it as ``layout=`` to hold the markers there.
+    read_as
+        How they were read from a file (:func:`read_measurements`), or ``None``.
     """
 
     joints: tuple[str, ...]
@@ -168,6 +220,7 @@ class Measurements:
     markers: NDArray[np.int64] | None = None
     source: str = ""
     layout: dict[int, Mat] | None = None
+    read_as: AsRead | None = None
 
     def __post_init__(self) -> None:
         n = len(self.q)
@@ -180,6 +233,12 @@ class Measurements:
 
     def __len__(self) -> int:
         return len(self.q)
+
+    @property
+    def length_unit(self) -> str | None:
+        """The length unit of the file they were read from, when it was converted into the
+        nominal's (``Reading.length_unit``); ``None``: the nominal's."""
+        return None if self.read_as is None else self.read_as.length_unit
 
     def _repr_markdown_(self) -> str:
         """In a notebook: how many rows of what, and the first rows as a table (names
@@ -232,6 +291,7 @@ class Measurements:
             None if self.markers is None else self.markers[rows],
             self.source,
             self.layout,
+            None if self.read_as is None else self.read_as.subset(rows),
         )
 
     def of_configurations(self, chosen: NDArray[np.int64]) -> Measurements:
@@ -508,15 +568,22 @@ def read_measurements(
         for k, name in enumerate(joints):
             if name not in sliding:
                 q_all[:, k] = np.radians(q_all[:, k])
-    quats = None
+    quats, angles = None, None
+    orientation = layout.quaternion if layout.quaternion is not None else layout.euler
     if layout.quaternion is not None:
         quats = np.array(orient_rows, dtype=float)
         quats /= np.linalg.norm(quats, axis=1, keepdims=True)
     elif layout.euler is not None:
-        from scipy.spatial.transform import Rotation
-
         angles = np.array(orient_rows, dtype=float)
-        quats = Rotation.from_euler(reading.euler, angles, degrees=reading.degrees).as_quat()
+        quats = euler_quaternions(angles, reading.euler, reading.degrees)
+    read_as = AsRead(
+        reading,
+        length_unit,
+        tuple(fields[k] for k in layout.joints),
+        tuple(fields[k] for k in layout.points[0]) if len(layout.points) == 1 else (),
+        tuple(fields[k] for k in orientation) if orientation is not None else (),
+        angles,
+    )
     return Measurements(
         joints,
         q_all,
@@ -524,7 +591,17 @@ def read_measurements(
         quats,
         np.array(marks, dtype=np.int64) if marks else None,
         display,
+        read_as=read_as,
     )
+
+
+def euler_quaternions(angles: Mat, sequence: str, degrees: bool) -> Mat:
+    """``(N, 4)`` unit quaternions ``[x, y, z, w]`` of the angles ``(N, 3)`` in ``sequence``
+    (scipy's notation, :attr:`Reading.euler`)."""
+    from scipy.spatial.transform import Rotation
+
+    out: Mat = Rotation.from_euler(sequence, angles, degrees=degrees).as_quat()
+    return out
 
 
 def read_configurations(
