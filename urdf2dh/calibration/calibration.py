@@ -27,7 +27,6 @@ Nothing is returned unless the final fit converged and the table passed its self
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -52,7 +51,7 @@ from .identify import (
     level_start,
     with_statistics,
 )
-from .measurements import MAX_MEASUREMENTS, Measurements
+from .measurements import MAX_MEASUREMENTS, Measurements, check_noise
 from .outliers import Suspect, rejecting_helps, suspects
 from .plausible import judged, unconverged
 from .prior import AUTO as AUTO_PRIOR
@@ -373,27 +372,6 @@ def check_measurements(nominal: PoeModel, m: Measurements, what: str = "") -> No
                 f"{display}: row {row + 1}: a measured point {far:.6g} {nominal.length_unit} "
                 f"from the device's origin, over {MAX_EXTENT:g} times the robot's size "
                 f"({size:.3g}); wrong unit?"
-            )
-
-
-def check_noise(noise_pos: float | None, noise_rot: float | None, size: float, unit: str) -> None:
-    """Refuse a noise level that is not a number > 0, or that is as large as the robot (or a
-    radian): no measurement is exact, and one that noisy tells nothing."""
-    for what, value, bound, bound_text in (
-        ("position", noise_pos, size, f"the robot's size ({size:.3g} {unit})"),
-        ("rotation", noise_rot, 1.0, "1 rad"),
-    ):
-        if value is None:
-            continue
-        if not (math.isfinite(value) and value > 0.0):
-            raise InputError(
-                f"the {what} noise must be a number > 0 (measurements are never exact), "
-                f"not {value:g}"
-            )
-        if value >= bound:
-            raise InputError(
-                f"a {what} noise of {value:g} is not below {bound_text}: such measurements "
-                "tell nothing about the robot"
             )
 
 

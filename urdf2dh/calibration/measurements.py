@@ -62,6 +62,7 @@ __all__ = [
     "AsRead",
     "Measurements",
     "Reading",
+    "check_noise",
     "euler_quaternions",
     "read_configurations",
     "read_layout",
@@ -300,6 +301,32 @@ class Measurements:
         keep = np.zeros(count, dtype=bool)
         keep[chosen] = True
         return self.subset(np.flatnonzero(keep[index]))
+
+
+def check_noise(
+    noise_pos: float | None,
+    noise_rot: float | None,
+    size: float,
+    unit: str,
+    exact: bool = False,
+) -> None:
+    """Refuse a noise level that is not a number > 0 (>= 0 with ``exact``: synthetic
+    measurements may be exact), or that is as large as the robot (``size``, in ``unit``) or a
+    radian: no measurement is exact, and one that noisy tells nothing."""
+    for what, value, bound, bound_text in (
+        ("position", noise_pos, size, f"the robot's size ({size:.3g} {unit})"),
+        ("rotation", noise_rot, 1.0, "1 rad"),
+    ):
+        if value is None:
+            continue
+        if not (math.isfinite(value) and (value > 0.0 or (exact and value == 0.0))):
+            least = ">= 0" if exact else "> 0 (measurements are never exact)"
+            raise InputError(f"the {what} noise must be a number {least}, not {value:g}")
+        if value >= bound:
+            raise InputError(
+                f"a {what} noise of {value:g} is not below {bound_text}: such measurements "
+                "tell nothing about the robot"
+            )
 
 
 def _where(display: str, row: int, line: int, column: str | None = None) -> str:

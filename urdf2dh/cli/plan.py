@@ -19,10 +19,11 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     options.add_chain(p)
     p.add_argument(
         "--configs",
-        type=lambda text: options.integer(text, 1, 100_000),
+        type=lambda text: options.integer(text, 1, 10_000),
         required=True,
         metavar="N",
-        help="number of configurations to choose",
+        help="number of configurations to choose (at least as many as give one equation per "
+        "parameter of the level; at most 10000)",
     )
     p.add_argument(
         "--identify",
