@@ -31,7 +31,6 @@ __all__ = [
     "DIFF_PARALLEL_DEG",
     "DIFF_ROUND_OFF",
     "EXACT",
-    "EXACT_ROTATION",
     "FILE_BYTES",
     "FK_ROUNDING",
     "GROSS_POSITION",
@@ -43,12 +42,15 @@ __all__ = [
     "LARGEST_NUMBER",
     "LARGEST_URDF_ANGLE",
     "LARGEST_URDF_NUMBER",
+    "LAYOUT_MISFIT",
     "MAPPING_DEPTH",
     "MAPPING_VALUES",
     "MAX_SAMPLES",
     "MAX_SEED",
+    "NOISE_BALANCE",
     "NOISE_FLOOR",
     "NOISE_MISMATCH",
+    "NOISE_OVER",
     "NOISE_RATIO",
     "OUTLIER_CHANCE",
     "OUTLIER_GAIN",
@@ -180,19 +182,27 @@ GROSS_POSITION = 0.1
 # - RMS rotation residual beyond GROSS_ROTATION rad [0.035]: a quaternion in another order, a
 #   wrong rotation sequence or angles in another unit leave about 1 rad.
 GROSS_ROTATION = 0.2
-# - A residual level (RMS per coordinate) more than NOISE_MISMATCH times the noise given, or less
-#   than its 1 / NOISE_MISMATCH: the noise is stated wrong (or in another unit), or the model
-#   misses something.
+# - A residual level (RMS per coordinate) more than NOISE_MISMATCH times the noise given: the
+#   noise is under-stated, or the model misses something (real robots leave residuals a few
+#   times a tracker's noise: unmodelled compliance and backlash); or less than 1 / NOISE_OVER
+#   times it, over the fit's redundancy (sqrt(m / (m - p)) for m equations and p parameters):
+#   over-stated, the noise weighs the prior's nominal geometry over the measurements and the
+#   residuals grow toward it (30 times over-stated left 0.12 times it, a model ten times less
+#   accurate).
 NOISE_MISMATCH = 10.0
+NOISE_OVER = 3.0
+# - Noise levels given for poses whose ratio (position against rotation) is more than
+#   NOISE_BALANCE times, or less than its inverse, the residuals' ratio: the fit weighs one kind
+#   that much too much (a position noise 11 times over-stated with a rotation noise 2 times
+#   under-stated left a model 3.7 times less accurate).
+NOISE_BALANCE = 5.0
 # - Estimated noise levels of poses whose position residuals (the median) exceed POSITION_ROTATION
 #   x the rotation residuals (the median) at the robot's size [0.35]: a device measures an
 #   orientation from points a baseline apart, so its rotations are never that much finer than
 #   its positions; the positions carry the model's error (a helical joint taken for a revolute
-#   one: 340 on the PUMA of Wu 2019). Rotations below EXACT_ROTATION rad (the median) no device
-#   resolves: synthetic exact rotations say nothing of the positions' noise, and only helical
-#   joints that explain the positions are named then.
+#   one: 1.2e3 on the PUMA of Wu 2019). It is refused where helical joints explain the positions,
+#   and said where they do not (the device's own position noise, maybe).
 POSITION_ROTATION = 10.0
-EXACT_ROTATION = 1e-9
 # - Measured points that spread more than SPREAD times as far as the nominal's tool points at the
 #   same configurations, or less than 1 / SPREAD times [1.1], where the nominal joints with base
 #   and tool fitted leave gross residuals (GROSS_POSITION): another length unit (2.54 between
@@ -211,6 +221,10 @@ SCALE_FACTOR = 10.0
 WORSE_THAN_BEFORE = 3.0
 WORSE_RATIO = 2.0
 WORSE_CONFIGURATIONS = 5
+# - Markers whose identified positions on the tool miss the layout given (after the best rigid
+#   fit) by more than LAYOUT_MISFIT x the layout's spread [7e-5 on the TIAGo's three markers]:
+#   markers numbered otherwise, or a layout in another unit.
+LAYOUT_MISFIT = 0.1
 # - Joint values beyond their limits by more than BEYOND_LIMITS rad (a revolute joint) are
 #   named (a warning; the judgement above decides whether they are degrees).
 BEYOND_LIMITS = 0.5
@@ -289,6 +303,7 @@ BOUNDS = (
     "MAX_SEED",
     "LARGEST_NUMBER",
     "LARGEST_URDF_NUMBER",
+    "LAYOUT_MISFIT",
     "LARGEST_URDF_ANGLE",
     "JOINT_SCALES",
 )

@@ -471,7 +471,7 @@ def calibrate(
     frame
         ``device`` or ``nominal``: the frame of the output model.
     layout
-        The markers' positions on the tool.
+        The markers' positions on the tool (the measurements' length unit, as ``noise_pos``).
     reject
         The outlier suspects (:mod:`.outliers`): rejected (``True``), kept (``False``), or
         rejected when that predicts the other configurations better (``None``).
@@ -553,7 +553,7 @@ def calibrate(
         frame=frame,
         noise_pos=user.to_model(noise_pos),
         noise_rot=noise_rot if pose else None,
-        layout=layout,
+        layout=None if layout is None else {k: user.to_model_array(v) for k, v in layout.items()},
         max_iterations=max_iterations,
         tol=tol,
     )

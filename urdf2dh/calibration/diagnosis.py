@@ -6,18 +6,24 @@ radians (or the reverse), a quaternion's components in another order or inverted
 another rotation sequence or unit, two joint or two position columns swapped, a joint or a
 position axis counted the other way round: each leaves residuals at the base-tool level (the
 nominal joints with base and tool fitted) that no measuring device leaves, where the file read
-the right way fits that level to about the nominal's accuracy. So every such reading of the
-measurements (:func:`rereadings`) is tried on at most :data:`SAMPLE` of their configurations:
-ranked by the rigid fit of the nominal's tool points (:func:`.start.placement`; for poses the
-tips of its axes at the robot's size, so orientations count), the best :data:`CONFIRMED`
-fitted at the base-tool level, scored by their RMS position residual over the robot's size
-and, for poses, their RMS rotation residual (rad). A reading is named when one of the two falls
-:data:`GAIN` times below the reading as given's, the other not rising (:func:`gain`); more are
-looked for from there, one per aspect of the file (a file with several mistakes). The length
-unit is looked for first by the spread of the measured points against the nominal's tool
-points, which shows it whatever else is read wrong. Each names the option that reads the file
-so (a :class:`~urdf2dh.errors.Remedy`), or says what to change in the file where no option
-does.
+the right way fits that level to about the nominal's accuracy. So the other readings of each
+aspect of the measurements (:func:`rereadings`) are tried on at most :data:`SAMPLE` of their
+configurations. They are ranked by the rigid fit of the nominal's tool points
+(:func:`.rigid.fit_rigid`), the points alone and, for poses, with the tips of the tool's axes
+at the robot's size (so that orientations count); the best :data:`CONFIRMED` by each are fitted
+at the base-tool level and scored by their RMS position residual over the robot's size and,
+for poses, their RMS rotation residual (rad) (:func:`score`). A reading is named when the
+product of the factors by which the two fall reaches :data:`GAIN`, neither rising twofold
+(:func:`gain`), and, where it changes the length unit, when the measured points then spread
+as the nominal's tool points do. More are looked for from there, one per aspect of the file (a
+file with several mistakes), a reading chosen before being dropped again where that fits
+better. Two aspects are looked for first by what shows them apart from the others: the length
+unit by the spread of the measured points against the nominal's tool points (joint values
+misread still spread the tool over the workspace), and the orientations' reading, where a model
+was identified from the positions, by how well that model's rotations explain them (a base and
+a tool rotation fitted: :func:`rotation_misfit`; it shows where the nominal is too far from the
+robot for the base-tool level to). Each reading names the option that reads the file so (a
+:class:`~urdf2dh.errors.Remedy`), or says what to change in the file where no option does.
 
 **Helical joints.** Revolute joints that advance along their axes as they turn (the PUMA of
 Wu 2019) leave position residuals that rotations do not share; :func:`helical` identifies the
@@ -70,10 +76,11 @@ __all__ = [
 Mat = NDArray[np.float64]
 
 SAMPLE = 60  # configurations a reading is tried on, at most (seeded choice)
-CONFIRMED = 4  # readings fitted at the base-tool level per round (the best by the rigid fit)
+CONFIRMED = 3  # readings fitted at the base-tool level per round, the best by each rigid fit
 GAIN = 10.0  # a reading is named when it scores this many times better than the one given
 ROUNDS = 3  # readings composed at most (mistakes in one file)
 HELICAL_GAIN = 3.0  # helical joints are named when they fit the positions this much better
+_PROCRUSTES = 20  # alternating fits of base and tool rotations
 _ITERATIONS = 50  # Levenberg-Marquardt iterations of a trial fit at most
 
 _LETTERS = "xyzw"
@@ -101,12 +108,15 @@ class Reread:
     apply
         The measurements read so, from the measurements as given (the aspects other readings
         change left as they come).
+    layout
+        How a marker layout's lengths change with it (a layout is read in the file's unit).
     """
 
     kind: str
     cause: str
     remedy: Remedy | None
     apply: Callable[[Measurements], Measurements]
+    layout: float = 1.0
 
     @property
     def aspect(self) -> str:
@@ -162,6 +172,7 @@ def _lengths(nominal: PoeModel, read: AsRead) -> Iterator[Reread]:
                 f"the file's lengths are in {unit}, not {current}",
                 Remedy("reading.length_unit", "; read them with {}", unit),
                 _scaled(factor, sliding),
+                factor,
             )
 
 
@@ -303,6 +314,14 @@ def rereadings(m: Measurements, nominal: PoeModel) -> Iterator[Reread]:
     yield from _columns(nominal, read)
 
 
+def _with_layout(opts: FitOptions, trial: dict[str, Reread]) -> FitOptions:
+    """``opts`` with its marker layout read as ``trial`` reads the file."""
+    factor = math.prod(r.layout for r in trial.values())
+    if opts.layout is None or factor == 1.0:
+        return opts
+    return replace(opts, layout={k: v * factor for k, v in opts.layout.items()})
+
+
 def read_so(m: Measurements, readings: dict[str, Reread]) -> Measurements:
     """``m`` read as ``readings`` (one per aspect) say."""
     for aspect in _ORDER:
@@ -331,22 +350,28 @@ def _sample(m: Measurements) -> Measurements:
     return m.of_configurations(chosen)
 
 
-def _rigid_score(nominal: PoeModel, m: Measurements, opts: FitOptions, ids: list[int]) -> float:
-    """The rigid fit's RMS residual of the nominal's tool points over the robot's size."""
+def _rigid_scores(
+    nominal: PoeModel, m: Measurements, opts: FitOptions, ids: list[int]
+) -> tuple[float, float]:
+    """The rigid fit's RMS residual of the nominal's tool points over the robot's size: of the
+    points alone, and (poses) of the points with the tips of the tool's axes at the robot's
+    size (the orientations too)."""
     size = nominal.size()
+    out = []
     with np.errstate(all="ignore"):
         ours = nominal_points(nominal, m, opts, ids)
-        if opts.pose:
-            assert m.quaternions is not None
-            theirs = pose_points(_poses(m), size)
-        else:
-            theirs = m.points
-        if not (np.all(np.isfinite(ours)) and np.all(np.isfinite(theirs))):
-            return math.inf
-        g = fit_rigid(ours, theirs)
-        moved = ours @ g[:3, :3].T + g[:3, 3]
-    value = float(np.sqrt(np.mean(np.sum((moved - theirs) ** 2, axis=1)))) / size
-    return value if math.isfinite(value) else math.inf
+        theirs = pose_points(_poses(m), size) if opts.pose else m.points
+        every = slice(None)
+        for rows in (slice(0, None, 4), every) if opts.pose else (every, every):
+            a, b = ours[rows], theirs[rows]
+            if not (np.all(np.isfinite(a)) and np.all(np.isfinite(b))):
+                out.append(math.inf)
+                continue
+            g = fit_rigid(a, b)
+            moved = a @ g[:3, :3].T + g[:3, 3]
+            value = float(np.sqrt(np.mean(np.sum((moved - b) ** 2, axis=1)))) / size
+            out.append(value if math.isfinite(value) else math.inf)
+    return out[0], out[1]
 
 
 def _poses(m: Measurements) -> Mat:
@@ -385,12 +410,24 @@ def score(nominal: PoeModel, m: Measurements, opts: FitOptions, ids: list[int]) 
 
 def gain(old: Mat, new: Mat) -> float:
     """How many times better a reading scoring ``new`` fits than one scoring ``old``
-    (:func:`score`): the largest factor by which one kind of residual falls, none rising more
-    than twofold (1 when one does, or when nothing falls)."""
+    (:func:`score`): the product of the factors by which each kind of residual falls, none
+    rising more than twofold (else 1)."""
     floor = 1e-12
     if not np.all(np.isfinite(new)) or np.any(new > 2.0 * old + floor):
         return 1.0
-    return float(np.max((old + floor) / (new + floor)))
+    return float(np.prod(np.maximum((old + floor) / (new + floor), 1.0)))
+
+
+def _spread_fits(
+    nominal: PoeModel, m: Measurements, trial: dict[str, Reread], opts: FitOptions, ids: list[int]
+) -> bool:
+    """Whether a reading that changes the length unit leaves the measured points spread as the
+    nominal's tool points do (within :data:`~urdf2dh.tolerances.SPREAD`): shrinking them to a
+    point would otherwise fit any tool that barely moves."""
+    if "lengths" not in trial:
+        return True
+    ratio = spread_ratio(nominal, m, opts, ids)
+    return bool(math.isfinite(ratio) and 1.0 / SPREAD <= ratio <= SPREAD)
 
 
 def _unit_by_spread(
@@ -406,36 +443,104 @@ def _unit_by_spread(
     best, nearest = None, math.inf
     for r in candidates:
         if r.kind == "length-unit":
-            other = spread_ratio(nominal, r.apply(m), opts, ids)
+            other = spread_ratio(nominal, r.apply(m), _with_layout(opts, {r.aspect: r}), ids)
             off = abs(math.log(other)) if math.isfinite(other) and other > 0.0 else math.inf
             if off < nearest:
                 best, nearest = r, off
     return best if nearest <= math.log(SPREAD) else None
 
 
+def _polar(a: Mat) -> Mat:
+    """The rotation nearest ``a`` (3x3)."""
+    u, _, vt = np.linalg.svd(a)
+    d = np.sign(np.linalg.det(u @ vt)) or 1.0
+    out: Mat = u @ np.diag([1.0, 1.0, d]) @ vt
+    return out
+
+
+def rotation_misfit(model: Mat, measured: Mat) -> float:
+    """RMS angle (rad) between rotations ``measured`` and ``B model T`` ``(N, 3, 3)``, with the
+    base and tool rotations ``B``, ``T`` that fit best (alternating Procrustes fits)."""
+    from ..geometry.lie import log_so3
+
+    with np.errstate(all="ignore"):
+        base, tool = np.eye(3), np.eye(3)
+        for _ in range(_PROCRUSTES):
+            base = _polar(np.einsum("nij,nkj->ik", measured, model @ tool))
+            tool = _polar(np.einsum("nji,njk->ik", base @ model, measured))
+        turn = log_so3(base @ model @ tool @ np.swapaxes(measured, 1, 2))
+    value = float(np.sqrt(np.mean(np.sum(turn**2, axis=1))))
+    return value if math.isfinite(value) else math.inf
+
+
+def _orientation_by_model(
+    reference: PoeModel, m: Measurements, candidates: list[Reread]
+) -> Reread | None:
+    """The reading of the orientations that the identified model ``reference`` (fitted to the
+    positions, the orientations weighed by their large residuals) explains :data:`GAIN` times
+    better than the reading as given, when the base-tool level cannot tell (a nominal far from
+    the robot leaves a tenth of a radian there)."""
+    from ..geometry.lie import rotation_of
+
+    if m.quaternions is None:
+        return None
+    model = reference.fk_batch(m.q)[:, :3, :3]
+    given = rotation_misfit(model, rotation_of(m.quaternions))
+    best, least = None, given
+    for r in candidates:
+        if r.aspect == "orientations":
+            other = r.apply(m).quaternions
+            assert other is not None
+            misfit = rotation_misfit(model, rotation_of(other))
+            if misfit < least:
+                best, least = r, misfit
+    return best if least * GAIN <= given else None
+
+
 def misread(
-    nominal: PoeModel, m: Measurements, opts: FitOptions, ids: list[int]
+    nominal: PoeModel,
+    m: Measurements,
+    opts: FitOptions,
+    ids: list[int],
+    reference: PoeModel | None = None,
 ) -> tuple[tuple[Reread, ...], Mat, Mat]:
     """The other readings of ``m`` that explain it (module docstring; at most one per aspect),
-    and the scores of the reading as given and of theirs (:func:`score`)."""
+    and the scores of the reading as given and of theirs (:func:`score`). ``reference`` is the
+    model identified from ``m`` as read, in the device frame, when there is one: the
+    orientations' reading is looked for against it too."""
     sample = _sample(m)
     candidates = list(rereadings(sample, nominal))
     given = now = score(nominal, sample, opts, ids)
     chosen: dict[str, Reread] = {}
+    turned = None if reference is None else _orientation_by_model(reference, sample, candidates)
+    if turned is not None:
+        chosen, now = {turned.aspect: turned}, score(nominal, turned.apply(sample), opts, ids)
     lengths = _unit_by_spread(nominal, sample, opts, ids, candidates)
     if lengths is not None:  # the length unit shows apart from everything else: start there
-        value = score(nominal, lengths.apply(sample), opts, ids)
+        first = {**chosen, lengths.aspect: lengths}
+        value = score(nominal, read_so(sample, first), _with_layout(opts, first), ids)
         if gain(now, value) >= GAIN:
-            chosen, now = {lengths.aspect: lengths}, value
+            chosen, now = first, value
     for _ in range(ROUNDS):
         trials = [{**chosen, r.aspect: r} for r in candidates if chosen.get(r.aspect) is not r]
+        trials += [{a: r for a, r in chosen.items() if a != aspect} for aspect in chosen]
         reads = [read_so(sample, t) for t in trials]
-        ranked = sorted(
-            range(len(trials)), key=lambda k: _rigid_score(nominal, reads[k], opts, ids)
+        each = [_with_layout(opts, t) for t in trials]
+        kept = [k for k, t in enumerate(trials) if _spread_fits(nominal, reads[k], t, each[k], ids)]
+        trials, reads, each = (
+            [trials[k] for k in kept],
+            [reads[k] for k in kept],
+            [each[k] for k in kept],
+        )
+        rigid = [_rigid_scores(nominal, reads[k], each[k], ids) for k in range(len(trials))]
+        ranked = dict.fromkeys(
+            k
+            for kind in (0, 1)  # the best by the points alone, and with the orientations
+            for k in sorted(range(len(trials)), key=lambda k: rigid[k][kind])[:CONFIRMED]
         )
         best, best_score, best_gain = None, now, 1.0
-        for k in ranked[:CONFIRMED]:
-            value = score(nominal, reads[k], opts, ids)
+        for k in ranked:
+            value = score(nominal, reads[k], each[k], ids)
             if gain(now, value) > best_gain:
                 best, best_score, best_gain = trials[k], value, gain(now, value)
         if best is None or best_gain < GAIN:

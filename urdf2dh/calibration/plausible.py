@@ -13,10 +13,17 @@ what the ten real data sets of ``benchmarks/calibration.py`` show):
   fit a robot a thousand times smaller), or a joint scale ten times the nominal's or a tenth of
   it (joint values in another unit), or negative (a joint counted the other way round);
 * ``noise-under-stated``, ``noise-over-stated``: a residual level (RMS per coordinate) ten times
-  the noise given, or a tenth of it (a noise in another unit, or a model that misses something);
+  the noise given (an optimistic noise figure, or a model that misses something), or, over the
+  fit's redundancy, a third of it (a noise in another unit: it weighs the nominal's geometry
+  over the measurements, and the residuals grow toward it);
+  ``noise-balance``: the two levels given weigh positions against rotations five times
+  otherwise than the residuals (the model then trusts the wrong kind);
 * ``position-rotation``: estimated noise levels of poses whose positions are ten times coarser
-  than their rotations at the robot's size, which no device measures: the positions carry the
-  model's error (a helical joint, a tool point that is not the one measured);
+  than their rotations at the robot's size, which a device measuring orientations from points
+  hardly does: the positions carry the model's error where helical joints explain them (a
+  warning where they do not: the device's position noise, maybe);
+* ``marker-layout``: markers whose identified places on the tool miss the layout given by a
+  tenth of its spread (markers numbered otherwise, a layout in another unit);
 * ``outliers-everywhere``: more than a fifth of the measurements are outlier suspects: the noise
   levels are wrong, not the measurements;
 * ``worse-than-before``: the calibrated model predicts configurations it was not fitted to worse
@@ -42,10 +49,12 @@ from ..errors import Implausible, NotConverged, Remedy, visible
 from ..model.poe import PoeModel
 from ..tolerances import (
     BEYOND_LIMITS,
-    EXACT_ROTATION,
     GROSS_POSITION,
     GROSS_ROTATION,
+    LAYOUT_MISFIT,
+    NOISE_BALANCE,
     NOISE_MISMATCH,
+    NOISE_OVER,
     OUTLIER_SHARE,
     POSITION_ROTATION,
     SCALE_FACTOR,
@@ -59,6 +68,7 @@ from .diagnosis import HELICAL_GAIN, explained, helical, misread, spread_ratio
 from .identify import Identified
 from .measurements import Measurements
 from .residuals import evaluate
+from .rigid import fit_rigid
 from .select import per_configuration, within
 from .solver import Solution
 from .start import FitOptions, to_data
@@ -88,8 +98,10 @@ KINDS = {
     "scale": "measurements or joint values at another scale than the nominal's",
     "noise-under-stated": "residuals far beyond the noise given",
     "noise-over-stated": "residuals far below the noise given",
+    "noise-balance": "positions weighed against rotations otherwise than the residuals say",
     "position-rotation": "positions far coarser than the rotations show the noise to be",
     "outliers-everywhere": "most measurements beyond what the noise explains",
+    "marker-layout": "markers that do not sit where the layout puts them",
     "worse-than-before": "new configurations predicted worse than by the nominal",
     "length-unit": "lengths in another unit",
     "joint-degrees": "joint values in degrees (or radians) read as the other",
@@ -238,6 +250,9 @@ def _noise(cal: Calibration, given: tuple[float | None, float | None]) -> list[F
                 ("rotation", _rms_per_coordinate(fit.rms_rotation), given_rot,
                  cal.noise.rotation, "rad")
             )  # fmt: skip
+        # RMS residuals fall short of the noise by sqrt((m - p) / m): what the fit absorbed
+        m, p = cal.counts.equations, cal.counts.parameters
+        redundancy = math.sqrt(m / (m - p)) if m > 1.1 * p else math.inf
         for what, level, stated, weighted, u in ratios:
             ratio = level / stated
             if ratio > NOISE_MISMATCH:
@@ -254,16 +269,35 @@ def _noise(cal: Calibration, given: tuple[float | None, float | None]) -> list[F
                         ),
                     )
                 )
-            elif ratio < 1.0 / NOISE_MISMATCH and _same(weighted, stated):
+            elif ratio * redundancy < 1.0 / NOISE_OVER and _same(weighted, stated):
                 out.append(
                     Finding(
                         "noise-over-stated",
                         f"the {what} residuals are {ratio:.3g} times the noise given ({level:.3g} "
                         f"against {stated:.3g} {u} per coordinate): the noise is over-stated "
-                        f"(given in another unit? {what} noise is in {u})",
+                        f"(given in another unit? {what} noise is in {u}), and so weighed the "
+                        "nominal's geometry over the measurements",
                         Remedy(
                             "noise_pos, noise_rot",
                             "; state it in the file's units, or leave out {} to have it estimated",
+                        ),
+                    )
+                )
+        if len(ratios) == 2 and not out:
+            (_, pos, pos_given, _, _), (_, rot, rot_given, weighted, _) = ratios
+            balance = (pos / pos_given) / (rot / rot_given)
+            if _same(weighted, rot_given) and not 1 / NOISE_BALANCE <= balance <= NOISE_BALANCE:
+                out.append(
+                    Finding(
+                        "noise-balance",
+                        f"the noise given weighs positions against rotations {balance:.3g} times "
+                        f"otherwise than the residuals do ({pos:.3g} {unit} and {rot:.3g} rad "
+                        f"per coordinate, against {pos_given:.3g} {unit} and {rot_given:.3g} rad "
+                        "given): one of the two is stated wrong",
+                        Remedy(
+                            "noise_pos, noise_rot",
+                            "; state the noise the residuals show, or leave out {} to have it "
+                            "estimated",
                         ),
                     )
                 )
@@ -285,6 +319,30 @@ def _noise(cal: Calibration, given: tuple[float | None, float | None]) -> list[F
                 )
             )
     return out
+
+
+def _layout(cal: Calibration, opts: FitOptions) -> list[Finding]:
+    """``marker-layout``: the markers' identified positions on the tool against the layout
+    given, after the best rigid fit (their relative places the measurements fix)."""
+    if opts.layout is None or len(cal.markers_on_tool) < 2:
+        return []
+    ids = sorted(cal.markers_on_tool)
+    given = cal.units.shown_array(np.array([opts.layout[k] for k in ids]))
+    found = np.array([cal.markers_on_tool[k] for k in ids])
+    g = fit_rigid(given, found)
+    misfit = float(np.sqrt(np.mean(np.sum((given @ g[:3, :3].T + g[:3, 3] - found) ** 2, 1))))
+    spread = float(np.sqrt(np.mean(np.sum((given - given.mean(axis=0)) ** 2, axis=1))))
+    if misfit <= LAYOUT_MISFIT * spread:
+        return []
+    unit = cal.units.length
+    return [
+        Finding(
+            "marker-layout",
+            f"the markers' identified positions on the tool miss the layout given by "
+            f"{misfit:.3g} {unit} RMS (the layout spreads {spread:.3g} {unit}): markers "
+            f"numbered otherwise, or a layout in another unit (it is read in {unit})",
+        )
+    ]
 
 
 def _outliers(cal: Calibration) -> list[Finding]:
@@ -392,6 +450,7 @@ def judge(
     found = _gross(cal, size)
     found += _scale(cal, cal.nominal, fit, opts, ids, before, after)
     found += _noise(cal, given)
+    found += _layout(cal, opts)
     found += _outliers(cal)
     found += _worse_than_before(cal, index)
     return tuple(found)
@@ -442,7 +501,13 @@ def judged(
     if any(f.kind == "position-rotation" or _positions_beyond(f) for f in findings):
         rms = cal.comparisons[0].after.rms_position / cal.units.per_model
         joints = helical(nominal, fit, opts, ids, rms)
-        if joints is None and _exact_rotations(cal):  # the positions' own noise, maybe
+        if joints is None:  # the device's own, maybe: said, not refused
+            notes += [
+                f"{f.text}; with every joint's pitch free they fit no better, so this may be the "
+                "device's position noise"
+                for f in findings
+                if f.kind == "position-rotation"
+            ]
             findings = tuple(f for f in findings if f.kind != "position-rotation")
     if findings and not accept:
         raise refusal(cal.measurements, findings, nominal, fit, opts, ids, cal, joints)
@@ -454,17 +519,6 @@ def judged(
 
 def _positions_beyond(f: Finding) -> bool:
     return f.kind == "noise-under-stated" and f.text.startswith("the position")
-
-
-def _exact_rotations(cal: Calibration) -> bool:
-    """Whether the rotation residuals are below what any device resolves
-    (:data:`~urdf2dh.tolerances.EXACT_ROTATION`, the median): synthetic exact rotations, which
-    say nothing of the positions' noise."""
-    rotations = cal.comparisons[0].after_rotation
-    return rotations is not None and float(np.median(rotations)) < EXACT_ROTATION
-
-
-_READING = ("gross-position", "gross-rotation", "scale")
 
 
 def refusal(
@@ -483,8 +537,8 @@ def refusal(
     positions (``joints``, :func:`.diagnosis.helical`), or the first finding's."""
     kinds = tuple(dict.fromkeys(f.kind for f in findings))
     first = findings[0]
-    if any(k in _READING for k in kinds):
-        reads, _, _ = misread(nominal, fit, opts, ids)
+    if joints is None:
+        reads, _, _ = misread(nominal, fit, opts, ids, None if cal is None else cal.device_model)
         if reads:
             cause, remedies = explained(reads, fit)
             return Implausible(

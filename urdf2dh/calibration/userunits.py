@@ -3,8 +3,9 @@ computation runs) and its user's (in which every stated quantity is given and re
 
 The user's length unit is the measurement file's (``--length-unit``, :attr:`.Reading.length_unit`)
 when its lengths were converted into the nominal's, else the nominal's own. A noise level given
-for the positions (``--noise-pos``, ``noise_pos=``) is in that unit, and the report, its text and
-its picture speak it. Angles are radians throughout.
+for the positions (``--noise-pos``, ``noise_pos=``) and a marker layout (``--marker-layout``,
+``layout=``) are in that unit, and the report, its text and its picture speak it. Angles are
+radians throughout.
 """
 
 from __future__ import annotations
@@ -61,3 +62,8 @@ class UserUnits:
     def to_model(self, value: float | None) -> float | None:
         """A length the user gave (``None``: none), in the model's unit."""
         return None if value is None else value / self.per_model
+
+    def to_model_array(self, values: Mat) -> Mat:
+        """Lengths the user gave, in the model's unit."""
+        out: Mat = np.asarray(values, dtype=float) / self.per_model
+        return out
