@@ -77,7 +77,7 @@ Mat = NDArray[np.float64]
 
 SAMPLE = 60  # configurations a reading is tried on, at most (seeded choice)
 CONFIRMED = 3  # readings fitted at the base-tool level per round, the best by each rigid fit
-GAIN = 10.0  # a reading is named when it scores this many times better than the one given
+GAIN = 5.0  # a reading is named when it scores this many times better than the one given
 ROUNDS = 3  # readings composed at most (mistakes in one file)
 HELICAL_GAIN = 3.0  # helical joints are named when they fit the positions this much better
 _PROCRUSTES = 20  # alternating fits of base and tool rotations

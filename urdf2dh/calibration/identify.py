@@ -301,6 +301,8 @@ def _solve_with_evidence(
         new_sp, new_sr = (found[0], found[1]) if opts.pose else (found[0], sr)
         if not given:
             new_sp, new_sr = bounded_noise(new_sp, new_sr, size)
+        else:  # as given (the search returns them through exp(log(.)))
+            new_sp, new_sr = sp, sr
         new_values = values.copy()
         new_values[present] = estimated
         floor = _DEVIATION_NEGLIGIBLE

@@ -7,11 +7,11 @@ configurations are chosen one at a time to maximise the determinant of the infor
 ``J^T J`` (D-optimal design, greedily: Fedorov 1972, *Theory of Optimal Experiments*; the
 observability indices of Sun & Hollerbach 2008 rank designs alike), which minimises the volume of
 the parameters' confidence ellipsoid. With ``A`` the information so far, a candidate's rows
-``J_c`` raise ``log det A`` by ``log det(I + J_c A^-1 J_c^T)``; each step weighs a seeded draw of
-:data:`SAMPLED` of the candidates left (stochastic greedy, :func:`_greedy`), so that the time
-grows linearly with the configurations asked for; ``A`` starts as a small multiple of the
-identity (columns scaled to unit norm over the candidates) so that the first choices, fewer
-than the parameters, are ranked too.
+``J_c`` raise ``log det A`` by ``log det(I + J_c A^-1 J_c^T)``. Beyond a small plan each step
+weighs a seeded draw of the candidates left (stochastic greedy, :func:`_greedy`), so that the
+time grows linearly with the configurations asked for (and the candidates, 20 per
+configuration). ``A`` starts as a small multiple of the identity (columns scaled to unit norm
+over the candidates) so that the first choices, fewer than the parameters, are ranked too.
 
 Fewer configurations than give one equation per parameter (6 per pose, 3 per marker) are
 refused, naming the least; so are configurations that leave parameters undetermined, naming how
@@ -46,6 +46,7 @@ __all__ = [
     "MAX_CANDIDATES",
     "MAX_CONFIGURATIONS",
     "SAMPLED",
+    "WHOLE",
     "Plan",
     "minimum",
     "plan",
@@ -58,7 +59,9 @@ DEFAULT_NOISE_ROT = 1e-4  # rad
 CANDIDATES_PER_CONFIGURATION = 20  # random candidates drawn per configuration chosen
 MAX_CANDIDATES = 20_000  # candidates drawn, or read from a file, at most
 MAX_CONFIGURATIONS = 10_000  # configurations planned at most (a few hundred identify a robot)
-SAMPLED = 100  # candidates weighed at each step of the greedy choice (about 20 x ln 100)
+SAMPLED = 100  # candidates weighed at each step of the greedy choice, at least
+_SHORTFALL = 0.01  # ... and candidates / configurations x ln(1 / this) (Mirzasoleiman 2015)
+WHOLE = 200_000  # every candidate weighed at every step up to this many weighings (~1 s)
 _RIDGE = 1e-6  # the information's start, x the identity (unit columns)
 
 
@@ -235,12 +238,13 @@ def _gains(scaled: Mat, chol: Mat, which: NDArray[np.int64]) -> Mat:
 
 
 def _greedy(rows: Mat, count: int, seed: int = 0) -> list[int]:
-    """D-optimal greedy choice of ``count`` candidates (module docstring), each step among
-    :data:`SAMPLED` of the candidates left, drawn with ``numpy.random.default_rng((seed, 10))``
-    ("stochastic greedy": Mirzasoleiman et al. 2015, "Lazier than lazy greedy", which keeps
-    the greedy choice's guarantee for a submodular gain such as ``log det`` to within
-    ``exp(-SAMPLED x count / candidates)``): the time grows with ``count``, not with ``count``
-    times the candidates."""
+    """D-optimal greedy choice of ``count`` candidates (module docstring), each step among a
+    sample of the candidates left, drawn with ``numpy.random.default_rng((seed, 10))``: of
+    ``candidates / count x ln 100`` of them (at least :data:`SAMPLED`), with which the
+    "stochastic greedy" choice keeps the greedy choice's guarantee for a submodular gain such as
+    ``log det`` to within 1% (Mirzasoleiman et al. 2015, "Lazier than lazy greedy"); its time
+    grows with the candidates, not with the candidates times ``count``. Up to :data:`WHOLE`
+    weighings in all, every candidate is weighed at every step (the greedy choice itself)."""
     norms = np.linalg.norm(rows.reshape(-1, rows.shape[2]), axis=0)
     norms[norms == 0.0] = 1.0
     scaled = rows / norms
@@ -249,10 +253,13 @@ def _greedy(rows: Mat, count: int, seed: int = 0) -> list[int]:
     rng = np.random.default_rng((seed, 10))
     available = np.ones(len(scaled), dtype=bool)
     chosen: list[int] = []
+    sample = max(SAMPLED, math.ceil(len(scaled) / max(count, 1) * math.log(1.0 / _SHORTFALL)))
+    if len(scaled) * count <= WHOLE:  # few: weigh every candidate at every step
+        sample = len(scaled)
     for _ in range(count):
         left = np.flatnonzero(available)
-        if len(left) > SAMPLED:
-            left = np.sort(rng.choice(left, SAMPLED, replace=False))
+        if len(left) > sample:
+            left = np.sort(rng.choice(left, sample, replace=False))
         gains = _gains(scaled, np.asarray(np.linalg.cholesky(info), dtype=np.float64), left)
         best = int(left[np.argmax(gains)])
         chosen.append(best)

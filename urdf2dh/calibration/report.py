@@ -508,14 +508,25 @@ def assemble(
             f"them at the nominal's (--fix {_fix(lost)})"
         )
     if poor:
+        one = len(poor) == 1
+        owners = {n.rsplit(".", 1)[0] for n in poor if n.rsplit(".", 1)[0] in spans}
+        joints = "joint" if len(owners) == 1 else "joints"
+        belong = (
+            f"; {'it belongs' if one else 'they belong'} to {joints} "
+            f"{_by_joint(poor, spans, kinds, unit)}: measure more configurations moving "
+            f"{'it over its' if len(owners) == 1 else 'these joints over their'} range, or hold "
+            if owners
+            else ": hold "
+        )
+        many = 2 * len(poor) > p  # most of the level: the measurements do not support it
         warnings.append(
-            f"{len(poor)} of the {p} parameters are poorly identified: one standard deviation "
-            f"of each moves a measured point by more than {POORLY_IDENTIFIED:g} times the "
-            "position noise, so their values are uncertain, though the model as a whole fits "
-            "as the residuals say; they belong to joints "
-            f"{_by_joint(poor, spans, kinds, unit)}: measure more configurations moving these "
-            f"joints over their range, hold them at the nominal's (--fix {_fix(poor)})"
-            + (f", or choose a lower level (--identify {lower})" if lower else "")
+            f"{len(poor)} of the {p} parameters {'is' if one else 'are'} poorly identified: "
+            f"one standard deviation of {'it' if one else 'each'} moves a measured point by "
+            f"more than {POORLY_IDENTIFIED:g} times the position noise, so "
+            f"{'its value is' if one else 'their values are'} uncertain, though the model as a "
+            f"whole fits as the residuals say{belong}{'it' if one else 'them'} at the nominal's "
+            f"(--fix {_fix(poor)})"
+            + (f", or choose a lower level (--identify {lower})" if lower and many else "")
             + f": {', '.join(poor)}"
         )
     if found:
