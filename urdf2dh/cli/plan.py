@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from ..io.files import write_outputs
+from ..io.files import check_outputs, write_outputs
 from . import options
 
 __all__ = ["EXAMPLE", "HELP", "NAME", "add_arguments", "run"]
@@ -72,6 +72,7 @@ def run(args: argparse.Namespace) -> int:
     model = options.nominal(args)
     joints = tuple(j.name for j in model.joints)
     candidates = read_configurations(args.candidates, joints) if args.candidates else None
+    check_outputs([args.output])  # before the choice, which may take a while
     result = plan(
         model,
         args.configs,
