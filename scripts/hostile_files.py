@@ -421,12 +421,13 @@ def run_corpus(count: int, seed: int) -> list[Outcome]:
             _SOCKETS.clear()
 
 
-def report(outcomes: list[Outcome]) -> str:
-    """Runs by class and outcome, then every case that broke an invariant."""
+def report(outcomes: list[Outcome], classes: dict[str, object] | None = None) -> str:
+    """Runs by class (of ``classes``, default :data:`CLASSES`) and outcome, then every case
+    that broke an invariant."""
     lines = [f"{len(outcomes)} hostile inputs, {sum(len(o.runs) for o in outcomes)} runs", ""]
     by_class = Counter((o.case.kind, r.code) for o in outcomes for r in o.runs)
     lines.append("By class (runs by exit code):")
-    for kind in CLASSES:
+    for kind in CLASSES if classes is None else classes:
         codes = {code: n for (k, code), n in by_class.items() if k == kind}
         if codes:
             shown = ", ".join(f"exit {c}: {n}" for c, n in sorted(codes.items()))
@@ -439,14 +440,26 @@ def report(outcomes: list[Outcome]) -> str:
     return "\n".join(lines)
 
 
-def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    for flag, default, what in (("--count", 240, "cases"), ("--seed", 0, "seed of the cases")):
+def corpus_main(
+    argv: list[str] | None,
+    description: str,
+    run: Callable[[int, int], list[Outcome]],
+    classes: dict[str, object],
+    count: int,
+) -> int:
+    """A corpus script's command line: ``--count`` cases, ``--seed``; the report; exit 1 if a
+    case broke an invariant (scripts/hostile_mjcf.py runs its own corpus through it)."""
+    parser = argparse.ArgumentParser(description=description)
+    for flag, default, what in (("--count", count, "cases"), ("--seed", 0, "seed of the cases")):
         parser.add_argument(flag, type=int, default=default, help=f"{what} (default {default})")
     args = parser.parse_args(argv)
-    outcomes = run_corpus(args.count, args.seed)
-    print(report(outcomes))
+    outcomes = run(args.count, args.seed)
+    print(report(outcomes, classes))
     return 1 if any(o.problems for o in outcomes) else 0
+
+
+def main(argv: list[str] | None = None) -> int:
+    return corpus_main(argv, __doc__.splitlines()[0], run_corpus, CLASSES, 240)
 
 
 if __name__ == "__main__":

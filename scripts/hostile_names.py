@@ -9,7 +9,7 @@ MATLAB payloads, control characters in POE files, invisible characters: bidi con
 zero-width characters, BOM, soft hyphen, tag characters; spreadsheet formula starts). Then the
 robots named as the writers name what they make up (tests/hostile.py's ``COLLIDING``: MATLAB's
 ``body2``, ``dh_base_fixed``, ``tool_fixed``, KDL's segments, the URDF writer's links), each as
-a URDF and as POE files. Every run of ``urdf2dh export``/``convert``
+a URDF, as MJCF and as POE files. Every run of ``urdf2dh export``/``convert``
 is written and safe (its file reads, in its language, as its clean twin's with the names put
 in), or refused (exit 2, one line); anything else is a failure, listed, and the exit status is
 1. The test suite runs a sample of the same robots (tests/test_hostile_names.py).

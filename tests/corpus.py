@@ -1,9 +1,9 @@
 """The hostile-name corpus: robot ``seed`` through every export target and format, judged.
 
 Robot ``seed`` is chain :func:`geometry_of` (``seed``) with :func:`hostile.hostile_names`
-(``seed``), written as :func:`kind_of` (``seed``): a URDF, or a POE file in JSON or YAML (the
-names of POE files of even seeds may also hold characters XML cannot carry). Each run ends in
-one of
+(``seed``), written as :func:`kind_of` (``seed``): a URDF, an MJCF file, or a POE file in JSON
+or YAML (the names of POE files of even seeds may also hold characters XML cannot carry). Each
+run ends in one of
 
 * ``written``: the file is safe (:func:`safety.judge` against the clean twin's file);
 * ``refused``: exit 2, one line on stderr naming the problem, no file;
@@ -22,7 +22,17 @@ from collections import Counter
 from dataclasses import dataclass
 from pathlib import Path
 
-from hostile import KINDS, RUNS, Names, Outcome, clean_names, hostile_names, run, write_source
+from hostile import (
+    KINDS,
+    RUNS,
+    XML_KINDS,
+    Names,
+    Outcome,
+    clean_names,
+    hostile_names,
+    run,
+    write_source,
+)
 from safety import Unsafe, judge
 
 FAILURES = ("traceback", "internal error", "unsafe", "bad refusal", "unexpected")
@@ -97,7 +107,7 @@ class Corpus:
     def robot(self, seed: int) -> list[Verdict]:
         """Hostile robot ``seed`` (POE files of even seeds may hold control characters)."""
         geometry, kind = geometry_of(seed), kind_of(seed)
-        names = hostile_names(seed, geometry, controls=kind != "urdf" and seed % 2 == 0)
+        names = hostile_names(seed, geometry, controls=kind not in XML_KINDS and seed % 2 == 0)
         return self.check(names, geometry, kind, seed=seed)
 
 

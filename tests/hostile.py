@@ -6,9 +6,9 @@ link and joint names (and file name) are drawn, seeded, from the characters and 
 end strings, comments and lines in the languages we write: every quote kind, backslash, LF,
 CR, U+2028, ``%``, ``#``, ``;``, ``--``, ``]]>``, ``${}``, and payloads such as a HAL
 ``loadusr`` line. Its clean twin is the same chain with plain placeholder names. The robot is
-written as a URDF (lxml escapes the names: the attack is the names' values, not broken XML)
-and as POE files (JSON in metres, YAML in millimetres; those can also carry control characters
-XML cannot).
+written as a URDF and as MJCF (lxml escapes the names: the attack is the names' values, not
+broken XML) and as POE files (JSON in metres, YAML in millimetres; those can also carry control
+characters XML cannot).
 
 :func:`run` runs ``urdf2dh export``/``convert`` in-process, for every target and format, on the
 hostile robot and its twin; :mod:`safety` judges the output.
@@ -38,7 +38,8 @@ GEOMETRIES = {  # URDF file, base link, tip link
     "genser6": (HERE / "data" / "genser6.urdf", "floor", "tool"),
     "ur5": (robot_path(ROBOTS["ur5"]), "base_link", "tool0"),
 }
-KINDS = ("urdf", "poe-json", "poe-yaml")
+KINDS = ("urdf", "mjcf", "poe-json", "poe-yaml")
+XML_KINDS = ("urdf", "mjcf")  # sources with link names (--base/--tip), whose names XML carries
 RUNS = [("export", t) for t in TARGETS] + [("convert", f) for f in FORMATS] + [("plot", "html")]
 
 FRAGMENTS = (
@@ -188,7 +189,7 @@ class Names:
         """Placeholder -> name for the names that reach the output (POE files have no link
         names: their chain runs base -> tool)."""
         out = {f"{NAME}R": self.robot, f"{NAME}P": self.stem}
-        if kind == "urdf":
+        if kind in XML_KINDS:
             out |= {f"{NAME}B": self.base, f"{NAME}T": self.tip}
         out |= {f"{NAME}J{i:02d}": j for i, j in enumerate(self.joints, 1)}
         return out
@@ -390,6 +391,29 @@ def urdf_text(geometry: str, names: Names) -> str:
     return etree.tostring(robot, xml_declaration=True, encoding="utf-8").decode()
 
 
+def mjcf_text(geometry: str, names: Names) -> str:
+    """The chain as MJCF: a body per link (the URDF joint's origin as ``pos`` and ``euler``, rpy
+    being intrinsic z-y-x), a hinge or slide per moving joint; every name an attribute value set
+    through lxml."""
+    c = chain(geometry)
+    root = etree.Element("mujoco", model=names.robot)
+    etree.SubElement(root, "compiler", angle="radian", eulerseq="zyx")
+    body = etree.SubElement(etree.SubElement(root, "worldbody"), "body", name=names.base)
+    links = [names.base, *names.links, names.tip]
+    moving = iter(names.joints)
+    for k, (kind, xyz, rpy, axis, limit) in enumerate(c.joints):
+        r, p, y = rpy.split()
+        body = etree.SubElement(body, "body", name=links[k + 1], pos=xyz, euler=f"{y} {p} {r}")
+        if kind == "fixed":
+            continue
+        joint = etree.SubElement(body, "joint", name=next(moving), axis=axis or "1 0 0",
+                                 type="slide" if kind == "prismatic" else "hinge")  # fmt: skip
+        limits = dict(limit)
+        if kind != "continuous" and "lower" in limits and "upper" in limits:
+            joint.set("range", f"{limits['lower']} {limits['upper']}")
+    return etree.tostring(root, xml_declaration=True, encoding="utf-8").decode()
+
+
 @cache
 def _poe_geometry(geometry: str) -> tuple[list[list[float]], list[list[float]], list]:
     path, base, tip = GEOMETRIES[geometry]
@@ -432,6 +456,8 @@ def write_source(
     """Write the robot into ``directory``; the SOURCE argument naming it (``./<stem>.urdf``)."""
     if kind == "urdf":
         text, suffix = urdf_text(geometry, names), ".urdf"
+    elif kind == "mjcf":
+        text, suffix = mjcf_text(geometry, names), ".xml"
     else:
         fmt = kind.split("-")[1]
         text, suffix = poe_text(geometry, names, fmt, unit), "." + fmt
@@ -470,7 +496,7 @@ def run(
         argv[3] = str(out)
     else:
         argv += ["--to", what] if command == "export" else ["--format", what]
-    if kind == "urdf":
+    if kind in XML_KINDS:
         argv += [f"--base={names.base}", f"--tip={names.tip}"]
     err = io.StringIO()
     crashed = None

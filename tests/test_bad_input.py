@@ -205,7 +205,7 @@ def test_info_reports_chain_problems_without_failing(case, tmp_path, capsys):
     [
         ("format: poe\njoints: [\n", ".yaml", "malformed YAML"),
         ('{"format": "poe", "joints": [}', ".json", "malformed JSON"),
-        ("just some words", ".yaml", "not a URDF, POE model"),
+        ("just some words", ".yaml", "URDF (<robot>), POE model ('format: poe')"),
         (
             "format: poe\njoints: 3\ntool: {twist: [0,0,0,0,0,0]}\n",
             ".yaml",

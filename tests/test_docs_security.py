@@ -17,7 +17,7 @@ EXAMPLES = re.findall(r"```sh\n(.*?)```\n\n```text\n(.*?)```", PAGE.read_text(),
 
 
 def test_the_page_has_its_examples():
-    assert len(EXAMPLES) == 5
+    assert len(EXAMPLES) == 6
 
 
 @pytest.mark.parametrize(("script", "shown"), EXAMPLES, ids=lambda s: s.splitlines()[0][:40])

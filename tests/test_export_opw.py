@@ -43,6 +43,7 @@ REFUSED = {
     "ur3": "wrist axes do not intersect: offset wrist",
     "ur5": "wrist axes do not intersect: offset wrist",
     "ur10": "wrist axes do not intersect: offset wrist",
+    "ur5e-mjcf": "wrist axes do not intersect: offset wrist",
     "z1": "wrist axes do not intersect: offset wrist",
     "talos-left-arm": "axes 2 ('arm_left_3_joint'), 3 ('arm_left_4_joint') are not parallel",
     "stanford": "joints 'joint3' (prismatic) cannot be written",
@@ -50,6 +51,7 @@ REFUSED = {
     **{r: "an OPW arm has 6 joints" for r in (
         "panda", "xarm7", "so100", "so101", "baxter-left", "baxter-right", "tiago-arm",
         "finger-edu", "hextilt-arm", "borinot-arm", "twodof", "double-pendulum", "scara",
+        "fr3-mjcf", "xarm7-mjcf",
     )},
 }  # fmt: skip
 

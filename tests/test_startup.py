@@ -10,7 +10,7 @@ import sys
 
 import pytest
 
-HEAVY = ("numpy", "yourdfpy", "trimesh", "scipy", "pinocchio", "lxml")
+HEAVY = ("numpy", "yourdfpy", "trimesh", "scipy", "pinocchio", "lxml", "mujoco")
 
 PROBE = """
 import json, sys
@@ -50,12 +50,13 @@ def test_help_imports_no_heavy_package(argv):
         ["convert", "ur5"],
         ["convert", "panda", "--convention", "cpc", "--format", "json"],
         ["convert", "puma560-actual", "--convention", "mdh", "--format", "yaml"],
+        ["convert", "fr3-mjcf"],
     ],
 )
 def test_convert_never_imports_pinocchio(argv):
     code, heavy = imported(*argv)
     assert code == 0
-    assert "pinocchio" not in heavy, heavy
+    assert "pinocchio" not in heavy and "mujoco" not in heavy, heavy
     assert "numpy" in heavy  # the probe sees what a conversion does import
 
 

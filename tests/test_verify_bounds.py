@@ -31,7 +31,7 @@ def test_forward_kinematics_joint_by_joint_is_pinocchio_s_own(robot, monkeypatch
     of at most DATA_JOINTS joints use)."""
     monkeypatch.setattr(verify_module, "DATA_JOINTS", 0)  # joint by joint, whatever the size
     source = open_source(robot)
-    model = pin.buildModelFromXML(source.urdf_text.decode())
+    model = pin.buildModelFromXML(source.document.decode())
     data = model.createData()
     pin.seed(3)  # pinocchio.randomConfiguration's generator
     configs = np.array([pin.randomConfiguration(model) for _ in range(20)])

@@ -23,6 +23,7 @@ __all__ = [
     "Implausible",
     "InputError",
     "NotConverged",
+    "OracleError",
     "Remedy",
     "SourceError",
     "TableFileError",
@@ -122,6 +123,15 @@ class NotConverged(Urdf2DhError):
     """A calibration's identification did not converge (exit 1; nothing is written)."""
 
     exit_code = 1
+
+
+class OracleError(InputError):
+    """An oracle (``pinocchio``, ``mujoco``) that cannot judge a chain: ``oracle`` names it, the
+    message says why."""
+
+    def __init__(self, oracle: str, message: str, remedy: Remedy | None = None) -> None:
+        super().__init__(message, remedy=remedy)
+        self.oracle = oracle
 
 
 class ConversionError(Urdf2DhError):

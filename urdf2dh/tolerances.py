@@ -47,6 +47,7 @@ __all__ = [
     "MAPPING_VALUES",
     "MAX_SAMPLES",
     "MAX_SEED",
+    "MJCF_INCLUDES",
     "NOISE_BALANCE",
     "NOISE_FLOOR",
     "NOISE_MISMATCH",
@@ -242,6 +243,10 @@ FILE_BYTES = 16 * 2**20
 # file's expansion, and of the chains of one run over several tips.
 JOINTS = 10_000
 
+# Files one MJCF SOURCE may include (<include>, nested ones too; each file at most once): their
+# text together holds at most FILE_BYTES.
+MJCF_INCLUDES = 1_000
+
 # Values of a parsed POE or table file, aliases counted each time they are used: a YAML file of
 # a few hundred bytes can otherwise alias its way to billions ("billion laughs").
 MAPPING_VALUES = 1_000_000
@@ -298,6 +303,7 @@ BOUNDS = (
     "VERIFY_JOINTS",
     "MAX_SAMPLES",
     "MAX_SEED",
+    "MJCF_INCLUDES",
     "LARGEST_NUMBER",
     "LARGEST_URDF_NUMBER",
     "LARGEST_URDF_ANGLE",

@@ -22,7 +22,9 @@ LETTER = {"revolute": "R", "prismatic": "P", "helical": "H"}
 
 @dataclass(frozen=True, slots=True)
 class TreeJoint:
-    """A joint of a URDF's tree, as ``info`` lists it (``type`` a URDF joint type)."""
+    """A joint of a URDF's or MJCF file's tree, as ``info`` lists it (``type`` a URDF joint
+    type; for MJCF, a hinge is ``revolute`` or ``continuous``, a slide ``prismatic``, a ball or
+    free joint ``floating``, and ``fixed`` an edge to a jointless body or a site)."""
 
     name: str
     type: str
@@ -38,9 +40,10 @@ class Info:
     Attributes
     ----------
     robot, kind, display
-        The source's name, its kind (``urdf``, ``poe`` or ``table``) and its file.
+        The source's name, its kind (``urdf``, ``mjcf``, ``poe`` or ``table``) and its file.
     links, root, joints
-        A URDF's links (their number), root link and joints (empty for a POE or table file).
+        A URDF's or MJCF file's links (their number), root link and joints (empty for a POE or
+        table file).
     start, tips
         The link the tips were looked for below (``--base``, a bundled robot's base, or the
         root) and the leaves below it (URDF sources).
@@ -68,7 +71,7 @@ class Info:
         """What ``urdf2dh info`` prints (names as :func:`~urdf2dh.errors.visible` text)."""
         v = visible
         lines = [f"robot: {v(self.robot)} ({self.kind}: {v(self.display)})"]
-        if self.kind == "urdf":
+        if self.root:  # a tree (URDF, MJCF)
             types = Counter(j.type for j in self.joints)
             lines.append(f"links: {self.links}; root: {v(self.root)}")
             lines.append(
@@ -117,7 +120,7 @@ class Info:
         """In a notebook: the chain's joints and counts as tables (names escaped)."""
         t = markdown_text
         out = [f"**{t(self.robot)}** ({self.kind}: {t(self.display)})", ""]
-        if self.kind == "urdf":
+        if self.root:
             out.append(f"{self.links} links (root {t(self.root)}), {len(self.joints)} joints; "
                        f"tips below {t(self.start)}: {', '.join(map(t, self.tips))}")  # fmt: skip
             out.append("")

@@ -1,9 +1,15 @@
-"""Cross-check against Pinocchio, the independent forward-kinematics oracle.
+"""Cross-check against independent forward kinematics: Pinocchio (the default) and MuJoCo
+(:mod:`urdf2dh.check.mujoco`), the oracles of :data:`ORACLES`.
 
 The only module that imports ``pinocchio``. For a URDF source Pinocchio parses the same URDF
 text itself (``buildModelFromXML``), so the check covers our URDF loading as well as the
-conversions. POE and table sources have no URDF: their Pinocchio model is assembled joint by
-joint from the screws (``JointModelRZ``, ``PZ``, ``HelicalUnaligned``).
+conversions; for an MJCF source it parses the same MJCF (``buildModelFromMJCF``). POE and table
+sources have neither: their Pinocchio model is assembled joint by joint from the screws
+(``JointModelRZ``, ``PZ``, ``HelicalUnaligned``).
+
+Pinocchio's MJCF parser (4.1) reads some of MJCF otherwise than MuJoCo, which defines the format
+(:data:`PINOCCHIO_MISREADS`, each tested in ``tests/test_mjcf_oracles.py``): for a file that uses
+one of those, Pinocchio does not judge, and says why; MuJoCo does.
 
 Pinocchio's continuous joints have two configuration coordinates ``(cos q, sin q)``; joints off
 the chain stay at their neutral position.
@@ -35,7 +41,7 @@ from ..checks import (
 from ..conventions import NAMES
 from ..conventions.convert import to_table
 from ..conventions.table import Table
-from ..errors import InputError, shown, visible
+from ..errors import InputError, OracleError, UsageError, choices, shown, visible
 from ..escape import markdown_table, markdown_text
 from ..geometry.frames import axis_frame, unit
 from ..geometry.se3 import matrix_of
@@ -49,10 +55,16 @@ from ..progress import progress
 from ..tolerances import DEFAULT, EPS, VERIFY_JOINTS, Tolerances
 
 __all__ = [
+    "ORACLES",
+    "ORACLE_CHOICES",
+    "PINOCCHIO_MISREADS",
+    "PINOCCHIO_WORLD_BODY",
+    "Abstention",
     "ModelCheck",
+    "Oracle",
     "VerifyReport",
     "check_verifiable",
-    "compare_with_pinocchio",
+    "compare_with_oracles",
     "native_stderr",
     "pinocchio_evaluator",
     "pinocchio_fk",
@@ -122,11 +134,11 @@ def native_stderr() -> Iterator[list[str]]:
 
 def _build(pin: Any, source: Source, mimic: bool) -> Any:
     """Pinocchio's model of the URDF text; an ``InputError`` with urdfdom's first reason."""
-    assert source.urdf_text is not None
+    assert source.document is not None
     error: BaseException | None = None
     with native_stderr() as log:  # urdfdom writes its reasons there, several lines a fault
         try:
-            return _pinocchio_model(source.urdf_text, mimic)
+            return _pinocchio_model(source.document, mimic)
         except Exception as e:  # Pinocchio raises RuntimeError/ValueError with C++ text
             error = e
     reasons = [line.split(":", 1)[1] for line in log if line.startswith("Error:")]
@@ -170,12 +182,93 @@ def _on_a_large_stack(work: Callable[[], _T]) -> _T:
     return value  # type: ignore[no-any-return]
 
 
+#: MJCF features (:data:`urdf2dh.io.mjcf.FEATURES`) that Pinocchio's MJCF parser (4.1) reads
+#: otherwise than MuJoCo -> what it does; each is shown by a test of ``tests/test_mjcf_oracles.py``.
+PINOCCHIO_MISREADS = {
+    "frame": "does not read <frame> elements",
+    "extrinsic-euler": "reads the uppercase (extrinsic) letters of eulerseq as intrinsic axes",
+    "axisangle-length": "does not normalise an axisangle's axis",
+    "compiler-order": "reads only the first <compiler>, and only for what follows it",
+    "site-defaults": "does not place a site by its default class",
+    "site-fromto": "does not read a site's fromto",
+    "joint-pos-defaults": "does not take a joint's pos from its default class",
+    "unnamed-body": "merges unnamed bodies",
+}
+#: What Pinocchio 4.1 does with a body of the world body that has no joint (tested likewise).
+PINOCCHIO_WORLD_BODY = "drops the pos and orientation of a body without joints in <worldbody>"
+
+
+def _model_from_mjcf(pin: Any, source: Source, poe: PoeModel) -> tuple[Any, Mapping, int, int]:
+    """Pinocchio's model of the MJCF text, how the chain's rows drive it (each row its joint's
+    coordinate: MuJoCo's ``qpos`` layout, which Pinocchio's MJCF models share), base and tip."""
+    from ..io.mjcf import FEATURES
+
+    elements = source.mjcf
+    assert elements is not None and source.document is not None
+    misread = sorted(elements.features & PINOCCHIO_MISREADS.keys())
+    if misread:
+        raise OracleError(
+            "pinocchio",
+            f"{source.display}: Pinocchio {pin.__version__} {PINOCCHIO_MISREADS[misread[0]]}, "
+            f"and the file has {FEATURES[misread[0]]}",
+        )
+    try:
+        model = _pinocchio_mjcf(source.document)
+    except Exception as e:  # Pinocchio raises RuntimeError/ValueError with C++ text
+        why = " ".join(str(e).split())[:300]
+        raise OracleError("pinocchio", f"{source.display}: Pinocchio cannot load it ({why})") from e
+    if model.nq != elements.nq:
+        raise OracleError(
+            "pinocchio",
+            f"{source.display}: Pinocchio's model has {model.nq} configuration coordinates, the "
+            f"file's joints {elements.nq}",
+        )
+    mapping = [(elements.joints[j.name].qpos, 1, j.scale, 0.0) for j in poe.joints]
+    tree = source.tree
+    assert tree is not None
+    if poe.base_link == tree.root and poe.tip_link != tree.root:
+        first = tree.chain(tree.root, poe.tip_link)[0]
+        if first.type == "fixed" and not np.array_equal(first.origin, np.eye(4)):
+            raise OracleError(
+                "pinocchio",
+                f"{source.display}: Pinocchio {pin.__version__} {PINOCCHIO_WORLD_BODY}, and the "
+                f"chain runs from the world through body {shown(first.child)}",
+            )
+
+    def frame(link: str) -> int:
+        element = elements.links[link]
+        if element.kind == "world":
+            return 0
+        kind = pin.FrameType.OP_FRAME if element.kind == "site" else pin.FrameType.BODY
+        found = model.nframes if element.name is None else model.getFrameId(element.name, kind)
+        if found >= model.nframes or element.kind == "frame":
+            raise OracleError(
+                "pinocchio",
+                f"{source.display}: Pinocchio has no frame for {element.kind} {shown(link)}",
+            )
+        return int(found)
+
+    return model, mapping, frame(poe.base_link), frame(poe.tip_link)
+
+
+@functools.lru_cache(maxsize=2)
+def _pinocchio_mjcf(text: bytes) -> Any:
+    """Pinocchio's model of MJCF text (its parser reads a file: the text is written to a
+    temporary one), built once for the chains of one file."""
+    pin = _pin()
+    with tempfile.TemporaryDirectory(prefix="urdf2dh-mjcf-") as directory:
+        path = os.path.join(directory, "model.xml")
+        with open(path, "wb") as f:
+            f.write(text)
+        return _on_a_large_stack(lambda: pin.buildModelFromMJCF(path))
+
+
 def check_verifiable(source: Source, poe: PoeModel) -> None:
     """Refuse a model larger than :data:`~urdf2dh.tolerances.VERIFY_JOINTS` joints (a URDF's
     every joint: Pinocchio builds the whole file), naming the bound."""
     joints = len(source.tree.joints) if source.tree is not None else poe.n
     if joints > VERIFY_JOINTS:
-        what = "the URDF has" if source.tree is not None else "the chain has"
+        what = f"the {source.kind.upper()} has" if source.tree is not None else "the chain has"
         raise InputError(
             f"{source.display}: {what} {joints:,} joints; verify checks at most "
             f"{VERIFY_JOINTS:,} (Pinocchio's model of more takes minutes and gigabytes to build)"
@@ -250,6 +343,9 @@ def pinocchio_evaluator(source: Source, poe: PoeModel) -> Callable[[Mat], Mat]:
     pin = _pin()
     if source.kind == "urdf":
         model, mapping, base_f, tip_f, rows = _model_from_urdf(pin, source, poe)
+    elif source.kind == "mjcf":  # every row drives its joint: Pinocchio reads no equality
+        model, mapping, base_f, tip_f = _model_from_mjcf(pin, source, poe)
+        rows = True
     else:  # our own model of Pinocchio joints, one per row, driven with the mimic coupling
         model, mapping, base_f, tip_f = _model_from_poe(pin, poe)
         rows = True
@@ -340,8 +436,61 @@ def _oracle_rounding(source: Source, poe: PoeModel) -> float:
 
 
 @dataclass(frozen=True, slots=True)
+class Oracle:
+    """An independent forward kinematics a chain is checked against.
+
+    Attributes
+    ----------
+    name
+        What ``--oracle`` calls it (``pinocchio``).
+    label
+        Its name in reports (``Pinocchio``).
+    evaluator
+        The function of a SOURCE and a chain of it giving the oracle's tip poses ``(N, 4, 4)``
+        in the base for configurations ``(N, dof)``; an :class:`~urdf2dh.errors.OracleError`
+        where it cannot judge the chain.
+    """
+
+    name: str
+    label: str
+    evaluator: Callable[[Source, PoeModel], Callable[[Mat], Mat]]
+
+
+def _pinocchio(source: Source, poe: PoeModel) -> Callable[[Mat], Mat]:
+    return pinocchio_evaluator(source, poe)  # looked up when called (tests replace it)
+
+
+def _mujoco(source: Source, poe: PoeModel) -> Callable[[Mat], Mat]:
+    from .mujoco import mujoco_evaluator  # mujoco is imported only when asked for
+
+    return mujoco_evaluator(source, poe)
+
+
+ORACLES: dict[str, Oracle] = {
+    o.name: o
+    for o in (Oracle("pinocchio", "Pinocchio", _pinocchio), Oracle("mujoco", "MuJoCo", _mujoco))
+}
+#: What ``verify --oracle`` takes: an oracle's name, or both.
+ORACLE_CHOICES = (*ORACLES, "both")
+
+
+def _oracles(choice: str) -> tuple[Oracle, ...]:
+    if choice == "both":
+        return tuple(ORACLES.values())
+    if choice not in ORACLES:
+        raise UsageError(f"unknown oracle {shown(choice)}; valid: {choices(ORACLE_CHOICES)}")
+    return (ORACLES[choice],)
+
+
+def labels(oracles: tuple[str, ...]) -> str:
+    """Oracles by name as a report names them: ``Pinocchio and MuJoCo``."""
+    names = [ORACLES[o].label for o in oracles]
+    return " and ".join(names) if len(names) < 3 else ", ".join(names)
+
+
+@dataclass(frozen=True, slots=True)
 class ModelCheck:
-    """One model (the POE model, or a convention's table) against Pinocchio: its worst errors
+    """One model (the POE model, or a convention's table) against one oracle: its worst errors
     and what it was allowed.
 
     Attributes
@@ -352,9 +501,11 @@ class ModelCheck:
         The worst position error (length unit) and rotation error (rad) over the configurations.
     allowed_position, allowed_rotation
         What was allowed: ``check_position`` x size and ``check_rotation``, plus the deviation
-        the table declared, plus Pinocchio's own rounding far from the URDF's root.
+        the table declared, plus the oracle's own rounding far from the tree's root.
     table
         The table checked (``None`` for the POE model): as ``convert`` writes it.
+    oracle
+        The oracle it was checked against (a name in :data:`ORACLES`).
     """
 
     label: str
@@ -363,6 +514,7 @@ class ModelCheck:
     allowed_position: float
     allowed_rotation: float
     table: Table | None
+    oracle: str = "pinocchio"
 
     @property
     def ok(self) -> bool:
@@ -371,8 +523,17 @@ class ModelCheck:
 
 
 @dataclass(frozen=True, slots=True)
+class Abstention:
+    """An oracle that did not judge the chain, and why (the message of its
+    :class:`~urdf2dh.errors.OracleError`)."""
+
+    oracle: str
+    reason: str
+
+
+@dataclass(frozen=True, slots=True)
 class VerifyReport:
-    """The result of :func:`verify`: every model of one chain against Pinocchio.
+    """The result of :func:`verify`: every model of one chain against the oracles.
 
     Attributes
     ----------
@@ -387,7 +548,9 @@ class VerifyReport:
     samples, seed
         The configurations compared: how many, and the seed they were drawn with.
     checks
-        The POE model's check, then each convention's.
+        For each oracle that judged, the POE model's check, then each convention's.
+    abstentions
+        The oracles asked that did not judge the chain, and why.
     """
 
     robot: str
@@ -400,16 +563,28 @@ class VerifyReport:
     samples: int
     seed: int
     checks: tuple[ModelCheck, ...]
+    abstentions: tuple[Abstention, ...] = ()
 
     @property
     def ok(self) -> bool:
-        """Whether every model agrees with Pinocchio."""
-        return all(c.ok for c in self.checks)
+        """Whether every model agrees with every oracle that judged it."""
+        return bool(self.checks) and all(c.ok for c in self.checks)
+
+    @property
+    def oracles(self) -> tuple[str, ...]:
+        """The oracles that judged the chain, by name."""
+        return tuple(dict.fromkeys(c.oracle for c in self.checks))
 
     @property
     def failed(self) -> tuple[str, ...]:
-        """The labels of the models that do not."""
-        return tuple(c.label for c in self.checks if not c.ok)
+        """The labels of the models that do not agree (with the oracle's, where several
+        judged)."""
+        several = len(self.oracles) > 1
+        return tuple(
+            f"{c.label} ({ORACLES[c.oracle].label})" if several else c.label
+            for c in self.checks
+            if not c.ok
+        )
 
     @property
     def chain(self) -> str:
@@ -418,8 +593,12 @@ class VerifyReport:
         return f"{v(self.base_link)} -> {v(self.tip_link)}" if self.base_link else ""
 
     def warnings(self) -> tuple[str, ...]:
-        """The tables' warnings, in order."""
-        return tuple(w for c in self.checks if c.table is not None for w in c.table.warnings)
+        """The tables' warnings, in order (once each, whatever the oracles)."""
+        first = self.oracles[0] if self.oracles else ""
+        return tuple(
+            w for c in self.checks if c.table is not None and c.oracle == first
+            for w in c.table.warnings
+        )  # fmt: skip
 
     def lines(self) -> list[str]:
         """The report ``urdf2dh verify`` prints for the chain (names as
@@ -427,37 +606,47 @@ class VerifyReport:
         v = visible
         unit = v(self.length_unit)
         chain = f"{self.chain}, " if self.chain else ""
+        several = len(self.oracles) > 1
         out = [
-            f"{v(self.robot)}: {chain}{self.joints} joints; against Pinocchio at {self.samples} "
-            f"configurations (seed {self.seed}); robot size {self.size:.4g} {unit}",
-            f"  {'model':<10} {'position error':>16} {'relative':>10} {'rotation error':>16}  "
-            "result",
+            f"{v(self.robot)}: {chain}{self.joints} joints; against {labels(self.oracles)} at "
+            f"{self.samples} configurations (seed {self.seed}); robot size {self.size:.4g} {unit}",
+            f"  {'oracle     ' if several else ''}{'model':<10} {'position error':>16} "
+            f"{'relative':>10} {'rotation error':>16}  result",
         ]
         for c in self.checks:
+            who = f"{ORACLES[c.oracle].label:<10} " if several else ""
             out.append(
-                f"  {c.label:<10} {c.position:>13.2e} {unit:<2} {c.position / self.size:>10.2e} "
-                f"{c.rotation:>12.2e} rad  {'ok' if c.ok else 'FAILED'}"
+                f"  {who}{c.label:<10} {c.position:>13.2e} {unit:<2} "
+                f"{c.position / self.size:>10.2e} {c.rotation:>12.2e} rad  "
+                f"{'ok' if c.ok else 'FAILED'}"
             )
+        out.extend(f"  {ORACLES[a.oracle].label} did not judge: {v(a.reason)}"
+                   for a in self.abstentions)  # fmt: skip
         out.extend(f"  warning: {v(w)}" for w in self.warnings())
         return out
 
     def _repr_markdown_(self) -> str:
-        """In a notebook: each model's errors against Pinocchio as a table (names escaped)."""
+        """In a notebook: each model's errors against each oracle as a table (names escaped)."""
         t, unit = markdown_text, markdown_text(self.length_unit)
         chain = f" {t(self.base_link)} -> {t(self.tip_link)}" if self.base_link else ""
-        out = [f"**{t(self.robot)}**{chain}: against Pinocchio at {self.samples} configurations "
-               f"(seed {self.seed}), robot size {self.size:.4g} {unit}", ""]  # fmt: skip
-        rows = [[c.label, f"{c.position:.2e}", f"{c.position / self.size:.2e}",
-                 f"{c.rotation:.2e}", f"{c.allowed_position:.2g}", "ok" if c.ok else "**FAILED**"]
+        out = [f"**{t(self.robot)}**{chain}: against {labels(self.oracles)} at "
+               f"{self.samples} configurations (seed {self.seed}), robot size "
+               f"{self.size:.4g} {unit}", ""]  # fmt: skip
+        several = len(self.oracles) > 1
+        rows = [[*([ORACLES[c.oracle].label] if several else []), c.label, f"{c.position:.2e}",
+                 f"{c.position / self.size:.2e}", f"{c.rotation:.2e}",
+                 f"{c.allowed_position:.2g}", "ok" if c.ok else "**FAILED**"]
                 for c in self.checks]  # fmt: skip
         out += markdown_table(
-            ["model", f"position error [{unit}]", "relative", "rotation error [rad]",
-             f"allowed [{unit}]", "result"], rows)  # fmt: skip
+            [*(["oracle"] if several else []), "model", f"position error [{unit}]", "relative",
+             "rotation error [rad]", f"allowed [{unit}]", "result"], rows)  # fmt: skip
+        out += [f"- {ORACLES[a.oracle].label} did not judge: {t(a.reason)}"
+                for a in self.abstentions]  # fmt: skip
         out += [f"- {t(w)}" for w in self.warnings()]
         return "\n".join(out) + "\n"
 
 
-def compare_with_pinocchio(
+def compare_with_oracles(
     source: Source,
     poe: PoeModel,
     samples: int = 1000,
@@ -465,38 +654,70 @@ def compare_with_pinocchio(
     tol: Tolerances = DEFAULT,
     conventions: tuple[str, ...] = NAMES,
     check_samples: int | None = None,
-) -> tuple[ModelCheck, ...]:
-    """The source's POE model ``poe`` and each convention's table against Pinocchio.
+    oracle: str = "pinocchio",
+) -> tuple[tuple[ModelCheck, ...], tuple[Abstention, ...]]:
+    """The source's POE model ``poe`` and each convention's table against the oracles.
 
-    The tables are the ones ``convert`` writes (their own self-check included); Pinocchio is
+    The tables are the ones ``convert`` writes (their own self-check included); the oracles are
     asked at configurations from a separate random stream, so that a declared deviation is
     tested where the table's check did not look. The tolerance is ``check_position x size``
     and ``check_rotation``, plus the deviation bound a table declared in its own check (non-zero
-    only where a tolerance judgement was reported), plus Pinocchio's own rounding where the base
-    link lies far from the URDF's root (:func:`_oracle_rounding`).
+    only where a tolerance judgement was reported), plus the oracle's own rounding where the base
+    link lies far from the tree's root (:func:`_oracle_rounding`).
+
+    Parameters
+    ----------
+    oracle
+        ``pinocchio``, ``mujoco`` or ``both`` (:data:`ORACLE_CHOICES`).
+
+    Returns
+    -------
+    tuple
+        The checks (for each oracle that judged: the POE model's, then each table's), and the
+        oracles that did not judge the chain.
+
+    Raises
+    ------
+    OracleError
+        Where no oracle asked can judge the chain (the first one's reason).
     """
+    asked = _oracles(oracle)
     check_verifiable(source, poe)
+    evaluators, abstentions, refusals = [], [], []
+    for o in asked:
+        try:
+            evaluators.append((o.name, o.evaluator(source, poe)))
+        except OracleError as e:
+            abstentions.append(Abstention(o.name, str(e)))
+            refusals.append(e)
+    if not evaluators:
+        if len(refusals) == 1:
+            raise refusals[0]
+        raise OracleError(asked[0].name, "; ".join(str(e) for e in refusals))
     q = poe.sample(samples, (seed, VERIFY_STREAM))
     tables = [to_table(poe, conv, tol, samples=check_samples) for conv in conventions]
     chains = [poe.link_form(), *(t.link_form() for t in tables)]
-    worst = np.zeros((len(chains), 2))
-    pinocchio = pinocchio_evaluator(source, poe)
+    worst = np.zeros((len(evaluators), len(chains), 2))
     starts = range(0, q.shape[0], BLOCK)
     for lo in progress(starts, len(starts), "verify"):  # a bar on a terminal
         block = q[lo : lo + BLOCK]
-        errors = chains_errors(chains, poe.positions(block), pinocchio(block))
-        worst = np.maximum(worst, errors)  # NaN (a non-finite pose) stays NaN: a failure
-    (model_pos, model_rot), *table_errors = ((float(p), float(r)) for p, r in worst)
+        positions = poe.positions(block)
+        for k, (_, evaluate) in enumerate(evaluators):
+            found = chains_errors(chains, positions, evaluate(block))
+            worst[k] = np.maximum(worst[k], found)  # NaN (a non-finite pose) stays NaN: a failure
     base_pos = tol.check_position * poe.size() + _oracle_rounding(source, poe)
     base_rot = tol.check_rotation
-    checks = [ModelCheck("POE model", model_pos, model_rot, base_pos, base_rot, None)]
-    for table, (pos, rot) in zip(tables, table_errors, strict=True):
-        check = table.check
-        declared = (0.0, 0.0) if check is None else (check.declared_position,
-                                                     check.declared_rotation)  # fmt: skip
-        checks.append(ModelCheck(table.convention, pos, rot, base_pos + declared[0],
-                                 base_rot + declared[1], table))  # fmt: skip
-    return tuple(checks)
+    checks = []
+    for (name, _), errors in zip(evaluators, worst, strict=True):
+        (model_pos, model_rot), *table_errors = ((float(p), float(r)) for p, r in errors)
+        checks.append(ModelCheck("POE model", model_pos, model_rot, base_pos, base_rot, None, name))
+        for table, (pos, rot) in zip(tables, table_errors, strict=True):
+            check = table.check
+            declared = (0.0, 0.0) if check is None else (check.declared_position,
+                                                         check.declared_rotation)  # fmt: skip
+            checks.append(ModelCheck(table.convention, pos, rot, base_pos + declared[0],
+                                     base_rot + declared[1], table, name))  # fmt: skip
+    return tuple(checks), tuple(abstentions)
 
 
 def verify(
@@ -511,18 +732,21 @@ def verify(
     conventions: tuple[str, ...] = NAMES,
     check_samples: int | None = None,
     xacro: XacroOptions | None = None,
+    oracle: str = "pinocchio",
 ) -> VerifyReport:
-    """The chain ``base -> tip`` of a SOURCE and each convention's table of it, against
-    Pinocchio's forward kinematics at ``samples`` seeded configurations within the joint limits.
+    """The chain ``base -> tip`` of a SOURCE and each convention's table of it, against an
+    independent forward kinematics (Pinocchio's, MuJoCo's, or both) at ``samples`` seeded
+    configurations within the joint limits.
 
-    For a URDF, Pinocchio parses the same URDF text itself, so the check covers the URDF's
-    loading too; for a POE or table file, its model is assembled joint by joint from the screws.
+    For a URDF or MJCF file, the oracle reads the same text itself, so the check covers the
+    file's reading too; for a POE or table file, its model is assembled joint by joint from the
+    screws.
 
     Parameters
     ----------
     source
-        A URDF or ``.xacro`` file, a POE model file, a table file, a bundled robot's name, or a
-        SOURCE already opened (:func:`urdf2dh.io.sources.open_source`).
+        A URDF, ``.xacro`` or MJCF file, a POE model file, a table file, a bundled robot's name,
+        or a SOURCE already opened (:func:`urdf2dh.io.sources.open_source`).
     base, tip, ignore_mimic
         The chain, as :func:`urdf2dh.load` takes them.
     samples, seed
@@ -536,25 +760,33 @@ def verify(
         Configurations of each table's self-check (default: :func:`urdf2dh.to_table`'s).
     xacro
         How ``.xacro`` sources are expanded.
+    oracle
+        ``pinocchio`` (the default), ``mujoco``, or ``both``; with both, an oracle that cannot
+        judge the chain (its reason in :attr:`VerifyReport.abstentions`) leaves it to the other.
 
     Returns
     -------
     VerifyReport
-        Every model's worst errors and what it was allowed; ``ok`` when all agree.
+        Every model's worst errors against each oracle and what it was allowed; ``ok`` when all
+        agree.
 
     Raises
     ------
     Urdf2DhError
         A SOURCE or chain that cannot be read (:class:`~urdf2dh.errors.InputError`,
         :class:`~urdf2dh.errors.ChainError`), a chain beyond
-        :data:`~urdf2dh.tolerances.VERIFY_JOINTS` joints, or a table that failed its own check
-        (:class:`~urdf2dh.errors.ConversionError`).
+        :data:`~urdf2dh.tolerances.VERIFY_JOINTS` joints, a table that failed its own check
+        (:class:`~urdf2dh.errors.ConversionError`), or no oracle asked able to judge the chain
+        (:class:`~urdf2dh.errors.OracleError`).
     TypeError, ValueError
-        An argument of the wrong type or out of range.
+        An argument of the wrong type or out of range (an unknown ``oracle``:
+        :class:`~urdf2dh.errors.UsageError`).
     """
     check_count(samples, "verify: samples")
     check_seed(seed, "verify: seed")
     check_instance(tol, Tolerances, "verify: tol", "urdf2dh.Tolerances(...) or urdf2dh.DEFAULT")
+    check_instance(oracle, str, "verify: oracle")
+    _oracles(oracle)
     if not isinstance(source, Source):
         source = open_source(check_source(source, "verify: source"), tol, xacro=xacro)
     model = source.model(
@@ -562,8 +794,10 @@ def verify(
         check_optional_name(tip, "verify: tip"),
         check_flag(ignore_mimic, "verify: ignore_mimic"),
     )
-    checks = compare_with_pinocchio(source, model, samples, seed, tol, conventions, check_samples)
+    checks, abstentions = compare_with_oracles(
+        source, model, samples, seed, tol, conventions, check_samples, oracle
+    )
     return VerifyReport(
         source.name, source.display, model.base_link, model.tip_link, model.n, model.length_unit,
-        model.size(), samples, seed, checks,
+        model.size(), samples, seed, checks, abstentions,
     )  # fmt: skip

@@ -22,11 +22,12 @@ EXAMPLE = "urdf2dh calibrate puma560-nominal m.csv --helical all --format json -
 def add_arguments(p: argparse.ArgumentParser) -> None:
     from ..conventions import NAMES, STYLES
     from ..emit.formats import FORMATS
+    from ..io.sources import source_kinds
 
     p.add_argument(
         "source",
         metavar="NOMINAL",
-        help="the nominal model: URDF, POE model, table file or bundled robot",
+        help=f"the nominal model: {source_kinds()} file, or bundled robot name",
     )
     p.add_argument("measurements", metavar="MEASUREMENTS", help="CSV file of measurements")
     options.add_chain_options(p)

@@ -18,10 +18,12 @@ EXAMPLE = "urdf2dh diff puma560-nominal puma560-actual --convention cpc"
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
     from ..conventions import NAMES, STYLES
+    from ..io.sources import source_kinds
     from ..tolerances import DIFF_ANGLE_DEG, DIFF_LENGTH_M, DIFF_PARALLEL_DEG
 
-    p.add_argument("nominal", metavar="NOMINAL", help="URDF, POE model, table file or robot")
-    p.add_argument("actual", metavar="ACTUAL", help="URDF, POE model, table file or robot")
+    kinds = f"{source_kinds()} file, or bundled robot name"
+    p.add_argument("nominal", metavar="NOMINAL", help=kinds)
+    p.add_argument("actual", metavar="ACTUAL", help=kinds)
     options.add_chain_options(p)
     p.add_argument(
         "--convention",

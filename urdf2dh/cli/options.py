@@ -108,10 +108,12 @@ def positive_float(text: str) -> float:
 
 
 def add_chain(p: argparse.ArgumentParser, several: bool = False) -> None:
+    from ..io.sources import source_kinds
+
     p.add_argument(
         "source",
         metavar="SOURCE",
-        help="URDF file, POE model file, table file, or bundled robot name",
+        help=f"{source_kinds()} file, or bundled robot name",
     )
     add_chain_options(p, several)
 

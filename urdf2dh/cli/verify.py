@@ -1,5 +1,5 @@
-"""``urdf2dh verify``: every convention's forward kinematics against Pinocchio's, on a chain (or
-on several)."""
+"""``urdf2dh verify``: every convention's forward kinematics against Pinocchio's or MuJoCo's (or
+both), on a chain (or on several)."""
 
 from __future__ import annotations
 
@@ -15,10 +15,13 @@ if TYPE_CHECKING:
     from ..io.sources import Source
     from ..tolerances import Tolerances
 
-__all__ = ["EXAMPLE", "HELP", "NAME", "add_arguments", "run"]
+__all__ = ["EXAMPLE", "HELP", "NAME", "ORACLE_CHOICES", "add_arguments", "run"]
+
+ORACLE_CHOICES = ("pinocchio", "mujoco", "both")  # urdf2dh.check.verify.ORACLE_CHOICES: --help
+# imports no numpy
 
 NAME = "verify"
-HELP = "compare every convention's FK with Pinocchio's"
+HELP = "compare every convention's FK with Pinocchio's or MuJoCo's"
 EXAMPLE = "urdf2dh verify panda --samples 200"
 
 
@@ -38,6 +41,14 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         metavar="S",
         help="random seed (default %(default)s)",
     )
+    p.add_argument(
+        "--oracle",
+        choices=ORACLE_CHOICES,
+        default="pinocchio",
+        help="the forward kinematics to compare with: Pinocchio's, MuJoCo's, or both (with "
+        "both, an oracle that cannot judge the chain says why and leaves it to the other; "
+        "default %(default)s)",
+    )
     options.add_tolerances(p)
 
 
@@ -45,28 +56,30 @@ def run(args: argparse.Namespace) -> int:
     tol = options.tolerances(args)
     source = options.source(args, tol)
     if not several_of(args):
-        if _verify_chain(args, source, args.base, one_tip(args), tol):
-            say("verify: all conventions agree with Pinocchio")
+        judged = _verify_chain(args, source, args.base, one_tip(args), tol)
+        if judged:
+            say(f"verify: all conventions agree with {judged}")
             return 0
         return 1
     from ..errors import shown
     from .chains import TipError, chains_of, naming_tip, per_chain
 
     models = chains_of(args, source)
-    failed = []
+    failed, judges = [], set()
     for i, model in enumerate(per_chain(models, "verify")):
         if i:
             say()
         try:
             with naming_tip(model.tip_link):
-                ok = _verify_chain(args, source, model.base_link, model.tip_link, tol)
+                judged = _verify_chain(args, source, model.base_link, model.tip_link, tol)
         except TipError as e:
             if e.exit_code != 1:
                 raise
             print(f"verify: {e}", file=sys.stderr)  # a table failed its own check: go on
-            ok = False
-        if not ok:
+            judged = ""
+        if not judged:
             failed.append(model.tip_link)
+        judges.add(judged)
     if failed:
         print(
             f"verify: FAILED on {len(failed)} of {len(models)} chains: "
@@ -74,25 +87,27 @@ def run(args: argparse.Namespace) -> int:
             file=sys.stderr,
         )
         return 1
-    say(f"verify: all conventions agree with Pinocchio on all {len(models)} chains")
+    who = judges.pop() if len(judges) == 1 else "the oracles that judged them"
+    say(f"verify: all conventions agree with {who} on all {len(models)} chains")
     return 0
 
 
 def _verify_chain(
     args: argparse.Namespace, source: Source, base: str | None, tip: str | None, tol: Tolerances
-) -> bool:
-    """Verify one chain and print its report; whether every model agrees with Pinocchio."""
-    from ..check.verify import verify
+) -> str:
+    """Verify one chain and print its report; the oracles every model agrees with (as the
+    report names them), or ``""`` where one does not."""
+    from ..check.verify import labels, verify
     from ..errors import visible
 
     report = verify(
         source, base, tip, args.ignore_mimic, samples=args.samples, seed=args.seed, tol=tol,
-        check_samples=args.check_samples,
+        check_samples=args.check_samples, oracle=args.oracle,
     )  # fmt: skip
     for line in report.lines():
         say(line)
     if report.ok:
-        return True
+        return labels(report.oracles)
     where = f" on {report.chain}" if report.chain and several_of(args) else ""
     print(
         f"verify: FAILED{where} for {', '.join(report.failed)} (allowed "
@@ -100,4 +115,4 @@ def _verify_chain(
         "deviations)",
         file=sys.stderr,
     )
-    return False
+    return ""

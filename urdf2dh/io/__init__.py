@@ -1,8 +1,9 @@
 """SOURCE -> model: reading what urdf2dh is given, and writing what it makes, safely.
 
-* :mod:`.sources`: the one table of readers. :func:`~.sources.open_source` resolves a SOURCE (a
-  URDF or xacro file, a POE model file, a table file, or a bundled robot from :mod:`.catalog`)
-  once; :meth:`~.sources.Source.model` builds the POE model of a chain of it.
+* :mod:`.sources`: the one table of readers (:data:`~.sources.READERS`: the formats, how each is
+  recognised, the module that reads it). :func:`~.sources.open_source` resolves a SOURCE (a
+  file in one of those formats, or a bundled robot from :mod:`.catalog`) once;
+  :meth:`~.sources.Source.model` builds the POE model of a chain of it.
 * :mod:`.urdf`: URDF XML -> one strict check -> kinematic tree -> serial chain -> POE model.
 * :mod:`.xacro`: ``.xacro`` expanded in a confined child process (:mod:`.child` runs it,
   :mod:`.confine` is what it does to itself, :mod:`.xacro_child` is the expansion;

@@ -1,4 +1,5 @@
-"""Bundled robots: the serial arms that example-robot-data ships, plus the models in ``robots/``.
+"""Bundled robots: the serial arms that example-robot-data ships, plus the models in ``robots/``
+(three of them MuJoCo Menagerie's MJCF arms, their licences in ``robots/LICENSES/``).
 
 example-robot-data 6 installs data only (no Python module): its URDFs live under
 ``<site-packages>/cmeel.prefix/share/example-robot-data/robots/``. Each entry names its file and a
@@ -187,6 +188,27 @@ ROBOTS: dict[str, Bundled] = {
             "base_link",
             "tool0",
             "FANUC M-20iA from published dimensions, 6R OPW arm, z-on-axis link frames",
+        ),
+        Bundled(
+            "ur5e-mjcf",
+            OURS + "ur5e.xml",
+            "base",
+            "wrist_3_link",
+            "Universal Robots UR5e, 6R, MJCF (MuJoCo Menagerie, BSD-3-Clause)",
+        ),
+        Bundled(
+            "fr3-mjcf",
+            OURS + "fr3.xml",
+            "base",
+            "attachment_site",
+            "Franka FR3, 7R, to the attachment site, MJCF (MuJoCo Menagerie, Apache-2.0)",
+        ),
+        Bundled(
+            "xarm7-mjcf",
+            OURS + "xarm7_nohand.xml",
+            "link_base",
+            "attachment_site",
+            "UFACTORY xArm7, 7R, to the attachment site, MJCF (MuJoCo Menagerie, BSD-3-Clause)",
         ),
         Bundled(
             "puma560-nominal",

@@ -12,7 +12,7 @@ import codecs
 
 from ..errors import InputError
 
-__all__ = ["BOMS", "check_text", "first_character", "sniff"]
+__all__ = ["BOMS", "check_text", "first_character", "sniff", "xml_root"]
 
 #: Byte order marks and the encodings they announce (UTF-32's before UTF-16's: ``FF FE 00 00``
 #: starts with UTF-16-LE's ``FF FE``).
@@ -103,3 +103,61 @@ def first_character(data: bytes) -> str:
     """
     _, head = _head(data)
     return head.lstrip()[:1].decode("utf-8", errors="replace")
+
+
+_NAME_END = b" \t\r\n/>"  # what ends an element's name in a start tag
+
+
+def _skip(body: bytes, at: int, start: bytes, end: bytes) -> int | None:
+    """The index after the markup ``start ... end`` found at ``at``, or ``None``."""
+    if not body.startswith(start, at):
+        return None
+    stop = body.find(end, at + len(start))
+    return -1 if stop < 0 else stop + len(end)
+
+
+def xml_root(data: bytes) -> str | None:
+    """The name of the root element of XML text (a namespace prefix dropped), or ``None`` when
+    the text does not start as XML does: white space, an XML declaration, comments, processing
+    instructions and a document type declaration, then ``<name``. This only looks; the parser
+    judges the document.
+
+    Parameters
+    ----------
+    data
+        The file's bytes (any encoding :func:`sniff` recognises; the markup before the root is
+        ASCII in every encoding an XML declaration may name).
+
+    Returns
+    -------
+    str or None
+        The root element's local name (``robot``, ``mujoco``).
+    """
+    encoding, start = sniff(data)
+    body = data[start:]
+    if encoding != "utf-8":
+        body = body.decode(encoding, errors="replace").encode("utf-8")
+    at = 0
+    while True:
+        while at < len(body) and body[at] in b" \t\r\n":
+            at += 1
+        after = _skip(body, at, b"<?", b"?>")
+        if after is None:
+            after = _skip(body, at, b"<!--", b"-->")
+        if after is None and body.startswith(b"<!DOCTYPE", at):
+            bracket, close = body.find(b"[", at), body.find(b">", at)
+            if 0 <= bracket < close:  # an internal subset: to its "]", then the ">"
+                close = body.find(b">", max(body.find(b"]", bracket), bracket))
+            after = -1 if close < 0 else close + 1
+        if after is None:
+            break
+        if after < 0:
+            return None
+        at = after
+    if not body.startswith(b"<", at):
+        return None
+    end = at + 1
+    while end < len(body) and body[end] not in _NAME_END:
+        end += 1
+    name = body[at + 1 : end].decode("utf-8", errors="replace")
+    return name.rpartition(":")[2] or None

@@ -34,8 +34,9 @@ from ..model.poe import KINDS, PoeModel, joint_from_twist
 from ..schemas import POE_FILE
 from ..tolerances import DEFAULT, JOINT_SCALES, Tolerances
 from .fields import check_joint_count, check_leaders, check_name, check_number, read_mimic
+from .sources import Content, Reading, Source
 
-__all__ = ["check_matrix", "poe_to_dict", "read_poe"]
+__all__ = ["check_matrix", "poe_to_dict", "read_poe", "read_source"]
 
 
 def _numbers(value: Any, count: int, where: str) -> NDArray[np.float64]:
@@ -146,6 +147,14 @@ def read_poe(data: Any, display: str, tol: Tolerances = DEFAULT) -> PoeModel:
             warnings.append(note)
     name = display if data.get("name") is None else check_name(data["name"], f"{display}: name")
     return PoeModel(tuple(joints), home, str(name), display, "base", "tool", unit, tuple(warnings))
+
+
+def read_source(content: Content, reading: Reading) -> Source:
+    """The SOURCE of a POE model file (the ``poe`` entry of
+    :data:`~urdf2dh.io.sources.READERS`)."""
+    poe = read_poe(content.mapping, content.display, reading.tol)
+    return Source("poe", content.display, content.name(poe.name), poe=poe,
+                  bundled=content.bundled)  # fmt: skip
 
 
 def poe_to_dict(model: PoeModel) -> dict[str, Any]:

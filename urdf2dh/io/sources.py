@@ -1,43 +1,96 @@
-"""SOURCE resolution (docs/commands/index.md): a URDF file, a POE model file, a table file, or
-a bundled robot.
+"""SOURCE resolution (docs/commands/index.md): a file in one of the formats of :data:`READERS`,
+or a bundled robot (:data:`~urdf2dh.io.catalog.ROBOTS`), whose installed file is read the same way.
 
+=========  =================================================  ===============================
+reader     recognised by                                      module
+=========  =================================================  ===============================
+``xacro``  the name ending ``.xacro``                         :mod:`.xacro` (expanded to URDF)
+``mjcf``   XML whose root element is ``<mujoco>``             :mod:`.mjcf`
+``urdf``   XML: the name ending ``.urdf``, or text from ``<``  :mod:`.urdf`
+           (a root other than ``<robot>`` is its error)
+``poe``    a YAML or JSON mapping with ``format: poe``         :mod:`.poefile`
+``table``  a YAML or JSON mapping with a ``schema`` key        :mod:`.tablefile`
+=========  =================================================  ===============================
+
+The first reader in :data:`READERS` that claims a file reads it. Adding a format is its module
+(a ``read_source(content, reading)`` function giving a :class:`Source`) and one entry here.
 :func:`open_source` reads and checks the file once; :meth:`Source.model` then builds the POE
 model of the chain between the requested links.
+
+This module imports no numpy (the command line's ``--help`` lists the formats from the table);
+a reader's module is imported when a file is read with it.
 """
 
 from __future__ import annotations
 
+import importlib
 import os
-from collections.abc import Mapping
-from dataclasses import dataclass, replace
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field, replace
+from functools import cached_property
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 from ..checks import check_flag, check_instance, check_optional_name, check_source
-from ..errors import SHOWN_LENGTH, InputError, SourceError, UsageError, choices, shown
-from ..model.poe import PoeModel
-from ..schemas import TABLE_FILE as SCHEMA
+from ..errors import SHOWN_LENGTH, InputError, SourceError, Urdf2DhError, UsageError, choices, shown
+from ..schemas import TABLE_FILE
 from ..tolerances import DEFAULT, Tolerances
 from .catalog import ROBOTS, Bundled, robot_path
-from .encodings import check_text, first_character
+from .encodings import check_text, first_character, xml_root
 from .files import SOURCE_ROLE, read_file
-from .mappings import read_mapping
-from .urdf import UrdfTree, parse_tree, tree_to_poe
 from .xacro import XacroOptions
 
-__all__ = ["Source", "load", "open_source"]
+if TYPE_CHECKING:
+    from ..model.poe import PoeModel
+    from .mjcf import MjcfElements
+    from .urdf import UrdfTree
+
+__all__ = [
+    "READERS",
+    "Content",
+    "Reader",
+    "Reading",
+    "Source",
+    "load",
+    "open_source",
+    "source_kinds",
+]
 
 
 @dataclass(frozen=True, slots=True)
 class Source:
-    """A resolved SOURCE. URDF sources keep their text (for Pinocchio) and tree."""
+    """A resolved SOURCE: a kinematic tree to take chains from, or a single chain.
 
-    kind: str  # "urdf", "poe" or "table"
+    Attributes
+    ----------
+    kind
+        What the file holds once read (``urdf``, ``poe``, ``table``, ...): the model the oracles
+        are given (a xacro file is ``urdf`` once expanded).
+    display
+        The file's name in messages.
+    name
+        The robot's name (a bundled robot's own).
+    tree
+        The kinematic tree (URDF), or ``None`` for a single chain.
+    document
+        The text an oracle reads (the URDF as parsed), or ``None``.
+    poe
+        The chain itself, for sources without a tree (POE and table files).
+    bundled
+        The bundled robot it is, if any (its default base and tip).
+    mjcf
+        For an MJCF file: its tree's links and joints as the model's bodies, sites and joints,
+        and the features it uses (what an oracle reading the same file needs).
+    """
+
+    kind: str
     display: str
     name: str
     tree: UrdfTree | None = None
-    urdf_text: bytes | None = None
+    document: bytes | None = None
     poe: PoeModel | None = None
     bundled: Bundled | None = None
+    mjcf: MjcfElements | None = None
 
     def model(
         self,
@@ -45,8 +98,8 @@ class Source:
         tip: str | None = None,
         ignore_mimic: bool = False,
     ) -> PoeModel:
-        """The POE model of the chain ``base -> tip`` (defaults: the URDF's root link and
-        its single deepest leaf, or the bundled robot's own)."""
+        """The POE model of the chain ``base -> tip`` (defaults: the tree's root link and its
+        single deepest leaf, or the bundled robot's own)."""
         if self.tree is None:
             if base or tip:
                 raise UsageError(
@@ -55,49 +108,163 @@ class Source:
                 )
             assert self.poe is not None
             return self.poe
+        from .urdf import tree_to_poe
+
         if self.bundled is not None:
             base = base or self.bundled.base
             tip = tip or self.bundled.tip
         return tree_to_poe(self.tree, base, tip, ignore_mimic, self.name)
 
 
-def _from_file(
-    path: Path,
-    display: str,
-    tol: Tolerances,
-    bundled: Bundled | None,
-    xacro: XacroOptions | None = None,
-) -> Source:
+@dataclass(frozen=True, slots=True)
+class Reading:
+    """How files are read: the tolerances of typed numbers (POE and table files), and how
+    ``.xacro`` files are expanded."""
+
+    tol: Tolerances = DEFAULT
+    xacro: XacroOptions | None = None
+
+
+class Content:
+    """A SOURCE file's bytes, and what the readers look at to claim it (each worked out once).
+
+    Attributes
+    ----------
+    path, display
+        The file, and its name in messages.
+    data
+        Its bytes (not empty, not binary).
+    bundled
+        The bundled robot whose installed file it is, if any.
+    """
+
+    def __init__(self, path: Path, display: str, data: bytes, bundled: Bundled | None) -> None:
+        self.path, self.display, self.data, self.bundled = path, display, data, bundled
+
+    @property
+    def suffix(self) -> str:
+        """The file name's suffix, lower case (``.urdf``)."""
+        return self.path.suffix.lower()
+
+    @cached_property
+    def xml_root(self) -> str | None:
+        """The name of the root element, if the text is XML that shows one
+        (:func:`~urdf2dh.io.encodings.xml_root`)."""
+        return xml_root(self.data)
+
+    @cached_property
+    def _parsed(self) -> tuple[Any, Urdf2DhError | None]:
+        from .mappings import read_mapping
+
+        try:
+            return read_mapping(self.path, self.display, self.data), None
+        except Urdf2DhError as e:
+            return None, e
+
+    @property
+    def mapping(self) -> Any:
+        """The text as YAML or JSON values (:func:`~urdf2dh.io.mappings.read_mapping`), or
+        ``None`` when it is not well-formed YAML or JSON."""
+        return self._parsed[0]
+
+    def mapping_error(self) -> Urdf2DhError | None:
+        """Why the text is not YAML or JSON, if it is not."""
+        return self._parsed[1]
+
+    def name(self, own: str) -> str:
+        """The robot's name: a bundled robot's, else ``own`` (the file's)."""
+        return self.bundled.name if self.bundled else own
+
+
+@dataclass(frozen=True, slots=True)
+class Reader:
+    """A SOURCE format: what it is called, how a file is recognised as one, and its reader.
+
+    Attributes
+    ----------
+    name
+        The format's name (``urdf``).
+    title
+        What a file of it is called in a list of the formats (``URDF``, ``POE``).
+    described
+        The format as an error listing the formats names it (``URDF (<robot>)``).
+    module
+        The module under :mod:`urdf2dh.io` whose ``read_source(content, reading)`` reads it.
+    claims
+        Whether a file is one (on its name and :class:`Content`); the first reader of
+        :data:`READERS` that claims a file reads it.
+    """
+
+    name: str
+    title: str
+    described: str
+    module: str
+    claims: Callable[[Content], bool] = field(repr=False)
+
+    def read(self, content: Content, reading: Reading) -> Source:
+        """The :class:`Source` of a file this reader claims."""
+        mod = importlib.import_module(f"urdf2dh.io.{self.module}")
+        source = mod.read_source(content, reading)
+        assert isinstance(source, Source)
+        return source
+
+
+def _mapping_key(key: str, value: str | None = None) -> Callable[[Content], bool]:
+    """A claim on a YAML or JSON mapping holding ``key`` (with ``value``, if given)."""
+
+    def claims(content: Content) -> bool:
+        tree = content.mapping
+        return isinstance(tree, dict) and key in tree and value in (None, tree[key])
+
+    return claims
+
+
+READERS: dict[str, Reader] = {
+    r.name: r
+    for r in [
+        Reader("xacro", "xacro", "xacro file (.xacro)", "xacro", lambda c: c.suffix == ".xacro"),
+        Reader("mjcf", "MJCF", "MJCF (<mujoco>)", "mjcf", lambda c: c.xml_root == "mujoco"),
+        Reader(
+            "urdf",
+            "URDF",
+            "URDF (<robot>)",
+            "urdf",
+            lambda c: c.suffix in (".urdf", ".xml") or first_character(c.data) == "<",
+        ),
+        Reader("poe", "POE", "POE model ('format: poe')", "poefile", _mapping_key("format", "poe")),
+        Reader(
+            "table",
+            "table",
+            f"table file ('schema: {TABLE_FILE}')",
+            "tablefile",
+            _mapping_key("schema"),
+        ),
+    ]
+}
+
+
+def _listed(items: list[str]) -> str:
+    return ", ".join(items[:-1]) + " or " + items[-1]
+
+
+def source_kinds(described: bool = False) -> str:
+    """The formats a SOURCE may be, for messages: ``URDF, xacro, ... or table``, or with
+    ``described`` how each is recognised (``URDF (<robot>), ...``)."""
+    return _listed([r.described if described else r.title for r in READERS.values()])
+
+
+def _from_file(path: Path, display: str, reading: Reading, bundled: Bundled | None) -> Source:
     role = f"the installed file of bundled robot '{bundled.name}'" if bundled else SOURCE_ROLE
     data = read_file(path, display, role)
-    check_text(data, display, "a URDF, POE or table file")
-    suffix = path.suffix.lower()
-    if suffix == ".xacro":
-        from .xacro import expand
-
-        data = expand(path, display, xacro)
-    if suffix in (".xacro", ".urdf", ".xml") or first_character(data) == "<":
-        tree = parse_tree(data, display)
-        return Source(
-            "urdf", display, bundled.name if bundled else tree.name, tree, tree.xml, bundled=bundled
-        )
-    tree_data = read_mapping(path, display, data)
-    if isinstance(tree_data, dict) and tree_data.get("format") == "poe":
-        from .poefile import read_poe
-
-        poe = read_poe(tree_data, display, tol)
-        name = bundled.name if bundled else poe.name
-        return Source("poe", display, name, poe=poe, bundled=bundled)
-    if isinstance(tree_data, dict) and "schema" in tree_data:
-        from .tablefile import read_table
-
-        table = read_table(tree_data, display, tol)
-        return Source(
-            "table", display, table.robot or path.stem, poe=table.to_poe(), bundled=bundled
-        )
-    raise InputError(
-        f"{display}: not a URDF, POE model ('format: poe') or table file ('schema: {SCHEMA}')"
-    )
+    check_text(data, display, f"a {source_kinds()} file")
+    content = Content(path, display, data, bundled)
+    for reader in READERS.values():
+        if reader.claims(content):
+            return reader.read(content, reading)
+    error = content.mapping_error()
+    if error is not None:
+        raise error
+    raise InputError(f"{display}: not a {source_kinds(described=True)}")
 
 
 def open_source(
@@ -114,18 +281,19 @@ def open_source(
     if package_paths:
         xacro = replace(xacro or XacroOptions(), packages={
             **(xacro.packages if xacro else {}), **package_paths})  # fmt: skip
+    reading = Reading(tol, xacro)
     if not source:
         raise SourceError(
-            "SOURCE is empty: give a URDF, xacro, POE or table file, or a bundled robot's name "
+            f"SOURCE is empty: give a {source_kinds()} file, or a bundled robot's name "
             f"{choices(ROBOTS, limit=30)}"
         )
     path = Path(source)
     if _exists(path):
-        return _from_file(path, source, tol, None, xacro)
+        return _from_file(path, source, reading, None)
     if source in ROBOTS:
         bundled = ROBOTS[source]
         file = robot_path(bundled)
-        return _from_file(file, file.name, tol, bundled)
+        return _from_file(file, file.name, Reading(tol), bundled)
     looks_like_file = any(ch in source for ch in "/\\.")
     if looks_like_file:
         shortened = source if len(source) <= SHOWN_LENGTH else shown(source)

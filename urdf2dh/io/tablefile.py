@@ -24,8 +24,9 @@ from ..schemas import TABLE_FILE_NAMES
 from ..tolerances import DEFAULT, Tolerances
 from ..units import metres_per
 from .fields import check_joint_count, check_leaders, check_number, check_vector, read_mimic
+from .sources import Content, Reading, Source
 
-__all__ = ["read_table"]
+__all__ = ["read_source", "read_table"]
 
 
 def _matrix_agrees(given: Any, built: np.ndarray, where: str, scale: float) -> None:
@@ -52,6 +53,14 @@ def _text(data: dict[str, Any], key: str, default: str, where: str) -> str:
     if not isinstance(value, str):
         raise TableFileError(f"{where}: {key} must be a string, not {type(value).__name__}")
     return value
+
+
+def read_source(content: Content, reading: Reading) -> Source:
+    """The SOURCE of a table file, its chain the table's POE model (the ``table`` entry of
+    :data:`~urdf2dh.io.sources.READERS`)."""
+    table = read_table(content.mapping, content.display, reading.tol)
+    name = content.name(table.robot or content.path.stem)
+    return Source("table", content.display, name, poe=table.to_poe(), bundled=content.bundled)
 
 
 def read_table(data: Any, display: str, tol: Tolerances = DEFAULT) -> Table:

@@ -42,8 +42,16 @@ from .xacro_child import OUT_OF_MEMORY
 
 if TYPE_CHECKING:
     from .child import Finished
+    from .sources import Content, Reading, Source
 
-__all__ = ["MESSAGES_LIMIT", "URDF_LIMIT", "PackageNotFound", "XacroOptions", "expand"]
+__all__ = [
+    "MESSAGES_LIMIT",
+    "URDF_LIMIT",
+    "PackageNotFound",
+    "XacroOptions",
+    "expand",
+    "read_source",
+]
 
 URDF_LIMIT = FILE_BYTES  # bytes of expanded URDF: as many as a URDF file may hold
 MESSAGES_LIMIT = 2**20  # bytes the expansion may print (xacro.message, warnings)
@@ -174,6 +182,14 @@ def expand(path: Path, display: str, options: XacroOptions | None = None) -> byt
     for file in result.get("read", []):
         note_input(file, READ_ROLE)
     return text
+
+
+def read_source(content: Content, reading: Reading) -> Source:
+    """The SOURCE of a ``.xacro`` file: expanded (with ``reading.xacro``), then read as URDF
+    (the ``xacro`` entry of :data:`~urdf2dh.io.sources.READERS`)."""
+    from .urdf import urdf_source
+
+    return urdf_source(content, expand(content.path, content.display, reading.xacro))
 
 
 def child_argv() -> list[str]:

@@ -62,6 +62,7 @@ __all__ = [
     "RefusedExpression",
     "expand",
     "main",
+    "may_read",
     "readable",
     "refusal",
 ]
@@ -229,7 +230,9 @@ def _beneath(real: str, trees: list[str]) -> bool:
     return any(os.path.commonpath([real, t]) == t for t in trees)
 
 
-def _allowed(path: str, trees: list[str], files: list[str]) -> bool:
+def may_read(path: str, trees: list[str], files: list[str]) -> bool:
+    """Whether ``path`` (symbolic links resolved) is one of ``files`` or lies beneath one of the
+    directory ``trees`` (:func:`readable`'s answer)."""
     real = os.path.realpath(path)
     return real in files or _beneath(real, trees)
 
@@ -264,7 +267,7 @@ def _reads(xacro: ModuleType, trees: list[str], files: list[str], withheld: str 
     def checked_open(file: Any, *args: Any, **kwargs: Any) -> Any:
         if isinstance(file, str | bytes | os.PathLike):
             name = os.fsdecode(file)
-            if not _allowed(name, trees, files):
+            if not may_read(name, trees, files):
                 raise ReadRefused(_shown(name), withheld)
         return builtins.open(file, *args, **kwargs)
 
@@ -275,7 +278,7 @@ def _reads(xacro: ModuleType, trees: list[str], files: list[str], withheld: str 
                 break
             fixed.append(part)
         directory = os.sep.join(fixed) or os.curdir
-        if not _allowed(directory, trees, []):
+        if not may_read(directory, trees, []):
             raise ReadRefused(_shown(directory), withheld)
         return list(original_glob(pattern, *args, **kwargs))
 

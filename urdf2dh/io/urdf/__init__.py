@@ -8,7 +8,15 @@ base link to a tip link and builds the POE model.
 from __future__ import annotations
 
 from .chain import tree_to_poe
-from .parse import load_tree, parse_tree
+from .parse import load_tree, parse_tree, read_source, urdf_source
 from .tree import UrdfJoint, UrdfTree
 
-__all__ = ["UrdfJoint", "UrdfTree", "load_tree", "parse_tree", "tree_to_poe"]
+__all__ = [
+    "UrdfJoint",
+    "UrdfTree",
+    "load_tree",
+    "parse_tree",
+    "read_source",
+    "tree_to_poe",
+    "urdf_source",
+]

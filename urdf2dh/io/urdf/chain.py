@@ -16,6 +16,7 @@ from numpy.typing import NDArray
 
 from ...errors import ChainError, Remedy, shown
 from ...geometry.frames import unit
+from ...geometry.se3 import inv
 from ...model.mimic import Mimic
 from ...model.poe import Joint, JointKind, PoeModel
 from .tree import UrdfJoint, UrdfTree, names
@@ -65,14 +66,28 @@ def _helical_lead(uj: UrdfJoint, axis: Vec, moving: list[_Moving]) -> float | No
 
 
 def _walk(
-    tree: UrdfTree, path: list[UrdfJoint], ignore_mimic: bool, base: str, tip: str
+    tree: UrdfTree, path: list[UrdfJoint], ignore_mimic: bool, base: str, tip: str, start: Vec
 ) -> tuple[list[_Moving], Vec, list[str]]:
-    """The moving joints of ``path``, the tip's home pose ``(4, 4)`` and the warnings made."""
-    t = np.eye(4)  # the joint frame at the home pose, in the base frame
+    """The moving joints of ``path``, the tip's home pose ``(4, 4)`` and the warnings made;
+    ``start`` is the pose of the path's first link in the base frame."""
+    t = start  # the joint frame at the home pose, in the base frame
     moving: list[_Moving] = []
     warnings: list[str] = []
     for uj in path:
         t = t @ uj.origin
+        if uj.refused is not None:
+            if not (uj.refused_coupling and ignore_mimic):
+                raise ChainError(
+                    f"{tree.path}: joint {shown(uj.name)} on the chain {shown(base)} -> "
+                    f"{shown(tip)} {uj.refused}",
+                    remedy=Remedy("ignore_mimic", "; pass {} to drive it on its own")
+                    if uj.refused_coupling
+                    else None,
+                )
+            warnings.append(
+                f"joint {shown(uj.name)} {uj.refused.split(';')[0]}; treated as an independent "
+                "joint (--ignore-mimic)"
+            )
         if uj.type in ("floating", "planar"):
             raise ChainError(
                 f"{tree.path}: joint {shown(uj.name)} on the chain {shown(base)} -> {shown(tip)} "
@@ -133,7 +148,7 @@ def _followed(
                 warnings.append(
                     f"joint {shown(m.name)} follows {shown(relation.joint)}, which is not on the "
                     f"chain {shown(base)} -> {shown(tip)}: it is driven on its own here (in the "
-                    f"URDF, q = {relation.multiplier:g} q_{shown(relation.joint)} + "
+                    f"file, q = {relation.multiplier:g} q_{shown(relation.joint)} + "
                     f"{relation.offset:g})"
                 )
                 relation = None
@@ -166,7 +181,8 @@ def tree_to_poe(
         The URDF's kinematic tree.
     base, tip
         Link names; ``base`` defaults to the root link and ``tip`` to the single deepest leaf
-        below it (ties are an error).
+        below it (ties are an error). ``tip`` lies below ``base``, or below a link that ``base``
+        hangs from by fixed joints (a site or sensor frame as the base).
     ignore_mimic
         Treat a mimic joint on the chain as an independent joint (with a warning) instead of
         keeping it coupled to its leader; the lead of a helical joint is read as such either way.
@@ -191,7 +207,12 @@ def tree_to_poe(
             f"{tree.path}: unknown base link {shown(base)}; links are {names(tree.links)}"
         )
     tip = tip or tree.default_tip(base)
-    moving, home, warnings = _walk(tree, tree.chain(base, tip), ignore_mimic, base, tip)
+    beside = tree.beside(base, tip)  # fixed joints up from a base beside the chain
+    anchor = beside[-1].parent if beside else base
+    start = np.eye(4)
+    for joint in beside:
+        start = start @ inv(joint.origin)
+    moving, home, warnings = _walk(tree, tree.chain(anchor, tip), ignore_mimic, base, tip, start)
     joints = tuple(
         Joint(m.name, m.kind, m.axis, m.point, m.pitch, 1.0, m.lower, m.upper, m.mimic)
         for m in moving

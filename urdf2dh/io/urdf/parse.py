@@ -19,10 +19,19 @@ from ...errors import InputError, shown
 from ...tolerances import JOINTS
 from ..encodings import check_text, sniff
 from ..files import read_file
+from ..sources import Content, Reading, Source
 from .tree import UrdfTree, build_tree
 from .validate import check_robot
 
-__all__ = ["check_size", "document", "load_tree", "parse_tree", "parse_xml", "yourdfpy_robot"]
+__all__ = [
+    "check_size",
+    "document",
+    "load_tree",
+    "parse_tree",
+    "parse_xml",
+    "read_source",
+    "yourdfpy_robot",
+]
 
 # An XML declaration and its pseudo-attributes (XML 1.0 §2.8); read from the bytes of a file
 # without a BOM, where it is ASCII whatever the encoding it declares.
@@ -209,3 +218,15 @@ def load_tree(path: str | Path, display: str | None = None) -> UrdfTree:
     """Read and check a URDF file (``display`` names it in messages; default: ``path``)."""
     shown = display or str(path)
     return parse_tree(read_file(Path(path), shown), shown)
+
+
+def read_source(content: Content, reading: Reading) -> Source:
+    """The SOURCE of a URDF file (the ``urdf`` entry of :data:`~urdf2dh.io.sources.READERS`)."""
+    return urdf_source(content, content.data)
+
+
+def urdf_source(content: Content, data: bytes) -> Source:
+    """The SOURCE of URDF text ``data`` read from ``content``'s file (or expanded from it)."""
+    tree = parse_tree(data, content.display)
+    return Source("urdf", content.display, content.name(tree.name), tree, tree.xml,
+                  bundled=content.bundled)  # fmt: skip

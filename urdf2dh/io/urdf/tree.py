@@ -19,7 +19,7 @@ from numpy.typing import NDArray
 from ...errors import ChainError, InputError, Remedy, choices, shown
 from .validate import JOINT_TYPES, MOVING_TYPES
 
-__all__ = ["UrdfJoint", "UrdfTree", "build_tree", "names"]
+__all__ = ["UrdfJoint", "UrdfTree", "build_links", "build_tree", "names"]
 
 Mat = NDArray[np.float64]
 
@@ -54,6 +54,12 @@ class UrdfJoint:
         Position limits, or ``None`` where absent (always ``None`` for continuous joints).
     mimic, multiplier, offset
         The joint this one mimics (``None`` if none): ``q = multiplier * q_mimic + offset``.
+    refused
+        Why a chain may not hold this joint, beyond its type (an MJCF ball joint, a coupling no
+        mimic relation describes), said after its name; ``None`` where it may.
+    refused_coupling
+        Whether ``refused`` is about how the joint is coupled to another: treating mimic joints
+        as independent (``ignore_mimic``) then lifts it.
     """
 
     name: str
@@ -67,6 +73,8 @@ class UrdfJoint:
     mimic: str | None
     multiplier: float = 1.0
     offset: float = 0.0
+    refused: str | None = None
+    refused_coupling: bool = False
 
     def __post_init__(self) -> None:
         if self.type not in JOINT_TYPES:
@@ -77,7 +85,8 @@ class UrdfJoint:
 
 @dataclass(frozen=True, slots=True)
 class UrdfTree:
-    """The kinematic tree of one URDF file.
+    """The kinematic tree of one URDF file (or of an MJCF file's bodies,
+    :mod:`urdf2dh.io.mjcf`).
 
     Attributes
     ----------
@@ -142,6 +151,26 @@ class UrdfTree:
                 remedy=Remedy("tip", "; choose one with {}"),
             )
         return tied[0]
+
+    def beside(self, base: str, tip: str) -> list[UrdfJoint]:
+        """The fixed joints from ``base`` up to the nearest link above it that ``tip`` lies below
+        (nothing where ``tip`` lies below ``base``), base's own first: a base hanging beside the
+        chain (a site, a sensor frame). A moving joint on the way up is an error: the chain would
+        run through it backwards."""
+        above = {tip}
+        link = tip
+        while link in self.parent_joint:
+            link = self.parent_joint[link].parent
+            above.add(link)
+        out: list[UrdfJoint] = []
+        link = base
+        while link not in above and link in self.parent_joint:
+            joint = self.parent_joint[link]
+            if joint.type != "fixed":
+                break
+            out.append(joint)
+            link = joint.parent
+        return out if link in above else []
 
     def chain(self, base: str, tip: str) -> list[UrdfJoint]:
         """The joints from ``base`` down to ``tip`` (fixed ones included), base first."""
@@ -210,11 +239,25 @@ def build_tree(robot: Any, display: str, xml: bytes = b"") -> UrdfTree:
         or several, links not reached from the root).
     """
     links = tuple(link.name for link in robot.links)
+    return build_links(str(robot.name), display, links, [_joint(j) for j in robot.joints], xml)
+
+
+def build_links(
+    name: str, display: str, links: tuple[str, ...], edges: Iterable[UrdfJoint], xml: bytes = b""
+) -> UrdfTree:
+    """The :class:`UrdfTree` of links and the joints between them.
+
+    Raises
+    ------
+    InputError
+        When they do not form one tree (a link with two parent joints, no root or several,
+        links not reached from the root).
+    """
     joints: dict[str, UrdfJoint] = {}
     parent_joint: dict[str, UrdfJoint] = {}
     children: dict[str, list[UrdfJoint]] = {}
-    for j in robot.joints:
-        uj = joints[j.name] = _joint(j)
+    for uj in edges:
+        joints[uj.name] = uj
         if uj.child in parent_joint:
             raise InputError(
                 f"{display}: link {shown(uj.child)} is the child of both joint "
@@ -229,7 +272,7 @@ def build_tree(robot: Any, display: str, xml: bytes = b"") -> UrdfTree:
     if len(roots) > 1:
         raise InputError(f"{display}: several root links {names(roots)}; a URDF is a single tree")
     tree = UrdfTree(
-        str(robot.name),
+        name,
         display,
         links,
         joints,
