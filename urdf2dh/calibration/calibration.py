@@ -20,9 +20,15 @@
 6. The output table: the convention asked for, or the first of ``dh`` and ``hayati`` that is
    exact and sane (no tolerance judgement, no ``|d|`` or ``|a|`` beyond ``far_factor`` x size;
    ``hayati`` always is), as ``convert`` would write it, with the reason; and its ``diff``
-   against the nominal.
+   against the nominal. Every figure in the measurements' length unit (:mod:`.userunits`).
+7. The judgement: whether the measurements contradict the result (:mod:`.plausible`), and then
+   its likely cause (:mod:`.diagnosis`).
 
-Nothing is returned unless the final fit converged and the table passed its self-check.
+Nothing is returned unless the final fit converged, the table passed its self-check and the
+measurements do not contradict it (or ``accept`` says to return it all the same). Outlier
+suspects are not rejected when they are more than
+:data:`~urdf2dh.tolerances.OUTLIER_SHARE` of the measurements or would leave too few equations:
+the judgement names them.
 """
 
 from __future__ import annotations

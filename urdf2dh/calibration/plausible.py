@@ -29,11 +29,11 @@ what the ten real data sets of ``benchmarks/calibration.py`` show):
 * ``worse-than-before``: the calibrated model predicts configurations it was not fitted to worse
   than the nominal joints with base and tool fitted, beyond the scatter of the configurations.
 
-:mod:`.diagnosis` then looks for the cause (another reading of the file, helical joints) and
-:mod:`.calibration` refuses the result (:class:`~urdf2dh.errors.Implausible`, naming the cause
-and the option that fixes it) unless it is accepted on purpose. :func:`beyond_limits` names
-joint values far beyond the joints' limits (a warning: the judgement decides whether they are
-degrees).
+:func:`judged` then has :mod:`.diagnosis` look for the cause (another reading of the file,
+helical joints) and refuses the result (:class:`~urdf2dh.errors.Implausible`, naming the cause
+and the option that fixes it: :func:`refusal`) unless it is accepted on purpose.
+:func:`beyond_limits` names joint values far beyond the joints' limits (a warning: the
+judgement decides whether they are degrees).
 """
 
 from __future__ import annotations
@@ -63,7 +63,7 @@ from ..tolerances import (
     WORSE_RATIO,
     WORSE_THAN_BEFORE,
 )
-from .chart import Estimate, absorbed
+from .chart import HIGHER, LOWER, Estimate, absorbed
 from .diagnosis import HELICAL_GAIN, explained, helical, misread, spread_ratio
 from .identify import Identified
 from .measurements import Measurements
@@ -117,8 +117,6 @@ KINDS = {
 }
 
 ACCEPT = Remedy("accept", "; nothing written ({} writes it all the same)")
-_LOWER = {"offsets": "base-tool", "geometry": "offsets", "full": "geometry"}
-_HIGHER = {"base-tool": "offsets", "offsets": "geometry"}
 
 
 def _less(level: str) -> Remedy:
@@ -127,7 +125,7 @@ def _less(level: str) -> Remedy:
         "level",
         "; choose a lower level ({}), or measure more configurations, spread over every joint's "
         "range",
-        _LOWER.get(level, "base-tool"),
+        LOWER.get(level, "base-tool"),
     )
 
 
@@ -143,11 +141,14 @@ class Finding:
         What the data show and the likely cause, one clause with its figures.
     remedy
         The argument that fixes it, or ``None`` (the file itself must change).
+    about
+        ``position`` or ``rotation`` where it concerns one kind of residual.
     """
 
     kind: str
     text: str
     remedy: Remedy | None = None
+    about: str = ""
 
 
 def _rms_per_coordinate(rms: float) -> float:
@@ -163,7 +164,7 @@ def _gross(cal: Calibration, size: float) -> list[Finding]:
     fit = cal.comparisons[0].after
     unit = cal.units.length
     out = []
-    higher = _HIGHER.get(cal.level)
+    higher = HIGHER.get(cal.level) if cal.level in ("base-tool", "offsets") else None
     if not fit.rms_position <= GROSS_POSITION * size:  # NaN counts as gross
         out.append(
             Finding(
@@ -267,6 +268,7 @@ def _noise(cal: Calibration, given: tuple[float | None, float | None]) -> list[F
                             "; state the noise the residuals show, or leave out {} to have it "
                             "estimated",
                         ),
+                        what,
                     )
                 )
             elif ratio * redundancy < 1.0 / NOISE_OVER and _same(weighted, stated):
@@ -518,7 +520,7 @@ def judged(
 
 
 def _positions_beyond(f: Finding) -> bool:
-    return f.kind == "noise-under-stated" and f.text.startswith("the position")
+    return f.kind == "noise-under-stated" and f.about == "position"
 
 
 def refusal(

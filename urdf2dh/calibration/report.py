@@ -33,7 +33,7 @@ from ..errors import visible
 from ..model.identifiability import LINE_PARAMETERS, SYMBOLS
 from ..model.poe import PoeModel
 from ..tolerances import DIFF_ANGLE_DEG, DIFF_PARALLEL_DEG, POORLY_IDENTIFIED, Tolerances
-from .chart import Estimate, absorbed, local_coordinates
+from .chart import LOWER, Estimate, absorbed, local_coordinates
 from .identifiable import barely_moved
 from .identify import Fit, Identified
 from .measurements import Measurements
@@ -485,7 +485,7 @@ def assemble(
             warnings.append(
                 _overfit("cross-validated", score.rms_position, fit_rms, limit, level, p, unit)
             )
-    lower = _LOWER.get(level)
+    lower = LOWER.get(level)
     if still:
         warnings.append(
             "barely moved: "
@@ -610,13 +610,10 @@ def assemble(
     )
 
 
-_LOWER = {"offsets": "base-tool", "geometry": "offsets", "full": "geometry"}
-
-
 def _overfit(
     what: str, other: float, fit: float, limit: float, level: str, p: int, unit: str
 ) -> str:
-    lower = _LOWER.get(level)
+    lower = LOWER.get(level)
     remedy = f"choose a lower level (--identify {lower}), or " if lower else ""
     return (
         f"the {what} RMS position error ({other:.3g} {unit}) is {other / fit:.3g} times the "
