@@ -90,6 +90,8 @@ class LabFile:
         two coordinates' values exchanged, a coordinate reversed (a left-handed frame).
     markers
         Markers per configuration (position measurements), else ``None``.
+    radian_joints
+        The joint values in radians whatever ``degrees`` says (the angles follow it).
     """
 
     joints: tuple[str, ...]
@@ -105,6 +107,7 @@ class LabFile:
     point_swap: tuple[int, int] | None = None
     point_sign: int | None = None
     markers: int | None = None
+    radian_joints: bool = False
 
 
 @dataclass(frozen=True)
@@ -293,7 +296,7 @@ def write(sc: Scenario, lab: LabFile, path: Path) -> None:
     if lab.time:
         columns["t"] = np.arange(len(m)) * 0.5
     for k, name in enumerate(lab.joints):
-        columns[name] = np.degrees(q[:, k]) if lab.degrees else q[:, k]
+        columns[name] = np.degrees(q[:, k]) if lab.degrees and not lab.radian_joints else q[:, k]
     scale = units.factor(sc.truth.length_unit, lab.length)
     for k, name in enumerate(lab.points):
         columns[name] = points[:, k] * scale
@@ -459,6 +462,13 @@ def mistakes() -> list[Mistake]:
             "camera",
             lambda lab, a: (lab, _drop(a, "--degrees")),
             ("--degrees",),
+        ),
+        Mistake(
+            "angles",
+            "joints in radians, angles in degrees, read with --degrees",
+            "camera",
+            lambda lab, a: (replace(lab, radian_joints=True), a),
+            ("convert one of them in the file",),
         ),
         Mistake(
             "angles",

@@ -556,6 +556,8 @@ def explained(reads: tuple[Reread, ...], m: Measurements) -> tuple[str, tuple[Re
     read = _as_read(m)
     joints = next((r for r in reads if r.kind == "joint-degrees"), None)
     angles = next((r for r in reads if r.kind == "angle-degrees"), None)
+    as_read = "degrees" if read.reading.degrees else "radians"
+    alone = "one option reads both alike; convert one of them in the file"
     causes, remedies = [], []
     for r in reads:
         cause, remedy = r.cause, r.remedy
@@ -563,17 +565,13 @@ def explained(reads: tuple[Reread, ...], m: Measurements) -> tuple[str, tuple[Re
             if angles is not None:
                 cause = cause.replace("the joint values are", "the joint values and the angles are")
             else:
-                cause += " while the angles are not: one option reads both; convert one of them "
-                cause += "in the file"
+                cause += f", while the angles are in {as_read}: {alone}"
                 remedy = None
-        elif r is angles and joints is None:
-            cause += " while the joint values are not: one option reads both; convert one of them "
-            cause += "in the file"
         elif r is angles:
-            cause = cause.replace(" and the angles are in degrees", "").replace(
-                " and the angles are in radians", ""
-            )
-            cause = "" if cause.startswith("the angles are in") else cause
+            parts = [c for c in cause.split(" and ") if not c.startswith("the angles are in")]
+            if joints is None:
+                parts.append(f"the angles are not in {as_read} while the joint values are: {alone}")
+            cause = " and ".join(parts)
         if cause:
             causes.append(cause)
         if remedy is not None and remedy not in remedies:
