@@ -286,6 +286,7 @@ def test_the_report_says_what_its_warnings_mean_and_what_to_do():
     poor = next(w for w in cal.warnings if "poorly identified" in w)
     assert "their values are uncertain, though the model as a whole fits" in poor
     assert "measure more configurations moving these joints" in poor and "--fix " in poor
+    assert "which gives up what they explain" in poor
     assert "lower level" not in poor  # 4 of 36: the level stands
     data = Path(__file__).resolve().parents[1] / "examples" / "calibration-data" / "tiago"
     tiago = urdf2dh.load(str(data / "tiago_48_schunk.urdf"), tip="wrist_ft_tool_link")
@@ -326,3 +327,23 @@ def test_the_diagnosis_finds_a_quaternion_order_a_far_nominal_hides():
     opts = FitOptions(pose=True, level="base-tool")
     reads, _, _ = misread(nominal, swapped, opts, [0], reference=actual)
     assert [r.kind for r in reads] == ["quaternion-order"]
+
+
+def test_the_tutorial_shows_what_calibrate_prints(tmp_path, capsys, monkeypatch):
+    """docs/calibrate-your-robot.md's report is what its command prints, line for line."""
+    from test_doc_blocks import blocks
+
+    root = Path(__file__).resolve().parents[1]
+    page = blocks(root / "docs" / "calibrate-your-robot.md")
+    command = next(b.code for b in page if b.lang == "bash" and "--report report.json" in b.code)
+    shown = next(b.code for b in page if b.lang == "text" and b.code.startswith("calibrate ur5"))
+    argv = command.replace("\\\n", " ").split()[1:]
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "examples").symlink_to(root / "examples")
+    assert main(argv) == 0
+    assert capsys.readouterr().out == shown
+    wrong = next(b.code for b in page if b.lang == "bash" and "|| test $? -eq 3" in b.code)
+    argv = wrong.split("||")[0].replace("\\\n", " ").split()[1:]
+    said = next(b.code for b in page if b.lang == "text" and b.code.startswith("urdf2dh: error"))
+    assert main(argv) == 3
+    assert capsys.readouterr().err == said

@@ -396,13 +396,11 @@ def _by_joint(names: list[str], spans: dict[str, float], kinds: dict[str, str], 
     )
 
 
-def _fix(names: list[str]) -> str:
-    """A --fix value for ``names``: a joint's parameters as ``joint.*`` when all of its are."""
-    return (
-        ",".join(names)
-        if len(names) <= 4
-        else ",".join(sorted({f"{n.rsplit('.', 1)[0]}.*" for n in names}))
-    )
+def _fix(names: list[str], joints: dict[str, str]) -> str:
+    """The ``--fix`` that holds ``names`` at the nominal's: the joints' parameters among them
+    (the base, the tool and the markers have no nominal to hold them at), or ``""``."""
+    held = [n for n in names if n.rsplit(".", 1)[0] in joints]
+    return f"--fix {','.join(held)}" if held else ""
 
 
 def assemble(
@@ -487,12 +485,17 @@ def assemble(
             )
     lower = LOWER.get(level)
     if still:
+        lines = [
+            q.name for q in parameters
+            if q.name.rsplit(".", 1)[0] in still and not q.name.endswith(".offset")
+        ]  # fmt: skip
+        hold = _fix(lines, kinds)
         warnings.append(
             "barely moved: "
             + ", ".join(f"{visible(n)} ({spans_text[n]})" for n in still)
             + "; how their lines lie and how far they scale is identified near these positions "
-            "only: measure configurations that move them over their range, or hold their lines "
-            f"at the nominal's (--fix {_fix([f'{n}.*' for n in still])})"
+            "only: measure configurations that move them over their range"
+            + (f", or hold their lines at the nominal's ({hold})" if hold else "")
         )
     if lost:
         causes = {n.rsplit(".", 1)[0] for n in lost} & set(still)
@@ -501,33 +504,45 @@ def assemble(
             if causes
             else "the configurations measured do not tell them apart from the others"
         )
+        hold = _fix(lost, kinds)
         warnings.append(
             f"the measurements determine {stats.rank} of the {p} parameters; not determined: "
             f"{', '.join(lost)} ({why}): their values are the nominal's plus whatever the "
-            "others left; measure configurations that move these joints differently, or hold "
-            f"them at the nominal's (--fix {_fix(lost)})"
+            "others left; measure configurations that move these joints differently"
+            + (f", or hold them at the nominal's ({hold})" if hold else "")
         )
     if poor:
         one = len(poor) == 1
         owners = {n.rsplit(".", 1)[0] for n in poor if n.rsplit(".", 1)[0] in spans}
         joints = "joint" if len(owners) == 1 else "joints"
+        hold = _fix(poor, kinds)
+        remedies = []
+        if owners:
+            remedies.append(
+                f"to pin {'it' if one else 'them'} down, measure more configurations moving "
+                f"{'it over its' if len(owners) == 1 else 'these joints over their'} range"
+            )
+        if hold:
+            remedies.append(
+                f"hold {'it' if one else 'them'} at the nominal's ({hold}), which gives up what "
+                f"{'it explains' if one else 'they explain'} (judge it on held-out "
+                "configurations: --holdout)"
+            )
+        if lower and 2 * len(poor) > p:  # most of the level: the measurements do not support it
+            remedies.append(f"choose a lower level (--identify {lower})")
         belong = (
             f"; {'it belongs' if one else 'they belong'} to {joints} "
-            f"{_by_joint(poor, spans, kinds, unit)}: measure more configurations moving "
-            f"{'it over its' if len(owners) == 1 else 'these joints over their'} range, or hold "
+            f"{_by_joint(poor, spans, kinds, unit)}"
             if owners
-            else ": hold "
+            else ""
         )
-        many = 2 * len(poor) > p  # most of the level: the measurements do not support it
+        todo = ": " + ", or ".join(remedies) if remedies else ""
         warnings.append(
             f"{len(poor)} of the {p} parameters {'is' if one else 'are'} poorly identified: "
             f"one standard deviation of {'it' if one else 'each'} moves a measured point by "
             f"more than {POORLY_IDENTIFIED:g} times the position noise, so "
             f"{'its value is' if one else 'their values are'} uncertain, though the model as a "
-            f"whole fits as the residuals say{belong}{'it' if one else 'them'} at the nominal's "
-            f"(--fix {_fix(poor)})"
-            + (f", or choose a lower level (--identify {lower})" if lower and many else "")
-            + f": {', '.join(poor)}"
+            f"whole fits as the residuals say{belong}{todo}: {', '.join(poor)}"
         )
     if found:
         rows = ", ".join(
