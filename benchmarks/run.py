@@ -11,6 +11,7 @@ are the best of several interleaved runs; each section says what "ours" includes
 from __future__ import annotations
 
 import argparse
+import compileall
 import os
 import platform
 import sys
@@ -25,7 +26,15 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path[:0] = [str(ROOT), str(ROOT / "tests"), str(Path(__file__).resolve().parent)]
 
 from scale import at_the_bounds, chain_lengths  # noqa: E402
-from timing import Figure, best_of, import_ms, peak_alloc, print_table, run_process  # noqa: E402
+from timing import (  # noqa: E402
+    Figure,
+    best_of,
+    import_ms,
+    paired,
+    peak_alloc,
+    print_table,
+    run_process,
+)
 
 from urdf2dh.check.verify import pinocchio_fk, verify  # noqa: E402
 from urdf2dh.conventions import NAMES  # noqa: E402
@@ -143,66 +152,64 @@ def engine(repeat: int) -> list[Figure]:
     ]
 
 
-# Timed inside a new process: what comes after importing yourdfpy (our imports and the
-# conversion, output to /dev/null), and Pinocchio's import and model build.
-OUR_SHARE = """import os, sys, time, yourdfpy
-t0 = time.perf_counter()
-from urdf2dh.cli import main
-sys.stdout = open(os.devnull, "w")
-main(["convert", {arm!r}])
-sys.__stdout__.write(repr(time.perf_counter() - t0))
+# Pinocchio's counterpart of a conversion as a new process: its import, the model built from the
+# same URDF, and forward kinematics (at the neutral configuration), the last joint's pose printed.
+PIN_FK = """import pinocchio
+model = pinocchio.buildModelFromUrdf({path!r})
+data = model.createData()
+pinocchio.forwardKinematics(model, data, pinocchio.neutral(model))
+print(data.oMi[model.njoints - 1])
 """
-PIN_SHARE = """import time
-t0 = time.perf_counter()
-import pinocchio
-pinocchio.buildModelFromUrdf({path!r})
-print(repr(time.perf_counter() - t0))
-"""
+START_UP = "ur5"  # the start-up goal is stated for `urdf2dh convert ur5`
 
 
 def whole_command(runs: int) -> list[Figure]:
-    """New processes: urdf2dh convert vs importing yourdfpy only vs Pinocchio loading the URDF."""
-    path = str(robot_path(ROBOTS[ARM]))
-    convert = run_process(["-m", "urdf2dh.cli", "convert", ARM], runs)
-    only_yourdfpy = run_process(["-c", "import yourdfpy"], runs)
-    pinocchio = run_process(
-        ["-c", f"import pinocchio; pinocchio.buildModelFromUrdf({path!r})"], runs
-    )
-    help_ = run_process(["-m", "urdf2dh.cli", "--help"], runs)
-    only_pin = run_process(["-c", "import pinocchio"], runs)
-    share, pin_share = (
-        min(float(run_process(["-c", code], 1).stdout) for _ in range(runs))
-        for code in (OUR_SHARE.format(arm=ARM), PIN_SHARE.format(path=path))
-    )
+    """New processes taking turns: `urdf2dh convert` vs Pinocchio importing itself, building the
+    model of the same URDF and computing its FK; CPU time (user + system), wall time, peak
+    memory. And `urdf2dh --help` vs `import pinocchio`."""
+    figures = []
+    for robot, extra in ((START_UP, []), (ARM, ["--format", "json"])):
+        command = " ".join(["urdf2dh convert", robot, *extra])
+        path = str(robot_path(ROBOTS[robot]))
+        ours, theirs = paired(
+            [["-m", "urdf2dh.cli", "convert", robot, *extra], ["-c", PIN_FK.format(path=path)]],
+            runs,
+        )
+        goal = robot == START_UP
+        figures += [
+            Figure(
+                f"whole command, CPU: {command} vs Pinocchio's import + build + FK",
+                ours.cpu,
+                theirs.cpu,
+                "s",
+                "<= 1.2x (aim: 1.0x)" if goal else "",
+                ours.cpu <= 1.2 * theirs.cpu if goal else None,
+            ),
+            Figure(f"whole command, wall: {command}", ours.seconds, theirs.seconds, "s"),
+            Figure(
+                f"peak memory: {command} vs Pinocchio's",
+                ours.peak_bytes,
+                theirs.peak_bytes,
+                "MiB",
+                "<= 1.0x" if goal else "",
+                ours.peak_bytes <= theirs.peak_bytes if goal else None,
+            ),
+        ]
+    help_, only_pin = paired([["-m", "urdf2dh.cli", "--help"], ["-c", "import pinocchio"]], runs)
     print(
-        f"\nNew processes, best of {runs}: `urdf2dh convert {ARM}` (python -m urdf2dh.cli) "
-        f"{convert.seconds:.3f} s; one that only imports yourdfpy {only_yourdfpy.seconds:.3f} s "
-        f"(difference {convert.seconds - only_yourdfpy.seconds:.3f} s); Pinocchio importing and "
-        f"loading the URDF {pinocchio.seconds:.3f} s. Our share, timed inside a new process: "
-        "what follows `import yourdfpy` (our imports and the conversion); Pinocchio's: its "
-        "import and model build."
+        f"\nNew processes, {runs} of each taking turns, medians (peak memory: the largest): "
+        f"urdf2dh's package compiled to bytecode as `pip install` leaves it. Pinocchio's side "
+        "imports it, builds the model from the same URDF (buildModelFromUrdf) and computes "
+        "its forward kinematics; CPU time is user + system (numpy's BLAS threads included, on "
+        "both sides)."
     )
     return [
-        Figure(f"whole command: urdf2dh convert {ARM}", convert.seconds, pinocchio.seconds, "s"),
+        *figures,
         Figure(
-            "our share of it vs Pinocchio's (import + build)",
-            share,
-            pin_share,
+            "start-up, CPU: urdf2dh --help vs python -c 'import pinocchio'",
+            help_.cpu,
+            only_pin.cpu,
             "s",
-            "ours <= 0.25 s",
-            share <= 0.25,
-        ),
-        Figure(
-            "start-up: urdf2dh --help vs python -c 'import pinocchio'",
-            help_.seconds,
-            only_pin.seconds,
-            "s",
-        ),
-        Figure(
-            f"peak memory: convert {ARM} vs Pinocchio loading it",
-            convert.peak_bytes,
-            pinocchio.peak_bytes,
-            "MiB",
         ),
     ]
 
@@ -213,7 +220,7 @@ def imports() -> list[Figure]:
     cli = import_ms("import urdf2dh.cli")
     convert = import_ms(
         "import urdf2dh.conventions.convert, urdf2dh.io.sources, urdf2dh.emit.formats, "
-        "urdf2dh.io.urdf"
+        "urdf2dh.io.urdf, urdf2dh.io.urdf._yourdfpy"
     )
     yd = import_ms("import yourdfpy")
     hygiene = run_process(
@@ -239,14 +246,19 @@ def imports() -> list[Figure]:
             "yourdfpy" not in cli and "pinocchio" not in cli,
         ),
         Figure(
-            "import of convert's modules (ours, numpy; yourdfpy is imported on use)",
+            "import of convert's modules (ours, numpy, lxml, yourdfpy's element parsers)",
             convert["total"] / 1e3,
             pin_ms / 1e3,
             "ms",
-            "no Pinocchio",
-            "pinocchio" not in convert,
+            "no Pinocchio, no trimesh package",
+            "pinocchio" not in convert and "trimesh" not in convert,
         ),
-        Figure("import yourdfpy (not ours)", yd["total"] / 1e3, pin_ms / 1e3, "ms"),
+        Figure(
+            "import yourdfpy (not ours; with trimesh's package)",
+            yd["total"] / 1e3,
+            pin_ms / 1e3,
+            "ms",
+        ),
     ]
 
 
@@ -385,6 +397,11 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--quick", action="store_true", help="CI's short run")
     args = parser.parse_args(argv)
     quick = args.quick
+    compileall.compile_dir(ROOT / "urdf2dh", quiet=1)  # the bytecode `pip install` writes
+    # the new processes run this checkout's urdf2dh, whatever else is installed
+    os.environ["PYTHONPATH"] = os.pathsep.join(
+        filter(None, [str(ROOT), os.environ.get("PYTHONPATH")])
+    )
     print(
         f"# urdf2dh benchmark{' (quick)' if quick else ''}\n\nPython {platform.python_version()}"
         f", Pinocchio {pin.__version__}, yourdfpy {yourdfpy.__version__}, numpy "
@@ -392,7 +409,7 @@ def main(argv: list[str] | None = None) -> int:
     )
     figures = engine(repeat=20 if quick else 200)
     print_table("Engine (one process)", figures)
-    rows = whole_command(runs=1 if quick else 5)
+    rows = whole_command(runs=3 if quick else 7)
     print_table("Whole command and start-up (new processes)", rows)
     figures += rows
     rows = imports()

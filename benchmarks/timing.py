@@ -8,6 +8,7 @@ competing measurements are interleaved, so that both sides see the same disturba
 from __future__ import annotations
 
 import json
+import statistics
 import subprocess
 import sys
 import time
@@ -15,7 +16,16 @@ import tracemalloc
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
-__all__ = ["Figure", "Process", "best_of", "import_ms", "peak_alloc", "print_table", "run_process"]
+__all__ = [
+    "Figure",
+    "Process",
+    "best_of",
+    "import_ms",
+    "paired",
+    "peak_alloc",
+    "print_table",
+    "run_process",
+]
 
 
 def best_of(fns: Sequence[Callable[[], object]], repeat: int, number: int = 1) -> list[float]:
@@ -45,11 +55,13 @@ def peak_alloc(fn: Callable[[], object]) -> float:
 
 @dataclass(frozen=True)
 class Process:
-    """A finished new process: best wall time over the runs and its peak resident memory."""
+    """A finished new process: best wall time and best CPU time (user + system) over the runs,
+    and its peak resident memory."""
 
     seconds: float
     peak_bytes: float
     stdout: str
+    cpu: float = 0.0
 
 
 # Runs the command from a small Python process: a child's peak resident memory (ru_maxrss) counts
@@ -57,17 +69,18 @@ class Process:
 LAUNCHER = """
 import json, os, subprocess, sys, tempfile, time
 command, runs = json.loads(sys.argv[1]), int(sys.argv[2])
-best, peak = float("inf"), 0
+best, cpu, peak = float("inf"), float("inf"), 0
 for _ in range(runs):
     with tempfile.TemporaryFile() as out, tempfile.TemporaryFile() as err:
         t0 = time.perf_counter()
         proc = subprocess.Popen(command, stdout=out, stderr=err)
         _, status, usage = os.wait4(proc.pid, 0)
         best = min(best, time.perf_counter() - t0)
+        cpu = min(cpu, usage.ru_utime + usage.ru_stime)
         proc.returncode = os.waitstatus_to_exitcode(status)
         peak = max(peak, usage.ru_maxrss * 1024)  # Linux: KiB
         out.seek(0), err.seek(0)
-        result = {"seconds": best, "peak": peak, "stdout": out.read().decode(),
+        result = {"seconds": best, "cpu": cpu, "peak": peak, "stdout": out.read().decode(),
                   "stderr": err.read().decode(), "code": proc.returncode}
         if proc.returncode:
             break
@@ -88,7 +101,26 @@ def run_process(args: Sequence[str], runs: int) -> Process:
         raise RuntimeError(
             f"python {' '.join(args)} exited {result['code']}: {result['stderr'].strip()}"
         )
-    return Process(result["seconds"], float(result["peak"]), result["stdout"])
+    return Process(result["seconds"], float(result["peak"]), result["stdout"], result["cpu"])
+
+
+def paired(commands: Sequence[Sequence[str]], runs: int) -> list[Process]:
+    """Each of ``python args...`` run ``runs`` times, the commands taking turns (so that each
+    sees the machine's load as the others do): the median wall and CPU times, the largest peak
+    memory."""
+    results: list[list[Process]] = [[] for _ in commands]
+    for _ in range(runs):
+        for out, args in zip(results, commands, strict=True):
+            out.append(run_process(args, 1))
+    return [
+        Process(
+            statistics.median(p.seconds for p in out),
+            max(p.peak_bytes for p in out),
+            out[-1].stdout,
+            statistics.median(p.cpu for p in out),
+        )
+        for out in results
+    ]
 
 
 def import_ms(statement: str) -> dict[str, float]:

@@ -13,7 +13,9 @@ example-robot-data's files as copies (``EXAMPLE_ROBOT_DATA_DIR``) and this proje
 or a failure: ``input overwritten`` (a file the run read changed), ``half-written`` (an output
 changed though the run failed), ``not refused`` (exit 0 with an input as output), ``internal
 error`` (a traceback, "internal error", another exit code, more than one line), ``bad
-refusal`` (refused for another reason than the case's: :data:`REASONS`).
+refusal`` (refused for another reason than the case's: :data:`REASONS`). An output named with a
+suffix whose format the command does not write, or that ``--format`` contradicts, is refused
+for that before anything is read (:data:`NAMED`): a refusal too.
 """
 
 from __future__ import annotations
@@ -41,6 +43,8 @@ REASONS = {  # what the one line of a refusal says, by kind of case
     "same file": "two outputs of one run cannot go to one file",
     "fault": "cannot write",
 }
+# the refusal of an output whose name says another format (urdf2dh.cli.options.output_format)
+NAMED = ("which {command} does not write; its formats are", "the suffix chooses")
 XACRO = ["arm_description/urdf/arm.urdf.xacro", "--package-path",
          "arm_description=arm_description", "--xacro-arg", "name:=a", "--xacro-arg",
          "arm_type:=small"]  # fmt: skip
@@ -150,7 +154,7 @@ RUNS = [
     (["convert", "ur5"], [ERD_UR5], ["-o"]),
     (["convert", OURS], ["OURS"], ["-o"]),
     (["convert", "table.json"], ["table.json"], ["-o"]),
-    (["convert", "model.poe.yaml", "--format", "csv"], ["model.poe.yaml"], ["-o"]),
+    (["convert", "model.poe.yaml"], ["model.poe.yaml"], ["-o"]),
     (["convert", "arm.urdf", "--all-tips", "--format", "urdf"], ["arm.urdf"], ["-o DIR"]),
     (["export", "arm.urdf", "--to", "rtb"], ["arm.urdf"], ["-o"]),
     (["export", *XACRO, "--to", "linuxcnc"], ["arm_description/config/small/dims.yaml"], ["-o"]),
@@ -307,7 +311,8 @@ def run_case(ws: Workspace, case: Case) -> Verdict:
         return verdict("half-written", ", ".join(changed))
     if err.count("\n") != 1:
         return verdict("internal error", f"not one line: {err[:300]}")
-    if REASONS[case.kind] not in err:
+    named = any(n.format(command=case.argv[0]) in err for n in NAMED)
+    if REASONS[case.kind] not in err and not named:
         return verdict("bad refusal")
     return verdict("refused")
 

@@ -28,7 +28,7 @@ from view_reader import read_page
 from urdf2dh.emit.names import RENAMED
 from urdf2dh.emit.scene import short
 from urdf2dh.errors import visible
-from urdf2dh.escape import html_text
+from urdf2dh.escape import html_text, ikdh_name
 
 LANGUAGE = {
     "rtb": "python",
@@ -45,6 +45,8 @@ LANGUAGE = {
     "text": "text",
     "markdown": "markdown",
     "opw": "yaml-comments",  # main's OPW target: YAML, names in comments only
+    "eaik": "python",
+    "ikdh": "ikdh",  # YAML read by ikdh's line scanner: names in comments and the name line
     "html": "html",  # plot's interactive view
 }
 # CSV: cells a spreadsheet reads as formulas (OWASP), with the full-width forms
@@ -260,6 +262,40 @@ def _yaml_comments(text: str, clean: str, names: dict[str, str]) -> None:
     )
 
 
+def _ikdh(text: str, clean: str, names: dict[str, str]) -> None:
+    """An ikdh robot file: the clean file's YAML but for the ``name:`` line, which holds the name
+    as :func:`urdf2dh.escape.ikdh_name` writes it, and its comments; read by ikdh's own line
+    scanner (``ikdh.load_robot``), the same table and limits as the clean file's."""
+    import tempfile
+
+    import ikdh
+
+    try:
+        got, want = yaml.safe_load(text), yaml.safe_load(clean)
+    except yaml.YAMLError as e:
+        raise Unsafe(f"YAML does not load: {e}") from e
+    if not isinstance(got, dict) or got.get("name") != ikdh_name(substitute(want["name"], names)):
+        raise Unsafe(f"ikdh name line {got.get('name') if isinstance(got, dict) else got!r}")
+    if {**got, "name": None} != {**want, "name": None}:
+        raise Unsafe("YAML keys or values differ from the clean file's")
+    read = []
+    with tempfile.TemporaryDirectory() as work:
+        for i, t in enumerate((text, clean)):
+            path = f"{work}/{i}.yaml"
+            with open(path, "w") as f:
+                f.write(t)
+            robot = ikdh.load_robot(path)
+            read.append([list(getattr(robot.dh, k)) for k in ("a", "d", "alpha", "theta")]
+                        + [list(robot.limits.lo), list(robot.limits.hi)])  # fmt: skip
+    if read[0] != read[1]:
+        raise Unsafe("ikdh reads another table from it than from the clean file")
+    _yaml_comments(
+        text.replace(f"name: {got['name']}", "name: N"),
+        clean.replace(f"name: {want['name']}", "name: N"),
+        names,
+    )
+
+
 def _tree(text: str, clean: str, names: dict[str, str], load: Callable[[str], Any]) -> None:
     try:
         got = load(text)
@@ -397,6 +433,7 @@ JUDGES: dict[str, Callable[[str, str, dict[str, str]], None]] = {
     "matlab": _matlab,
     "hal": _hal,
     "yaml-comments": _yaml_comments,
+    "ikdh": _ikdh,
     "xml": _xml,
     "json": lambda t, c, n: _tree(t, c, n, json.loads),
     "yaml": lambda t, c, n: _tree(t, c, n, yaml.safe_load),

@@ -251,12 +251,20 @@ def test_cli_tolerance_options(tmp_path, capsys):
     assert main(["convert", str(path), "--tip", "tip"]) == 0
     assert "treated as parallel (--parallel-angle 0.0001;" in capsys.readouterr().out
     # beyond a smaller --parallel-angle, the exact normal (100 km away, over 1e3 x size) is
-    # still out of reach: treated as parallel all the same
-    assert main(["convert", str(path), "--tip", "tip", "--parallel-angle", "1e-6"]) == 0
+    # still out of reach: dh treats them as parallel all the same, a deviation not asked for,
+    # so that without --convention the hayati table is written (urdf2dh.conventions.choice)
+    smaller = ["--tip", "tip", "--parallel-angle", "1e-6"]
+    assert main(["convert", str(path), *smaller, "--convention", "dh"]) == 0
     out = capsys.readouterr().out
     assert "treated as parallel" in out and "far beyond the robot's size" not in out
-    assert main(["convert", str(path), "--tip", "tip", "--exact"]) == 0
+    assert main(["convert", str(path), *smaller]) == 0
+    out = capsys.readouterr().out
+    assert "warning: written in hayati, not dh: dh would treat" in out
+    assert "(beyond --parallel-angle 1e-06), as parallel" in out
+    assert main(["convert", str(path), "--tip", "tip", "--exact", "--convention", "dh"]) == 0
     assert "far beyond the robot's size" in capsys.readouterr().out
+    assert main(["convert", str(path), "--tip", "tip", "--exact"]) == 0
+    assert "warning: written in hayati, not dh: dh would put row" in capsys.readouterr().out
 
 
 # ----------------------------------------------------------------- mimic joints

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 
+from urdf2dh import diff
 from urdf2dh.cli import main
 
 # Wu 2019 Table II underlines the cells that changed by > 60 deg or > 30 mm between the nominal
@@ -173,3 +174,16 @@ def test_a_row_that_changes_form_is_reported_not_a_crash(tmp_path, capsys):
     assert main(["diff", a, b, "--convention", "hayati"]) == 0
     out = capsys.readouterr().out
     assert f"{f['row']}" in out and "link moved" in out and "changed form" in out
+
+
+def test_the_columns_are_named_for_what_is_compared(tmp_path, capsys):
+    d = diff("puma560-nominal", "puma560-actual", "dh")
+    header = str(d).splitlines()[1].split()
+    assert header == ["row", "param", "puma560-nominal", "puma560-actual", "change"]
+    assert "| row | param | puma560-nominal | puma560-actual | change |" in d._repr_markdown_()
+    assert str(diff("ur5", "ur5", "dh")).splitlines()[1].split()[2:4] == ["NOMINAL", "ACTUAL"]
+    path = tmp_path / "id" / "ur5-id.json"
+    path.parent.mkdir()
+    assert main(["convert", "ur5", "-o", str(path)]) == 0
+    capsys.readouterr()
+    assert str(diff("ur5", str(path), "dh")).splitlines()[1].split()[2:4] == ["ur5", "ur5-id.json"]

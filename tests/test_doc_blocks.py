@@ -7,6 +7,11 @@ are linked, as in a checkout, and where ``urdf2dh`` and ``python`` are this chec
 of other languages, and ``text`` blocks (output, excerpts of generated files), are shown, not
 run; so are README's "Quick start" commands, which are what CI runs (tests/test_readme.py).
 
+What a document's blocks write is what they would write into the root of a checkout: every such
+file is one the repository's ``.gitignore`` ignores (a user who follows the documentation from
+the root and then runs the tests leaves the project's files as they were), as is what
+``mkdocs build`` writes (``site/``).
+
 A ``python`` block that imports a consumer not installed here (PyKDL: Debian's python3-pykdl,
 which scripts/check-consumers installs and then runs these tests again) is left out, and the
 test says so once the others have passed.
@@ -17,8 +22,10 @@ from __future__ import annotations
 import glob
 import os
 import re
+import shutil
 import subprocess
 import sys
+import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -28,7 +35,11 @@ from markdown_it import MarkdownIt
 from test_docs_site import _nav_pages
 
 ROOT = Path(__file__).resolve().parents[1]
-DOCS = [ROOT / "README.md", *sorted((ROOT / "docs").rglob("*.md"))]
+GALLERY = ROOT / "docs" / "gallery"  # its examples run in tests/test_gallery.py, output checked
+DOCS = [
+    ROOT / "README.md",
+    *sorted(p for p in (ROOT / "docs").rglob("*.md") if GALLERY not in p.parents),
+]
 RUN = ("bash", "python")
 LINKED = ("tests", "examples", "robots", "scripts", "benchmarks", "docs")
 OPTIONAL = {"PyKDL": "Debian's python3-pykdl"}  # consumers the test extra does not install
@@ -123,8 +134,46 @@ def test_every_code_block_runs_as_shown(path, tmp_path):
             f"{where} ({block.lang}) exited {proc.returncode}:\n{block.code}\n"
             f"stdout:\n{proc.stdout[-3000:]}\nstderr:\n{proc.stderr[-3000:]}"
         )
+    written = [
+        str(p.relative_to(tmp_path))
+        for p in sorted(tmp_path.rglob("*"))
+        if p.is_file() and not _ours(p.relative_to(tmp_path))
+    ]
+    kept = sorted(set(written) - ignored(written))
+    assert kept == [], f"{path.relative_to(ROOT)}'s blocks write files .gitignore keeps: {kept}"
     if left_out:
         pytest.skip("ran every other block; left out: " + "; ".join(left_out))
+
+
+def _ours(relative: Path) -> bool:
+    """Whether a path of the workspace is its own (linked folders, shims, the blocks' scripts)."""
+    top = relative.parts[0]
+    return top in LINKED or top in (".bin", ".pykdl") or top.startswith(".block")
+
+
+def ignored(names: list[str]) -> set[str]:
+    """The paths (relative to the root) that the repository's .gitignore ignores, as git reads
+    it (in a repository of their own, so that this holds outside a checkout too)."""
+    if not names:
+        return set()
+    with tempfile.TemporaryDirectory() as repo:
+        shutil.copy(ROOT / ".gitignore", Path(repo) / ".gitignore")
+        subprocess.run(["git", "init", "-q", repo], check=True)
+        proc = subprocess.run(
+            ["git", "-C", repo, "check-ignore", "--no-index", "--stdin"],
+            input="\n".join(names),
+            capture_output=True,
+            text=True,
+        )
+    assert proc.returncode in (0, 1), proc.stderr  # 1: none is ignored
+    return set(proc.stdout.splitlines())
+
+
+def test_what_mkdocs_build_writes_is_ignored():
+    assert ignored(["site/index.html", "site/commands/convert/index.html"]) == {
+        "site/index.html",
+        "site/commands/convert/index.html",
+    }
 
 
 def test_the_blocks_are_found():
@@ -146,6 +195,8 @@ def test_the_blocks_are_found():
 
 
 def test_every_page_of_the_site_is_run():
-    """Every page the site builds (mkdocs.yml's nav) is one whose blocks this module runs."""
+    """Every page the site builds (mkdocs.yml's nav) is one whose blocks this module runs, or
+    one of the gallery's (tests/test_gallery.py runs them)."""
     nav = _nav_pages(yaml.safe_load((ROOT / "mkdocs.yml").read_text())["nav"])
-    assert {ROOT / "docs" / page for page in nav} <= set(DOCS)
+    gallery = set(GALLERY.glob("*.md"))
+    assert {ROOT / "docs" / page for page in nav} <= set(DOCS) | gallery

@@ -5,6 +5,7 @@ and in radians)."""
 from __future__ import annotations
 
 import math
+import re
 import subprocess
 import sys
 from importlib.metadata import version as metadata_version
@@ -177,6 +178,11 @@ def test_rtb_script_runs_standalone(tmp_path):
     )
     assert proc.returncode == 0, proc.stderr
     assert "DHRobot: ur5, 6 joints (RRRRRR), standard DH" in proc.stdout
+    # what it prints shows no round-off: right angles as 90.0 degrees, and the URDF's pi/2
+    # written 1.57079632679 (4.9e-12 rad off) not as 2.8e-10 degrees, nor in the pose
+    assert "90.0°" in proc.stdout and "-90.0°" in proc.stdout
+    assert re.search(r"\d\.\d{5,}°|e-\d+", proc.stdout) is None, proc.stdout
+    assert "alpha=pi/2" in script.read_text()  # exact, as Python reads it
 
 
 # --------------------------------------------------------------------------- linuxcnc
@@ -297,6 +303,26 @@ def _turn_tool(model):
 # --------------------------------------------------------------------------- refusals, CLI
 
 
+LIMITS = """<robot name="turns"><link name="a"/><link name="b"/><link name="c"/>
+<joint name="j1" type="revolute"><parent link="a"/><child link="b"/><axis xyz="0 0 1"/>
+<limit lower="-12.566370614359172" upper="12.566370614359172" effort="1" velocity="1"/></joint>
+<joint name="j2" type="revolute"><parent link="b"/><child link="c"/><origin xyz="0.3 0 0"/>
+<axis xyz="0 0 1"/><limit lower="-6.283185307179586" upper="3.141592653589793" effort="1"
+velocity="1"/></joint></robot>"""
+
+
+def test_joint_limits_that_are_whole_turns_are_written_as_they_are(tmp_path):
+    """A limit of exactly 4 pi is not an angle to wrap into [-pi, pi] (which made it 0)."""
+    path = tmp_path / "turns.urdf"
+    path.write_text(LIMITS)
+    model = load(str(path))
+    script = export(model, "rtb")
+    assert "qlim=[-12.5663706143592, 12.5663706143592]" in script
+    assert "qlim=[-6.28318530717959, 3.14159265358979]" in script
+    assert "'qlim', [-12.5663706143592 12.5663706143592]" in export(model, "corke-matlab")
+    assert "PositionLimits = [-6.28318530717959 3.14159265358979]" in export(model, "matlab")
+
+
 @pytest.mark.parametrize("target", sorted(TARGETS))
 def test_helical_joints_are_refused_by_every_target(target):
     with pytest.raises(ExportError, match="helical"):
@@ -363,3 +389,16 @@ def test_help_imports_no_heavy_optional_package():
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
     assert proc.returncode == 0, proc.stderr
     assert proc.stdout.strip().splitlines()[-1] == "[]"
+
+
+def test_the_linuxcnc_header_names_the_unit_of_its_values():
+    """The file's first lines say the unit its A and D values are in (not the source's, m)."""
+    model = load("tests/data/genser6.urdf")
+    values = {}
+    for unit in ("mm", "inch"):
+        text = export(model, "linuxcnc", opts=ExportOptions(units=unit))
+        assert f"# Lengths in {unit} unless stated, angles in radians." in text.splitlines()[:4]
+        lines = [line for line in text.splitlines() if line.startswith("setp genserkins.")]
+        values[unit] = np.array([float(line.split()[-1]) for line in lines if "ALPHA" not in line])
+    assert model.length_unit == "m" and np.abs(values["mm"]).max() > 100.0  # mm, not m
+    assert np.allclose(values["mm"], 25.4 * values["inch"], rtol=1e-12, atol=1e-9)

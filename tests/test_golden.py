@@ -44,6 +44,8 @@ CASES = [
     ("corke-matlab-scara.m", "scara", "corke-matlab", None, ExportOptions()),
     ("corke-matlab-puma560-mdh.m", "puma560-nominal", "corke-matlab", "mdh", ExportOptions()),
     ("opw-fanuc-m20ia.yaml", "fanuc-m20ia", "opw", None, ExportOptions()),
+    ("eaik-kinova.py", "kinova", "eaik", None, ExportOptions()),
+    ("ikdh-ur5.yaml", "ur5", "ikdh", None, ExportOptions()),
 ]
 
 

@@ -25,6 +25,7 @@ def inputs(tmp_path, monkeypatch):
     shutil.copy(ROOT / "tests" / "data" / "genser6.urdf", tmp_path / "arm.urdf")
     os.link(tmp_path / "arm.urdf", tmp_path / "hard.urdf")
     os.link(tmp_path / "arm.urdf", tmp_path / "arm.png")  # for plot, which wants an image name
+    os.link(tmp_path / "arm.urdf", tmp_path / "arm.txt")  # for diff, which writes text or json
     (tmp_path / "link.urdf").symlink_to(tmp_path / "arm.urdf")
     shutil.copytree(ARM_PACKAGE, tmp_path / "arm_description")
     erd = tmp_path / "erd"
@@ -71,7 +72,7 @@ RUNS = [
     (["convert", "model.poe.yaml"], ["model.poe.yaml"]),
     (["export", "arm.urdf", "--to", "rtb"], ["arm.urdf", "hard.urdf"]),
     (["export", *XACRO, "--to", "kdl"], ["arm_description/config/small/dims.yaml"]),
-    (["diff", "arm.urdf", "table.json"], ["arm.urdf", "table.json"]),
+    (["diff", "arm.urdf", "table.json"], ["arm.txt", "table.json"]),
     (["plot", "arm.urdf"], ["arm.png"]),
     (["measure", "arm.urdf", "--configs", "5"], ["arm.urdf", "hard.urdf"]),
     (["calibrate", "nominal.yaml", "poses.csv"], ["nominal.yaml", "poses.csv"]),
@@ -140,7 +141,7 @@ def test_a_directory_holding_a_link_to_an_input_is_refused(inputs, capsys):
 
 def test_an_input_read_in_an_earlier_run_is_not_one_of_this_run(inputs):
     """Inputs are the run's (files.one_run): the next run may write where the last one read."""
-    assert main(["convert", "ur5", "--format", "csv", "-o", "table.json"]) == 0
+    assert main(["convert", "ur5", "-o", "table.json"]) == 0
     assert "shoulder_pan_joint" in (inputs / "table.json").read_text()
 
 
@@ -215,7 +216,9 @@ def test_measure_writes_both_files_or_neither(inputs, capsys, monkeypatch):
     monkeypatch.setattr(files.tempfile, "mkstemp", mkstemp)
     argv = ["measure", "arm.urdf", "--configs", "5", "--markers", "2"]
     assert main([*argv, "-o", "m.csv", "--marker-layout", "lay.csv"]) == 2
-    assert "cannot write (Permission denied)" in capsys.readouterr().err
+    assert f"lay.csv: cannot write in directory '{inputs}' (Permission denied)" in (
+        capsys.readouterr().err
+    )
     assert not (inputs / "m.csv").exists() and not (inputs / "lay.csv").exists()
     assert [p.name for p in inputs.iterdir() if p.name.startswith(".")] == []
     monkeypatch.setattr(files.tempfile, "mkstemp", real)

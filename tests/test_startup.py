@@ -1,6 +1,7 @@
-"""Start-up hygiene: `urdf2dh --help` imports neither yourdfpy nor Pinocchio (nor numpy),
-and `convert` never imports Pinocchio. Each command runs in a new interpreter, which then lists
-the heavy packages it ended up importing."""
+"""Start-up hygiene: `urdf2dh --help` imports neither yourdfpy nor Pinocchio (nor numpy), and
+`convert` imports neither Pinocchio nor trimesh's package and what it pulls in (scipy, networkx,
+PIL, ...): yourdfpy's element parsers are run without it (urdf2dh/io/urdf/_yourdfpy.py). Each
+command runs in a new interpreter, which then lists the heavy packages it ended up importing."""
 
 from __future__ import annotations
 
@@ -11,6 +12,11 @@ import sys
 import pytest
 
 HEAVY = ("numpy", "yourdfpy", "trimesh", "scipy", "pinocchio", "lxml", "mujoco")
+# what a conversion needs none of: Pinocchio, MuJoCo, and trimesh's package with what it imports
+NOT_FOR_CONVERT = (
+    "pinocchio", "mujoco", "yourdfpy", "trimesh", "scipy", "networkx", "PIL", "shapely", "rtree",
+    "matplotlib", "plotly", "pandas",
+)  # fmt: skip
 
 PROBE = """
 import json, sys
@@ -26,7 +32,7 @@ print("\\nIMPORTED " + json.dumps([code, heavy]))
 
 def imported(*argv: str) -> tuple[int, list[str]]:
     proc = subprocess.run(
-        [sys.executable, "-c", PROBE.format(argv=list(argv), heavy=HEAVY)],
+        [sys.executable, "-c", PROBE.format(argv=list(argv), heavy=HEAVY + NOT_FOR_CONVERT)],
         capture_output=True,
         text=True,
         timeout=120,
@@ -53,13 +59,14 @@ def test_help_imports_no_heavy_package(argv):
         ["convert", "fr3-mjcf"],
     ],
 )
-def test_convert_never_imports_pinocchio(argv):
+def test_convert_imports_neither_pinocchio_nor_trimesh(argv):
     code, heavy = imported(*argv)
     assert code == 0
-    assert "pinocchio" not in heavy and "mujoco" not in heavy, heavy
+    assert set(heavy).isdisjoint(NOT_FOR_CONVERT), heavy
     assert "numpy" in heavy  # the probe sees what a conversion does import
 
 
 def test_verify_does_import_pinocchio():
     code, heavy = imported("verify", "ur5", "--samples", "10")
     assert code == 0 and "pinocchio" in heavy
+    assert set(heavy).isdisjoint(set(NOT_FOR_CONVERT) - {"pinocchio"}), heavy

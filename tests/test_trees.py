@@ -330,7 +330,7 @@ def test_a_failing_tip_leaves_an_existing_directory_as_it_was(capsys, tmp_path):
 def test_a_table_failing_its_self_check_fails_the_run(capsys, tree, tmp_path, monkeypatch):
     """Exit 1, naming the tip, and nothing written (the failing check is forced: no real chain
     of this tree fails it)."""
-    from urdf2dh.conventions import convert
+    from urdf2dh.conventions import choice, convert
     from urdf2dh.errors import ConversionError
 
     real = convert.to_table
@@ -341,6 +341,7 @@ def test_a_table_failing_its_self_check_fails_the_run(capsys, tree, tmp_path, mo
         return real(model, *args, **kwargs)
 
     monkeypatch.setattr(convert, "to_table", failing)
+    monkeypatch.setattr(choice, "to_table", failing)  # convert's table without --convention
     code, out, err = run(capsys, "convert", tree, "--all-tips", "-o", f"{tmp_path / 'out'}/")
     assert (code, out) == (1, "")
     assert "tip 'right_tip': self-check failed" in one_line_error(err)

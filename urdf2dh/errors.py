@@ -31,6 +31,7 @@ __all__ = [
     "UsageError",
     "choices",
     "missing",
+    "near",
     "one_line",
     "shown",
     "visible",
@@ -148,6 +149,27 @@ def choices(names: Iterable[str], limit: int = 12, quoted: bool = False) -> str:
     if len(items) > limit:
         listed += f", ... ({len(items)} in all)"
     return f"[{listed}]"
+
+
+def near(word: str, names: Iterable[str], quoted: bool = True) -> str:
+    """``" (did you mean 'x'?)"`` naming the valid name closest to a misspelled ``word`` (by
+    :func:`difflib.get_close_matches`, case ignored; names as close as it, up to three), or
+    ``""`` when none is close. Names are shown as :func:`shown` does (``quoted``) or as
+    :func:`visible` does."""
+    import difflib
+
+    by_folded: dict[str, str] = {}
+    for name in names:
+        by_folded.setdefault(name.casefold(), name)
+    folded = word.casefold()
+    close = difflib.get_close_matches(folded, by_folded, n=3, cutoff=0.6)
+    if not close:
+        return ""
+    score = difflib.SequenceMatcher(None, folded, close[0]).ratio()
+    close = [c for c in close if difflib.SequenceMatcher(None, folded, c).ratio() == score]
+    show = shown if quoted else visible
+    listed = " or ".join(show(by_folded[c]) for c in close)
+    return f" (did you mean {listed}?)"
 
 
 def visible(text: str) -> str:

@@ -14,6 +14,10 @@ MATLAB              a string ``"..."`` or char vector ``'...'`` with the quote d
                     character MATLAB cannot type in a literal joins as ``char([10 13])``
                     (:func:`matlab_string`); comments show :func:`visible` text
 YAML                comments only (:func:`yaml_comment`): :func:`visible` text
+ikdh robot file     its ``name:`` line, which ikdh's line scanner reads to the end (``#``
+                    starts a comment there, a line holding ``dh:`` or ``limits:`` a section):
+                    letters, digits, ``_``, ``-`` and ``.`` only, any other character
+                    written ``_`` (:func:`ikdh_name`); comments as YAML's
 HAL (LinuxCNC)      comments only (:func:`hal_comment`): :func:`visible` text, in lines
                     halcmd reads whole
 XML (URDF)          attributes with XML's escapes (:func:`xml_attribute`), refusing the
@@ -53,6 +57,7 @@ __all__ = [
     "csv_text",
     "hal_comment",
     "html_text",
+    "ikdh_name",
     "markdown_table",
     "markdown_text",
     "matlab_comment",
@@ -149,6 +154,17 @@ def yaml_comment(text: str) -> str:
     """A YAML ``#`` comment showing ``text`` (:func:`visible`: no line break of YAML 1.1 or
     1.2 and no character YAML forbids)."""
     return "# " + visible(text)
+
+
+def ikdh_name(text: str) -> str:
+    """The value of an ikdh robot file's ``name:`` line for ``text``: letters, digits, ``_``,
+    ``-`` and ``.`` kept, any other character ``_``, a letter first (``robot`` for no text),
+    so that it is one plain YAML string and ikdh's scanner reads it whole (no ``#``, no
+    ``:``)."""
+    name = re.sub(r"[^A-Za-z0-9_.-]", "_", text)
+    if not name[:1].isalpha():
+        name = "robot_" + name if name else "robot"
+    return name
 
 
 def hal_comment(text: str) -> list[str]:
@@ -265,6 +281,22 @@ def markdown_table(head: Sequence[str], body: Iterable[Sequence[str]], texts: in
     left-aligned, the others (numbers) right-aligned."""
     align = "|" + "|".join("---" if i < texts else "---:" for i in range(len(head))) + "|"
     return ["| " + " | ".join(head) + " |", align, *("| " + " | ".join(r) + " |" for r in body)]
+
+
+def text_table(head: Sequence[str], body: Iterable[Sequence[str]], texts: int = 1) -> list[str]:
+    """The lines of a table for a terminal: ``head``, a rule, and the rows of ``body`` (each
+    cell :func:`visible` text already), in columns two spaces apart, the first ``texts``
+    left-aligned, the others (numbers) right-aligned."""
+    rows = [list(head), *(list(r) for r in body)]
+    widths = [max(len(r[i]) for r in rows) for i in range(len(head))]
+
+    def line(cells: Sequence[str]) -> str:
+        return "  ".join(
+            c.ljust(w) if i < texts else c.rjust(w)
+            for i, (c, w) in enumerate(zip(cells, widths, strict=True))
+        ).rstrip()
+
+    return [line(rows[0]), "  ".join("-" * w for w in widths), *(line(r) for r in rows[1:])]
 
 
 # what spreadsheets read as the start of a formula (OWASP, "CSV Injection"), the full-width

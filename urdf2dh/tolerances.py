@@ -395,6 +395,14 @@ class Tolerances:
         as written. A few units in the last place: each such value costs at most ``written`` x
         its lever, so that a whole table stays within ``report``; a genuine small value (a URDF's
         rounded pi/2 leaving 4.9e-12 rad, round-off of 1e-14 accumulated along a chain) is kept.
+    solver_snap
+        The exports for analytic inverse-kinematics solvers (``rtb``, ``eaik``;
+        :mod:`urdf2dh.conventions.analytic`) write a D-H angle within ``solver_snap`` rad of a
+        multiple of pi/2 as that multiple, and a length within ``solver_snap`` x robot size of 0
+        as 0: the solvers recognise a spherical wrist or parallel axes by exact relations, and
+        roboticstoolbox derives its solver symbolically, where 4.9e-12 rad (a URDF's rounded
+        pi/2) is a new symbol and no closed form. Each snap beyond ``written`` is listed with the
+        deviation it costs, a bound declared in the file and checked. 0 with ``--exact``.
     """
 
     parallel_angle: float = 1e-4
@@ -411,6 +419,12 @@ class Tolerances:
     noise: float = 256 * EPS
     report: float = 1e-14
     written: float = 4 * EPS
+    solver_snap: float = 1e-10
+
+    def __repr__(self) -> str:
+        # the values that differ from the defaults: short, and what one passes to get it back
+        changed = (f for f in fields(self) if getattr(self, f.name) != f.default)
+        return f"Tolerances({', '.join(f'{f.name}={getattr(self, f.name)!r}' for f in changed)})"
 
     def __post_init__(self) -> None:
         for f in fields(self):
@@ -444,7 +458,9 @@ class Tolerances:
 
     def with_exact(self) -> Tolerances:
         """The same tolerances with snapping turned off."""
-        return replace(self, parallel_angle=0.0, intersect_distance=0.0, sane_factor=0.0)
+        return replace(
+            self, parallel_angle=0.0, intersect_distance=0.0, sane_factor=0.0, solver_snap=0.0
+        )
 
 
 DEFAULT = Tolerances()

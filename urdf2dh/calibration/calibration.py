@@ -313,6 +313,20 @@ class Calibration:
         """The comparison on ``name`` (``fit``, ``held_out``, ``validation``), if there is one."""
         return next((c for c in self.comparisons if c.name == name), None)
 
+    def __str__(self) -> str:
+        """What ``urdf2dh calibrate`` prints: the levels, the residuals before and after, the
+        warnings."""
+        from .report import summary
+
+        return summary(self)
+
+    def __repr__(self) -> str:
+        done = "converged" if self.converged else "NOT converged"
+        return (
+            f"<Calibration of {shown(self.nominal.name)} at level {self.level}, "
+            f"{self.counts.parameters} parameters, {done}; written in {self.convention}>"
+        )
+
     def _repr_markdown_(self) -> str:
         """In a notebook: the residuals before and after on each set, and the identified
         parameters, as tables (names escaped)."""

@@ -41,7 +41,7 @@ import fnmatch
 import io
 import math
 import re
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -49,9 +49,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .. import units
-from ..errors import InputError, UsageError, choices, shown
-from ..escape import csv_cell, csv_names, markdown_table, markdown_text
+from ..errors import InputError, UsageError, choices, shown, visible
+from ..escape import csv_cell, csv_names, markdown_table, markdown_text, text_table
 from ..io.files import read_file
+from ..numerals import decimal, integer, read_decimal, why_not
 from ..tolerances import QUATERNION_NORM
 
 __all__ = [
@@ -244,11 +245,29 @@ class Measurements:
     def _repr_markdown_(self) -> str:
         """In a notebook: how many rows of what, and the first rows as a table (names
         escaped)."""
+        title, head, body, more = self._layout(markdown_text)
+        return "\n".join([title, "", *markdown_table(head, body, texts=0), *more]) + "\n"
+
+    def __str__(self) -> str:
+        """How many rows of what, and the first rows as a table."""
+        title, head, body, more = self._layout(visible)
+        return "\n".join([title, "", *text_table(head, body, texts=0), *more]) + "\n"
+
+    def __repr__(self) -> str:
+        kind = "poses" if self.quaternions is not None else "positions"
+        where = f" from {shown(self.source)}" if self.source else ""
+        return f"<Measurements: {len(self)} {kind} of {len(self.joints)} joints{where}>"
+
+    def _layout(
+        self, text: Callable[[str], str]
+    ) -> tuple[str, list[str], list[list[str]], list[str]]:
+        """The title, the first rows' table and what follows it, names as ``text`` writes
+        them."""
         kind = "poses" if self.quaternions is not None else "positions"
         markers = "" if self.markers is None else f" of {len(self.marker_ids())} markers"
         _, configs = self.configurations()
-        where = f" from {markdown_text(self.source)}" if self.source else ""
-        head = [*map(markdown_text, self.joints), "x", "y", "z"]
+        where = f" from {text(self.source)}" if self.source else ""
+        head = [*map(text, self.joints), "x", "y", "z"]
         if self.quaternions is not None:
             head += ["qx", "qy", "qz", "qw"]
         if self.markers is not None:
@@ -261,11 +280,9 @@ class Measurements:
             if self.markers is not None:
                 cells.insert(0, str(int(self.markers[i])))
             body.append(cells)
-        out = [f"{len(self)} measured {kind}{markers} at {configs} configurations{where}", ""]
-        out += markdown_table(head, body, texts=0)
-        if len(self) > SHOWN_ROWS:
-            out.append(f"\n... {len(self) - SHOWN_ROWS} more rows")
-        return "\n".join(out) + "\n"
+        title = f"{len(self)} measured {kind}{markers} at {configs} configurations{where}"
+        more = ["", f"... {len(self) - SHOWN_ROWS} more rows"] if len(self) > SHOWN_ROWS else []
+        return title, head, body, more
 
     def marker_ids(self) -> list[int]:
         """The distinct markers, ascending (``[0]`` without a marker column)."""
@@ -472,18 +489,9 @@ def _rows(text: str) -> Iterator[tuple[int, list[str]]]:
 
 
 def _number(raw: list[str], k: int, name: str, where: str) -> float:
-    text_value = raw[k].strip()
-    try:
-        value = float(text_value)
-    except ValueError:
-        raise InputError(
-            f"{where}, column {shown(name)}: {shown(text_value)} is not a number"
-        ) from None
-    if not math.isfinite(value):
-        raise InputError(
-            f"{where}, column {shown(name)}: {shown(text_value)} is not a finite number"
-        )
-    return value
+    """The cell's number, by the one grammar of urdf2dh's files (:mod:`urdf2dh.numerals`);
+    spaces and tabs around it are allowed."""
+    return read_decimal(raw[k].strip(" \t"), f"{where}, column {shown(name)}")
 
 
 def _text(path: str | Path, display: str) -> str:
@@ -565,13 +573,10 @@ def read_measurements(
             orient = [_number(raw, k, shown_names[k], where) for k in layout.euler]
         mark = None
         if layout.marker is not None:
-            text_value = raw[layout.marker].strip()
-            try:
-                mark = int(text_value, 10)
-            except ValueError:
-                raise InputError(
-                    f"{where}, column 'marker': {shown(text_value)} is not an integer"
-                ) from None
+            text_value = raw[layout.marker].strip(" \t")
+            mark = integer(text_value)
+            if mark is None:
+                raise InputError(f"{where}, column 'marker': {shown(text_value)} is not an integer")
             if mark < 0:
                 raise InputError(f"{where}, column 'marker': {mark} is negative")
         for cols, marker in zip(layout.points, layout.point_ids, strict=True):
@@ -715,20 +720,22 @@ def read_layout(path: str | Path, display: str | None = None) -> dict[int, Mat]:
         row, line = len(out) + 1, reader.line_num
         if len(raw) != 4:
             raise InputError(f"{_where(display, row, line)}: {len(raw)} fields, not 4")
-        try:
-            mark = int(raw[0].strip(), 10)
-        except ValueError:
+        mark = integer(raw[0].strip(" \t"))
+        if mark is None:
             raise InputError(
                 f"{_where(display, row, line, MARKER)}: {shown(raw[0].strip())} is not an integer"
-            ) from None
+            )
         if mark in out:
             raise InputError(f"{_where(display, row, line, MARKER)}: marker {mark} appears twice")
-        try:
-            xyz = np.array([float(v) for v in raw[1:]])
-        except ValueError:
-            raise InputError(f"{_where(display, row, line)}: x, y, z must be numbers") from None
-        if not np.all(np.isfinite(xyz)):
-            raise InputError(f"{_where(display, row, line)}: x, y, z must be finite")
+        values = [decimal(v.strip(" \t")) for v in raw[1:]]
+        if any(v is None for v in values):
+            bad = next(v for v in raw[1:] if decimal(v.strip(" \t")) is None)
+            reason = why_not(bad.strip(" \t"))
+            problem = "must be finite" if reason == "not finite" else "must be numbers"
+            raise InputError(
+                f"{_where(display, row, line)}: x, y, z {problem} ({shown(bad)}: {reason})"
+            )
+        xyz = np.array(values, dtype=float)
         out[mark] = xyz
         if len(out) > MAX_MEASUREMENTS:
             raise InputError(f"{display}: more than {MAX_MEASUREMENTS} markers")

@@ -129,6 +129,16 @@ class Plan:
         out += markdown_table(["parameter", "expected std", "random configurations"], rows)
         return "\n".join(out) + "\n"
 
+    def __str__(self) -> str:
+        """What ``urdf2dh plan`` prints."""
+        return self.summary()
+
+    def __repr__(self) -> str:
+        return (
+            f"<Plan {shown(self.model)}: {len(self.configurations)} configurations for "
+            f"{self.level}, {len(self.parameters)} parameters>"
+        )
+
     def summary(self) -> str:
         """What ``urdf2dh plan`` prints."""
         kind = "poses" if self.pose else f"positions of {self.markers or 1} marker(s)"

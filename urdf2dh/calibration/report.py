@@ -298,45 +298,18 @@ def output_table(
     tol: Tolerances,
     samples: int | None,
 ) -> tuple[str, Table | None, str | None]:
-    """The output's convention, its table (``None`` for ``poe``) and, when it was chosen, why
-    (module docstring of :mod:`.calibration`)."""
+    """The output's convention, its table (``None`` for ``poe``) and, when it was chosen, why:
+    ``dh``, unless a D-H table is not the one to write
+    (:mod:`urdf2dh.conventions.choice`)."""
+    from ..conventions.choice import choose
     from ..conventions.convert import to_table
 
     if convention == "poe":
         return "poe", None, None
     if convention is not None:
         return convention, to_table(model, convention, tol, samples=samples, style=style), None
-    dh = to_table(model, "dh", tol, samples=samples, style=style)
-    problem = _insane(dh, tol)
-    if problem is None:
-        return "dh", dh, None
-    hayati = to_table(model, "hayati", tol, samples=samples, style="wu")
-    return (
-        "hayati",
-        hayati,
-        f"written in hayati, not dh: {problem}; hayati is exact and every length stays within "
-        "the geometry's own distances (dh is written when asked for)",
-    )
-
-
-def _insane(table: Table, tol: Tolerances) -> str | None:
-    """Why a dh table is not exact and sane, or ``None``."""
-    check = table.check
-    if check is not None and (check.declared_position > 0.0 or check.declared_rotation > 0.0):
-        return (
-            "dh would treat nearly parallel axes as parallel, a deviation of up to "
-            f"{check.declared_position:.3g} {table.length_unit}"
-        )
-    far = tol.far_factor * table.size
-    for row in table.rows:
-        for key, value in row.params.scalars().items():
-            if key in ("d", "a") and abs(value) > far:
-                return (
-                    f"dh would put row {visible(row.name)!r} {abs(value):.3g} "
-                    f"{table.length_unit} away ({key}), {tol.far_factor:g} times beyond the "
-                    "robot's size"
-                )
-    return None
+    chosen = choose(model, "dh", tol, samples, style)
+    return chosen.table.convention, chosen.table, chosen.reason
 
 
 def _diff(
@@ -562,9 +535,7 @@ def assemble(
             + rows
         )
     conv, table, reason = output_table(result.model, convention, style, tol, check_samples)
-    if reason is not None:
-        warnings.append(reason)
-    if table is not None:
+    if table is not None:  # the reason for a chosen convention is the table's first warning
         warnings += list(table.warnings)
     sigma_pos = user.shown(result.sigma_pos)
     noise = Noise(

@@ -321,10 +321,20 @@ class Diff:
 
             return json.dumps(self.to_dict(), indent=2) + "\n"
         if fmt != "text":
-            raise UsageError(
-                f"unknown diff format {shown(fmt)}; valid: {choices(('text', 'json'))}"
-            )
+            from ..emit.formats import DIFF_FORMATS
+
+            raise UsageError(f"unknown diff format {shown(fmt)}; valid: {choices(DIFF_FORMATS)}")
         return _text(self)
+
+    def __str__(self) -> str:
+        """The report as ``urdf2dh diff`` prints it."""
+        return _text(self)
+
+    def __repr__(self) -> str:
+        return (
+            f"<Diff {self.convention}: {shown(self.nominal)} -> {shown(self.actual)}, "
+            f"{self.marked} of {len(self.changes)} parameters marked>"
+        )
 
     def _repr_markdown_(self) -> str:
         """In a notebook: the changed parameters as a table, marked ones in bold (names
@@ -339,7 +349,7 @@ class Diff:
              _delta(self, c) + (" **\\***" if c.marked else "")]
             for c in self.changes if not (c.kind in ("pitch", "scale") and c.change == 0.0)
         ]  # fmt: skip
-        out += markdown_table(["row", "param", "nominal", "actual", "change"], rows, 2)
+        out += markdown_table(["row", "param", *labels(self, markdown_text), "change"], rows, 2)
         out += [f"- {t(f.row)}: changed form, {f.nominal_form} -> {f.actual_form}"
                 for f in self.forms]  # fmt: skip
         if self.pairs:
@@ -431,7 +441,8 @@ def diff(
             continue
         source = open_source(check_source(given, f"diff: {what}"), tol, xacro=xacro)
         model = source.model(base, tip, ignore_mimic)
-        models.append(replace(model, name=source.name))
+        # named as given: a bundled robot by its name, a file by its path
+        models.append(replace(model, name=source.name if source.bundled else source.display))
     nominal_model, actual_model = models
     if actual_model.length_unit != nominal_model.length_unit:
         actual_model = actual_model.scaled(
@@ -493,27 +504,38 @@ def _delta(d: Diff, c: Change) -> str:
     return f"{_signed(c.change, _decimals(d.length_unit), exact * d.size)} {unit}"
 
 
+def labels(d: Diff, show: Callable[[str], str] = visible) -> tuple[str, str]:
+    """The names of the two columns: what is compared (each source's name, as ``show`` writes
+    it; a path by its file name), or ``NOMINAL`` and ``ACTUAL`` where the two names are one."""
+    first, second = (os.path.basename(name.rstrip("/\\")) or name for name in (d.nominal, d.actual))
+    if not first or not second or first == second:
+        return "NOMINAL", "ACTUAL"
+    return show(first), show(second)
+
+
 def _text(d: Diff) -> str:
     """The text report (angles in degrees)."""
     unit, show, exact = d.length_unit, _shown_value(d), DIFF_ROUND_OFF
     rows = [visible(c.row) for c in d.changes]
     width = max(map(len, [*rows, *(visible(f.row) for f in d.forms), "row"]))
+    first, second = labels(d)
+    w1, w2 = max(28, len(first)), max(28, len(second))
     out = [
         f"diff ({d.convention}): {visible(d.nominal)} -> {visible(d.actual)}; marked (*): "
         f"changes over {math.degrees(d.angle_threshold):g} deg (modulo 180) or "
         f"{d.length_threshold:g} {unit}",
-        f"{'row':<{width}}  {'param':<6} {'nominal':>28} {'actual':>28}  change",
+        f"{'row':<{width}}  {'param':<6} {first:>{w1}} {second:>{w2}}  change",
     ]
     for c, row in zip(d.changes, rows, strict=True):
         if c.kind in ("pitch", "scale") and c.change == 0.0:
             continue
         out.append(
-            f"{row:<{width}}  {c.param:<6} {show(c.nominal, c.kind):>28} "
-            f"{show(c.actual, c.kind):>28}  {_delta(d, c)}{'  *' if c.marked else ''}"
+            f"{row:<{width}}  {c.param:<6} {show(c.nominal, c.kind):>{w1}} "
+            f"{show(c.actual, c.kind):>{w2}}  {_delta(d, c)}{'  *' if c.marked else ''}"
         )
     for f in d.forms:
         out.append(
-            f"{visible(f.row):<{width}}  form   {f.nominal_form:>28} {f.actual_form:>28}  "
+            f"{visible(f.row):<{width}}  form   {f.nominal_form:>{w1}} {f.actual_form:>{w2}}  "
             f"link moved {_signed(f.length, _decimals(unit), exact * d.size)} {unit}, "
             f"{_signed(math.degrees(f.angle), 4, math.degrees(exact))} deg"
             + ("  *" if f.marked else "")
@@ -531,6 +553,6 @@ def _text(d: Diff) -> str:
             f"{math.degrees(p.actual_angle):.3f} deg"
             for p in d.pairs
         )
-        out.append(f"ill-conditioned axis pairs (nearly parallel; nominal / actual): {names}")
+        out.append(f"ill-conditioned axis pairs (nearly parallel; {first} / {second}): {names}")
         out.append(RECOMMENDATION)
     return "\n".join(out) + "\n"

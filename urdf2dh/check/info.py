@@ -1,5 +1,6 @@
-"""What a SOURCE holds: its links and joints, the chain that would be converted, and how many of
-its parameters a calibration can identify (:func:`info`, ``urdf2dh info``)."""
+"""What a SOURCE holds: its links and joints, the chain that would be converted, how many of its
+parameters a calibration can identify, and the analytic IK families it belongs to (:func:`info`,
+``urdf2dh info``)."""
 
 from __future__ import annotations
 
@@ -8,7 +9,8 @@ from collections import Counter
 from dataclasses import dataclass
 
 from ..checks import check_flag, check_optional_name, check_source
-from ..errors import ChainError, choices, visible
+from ..conventions.families import Families, families
+from ..errors import ChainError, ConversionError, choices, shown, visible
 from ..escape import markdown_table, markdown_text
 from ..io.sources import Source, open_source
 from ..io.xacro import XacroOptions
@@ -53,6 +55,10 @@ class Info:
         Why not, then.
     identifiable
         The chain's parameter counts (Wu 2019 §V), or ``None`` without a chain.
+    families
+        The chain's analytic inverse-kinematics families and the exports that solve each
+        (:func:`urdf2dh.conventions.families.families`), or ``None`` without a chain (or where
+        its table fails its self-check, which ``convert`` reports).
     """
 
     robot: str
@@ -66,6 +72,7 @@ class Info:
     chain: PoeModel | None
     chain_error: str | None
     identifiable: Identifiability | None
+    families: Families | None = None
 
     def text(self) -> str:
         """What ``urdf2dh info`` prints (names as :func:`~urdf2dh.errors.visible` text)."""
@@ -113,8 +120,20 @@ class Info:
             f"{ident.conventional}; of its 6 base/tool parameters, {BASE} sit in the "
             f"base and {TOOL} in the tool"
         )
+        if self.families is not None:
+            out.extend(v(line) for line in self.families.lines())
         out.extend(f"warning: {v(w)}" for w in model.warnings)
         return out
+
+    def __str__(self) -> str:
+        """What ``urdf2dh info`` prints."""
+        return self.text()
+
+    def __repr__(self) -> str:
+        return (
+            f"<Info {shown(self.robot)} ({self.kind}): {self.links} links, "
+            f"{len(self.joints)} joints>"
+        )
 
     def _repr_markdown_(self) -> str:
         """In a notebook: the chain's joints and counts as tables (names escaped)."""
@@ -133,6 +152,8 @@ class Info:
             [["maximum, 5h + 4r + 2t + n + 6 (Wu 2019 eq. 23)", str(ident.maximum)],
              ["conventional, 4r + 2t + 6 (eq. 22)", str(ident.conventional)]],
         )  # fmt: skip
+        if self.families is not None:
+            out += ["", *(f"- {t(line.strip())}" for line in self.families.lines())]
         return "\n".join(out) + "\n\n" + self.chain._repr_markdown_()
 
 
@@ -155,7 +176,14 @@ def describe(source: Source, base: str | None, tip: str | None, ignore_mimic: bo
         model, error = None, str(e)
     ident = None if model is None else Identifiability.of(j.kind for j in model.joints)
     return Info(source.name, source.kind, source.display, links, root, joints, start, tips,
-                model, error, ident)  # fmt: skip
+                model, error, ident, None if model is None else _families(model))  # fmt: skip
+
+
+def _families(model: PoeModel) -> Families | None:
+    try:
+        return families(model)
+    except ConversionError:  # the table fails its self-check: convert says so
+        return None
 
 
 def info(
@@ -167,7 +195,8 @@ def info(
     xacro: XacroOptions | None = None,
 ) -> Info:
     """What a SOURCE holds: for a URDF its links, joints and candidate tips; the chain ``base ->
-    tip`` that would be converted; the chain's identifiable parameter counts (Wu 2019 §V).
+    tip`` that would be converted; the chain's identifiable parameter counts (Wu 2019 §V); the
+    analytic inverse-kinematics families of the chain and the export each needs.
 
     Parameters
     ----------

@@ -68,15 +68,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         "--convention",
         choices=(*NAMES, "poe"),
         default=None,
-        help="convention of the output (default: dh where it is exact and sane, else hayati); "
-        "poe writes a POE model file",
+        help="convention of the output (default dh, or hayati where a D-H table is not the one "
+        "to write: docs/parallel-axes.md); poe writes a POE model file",
     )
-    p.add_argument(
-        "--format",
-        choices=FORMATS,
-        default="text",
-        help="output format (default %(default)s; with --convention poe: yaml or json)",
-    )
+    options.add_format(p, FORMATS, "; with --convention poe: yaml or json")
     p.add_argument("--style", choices=STYLES, default="wu", help="D-H choices (see convert)")
     p.add_argument("-o", "--output", metavar="FILE", help="write the model to FILE")
     p.add_argument("--report", metavar="FILE.json", help="write the calibration report (JSON)")
@@ -234,8 +229,11 @@ def run(args: argparse.Namespace) -> int:
     from ..calibration.prior import Prior
     from ..calibration.report import summary, to_dict
     from ..calibration.userunits import UserUnits
+    from ..emit.formats import FORMATS
     from .options import tolerances
 
+    # before anything is read
+    args.format = options.output_format(args, FORMATS, poe_file=args.convention == "poe")
     tol = tolerances(args)
     nominal = options.nominal(args, tol)
     joints = tuple(j.name for j in nominal.joints)

@@ -33,7 +33,8 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from ..errors import ChainError, Urdf2DhError, UsageError, shown
+from ..emit.formats import SUFFIXES
+from ..errors import ChainError, Urdf2DhError, UsageError, near, shown
 from ..io.files import write_directory
 from ..tolerances import JOINTS
 
@@ -68,15 +69,7 @@ __all__ = [
 ]
 
 #: ``convert --format`` -> the suffix of each file in ``-o DIR``.
-FORMAT_SUFFIXES = {
-    "text": ".txt",
-    "json": ".json",
-    "yaml": ".yaml",
-    "csv": ".csv",
-    "markdown": ".md",
-    "urdf": ".urdf",
-    "poe": ".poe.yaml",
-}
+FORMAT_SUFFIXES = {fmt: suffixes[0] for fmt, suffixes in SUFFIXES.items()}
 
 #: Formats that hold several tables on stdout (the others need ``-o DIR``).
 STDOUT_FORMATS = ("text", "markdown", "json", "yaml")
@@ -128,7 +121,8 @@ def chain_tips(
         from ..io.urdf.tree import names
 
         raise ChainError(
-            f"{tree.path}: unknown base link {shown(base)}; links are {names(tree.links)}"
+            f"{tree.path}: unknown base link {shown(base)}{near(base, tree.links)}; links are "
+            f"{names(tree.links)}"
         )
     if not all_tips:
         chosen = list(tips or ())

@@ -3,10 +3,16 @@
 from __future__ import annotations
 
 import argparse
+from typing import TYPE_CHECKING
 
 from ..io.files import write_output
 from . import options
 from .chains import one_tip, several_of
+
+if TYPE_CHECKING:
+    from ..conventions.table import Table
+    from ..model.poe import PoeModel
+    from ..tolerances import Tolerances
 
 __all__ = ["EXAMPLE", "HELP", "NAME", "add_arguments", "run"]
 
@@ -23,12 +29,11 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--convention",
         choices=NAMES,
-        default=NAMES[0],
-        help="parameter convention (default %(default)s)",
+        default=None,
+        help=f"parameter convention (default {NAMES[0]}, or hayati where a D-H table is not the "
+        "one to write: docs/parallel-axes.md)",
     )
-    p.add_argument(
-        "--format", choices=FORMATS, default="text", help="output format (default %(default)s)"
-    )
+    options.add_format(p, FORMATS)
     p.add_argument(
         "--style",
         choices=STYLES,
@@ -49,21 +54,32 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..conventions.convert import to_table
-    from ..emit.formats import render
+    from ..emit.formats import FORMATS, render
 
+    args.format = options.output_format(args, FORMATS)  # before anything is read
     tol = options.tolerances(args)
     if several_of(args):
         return _convert_tips(args)
     source = options.source(args, tol)
     model = source.model(args.base, one_tip(args), args.ignore_mimic)
-    table = to_table(model, args.convention, tol, samples=args.check_samples, style=args.style)
-    write_output(render(table, args.format), args.output)
+    write_output(render(_table(model, args, tol), args.format), args.output)
     return 0
 
 
-def _convert_tips(args: argparse.Namespace) -> int:
+def _table(model: PoeModel, args: argparse.Namespace, tol: Tolerances) -> Table:
+    """The table asked for, or without --convention the one to write
+    (:mod:`urdf2dh.conventions.choice`)."""
+    from ..conventions import NAMES
+    from ..conventions.choice import choose
     from ..conventions.convert import to_table
+
+    samples, style = args.check_samples, args.style
+    if args.convention is not None:
+        return to_table(model, args.convention, tol, samples=samples, style=style)
+    return choose(model, NAMES[0], tol, samples, style).table
+
+
+def _convert_tips(args: argparse.Namespace) -> int:
     from ..emit.formats import render
     from .chains import (
         FORMAT_SUFFIXES,
@@ -86,9 +102,7 @@ def _convert_tips(args: argparse.Namespace) -> int:
     tables = []
     for model in per_chain(models, "convert"):
         with naming_tip(model.tip_link):
-            tables.append(
-                to_table(model, args.convention, tol, samples=args.check_samples, style=args.style)
-            )
+            tables.append(_table(model, args, tol))
     if not directory:  # stdout, or -o FILE: the one document
         write_output(join_tables(tables, args.format), args.output)
         return 0

@@ -18,6 +18,7 @@ EXAMPLE = "urdf2dh diff puma560-nominal puma560-actual --convention cpc"
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
     from ..conventions import NAMES, STYLES
+    from ..emit.formats import DIFF_FORMATS
     from ..io.sources import source_kinds
     from ..tolerances import DIFF_ANGLE_DEG, DIFF_LENGTH_M, DIFF_PARALLEL_DEG
 
@@ -55,14 +56,16 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         help="name axis pairs this close to parallel in either model as "
         "ill-conditioned for D-H (default %(default)g)",
     )
-    p.add_argument("--format", choices=("text", "json"), default="text")
+    options.add_format(p, DIFF_FORMATS)
     p.add_argument("-o", "--output", metavar="FILE", help="write to FILE instead of stdout")
     options.add_tolerances(p)
 
 
 def run(args: argparse.Namespace) -> int:
     from ..check.diff import diff
+    from ..emit.formats import DIFF_FORMATS
 
+    args.format = options.output_format(args, DIFF_FORMATS)  # before anything is read
     result = diff(
         args.nominal,
         args.actual,

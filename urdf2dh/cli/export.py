@@ -15,6 +15,7 @@ __all__ = ["EXAMPLE", "HELP", "NAME", "add_arguments", "run"]
 NAME = "export"
 HELP = "write a controller or toolbox configuration file"
 EXAMPLE = "urdf2dh export ur10 --to ur -o default_kinematics.yaml"
+UNIT_TARGETS = ("linuxcnc", "ikdh")  # the targets that take --units
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -46,9 +47,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     )
     p.add_argument(
         "--units",
-        choices=("mm", "inch"),
+        choices=("mm", "inch", "m"),
         default=None,
-        help="linuxcnc: length unit of A and D (default mm)",
+        help="linuxcnc: length unit of A and D, mm or inch; ikdh: of the file, mm or m "
+        "(default mm)",
     )
     p.add_argument(
         "-o",
@@ -64,8 +66,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     from ..emit.export import TARGETS, ExportOptions, export, table_choices
 
-    if args.units is not None and args.to != "linuxcnc":
-        raise UsageError(f"--units applies to --to linuxcnc, not --to {args.to}")
+    if args.units is not None and args.to not in UNIT_TARGETS:
+        raise UsageError(f"--units applies to --to linuxcnc or ikdh, not --to {args.to}")
     table_choices(args.to, args.convention, args.style)  # bad choices fail before any reading
     if several_of(args) and not to_directory(args):
         from .chains import DIRECTORY_HINT

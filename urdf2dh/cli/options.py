@@ -8,10 +8,11 @@ from __future__ import annotations
 import argparse
 from typing import TYPE_CHECKING
 
-from ..errors import InputError, shown
+from ..errors import InputError, UsageError, choices, shown
 from ..tolerances import MAX_MARKERS, MAX_SAMPLES, MAX_SEED
 
 if TYPE_CHECKING:
+    from ..io.fields import JointBound
     from ..io.sources import Source
     from ..io.xacro import XacroOptions
     from ..model.poe import PoeModel
@@ -21,6 +22,7 @@ __all__ = [
     "LEVELS",
     "add_chain",
     "add_chain_options",
+    "add_format",
     "add_markers",
     "add_reading",
     "add_tolerances",
@@ -29,6 +31,7 @@ __all__ = [
     "names",
     "nominal",
     "nonnegative_float",
+    "output_format",
     "package_path",
     "parallel_angle",
     "positive_float",
@@ -48,10 +51,13 @@ LEVELS = ("auto", "base-tool", "offsets", "geometry", "full")  # calibrate's --i
 
 
 def integer(text: str, low: int, high: int) -> int:
-    try:
-        value = int(text)
-    except ValueError as e:
-        raise argparse.ArgumentTypeError(f"'{text}' is not an integer") from e
+    """An option's integer: decimal ASCII digits with an optional sign (no ``1_000``, no
+    ``１``, which Python's ``int`` takes), from ``low`` to ``high``."""
+    from ..numerals import integer as read_integer
+
+    value = read_integer(text)
+    if value is None:
+        raise argparse.ArgumentTypeError(f"'{text}' is not an integer")
     if not low <= value <= high:
         raise argparse.ArgumentTypeError(f"must be from {low} to {high}, not {value}")
     return value
@@ -76,11 +82,20 @@ def parallel_angle(text: str) -> float:
     return value
 
 
+def number(text: str) -> float:
+    """An option's number, by the grammar of urdf2dh's files (:mod:`urdf2dh.numerals`)."""
+    from ..numerals import decimal, why_not
+
+    value = decimal(text)
+    if value is None:
+        reason = why_not(text)
+        said = "" if reason == "not a decimal number" else f" ({reason})"
+        raise argparse.ArgumentTypeError(f"'{text}' is not a number{said}")
+    return value
+
+
 def nonnegative_float(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError as e:
-        raise argparse.ArgumentTypeError(f"'{text}' is not a number") from e
+    value = number(text)
     if not value >= 0.0 or value == float("inf"):
         raise argparse.ArgumentTypeError(f"must be a finite number >= 0, not {text}")
     return value
@@ -183,6 +198,56 @@ def add_chain_options(p: argparse.ArgumentParser, several: bool = False) -> None
     )
 
 
+def add_format(p: argparse.ArgumentParser, formats: tuple[str, ...], also: str = "") -> None:
+    """``--format``, one of ``formats``; without it, the suffix of ``-o FILE`` chooses
+    (:func:`output_format`), else the first of ``formats``. ``also``: more help text."""
+    p.add_argument(
+        "--format",
+        choices=formats,
+        default=None,
+        help=f"output format (default: the one the suffix of -o FILE names, else {formats[0]}"
+        f"{also})",
+    )
+
+
+def output_format(
+    args: argparse.Namespace, formats: tuple[str, ...], poe_file: bool = False
+) -> str:
+    """The format a command writes: ``--format``, or the one the suffix of ``-o FILE`` names
+    (``.json``, ``.yaml``, ``.csv``, ...: :data:`urdf2dh.emit.formats.SUFFIXES`), or the first of
+    ``formats``. Called before anything is read. ``poe_file``: the command writes a POE model
+    file, whose YAML form a ``.poe.yaml`` name names.
+
+    Raises
+    ------
+    UsageError
+        The suffix names a format that ``--format`` contradicts, or one the command does not
+        write (``diff -o d.yaml``).
+    """
+    from ..emit.formats import format_of
+    from .chains import names_directory
+
+    output = args.output
+    named = None if output is None or names_directory(output) else format_of(output)
+    if poe_file and named == "poe":
+        named = "yaml"
+    if named is not None and named not in formats:
+        raise UsageError(
+            f"-o {shown(output)}: a file of that name is {named}, which {args.command} does not "
+            f"write; its formats are {choices(formats)}"
+        )
+    if args.format is None:
+        return named or formats[0]
+    if named == "yaml" and args.format == "poe":
+        return "poe"  # a POE model file is a YAML document: x.yaml says no other
+    if named is not None and named != args.format:
+        raise UsageError(
+            f"-o {shown(output)} names a {named} file, --format {args.format} another: leave "
+            "--format out (the suffix chooses), or name the file for its format"
+        )
+    return str(args.format)
+
+
 def add_tolerances(p: argparse.ArgumentParser) -> None:
     from ..tolerances import DEFAULT
 
@@ -238,23 +303,22 @@ def xacro_options(args: argparse.Namespace) -> XacroOptions:
     )
 
 
-def source(args: argparse.Namespace, tol: Tolerances | None = None) -> Source:
+def source(
+    args: argparse.Namespace, tol: Tolerances | None = None, bound: JointBound | None = None
+) -> Source:
     """The SOURCE the options name, opened with their xacro options (and ``tol`` for reading a
-    POE or table file)."""
+    POE or table file, ``bound`` the command's bound on a URDF's joints)."""
     from ..io.sources import open_source
     from ..tolerances import DEFAULT
 
-    return open_source(args.source, tol or DEFAULT, xacro=xacro_options(args))
+    return open_source(args.source, tol or DEFAULT, xacro=xacro_options(args), bound=bound)
 
 
 # --------------------------------------------------------------------------- calibration
 
 
 def fraction(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError as e:
-        raise argparse.ArgumentTypeError(f"'{text}' is not a number") from e
+    value = number(text)
     if not 0.0 <= value < 1.0:
         raise argparse.ArgumentTypeError(f"must be in [0, 1), not {text}")
     return value

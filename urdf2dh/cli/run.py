@@ -41,12 +41,14 @@ def console() -> None:
 
 def _main(argv: list[str] | None, restore: bool) -> int:
     with interrupts.handled(restore), files.one_run():
+        files.standard_streams()  # before anything is opened: a closed stdout is no file's number
         try:
             # imported here, not with this module: the run handles Ctrl-C from its first line on
-            from .parser import get_argument_parser
+            from .parser import command_of, get_argument_parser
 
-            parser = get_argument_parser()
-            args = parser.parse_args(argv)
+            given = sys.argv[1:] if argv is None else list(argv)
+            parser = get_argument_parser(command_of(given) or None)
+            args = parser.parse_args(given)
             if args.command is None:
                 parser.print_help()
                 return 2

@@ -15,7 +15,7 @@ and a line in :data:`REGISTRY`. The command line lists :data:`NAMES` without imp
 
 from __future__ import annotations
 
-from ..errors import UsageError, choices
+from ..errors import UsageError, choices, near
 from .base import Column, Convention, Conversion, Params, columns
 from .cpc import CPC
 from .dh import DH
@@ -48,4 +48,6 @@ def get(name: str) -> Convention:
     try:
         return REGISTRY[name]
     except KeyError:
-        raise UsageError(f"unknown convention '{name}'; valid: {choices(NAMES)}") from None
+        raise UsageError(
+            f"unknown convention '{name}'{near(name, NAMES)}; valid: {choices(NAMES)}"
+        ) from None

@@ -176,13 +176,14 @@ def written_length(value: float, within: float) -> float:
     return _snap(value, (0.0,), within)
 
 
-def written_angle(value: float, within: float) -> float:
-    """An angle as files write it: the multiple of pi/2 (in [-pi, pi], pi for -pi) when within
-    ``within`` of one, never ``-0.0``; other values are kept."""
+def written_angle(value: float, within: float, wrap: bool = True) -> float:
+    """An angle as files write it: the multiple of pi/2 (in [-pi, pi], pi for -pi; where not
+    ``wrap``, the multiple itself, as a joint limit of 4 pi needs) when within ``within`` of
+    one, never ``-0.0``; other values are kept."""
     quarter = round(value / (0.5 * math.pi))
     if abs(value - quarter * 0.5 * math.pi) > within:
         return value + 0.0
-    return wrap_angle(quarter * 0.5 * math.pi)
+    return wrap_angle(quarter * 0.5 * math.pi) if wrap else quarter * 0.5 * math.pi + 0.0
 
 
 @dataclass(frozen=True, slots=True)

@@ -12,7 +12,7 @@ import math
 from dataclasses import replace
 
 from ..checks import check_count, check_instance, check_seed
-from ..errors import ConversionError, UsageError, choices, shown
+from ..errors import ConversionError, UsageError, choices, near, shown
 from ..geometry.normals import Judgement
 from ..geometry.se3 import pose_errors
 from ..model.fk import chains_fk
@@ -52,7 +52,7 @@ def build_table(
     """
     conv = get(convention)
     if style not in STYLES:
-        raise UsageError(f"unknown style '{style}'; valid: {choices(STYLES)}")
+        raise UsageError(f"unknown style '{style}'{near(style, STYLES)}; valid: {choices(STYLES)}")
     if style not in conv.styles:
         takers = [c.name for c in REGISTRY.values() if style in c.styles]
         raise UsageError(f"style {style} applies to {', '.join(takers)} tables, not {conv.name}")

@@ -13,7 +13,7 @@ from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 from ..errors import visible
-from ..escape import markdown_table, markdown_text
+from ..escape import markdown_table, markdown_text, text_table
 from ..units import DECIMALS, fixed
 from . import Params, columns, get
 
@@ -167,21 +167,10 @@ def _title(table: Table, show: Callable[[str], str]) -> str:
 
 
 def text(table: Table) -> str:
+    """The table as ``--format text`` writes it, and ``str(table)`` shows it."""
     head, body = _grid(table, visible)
-    widths = [max(len(r[i]) for r in [head, *body]) for i in range(len(head))]
-    texts = 4 if _forms(table) else 3  # label, joint, type (and form) are text
-    numeric = [i >= texts for i in range(len(head))]
-
-    def fmt(row: list[str]) -> str:
-        cells = [
-            c.rjust(w) if num else c.ljust(w)
-            for c, w, num in zip(row, widths, numeric, strict=True)
-        ]
-        return "  ".join(cells).rstrip()
-
-    out = [_title(table, visible), get(table.convention).title, "", fmt(head)]
-    out.append("  ".join("-" * w for w in widths))
-    out.extend(fmt(r) for r in body)
+    out = [_title(table, visible), get(table.convention).title, ""]
+    out += text_table(head, body, 4 if _forms(table) else 3)  # label, joint, type (and form)
     out.append("")
     out.extend(visible(s) for s in summary(table))
     return "\n".join(out) + "\n"

@@ -20,7 +20,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..checks import check_configurations, check_count, check_instance, check_real
-from ..errors import missing, shown
+from ..errors import missing, shown, visible
 from ..geometry import frames, se3
 from ..model._fastfk import chain_fk
 from ..model.mimic import Mimic, actuated, row_positions
@@ -28,7 +28,7 @@ from ..model.poe import Joint, JointKind, JointMotion, PoeModel, check_motion
 from ..schemas import TABLE_FILE
 from ..tolerances import DEFAULT
 from . import Convention, Params, get
-from .grid import flat_columns, markdown, records
+from .grid import flat_columns, markdown, records, text
 
 __all__ = ["SCHEMA", "Check", "Row", "Table"]
 
@@ -253,6 +253,14 @@ class Table:
     def _repr_markdown_(self) -> str:
         """In a notebook: the table as ``--format markdown`` writes it (names escaped)."""
         return markdown(self)
+
+    def __str__(self) -> str:
+        """The table as a person reads it: ``--format text``."""
+        return text(self)
+
+    def __repr__(self) -> str:
+        chain = f" ({self.base_link} -> {self.tip_link})" if self.base_link else ""
+        return f"<Table {self.convention} of {shown(self.robot)}{visible(chain)}, {self.dof} rows>"
 
     def to_dataframe(self) -> Any:
         """The table as a ``pandas.DataFrame``: a row each for the base, the joints and the tool,

@@ -18,15 +18,37 @@ import json
 from typing import TYPE_CHECKING
 
 from ..conventions.grid import flat_columns, markdown, records, text
-from ..errors import UsageError, choices
+from ..errors import UsageError, choices, near
 from ..escape import csv_cell
 
 if TYPE_CHECKING:
     from ..conventions.table import Table
 
-__all__ = ["FORMATS", "render"]
+__all__ = ["DIFF_FORMATS", "FORMATS", "SUFFIXES", "format_of", "render"]
 
 FORMATS = ("text", "json", "yaml", "csv", "markdown", "urdf", "poe")
+DIFF_FORMATS = ("text", "json")  # a diff's report (urdf2dh.check.diff.Diff.render)
+
+#: The file-name suffixes of each format, the one urdf2dh names its files with first
+#: (``-o DIR/<tip><suffix>``). A file named with one of them is of that format: ``-o FILE``
+#: without ``--format`` writes it, and a ``--format`` that contradicts it is refused.
+SUFFIXES = {
+    "text": (".txt",),
+    "json": (".json",),
+    "yaml": (".yaml", ".yml"),
+    "csv": (".csv",),
+    "markdown": (".md", ".markdown"),
+    "urdf": (".urdf",),
+    "poe": (".poe.yaml", ".poe.yml"),
+}
+
+
+def format_of(name: str) -> str | None:
+    """The format whose suffix ends the file name ``name`` (the longest suffix that matches, so
+    ``x.poe.yaml`` is ``poe``; case is ignored), or None."""
+    lowered = name.lower()
+    found = [(len(s), fmt) for fmt, ss in SUFFIXES.items() for s in ss if lowered.endswith(s)]
+    return max(found)[1] if found else None
 
 
 def render(table: Table, fmt: str) -> str:
@@ -87,7 +109,7 @@ def render(table: Table, fmt: str) -> str:
 
         tree = poe_to_dict(table.to_poe())
         return str(yaml.safe_dump(tree, sort_keys=False, default_flow_style=None))
-    raise UsageError(f"unknown format '{fmt}'; valid: {choices(FORMATS)}")
+    raise UsageError(f"unknown format '{fmt}'{near(fmt, FORMATS)}; valid: {choices(FORMATS)}")
 
 
 def _csv(table: Table) -> str:

@@ -30,8 +30,8 @@ from ..checks import (
     check_real,
     check_seed,
 )
-from ..errors import InputError, shown
-from ..escape import markdown_table, markdown_text
+from ..errors import InputError, shown, visible
+from ..escape import markdown_table, markdown_text, text_table
 from ..geometry import frames, se3
 from ..tolerances import JOINT_POSITIONS, RIGID_INPUT
 from ..units import DECIMALS, fixed
@@ -230,7 +230,28 @@ class PoeModel:
     def _repr_markdown_(self) -> str:
         """In a notebook: the joints as a table (axis, a point on it, pitch, scale, limits,
         whom a joint mimics) and the tip's home pose; names escaped."""
-        unit, text = self.length_unit, markdown_text
+        title, head, body, after = self._layout(markdown_text)
+        out = [f"**{title[0]}**{title[1]}", "", *markdown_table(head, body, 3), ""]
+        return "\n".join([*out, *after[:1], *(f"- {w}" for w in after[1:])]) + "\n"
+
+    def __str__(self) -> str:
+        """The model as a person reads it: its joints as a table and the tip's home pose."""
+        title, head, body, after = self._layout(visible)
+        used = [i for i in range(len(head)) if i < 3 or any(row[i] for row in body)]
+        head, body = [head[i] for i in used], [[row[i] for i in used] for row in body]
+        out = ["".join(title), "", *text_table(head, body, 3), ""]
+        return "\n".join([*out, *after[:1], *(f"warning: {w}" for w in after[1:])]) + "\n"
+
+    def __repr__(self) -> str:
+        chain = f" ({self.base_link} -> {self.tip_link})" if self.base_link else ""
+        return f"<PoeModel {shown(self.name)}{visible(chain)}, {self.n} joints>"
+
+    def _layout(
+        self, text: Callable[[str], str]
+    ) -> tuple[tuple[str, str], list[str], list[list[str]], list[str]]:
+        """The title (name, the rest), the joints' table and the lines after it (the tip's
+        home pose, then each warning) with names as ``text`` writes them."""
+        unit = self.length_unit
         places = DECIMALS.get(unit, 6)
 
         def vector(v: NDArray[np.float64] | None, decimals: int) -> str:
@@ -247,13 +268,11 @@ class PoeModel:
                          f"{j.pitch:.6g}" if j.kind == "helical" else "", f"{j.scale:.8g}",
                          limits, follows])  # fmt: skip
         chain = f" {text(self.base_link)} -> {text(self.tip_link)}" if self.base_link else ""
-        out = [f"**{text(self.name or 'POE model')}**{chain}: POE model, {self.n} joints", ""]
-        out += markdown_table(head, body, 3)
+        title = (text(self.name or "POE model"), f"{chain}: POE model, {self.n} joints")
         home = self.home
-        out += ["", f"tip at home: origin {vector(home[:3, 3], places)} {text(unit)}, z axis "
-                f"{vector(home[:3, 2], 6)}"]  # fmt: skip
-        out += [f"- {text(w)}" for w in self.warnings]
-        return "\n".join(out) + "\n"
+        after = [f"tip at home: origin {vector(home[:3, 3], places)} {text(unit)}, z axis "
+                 f"{vector(home[:3, 2], 6)}", *(text(w) for w in self.warnings)]  # fmt: skip
+        return title, head, body, after
 
     def _once(self, key: str, compute: Callable[[], _T]) -> _T:
         """``compute()``, computed once for this model (its fields are frozen)."""

@@ -15,6 +15,8 @@ target             file                                                  convent
 ``kdl``            PyKDL ``Chain`` script                                dh, mdh      any
 ``corke-matlab``   Peter Corke's MATLAB toolbox ``SerialLink`` script    dh, mdh      any
 ``opw``            OPW kinematics parameters (``opw_kinematics`` YAML)   (POE model)  -
+``eaik``           EAIK ``HomogeneousRobot`` script (analytic IK)        dh           wu
+``ikdh``           ikdh robot file (Husty-Pfurner general 6R IK)         dh           any
 =================  ====================================================  ===========  ========
 
 The first convention and style listed are the defaults. ``opw`` reads the POE model itself (its
@@ -28,7 +30,7 @@ import importlib
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
-from ...errors import UsageError, choices
+from ...errors import UsageError, choices, near
 
 if TYPE_CHECKING:
     from ...conventions.table import Table
@@ -132,13 +134,31 @@ TARGETS: dict[str, Target] = {
             (),
             ".yaml",
         ),
+        Target(
+            "eaik",
+            "eaik",
+            "EAIK HomogeneousRobot script: analytic IK, every branch",
+            ("dh",),
+            ("wu",),
+            ".py",
+        ),
+        Target(
+            "ikdh",
+            "ikdh",
+            "ikdh robot file: Husty-Pfurner general 6R IK (mm; base and tool beside)",
+            ("dh",),
+            ("wu", "ur", "zero"),
+            ".yaml",
+        ),
     ]
 }
 
 
 def _target(name: str) -> Target:
     if name not in TARGETS:
-        raise UsageError(f"unknown export target '{name}'; valid: {choices(TARGETS)}")
+        raise UsageError(
+            f"unknown export target '{name}'{near(name, TARGETS)}; valid: {choices(TARGETS)}"
+        )
     return TARGETS[name]
 
 
@@ -185,9 +205,13 @@ def export(
         The robot (:func:`urdf2dh.load`).
     target
         A name in :data:`TARGETS` (``ur``, ``linuxcnc``, ``rtb``, ``matlab``, ``kdl``,
-        ``corke-matlab``, ``opw``).
+        ``corke-matlab``, ``opw``, ``eaik``, ``ikdh``).
     convention, style
-        The table the target reads (``None``: the target's own; targets read D-H tables).
+        The table the target reads (``None``: the target's own, D-H for every target that reads
+        a table, unless a D-H table is not the one to write,
+        :mod:`urdf2dh.conventions.choice`: then the target's ``hayati`` table where it reads one,
+        else the D-H table with the reason among its warnings where it is exact, and an
+        :class:`~urdf2dh.errors.ExportError` saying why where it is not).
     opts
         The length unit of targets that fix one, and the tolerances (:class:`ExportOptions`).
     samples
@@ -205,12 +229,15 @@ def export(
     UsageError
         An unknown target, convention or style, or one the target cannot take.
     ExportError
-        A model the target cannot represent (the message says why).
+        A model the target cannot represent (the message says why), or (``convention=None``)
+        one whose D-H table deviates beyond what was asked, for a target that reads no other.
     ConversionError
         The table failed its self-check.
     """
     from ...checks import check_count, check_instance
+    from ...conventions.choice import FALLBACK, choose
     from ...conventions.convert import to_table
+    from ...errors import ExportError, Remedy
     from ...model.poe import PoeModel
     from .common import ExportOptions
 
@@ -219,8 +246,20 @@ def export(
     if samples is not None:
         check_count(samples, "export: samples")
     opts = ExportOptions() if opts is None else check_instance(opts, ExportOptions, "export: opts")
+    asked = convention
     convention, style = table_choices(target, convention, style)
-    if _target(target).reads_model:
-        return _target(target).render_model(model, opts, samples)
-    table = to_table(model, convention, opts.tol, samples=samples, style=style)
-    return export_table(table, target, opts)
+    t = _target(target)
+    if t.reads_model:
+        return t.render_model(model, opts, samples)
+    fallback = FALLBACK if asked is None and FALLBACK in t.conventions else None
+    if asked is not None:
+        table = to_table(model, convention, opts.tol, samples=samples, style=style)
+        return export_table(table, target, opts)
+    chosen = choose(model, convention, opts.tol, samples, style, fallback)
+    if chosen.objection is not None and not chosen.objection.exact and fallback is None:
+        raise ExportError(
+            f"export target {target} reads {' and '.join(t.conventions)} tables, and "
+            f"{chosen.objection.reason}",
+            remedy=Remedy("convention", "; {} writes it all the same", convention),
+        )
+    return export_table(chosen.table, target, opts)

@@ -255,7 +255,7 @@ def render(table: Table, opts: ExportOptions) -> str:
         Joint(j.sign, written_angle(wrap_angle(j.offset), opts.tol.written)) for j in g.joints
     ]
     maps = {i: j for i, j in enumerate(joints) if j != Joint()}
-    notes = header(table, "LinuxCNC genserkins parameters")
+    notes = header(table, "LinuxCNC genserkins parameters", unit)
     notes.append(
         f"genserkins link i = Rx(ALPHA-i) Tx(A-i) Rz(joint i) Tz(D-i) (Craig); A and D "
         f"in {unit}, ALPHA in radians,"

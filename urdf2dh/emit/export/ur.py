@@ -176,7 +176,7 @@ def render(table: Table, opts: ExportOptions) -> str:
     """``default_kinematics.yaml`` for ``ur_macro.xacro`` (see the module docstring)."""
     _check(table, opts)
     rows = hashed_rows(table)
-    notes = header(table, "UR default_kinematics.yaml")
+    notes = header(table, "UR default_kinematics.yaml", "m")
     notes.append("Joint origins for Universal_Robots_ROS2_Description's ur_macro.xacro (metres,")
     notes.append("URDF rpy). The hash is the UR client library's, of this D-H table (rounded to")
     notes.append(f"{HASH_DECIMALS} decimals; theta, d, a, alpha per joint):")

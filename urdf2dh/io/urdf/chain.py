@@ -14,7 +14,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 from numpy.typing import NDArray
 
-from ...errors import ChainError, Remedy, shown
+from ...errors import ChainError, Remedy, near, shown
 from ...geometry.frames import unit
 from ...geometry.se3 import inv
 from ...model.mimic import Mimic
@@ -95,6 +95,12 @@ def _walk(
             )
         if uj.type == "fixed":
             continue
+        if uj.swapped:
+            warnings.append(
+                f"joint {shown(uj.name)}: its <limit> has lower {uj.upper:.6g} above upper "
+                f"{uj.lower:.6g}; read as the range [{uj.lower:.6g}, {uj.upper:.6g}] (as Gazebo "
+                "reads it; urdfdom and Pinocchio keep lower and upper as written)"
+            )
         axis = np.array(unit((t[:3, :3] @ uj.axis).tolist()))
         if uj.mimic is not None:
             lead = _helical_lead(uj, axis, moving)
@@ -204,7 +210,8 @@ def tree_to_poe(
     base = base or tree.root
     if base not in tree.links:
         raise ChainError(
-            f"{tree.path}: unknown base link {shown(base)}; links are {names(tree.links)}"
+            f"{tree.path}: unknown base link {shown(base)}{near(base, tree.links)}; links are "
+            f"{names(tree.links)}"
         )
     tip = tip or tree.default_tip(base)
     beside = tree.beside(base, tip)  # fixed joints up from a base beside the chain
