@@ -521,6 +521,7 @@ def calibrate(
     ConversionError
         The output table failed its self-check (exit 1).
     """
+    import scipy.linalg  # noqa: F401  (loaded before the limit below, so that it holds for it)
     from threadpoolctl import threadpool_limits
 
     check_instance(nominal, PoeModel, "calibrate: nominal", "urdf2dh.load(SOURCE) reads one")

@@ -361,6 +361,7 @@ def plan(
         :data:`MAX_CANDIDATES`, or too few configurations to determine the level's parameters
         (the message names how many would).
     """
+    import scipy.linalg  # noqa: F401  (loaded before the limit below, so that it holds for it)
     from threadpoolctl import threadpool_limits
 
     from .. import units
