@@ -186,7 +186,8 @@ def test_a_failing_second_output_leaves_the_first_as_it_was(inputs, capsys, monk
         real(src, dst)
 
     monkeypatch.setattr(files.os, "replace", replace)
-    argv = ["calibrate", "nominal.yaml", "poses.csv", "-o", "model.txt", "--report", "report.json"]
+    argv = ["calibrate", "nominal.yaml", "poses.csv", "--helical", "all", "-o", "model.txt",
+            "--report", "report.json"]  # fmt: skip
     assert main(argv) == 2
     assert "report.json: cannot write (No space left on device)" in capsys.readouterr().err
     assert any(str(c).endswith("model.txt") for c in calls)  # it was put in place, then back
