@@ -19,7 +19,6 @@ any case broke an invariant.
 
 from __future__ import annotations
 
-import argparse
 import contextlib
 import io
 import re
@@ -34,6 +33,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
+from corpus_main import corpus_main
 from mutations import MUTATIONS, Original, mutate
 
 from urdf2dh.check.verify import native_stderr
@@ -222,13 +222,7 @@ def _kind_of(error: str) -> str:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--count", type=int, default=600, help="cases (default %(default)s)")
-    parser.add_argument("--seed", type=int, default=0, help="seed (default %(default)s)")
-    args = parser.parse_args(argv)
-    outcomes = run_corpus(args.count, args.seed)
-    print(report(outcomes))
-    return 1 if any(o.problems for o in outcomes) else 0
+    return corpus_main(__doc__, run_corpus, report, 600, argv)
 
 
 if __name__ == "__main__":

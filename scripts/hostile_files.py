@@ -21,11 +21,11 @@ exits 1 if one did. The test suite runs a seeded sample (tests/test_hostile_file
 
 from __future__ import annotations
 
-import argparse
 import contextlib
 import io
 import json
 import os
+import re
 import socket
 import sys
 import tempfile
@@ -41,6 +41,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "tests"))
 
 from chains import random_chain_urdf  # noqa: E402  (tests/chains.py)
+from corpus_main import corpus_main as seeded_main  # noqa: E402  (beside this script)
 
 from urdf2dh.check.verify import native_stderr  # noqa: E402
 from urdf2dh.cli import main as cli  # noqa: E402
@@ -67,8 +68,9 @@ YAML11 = (
     ("on", "true"),
     ("OFF", "false"),
 )
-# YAML 1.2 numbers: read as YAML 1.2 reads them
-YAML12 = (("1e3", 1000.0), ("0x1F", 31.0), ("0o17", 15.0), ("+.5", 0.5), ("2.", 2.0))
+# YAML 1.2 numbers of urdf2dh's one grammar: read as YAML 1.2 reads them (0x1F, 0o17, .inf and
+# .nan, numbers to YAML 1.2 but not of the grammar, are the "number grammar" class's)
+YAML12 = (("1e3", 1000.0), ("+.5", 0.5), ("2.", 2.0), ("-0", 0.0), ("1E-3", 0.001))
 
 POE = """format: poe
 name: arm
@@ -102,13 +104,14 @@ class Run:
 
 @dataclass(frozen=True, slots=True)
 class Case:
-    """An input and what must become of it: ``refusal`` the phrase every failing command's
+    """An input and what must become of it: ``refusal`` the phrase (or one of the phrases)
+    every failing command's
     message holds (``None``: the case may be read), ``exit_0`` whether convert must succeed."""
 
     kind: str
     description: str
     path: str
-    refusal: str | None
+    refusal: str | tuple[str, ...] | None
     commands: tuple[str, ...] = ("convert", "verify", "info")
     exit_0: bool = False
 
@@ -143,6 +146,89 @@ def yaml12_number(rng: Rng, tmp: Path, i: int) -> Case:
     path.write_text(POE.format(**values))
     return Case("yaml 1.2 number", f"limits upper = {text} (= {value:g})", str(path), None,
                 ("convert",), exit_0=True)  # fmt: skip
+
+
+def number_grammar(rng: Rng, tmp: Path, i: int) -> Case:
+    """A URDF attribute or a POE field holding a text outside the one number grammar
+    (urdf2dh.numerals), made up from its parts: signs, digits that are not ASCII, digits grouped,
+    other bases, words, commas, broken exponents."""
+    text = _not_a_number(rng)
+    if rng.random() < 0.5 and re.search(r"\w", text) and "," not in text:  # one YAML scalar
+        field = str(rng.choice(list(POE_FIELDS)))
+        values = {k: v for k, (_, v) in POE_FIELDS.items()} | {field: text}
+        path = tmp / f"case{i}.yaml"
+        path.write_text(POE.format(**values), encoding="utf-8")
+        where = POE_FIELDS[field][0]
+        return Case("number grammar", f"{where} = {text!r}", str(path),
+                    (f"{where} must be a number, not", f"{where} must be finite"))  # fmt: skip
+    urdf, _ = random_chain_urdf(int(rng.integers(1000)), 5)
+    joint, (start, end) = _limited_joint(rng, urdf)
+    attribute = str(rng.choice(["origin xyz", "limit upper"]))
+    if attribute == "origin xyz":
+        urdf = re.sub(f'(<joint name="{joint}".*?<origin xyz=")[^"]*"', rf'\g<1>0 {text} 0"',
+                      urdf, count=1, flags=re.S)  # fmt: skip
+    else:
+        limit = re.sub(r'upper="[^"]*"', f'upper="{text}"', urdf[start:end])
+        urdf = urdf[:start] + limit + urdf[end:]
+    path = tmp / f"case{i}.urdf"
+    path.write_text(urdf, encoding="utf-8")
+    return Case("number grammar", f"{joint} {attribute} holds {text!r}", str(path),
+                f"joint '{joint}': {attribute}")  # fmt: skip
+
+
+def _limited_joint(rng: Rng, urdf: str) -> tuple[str, tuple[int, int]]:
+    """A joint of ``urdf`` that has a <limit>, and where the limit's text is."""
+    pattern = r'<joint name="([^"]*)"[^>]*>(?:(?!</joint>).)*?(<limit[^>]*/>)'
+    limited = list(re.finditer(pattern, urdf))
+    m = limited[int(rng.integers(len(limited)))]
+    return m[1], m.span(2)
+
+
+def _not_a_number(rng: Rng) -> str:
+    """A seeded text that is not a number of the grammar (urdf2dh.numerals.decimal says so)."""
+    from urdf2dh.numerals import decimal
+
+    if rng.random() < 0.15:
+        return str(rng.choice(["1e999", "-1e400", "nan", "0x1F", "0o17", ".nan", "1,5"]))
+    parts = (
+        ("", "-", "+", "--", "+-"),
+        ("1", "12", "\uff11", "\u0661", "1_2", "", "0x1", "0o7", "0b1", "\u0663\u0663"),
+        ("", ".", ".5", "._5"),
+        ("", "e", "E+", "e-3", "e1_0", "e\uff13", "d0", "f"),
+        ("", "", "", "nan", "inf", "Infinity", ".inf"),
+    )
+    while True:
+        text = "".join(str(rng.choice(p)) for p in parts)
+        if text and decimal(text) is None:
+            return text
+
+
+def urdf_limits(rng: Rng, tmp: Path, i: int) -> Case:
+    """A URDF joint whose <limit> urdfdom refuses (none on a revolute joint, no effort or
+    velocity, a negative one, lower above upper in a URDF of version 1.2), or whose lower is
+    above its upper (read as the range between, with a warning)."""
+    urdf, _ = random_chain_urdf(int(rng.integers(1000)), 5)
+    joint, (start, end) = _limited_joint(rng, urdf)
+    old = urdf[start:end]
+    what = str(rng.choice(["none", "no effort", "no velocity", "negative", "1.2 inverted",
+                           "inverted"]))  # fmt: skip
+    new = {
+        "none": "",
+        "no effort": re.sub(r' effort="[^"]*"', "", old),
+        "no velocity": re.sub(r' velocity="[^"]*"', "", old),
+        "negative": re.sub(r' effort="[^"]*"', ' effort="-1"', old),
+        "1.2 inverted": '<limit lower="1" upper="-1" effort="1" velocity="1"/>',
+        "inverted": '<limit lower="1" upper="-1" effort="1" velocity="1"/>',
+    }[what]
+    urdf = urdf[:start] + new + urdf[end:]
+    if what == "1.2 inverted":
+        urdf = urdf.replace("<robot ", '<robot version="1.2" ', 1)
+    path = tmp / f"case{i}.urdf"
+    path.write_text(urdf, encoding="utf-8")
+    if what == "inverted":
+        return Case("urdf limits", f"{joint}: lower above upper", str(path), None, ("convert",),
+                    exit_0=True)  # fmt: skip
+    return Case("urdf limits", f"{joint}: limit {what}", str(path), f"joint '{joint}'")
 
 
 def repeated_key(rng: Rng, tmp: Path, i: int) -> Case:
@@ -219,7 +305,8 @@ def long_chain(rng: Rng, tmp: Path, i: int) -> Case:
         path = tmp / f"case{i}.urdf"
         path.write_text('<robot name="comb">' + "".join(links + joints) + "</robot>")
         return Case("long chain", f"comb of {n:,} links, --all-tips", str(path),
-                    f"joints in all; one run converts at most {JOINTS:,}",
+                    (f"joints in all; one run converts at most {JOINTS:,}",
+                     f"verify checks at most {VERIFY_JOINTS:,}"),
                     ("convert --all-tips", "verify --all-tips"))  # fmt: skip
     if what == "poe":
         path = tmp / f"case{i}.yaml"
@@ -310,6 +397,8 @@ def yaml_bomb(rng: Rng, tmp: Path, i: int) -> Case:
 CLASSES: dict[str, Callable[[Rng, Path, int], Case]] = {
     "yaml 1.1 number": yaml11_number,
     "yaml 1.2 number": yaml12_number,
+    "number grammar": number_grammar,
+    "urdf limits": urdf_limits,
     "repeated key": repeated_key,
     "not a file": not_a_file,
     "huge file": huge_file,
@@ -385,7 +474,10 @@ def judge(case: Case, run: Run) -> list[str]:
             problems.append(f"error line of {len(lines[0]):,} characters")
         elif case.path not in lines[0]:
             problems.append(f"error does not name the file: {lines[0][:300]}")
-        elif case.refusal is not None and case.refusal not in lines[0]:
+        elif case.refusal is not None and not any(
+            phrase in lines[0]
+            for phrase in ((case.refusal,) if isinstance(case.refusal, str) else case.refusal)
+        ):
             problems.append(f"refused, but not for {case.refusal!r}: {lines[0][:300]}")
     elif case.refusal is not None:
         problems.append(f"exit {run.code}: not refused ({case.refusal!r} expected)")
@@ -447,15 +539,10 @@ def corpus_main(
     classes: dict[str, object],
     count: int,
 ) -> int:
-    """A corpus script's command line: ``--count`` cases, ``--seed``; the report; exit 1 if a
-    case broke an invariant (scripts/hostile_mjcf.py runs its own corpus through it)."""
-    parser = argparse.ArgumentParser(description=description)
-    for flag, default, what in (("--count", count, "cases"), ("--seed", 0, "seed of the cases")):
-        parser.add_argument(flag, type=int, default=default, help=f"{what} (default {default})")
-    args = parser.parse_args(argv)
-    outcomes = run(args.count, args.seed)
-    print(report(outcomes, classes))
-    return 1 if any(o.problems for o in outcomes) else 0
+    """A corpus script's command line: ``--count`` cases, ``--seed``; the report by
+    ``classes``; exit 1 if a case broke an invariant (scripts/hostile_mjcf.py runs its own
+    corpus through it)."""
+    return seeded_main(description, run, lambda outcomes: report(outcomes, classes), count, argv)
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -14,7 +14,12 @@ def robot(body: str, links: str = LINKS) -> str:
     return f'<robot name="r">{links}{body}</robot>'
 
 
+LIMIT = '<limit lower="-1" upper="1" effort="1" velocity="1"/>'
+
+
 def joint(name="j", jtype="revolute", parent="base", child="a", extra="") -> str:
+    if jtype in ("revolute", "prismatic") and "<limit" not in extra:
+        extra += LIMIT  # urdfdom refuses either without one
     return (
         f'<joint name="{name}" type="{jtype}"><parent link="{parent}"/>'
         f'<child link="{child}"/>{extra}</joint>'
@@ -104,6 +109,26 @@ CASES = {
         ["joint 'j'", "limit lower"],
     ),
     "unknown joint type": (robot(joint(jtype="ball")), [], ["joint 'j'", "unknown type 'ball'"]),
+    "revolute joint without limit": (
+        robot(joint(extra="<limit/>").replace("<limit/>", "")),
+        [],
+        ["joint 'j'", "a revolute joint needs a <limit>", 'type="continuous"'],
+    ),
+    "limit without effort": (
+        robot(joint(extra='<limit lower="-1" upper="1" velocity="1"/>')),
+        [],
+        ["joint 'j'", "<limit> has no effort attribute"],
+    ),
+    "tab between numbers": (
+        robot(joint(extra='<origin xyz="0&#9;0 1"/>')),
+        [],
+        ["joint 'j'", "urdfdom separates numbers by spaces only"],
+    ),
+    "unknown URDF version": (
+        robot(joint()).replace('name="r"', 'name="r" version="2.0"'),
+        [],
+        ["<robot version='2.0'> is not a version urdfdom reads"],
+    ),
     "floating joint on the chain": (
         robot(joint("j1", jtype="floating") + joint("j2", parent="a", child="b")),
         [],

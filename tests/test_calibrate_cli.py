@@ -140,7 +140,7 @@ def test_calibrate_writes_every_convention_and_the_report(poses, tmp_path, capsy
     assert tree["diff"]["convention"] == "dh" and tree["diff"]["parameters"]
     assert tree["model"]["format"] == "poe"
     # the text output says the same, briefly, on stdout (the model went to the file)
-    assert "identified 42 parameters" in text and "numerical rank 42" in text
+    assert "identified 42 parameters" in text and "determine 42 of them (numerical rank)" in text
     assert "held out" in text and "noise floor" in text and err == ""
     for conv, fmt in [("mdh", "yaml"), ("cpc", "csv"), ("dh", "urdf"), ("dh", "markdown")]:
         code, text, err = run(
@@ -158,9 +158,13 @@ def test_calibrate_writes_every_convention_and_the_report(poses, tmp_path, capsy
         assert code == 0, err
         assert "identified 42 parameters" in err  # the summary goes to stderr here
     code, text, err = run(
-        capsys, "calibrate", "puma560-nominal", poses, "--format", "yaml", "--convention", "poe"
-    )
+        capsys, "calibrate", "puma560-nominal", poses, "--format", "yaml", "--convention", "poe",
+        "--helical", "all",
+    )  # fmt: skip
     assert code == 0 and yaml.safe_load(text)["format"] == "poe"
+    # without --helical the revolute model leaves millimetres the rotations deny: refused
+    code, text, err = run(capsys, "calibrate", "puma560-nominal", poses, "--convention", "poe")
+    assert code == 3 and not text and err.count("\n") == 1 and "--helical" in err, err
 
 
 def test_the_identified_file_is_a_source_for_export_and_convert(tmp_path, capsys):
@@ -314,7 +318,7 @@ def test_markers_need_their_layout_and_position_measurements(tmp_path, capsys):
         "json",
     )
     assert code == 0, err
-    assert "5h + 4r + 2t + n + 3K = 5*6 + 4*0 + 2*0 + 6 + 3*3 = 45" in err
+    assert "5 for each of 6 helical joints' lines, 6 joint scales, 3 for each of 3 markers" in err
     actual = urdf2dh.load("puma560-actual")
     home = np.array(json.loads(out)["tool"]["matrix"])
     assert np.allclose(home, actual.home, atol=1e-9 * actual.size())

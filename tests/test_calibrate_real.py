@@ -21,6 +21,7 @@ from urdf2dh.calibration.report import to_dict
 from urdf2dh.cli import main
 from urdf2dh.conventions import NAMES
 from urdf2dh.emit.formats import FORMATS, render
+from urdf2dh.errors import Implausible
 from urdf2dh.geometry.lie import rotation_of
 from urdf2dh.io.poefile import poe_to_dict
 
@@ -127,10 +128,16 @@ def test_the_default_command_on_the_readme_split(tmp_path, capsys):
 
 def test_the_tiago_full_model_is_flagged_as_overfitted_without_a_prior():
     """41 parameters from 24 configurations and no prior: the held-out error is far beyond
-    what noise explains, and the report says so, and flags the parameters. With the default
+    what noise explains and five times the nominal's: refused, and accepted on purpose the
+    report says so, and flags the parameters. With the default
     prior the same level predicts the held-out configurations better than base and tool."""
     nominal, m = load("tiago")
-    cal = calibrate(nominal, m, holdout=0.3, seed=0, level="full", prior="none")
+    with pytest.raises(Implausible) as e:  # worse than the nominal: never written unasked
+        calibrate(nominal, m, holdout=0.3, seed=0, level="full", prior="none")
+    assert "worse-than-before" in e.value.causes and e.value.remedy is not None
+    assert e.value.remedy.argument == "level" and e.value.remedy.value == "geometry"
+    cal = calibrate(nominal, m, holdout=0.3, seed=0, level="full", prior="none", accept=True)
+    assert any(w.startswith("accepted all the same: the full model") for w in cal.warnings)
     held = cal.comparison("held_out")
     assert held is not None and held.after.rms_position > 2 * held.before.rms_position
     assert any("more than noise explains" in w for w in cal.warnings)

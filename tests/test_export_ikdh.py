@@ -128,9 +128,17 @@ def test_exact_multiples_of_pi_are_written_as_ikdh_reads_them(tmp_path):
 
 def test_reversed_limits_are_refused_as_ikdh_would_return_nothing(tmp_path):
     """ikdh's own file of the Comau Smart5 NJ 210-3.1 SH gives joint 3 [-21.3, -288] degrees,
-    and ikdh solves nothing with it: the export refuses such a joint, naming it."""
+    and ikdh solves nothing with it: the export refuses such a joint, naming it. (Written as a
+    URDF, the limit is read as the range between, with a warning: the reversed limits reach the
+    export from a model made in Python.)"""
+    from dataclasses import replace
+
     path = next(p for p in ikdh_robots() if p.stem == "comau_smart5_nj_210_3_1_sh")
     urdf = tmp_path / "comau.urdf"
     urdf.write_text(dh_urdf(path))
+    model = load(str(urdf))
+    assert any(w.startswith("joint 'j3': its <limit> has lower -0.371755") for w in model.warnings)
+    joints = list(model.joints)
+    joints[2] = replace(joints[2], lower=joints[2].upper, upper=joints[2].lower)
     with pytest.raises(ExportError, match=r"ikdh: joint 'j3' has its lower limit -0\.371755 above"):
-        export(load(str(urdf)), "ikdh")
+        export(replace(model, joints=tuple(joints)), "ikdh")

@@ -63,8 +63,8 @@ def test_every_command_runs_on_what_the_one_install_brings(tmp_path):
     lines += [
         "urdf2dh plot panda -o panda.png",  # the README's picture
         "urdf2dh plot panda -o panda.html",
-        "urdf2dh calibrate puma560-nominal m.csv --identify offsets -o id.yaml --plot cal.html",
-        "urdf2dh calibrate puma560-nominal m.csv --identify offsets -o id.json --plot cal.png",
+        "urdf2dh calibrate puma560-nominal m.csv --helical all -o id.yaml --plot cal.html",
+        "urdf2dh calibrate puma560-nominal m.csv --helical all -o id.json --plot cal.png",
     ]
     proc = subprocess.run(
         [sys.executable, "-c", RUN, json.dumps(lines)],

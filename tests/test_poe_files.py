@@ -117,6 +117,10 @@ def test_tool_matrix_and_bad_tools():
             poe([], tool={"matrix": [[1, 0.1, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]}),
             "t.yaml",
         )
+    mirrored = [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, -1, 0], [0, 0, 0, 1]]
+    with pytest.raises(InputError, match=r"tool matrix: the 3x3 block is a reflection "
+                       r"\(determinant -1\), not a rotation"):  # fmt: skip
+        read_poe(poe([], tool={"matrix": mirrored}), "t.yaml")
     with pytest.raises(InputError, match="either 'twist' or 'matrix'"):
         read_poe(poe([], tool={"twist": [0] * 6, "matrix": rounded}), "t.yaml")
 

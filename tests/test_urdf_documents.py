@@ -125,13 +125,24 @@ def test_text_checks_know_byte_order_marks():
         check_text(b"\x00\x01", "f", "XML")
 
 
-def test_a_link_yourdfpy_cannot_read_is_named(tmp_path, capsys):
-    data = (
-        b'<robot name="r"><link name="a"><visual><geometry><box/></geometry></visual>'
-        b"</link></robot>"
-    )  # a box without size: urdfdom refuses it too
-    with pytest.raises(InputError, match=r"^f: link 'a': yourdfpy cannot read it \(KeyError"):
-        parse_tree(data, "f")
+@pytest.mark.parametrize(
+    "inside",
+    [
+        "<visual><geometry><box/></geometry></visual>",  # a box without size
+        '<visual><origin xyz="a"/><geometry><sphere radius="1"/></geometry></visual>',
+        '<inertial><origin rpy="1e999 0 0"/><mass value="1"/></inertial>',
+        '<inertial><origin xyz="inf 0 0"/><mass value="x"/></inertial>',
+        "<collision/>",
+    ],
+)
+def test_what_a_link_holds_is_not_read_as_urdfdom_reads_it_not(inside):
+    """urdfdom keeps a link whatever its visual, inertial and collision elements hold, and so
+    Pinocchio loads the file; urdf2dh reads the same file, with no numpy warning."""
+    data = BODY.replace('<link name="base"/>', f'<link name="base">{inside}</link>')
+    pin.buildModelFromXML(data)  # Pinocchio reads it: so must we
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert parse_tree(data.encode(), "f").root == "base"
 
 
 def test_names_with_line_breaks_and_quotes_stay_on_one_line(tmp_path, capsys):
@@ -167,33 +178,20 @@ def test_urdf_joint_is_a_frozen_slotted_value():
         UrdfJoint("j", "fixed", "a", "b", np.eye(3), axis, None, None, None)
 
 
-def test_what_pinocchio_refuses_is_one_line_with_urdfdoms_reason(tmp_path, capfd):
-    """urdfdom prints several lines to file descriptor 2 for a fault; verify says one."""
-    path = tmp_path / "e.urdf"
-    path.write_text(
-        BODY.replace('effort="1" velocity="1"/></joint></robot>', 'velocity="1"/></joint></robot>')
-    )
-    assert main(["convert", str(path), "-o", str(tmp_path / "t.json")]) == 0  # we need no effort
-    capfd.readouterr()
-    assert main(["verify", str(path)]) == 2
-    captured = capfd.readouterr()
-    assert captured.err == (
-        f"urdf2dh: error: {path}: Pinocchio cannot load it (urdfdom: joint [k]: limit has no "
-        "effort)\n"
-    )
+def test_what_pinocchio_refuses_is_one_line_with_urdfdoms_reason(capfd):
+    """urdfdom prints several lines to file descriptor 2 for a fault; verify says one. (urdf2dh
+    refuses what urdfdom refuses, so the text handed to Pinocchio is changed here after the
+    check, as a difference between the two readers not yet known would be.)"""
+    from urdf2dh import verify
+    from urdf2dh.io.sources import open_source
 
-
-@pytest.mark.parametrize("origin", ['rpy="1e999 0 0"', 'xyz="inf 0 0"'])
-def test_a_link_origin_yourdfpy_cannot_compute_is_named_not_warned(origin, tmp_path, capsys):
-    """The strict check reads joints; a link's visual or inertial origin that yourdfpy's matrix
-    code cannot compute (urdfdom refuses it too) names the link, with no numpy warning."""
-    data = BODY.replace(
-        '<link name="base"/>',
-        f'<link name="base"><inertial><origin {origin}/><mass value="1"/></inertial></link>',
-    ).encode()
-    with warnings.catch_warnings():
-        warnings.simplefilter("error")
-        with pytest.raises(InputError, match=r"^f: link 'base': yourdfpy cannot read it \("):
-            parse_tree(data, "f")
-        tiny = data.replace(origin.encode(), b'rpy="1e-300 1e-300 1e-160" xyz="5e-324 0 0"')
-        assert parse_tree(tiny, "f").root == "base"  # underflow is no fault
+    source = open_source("ur5")
+    text = source.document.replace(b'effort="150.0" ', b"", 1)
+    assert text != source.document
+    with pytest.raises(InputError) as e:
+        verify(dataclasses.replace(source, document=text), samples=5)
+    assert str(e.value) == (
+        "ur5_robot.urdf: Pinocchio cannot load it (urdfdom: joint [shoulder_pan_joint]: limit "
+        "has no effort)"
+    )
+    assert capfd.readouterr().err == ""

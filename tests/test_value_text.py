@@ -26,8 +26,8 @@ def values():
         "info": urdf2dh.info("ur5"),
         "measurements": measurements,
         "plan": urdf2dh.plan(model, 8),
-        "calibration": urdf2dh.calibrate(
-            urdf2dh.load("puma560-nominal"), measurements, level="offsets"
+        "calibration": urdf2dh.calibrate(  # the actual PUMA's joints are helical
+            urdf2dh.load("puma560-nominal"), measurements, level="full", helical=("all",)
         ),
     }
 

@@ -98,15 +98,26 @@ def test_pinocchio_s_parser_gets_a_stack_of_its_own(tmp_path):
     assert code == 0, err
 
 
-def test_a_urdf_beyond_the_bound_is_refused_in_one_line(tmp_path, capsys):
+def test_a_urdf_beyond_the_bound_is_refused_in_one_line(tmp_path, capsys, monkeypatch):
+    """... as soon as its joint elements are counted: nothing is built of them (no element is
+    checked, yourdfpy reads none), by the command and by the Python API."""
+    from urdf2dh.io.urdf import parse
+
+    def built(*args):
+        raise AssertionError("the tree was built before the bound was checked")
+
+    monkeypatch.setattr(parse, "check_robot", built)
     path = _chain_file(tmp_path, VERIFY_JOINTS)  # plus its fixed tool joint: one too many
     assert main(["verify", str(path)]) == 2
     err = capsys.readouterr().err
-    assert err == (
-        f"urdf2dh: error: {path}: the URDF has {VERIFY_JOINTS + 1:,} joints; verify checks at "
-        f"most {VERIFY_JOINTS:,} (Pinocchio's model of more takes minutes and gigabytes to "
-        "build)\n"
+    message = (
+        f"{path}: the URDF has {VERIFY_JOINTS + 1:,} joints; verify checks at most "
+        f"{VERIFY_JOINTS:,} (Pinocchio's model of more takes minutes and gigabytes to build)"
     )
+    assert err == f"urdf2dh: error: {message}\n"
+    with pytest.raises(urdf2dh.errors.InputError) as e:
+        urdf2dh.verify(path)
+    assert str(e.value) == message
 
 
 def test_a_poe_chain_beyond_the_bound_is_refused_naming_it():

@@ -177,8 +177,9 @@ def test_a_huge_name_is_shortened(tmp_path):
     source.write_text(
         f'<robot name="{"r" * 100}"><link name="base"/><link name="l1"/><link name="l2"/>'
         f'<joint name="{html.escape(name)}" type="revolute"><parent link="base"/>'
-        '<child link="l1"/><axis xyz="0 0 1"/><origin xyz="0 0 0.1"/></joint>'
-        '<joint name="j2" type="revolute"><parent link="l1"/><child link="l2"/>'
+        '<child link="l1"/><axis xyz="0 0 1"/><origin xyz="0 0 0.1"/>'
+        '<limit lower="-1" upper="1" effort="1" velocity="1"/></joint>'
+        '<joint name="j2" type="continuous"><parent link="l1"/><child link="l2"/>'
         '<axis xyz="0 1 0"/><origin xyz="0 0 0.3"/></joint></robot>',
         encoding="utf-8",
     )

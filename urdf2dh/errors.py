@@ -20,7 +20,9 @@ __all__ = [
     "ChainError",
     "ConversionError",
     "ExportError",
+    "Implausible",
     "InputError",
+    "NotConverged",
     "OracleError",
     "Remedy",
     "SourceError",
@@ -57,13 +59,17 @@ class Remedy:
 
 class Urdf2DhError(Exception):
     """Root of all urdf2dh errors. ``exit_code`` is what the CLI returns (2;
-    docs/commands/index.md); ``remedy`` (or ``None``) the argument that gets past it."""
+    docs/commands/index.md); ``remedy`` (or ``None``) the argument that gets past it, ``also``
+    further ones, said after it."""
 
     exit_code = 2
 
-    def __init__(self, *args: object, remedy: Remedy | None = None) -> None:
+    def __init__(
+        self, *args: object, remedy: Remedy | None = None, also: tuple[Remedy, ...] = ()
+    ) -> None:
         super().__init__(*args)
         self.remedy = remedy
+        self.also = also
 
 
 class UsageError(Urdf2DhError, ValueError):
@@ -89,6 +95,35 @@ class TableFileError(InputError):
 
 class ExportError(InputError):
     """A chain that an export target cannot carry; the message names the target and says why."""
+
+
+class Implausible(Urdf2DhError):
+    """A calibration the measurements contradict (exit 3; nothing is written): a file read
+    with the wrong units or orders, a noise level the residuals refute, a model that misses
+    what the measurements show. ``causes`` names each finding (``length-unit``,
+    ``joint-degrees``, ``noise-under-stated``, ...: :data:`urdf2dh.calibration.plausible.KINDS`);
+    ``result`` is the rejected calibration, where there is one (``accept=True`` returns it with
+    the findings among its warnings)."""
+
+    exit_code = 3
+
+    def __init__(
+        self,
+        *args: object,
+        causes: tuple[str, ...] = (),
+        result: object | None = None,
+        remedy: Remedy | None = None,
+        also: tuple[Remedy, ...] = (),
+    ) -> None:
+        super().__init__(*args, remedy=remedy, also=also)
+        self.causes = causes
+        self.result = result
+
+
+class NotConverged(Urdf2DhError):
+    """A calibration's identification did not converge (exit 1; nothing is written)."""
+
+    exit_code = 1
 
 
 class OracleError(InputError):

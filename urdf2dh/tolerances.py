@@ -19,6 +19,7 @@ from dataclasses import dataclass, fields, replace
 
 __all__ = [
     "BARELY_MOVED",
+    "BEYOND_LIMITS",
     "BOUNDS",
     "CALIBRATION_COST",
     "CALIBRATION_GRADIENT",
@@ -32,6 +33,8 @@ __all__ = [
     "EXACT",
     "FILE_BYTES",
     "FK_ROUNDING",
+    "GROSS_POSITION",
+    "GROSS_ROTATION",
     "HASH_DECIMALS",
     "JOINTS",
     "JOINT_POSITIONS",
@@ -39,20 +42,31 @@ __all__ = [
     "LARGEST_NUMBER",
     "LARGEST_URDF_ANGLE",
     "LARGEST_URDF_NUMBER",
+    "LAYOUT_MISFIT",
     "MAPPING_DEPTH",
     "MAPPING_VALUES",
     "MAX_SAMPLES",
     "MAX_SEED",
     "MJCF_INCLUDES",
+    "NOISE_BALANCE",
     "NOISE_FLOOR",
+    "NOISE_MISMATCH",
+    "NOISE_OVER",
     "NOISE_RATIO",
     "OUTLIER_CHANCE",
     "OUTLIER_GAIN",
+    "OUTLIER_SHARE",
     "POORLY_IDENTIFIED",
+    "POSITION_ROTATION",
     "QUATERNION_NORM",
     "RANK_RELATIVE",
     "RIGID_INPUT",
+    "SCALE_FACTOR",
+    "SPREAD",
     "VERIFY_JOINTS",
+    "WORSE_CONFIGURATIONS",
+    "WORSE_RATIO",
+    "WORSE_THAN_BEFORE",
     "Tolerances",
 ]
 
@@ -151,6 +165,70 @@ OUTLIER_GAIN = 3.0
 # rotations the weights would otherwise drown every position below RANK_RELATIVE, and the
 # parameters only positions see would look undetermined. 1e-6 keeps them 1e4 above it.
 NOISE_RATIO = 1e-6
+
+# More outlier suspects than OUTLIER_SHARE of the fitted measurements are not outliers: the
+# noise levels are wrong (given too small) or the model misses something, and rejecting them
+# would leave the fit to the few that agree with a wrong noise. They are kept and the
+# plausibility judgement below names it. (The real data sets have at most 2.5%.)
+OUTLIER_SHARE = 0.2
+
+# The plausibility judgement of a calibration (urdf2dh/calibration/plausible.py): what the
+# measurements contradict. On the ten real data sets of benchmarks/calibration.py the largest
+# values seen are given in brackets; each threshold is several times beyond them and far below
+# what the mistakes it names produce.
+# - RMS position residual of the fit beyond GROSS_POSITION x the robot's size [0.011]: no
+#   measuring device is that poor; millimetres read as metres leave hundreds of robot sizes,
+#   joint angles in degrees read as radians about one.
+GROSS_POSITION = 0.1
+# - RMS rotation residual beyond GROSS_ROTATION rad [0.035]: a quaternion in another order, a
+#   wrong rotation sequence or angles in another unit leave about 1 rad.
+GROSS_ROTATION = 0.2
+# - A residual level (RMS per coordinate) more than NOISE_MISMATCH times the noise given: the
+#   noise is under-stated, or the model misses something (real robots leave residuals a few
+#   times a tracker's noise: unmodelled compliance and backlash); or less than 1 / NOISE_OVER
+#   times it, over the fit's redundancy (sqrt(m / (m - p)) for m equations and p parameters):
+#   over-stated, the noise weighs the prior's nominal geometry over the measurements and the
+#   residuals grow toward it (30 times over-stated left 0.12 times it, a model ten times less
+#   accurate).
+NOISE_MISMATCH = 10.0
+NOISE_OVER = 3.0
+# - Noise levels given for poses whose ratio (position against rotation) is more than
+#   NOISE_BALANCE times, or less than its inverse, the residuals' ratio: the fit weighs one kind
+#   that much too much (a position noise 11 times over-stated with a rotation noise 2 times
+#   under-stated left a model 3.7 times less accurate).
+NOISE_BALANCE = 5.0
+# - Estimated noise levels of poses whose position residuals (the median) exceed POSITION_ROTATION
+#   x the rotation residuals (the median) at the robot's size [0.35]: a device measures an
+#   orientation from points a baseline apart, so its rotations are never that much finer than
+#   its positions; the positions carry the model's error (a helical joint taken for a revolute
+#   one: 1.2e3 on the PUMA of Wu 2019). It is refused where helical joints explain the positions,
+#   and said where they do not (the device's own position noise, maybe).
+POSITION_ROTATION = 10.0
+# - Measured points that spread more than SPREAD times as far as the nominal's tool points at the
+#   same configurations, or less than 1 / SPREAD times [1.1], where the nominal joints with base
+#   and tool fitted leave gross residuals (GROSS_POSITION): another length unit (2.54 between
+#   inches and centimetres, at the least) or another robot.
+SPREAD = 2.0
+# - A joint identified with a scale beyond SCALE_FACTOR times the nominal's or below its
+#   inverse [1.002 with the default prior; up to 8.1 overfitted without one]: joint values in
+#   another unit (57 between degrees and radians); or negative: a joint counted the other way.
+SCALE_FACTOR = 10.0
+# - A calibrated model that predicts configurations it was not fitted to (held out, validation,
+#   or each left out of the fit in turn) worse than the nominal joints with base and tool
+#   fitted, by more than WORSE_THAN_BEFORE standard errors of the paired per-configuration
+#   differences, or WORSE_RATIO times in RMS over WORSE_CONFIGURATIONS configurations or more
+#   [the defaults are never worse; explicit levels at most 1.14 times]: a level the
+#   measurements do not support (the TIAGo's full level without a prior: 5.3 times held out).
+WORSE_THAN_BEFORE = 3.0
+WORSE_RATIO = 2.0
+WORSE_CONFIGURATIONS = 5
+# - Markers whose identified positions on the tool miss the layout given (after the best rigid
+#   fit) by more than LAYOUT_MISFIT x the layout's spread [7e-5 on the TIAGo's three markers]:
+#   markers numbered otherwise, or a layout in another unit.
+LAYOUT_MISFIT = 0.1
+# - Joint values beyond their limits by more than BEYOND_LIMITS rad (a revolute joint) are
+#   named (a warning; the judgement above decides whether they are degrees).
+BEYOND_LIMITS = 0.5
 
 # ----------------------------------------------------------------------------- bounds on input
 # Set from measurements (benchmarks/scale.py): ``convert`` takes about 0.5 ms and 8 kB per joint

@@ -20,30 +20,36 @@
 6. The output table: the convention asked for, or the first of ``dh`` and ``hayati`` that is
    exact and sane (no tolerance judgement, no ``|d|`` or ``|a|`` beyond ``far_factor`` x size;
    ``hayati`` always is), as ``convert`` would write it, with the reason; and its ``diff``
-   against the nominal.
+   against the nominal. Every figure in the measurements' length unit (:mod:`.userunits`).
+7. The judgement: whether the measurements contradict the result (:mod:`.plausible`), and then
+   its likely cause (:mod:`.diagnosis`).
 
-Nothing is returned unless the final fit converged and the table passed its self-check.
+Nothing is returned unless the final fit converged, the table passed its self-check and the
+measurements do not contradict it (or ``accept`` says to return it all the same). Outlier
+suspects are not rejected when they are more than
+:data:`~urdf2dh.tolerances.OUTLIER_SHARE` of the measurements or would leave too few equations:
+the judgement names them.
 """
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field, replace
 
 import numpy as np
 from numpy.typing import NDArray
 
 from ..check.diff import Diff
-from ..checks import check_count, check_instance, check_seed
+from ..checks import check_count, check_flag, check_instance, check_seed
 from ..conventions.table import Table
-from ..errors import InputError, Urdf2DhError, UsageError, choices, shown
+from ..errors import InputError, NotConverged, UsageError, choices, shown
 from ..escape import markdown_table, markdown_text
 from ..model.poe import PoeModel
 from ..schemas import CALIBRATION_REPORT
-from ..tolerances import DEFAULT, Tolerances
-from .chart import LEVELS, Estimate, absorbed, count
+from ..tolerances import DEFAULT, OUTLIER_SHARE, Tolerances
+from .chart import LEVELS, count
 from .identifiable import check_patterns
 from .identify import (
+    Fit,
     check_equations,
     fit_before,
     has_prior,
@@ -51,13 +57,14 @@ from .identify import (
     level_start,
     with_statistics,
 )
-from .measurements import MAX_MEASUREMENTS, Measurements
+from .measurements import MAX_MEASUREMENTS, Measurements, check_noise
 from .outliers import Suspect, rejecting_helps, suspects
+from .plausible import judged, unconverged
 from .prior import AUTO as AUTO_PRIOR
 from .prior import Prior
-from .residuals import evaluate
 from .select import Selection, cross_validate
 from .start import MAX_ITERATIONS, FitOptions, to_data
+from .userunits import UserUnits
 
 __all__ = [
     "AUTO",
@@ -88,12 +95,6 @@ MAX_JOINT_TURN = 1e4  # rad
 MAX_EXTENT = 1e4  # x the robot's size (points, sliding joints)
 
 MEASUREMENTS_HINT = "urdf2dh.measure(model, N) makes some"
-
-
-class NotConverged(Urdf2DhError):
-    """The identification did not converge (exit 1; nothing is written)."""
-
-    exit_code = 1
 
 
 @dataclass(frozen=True, slots=True)
@@ -242,6 +243,8 @@ class Calibration:
         Counts and noise levels.
     condition_number, iterations, converged
         Of the final fit.
+    formula, in_words
+        The level's parameter count as a formula (Wu 2019 eq. 23 for ``full``) and in words.
     comparisons
         Before and after on each set (fit, held out, validation).
     parameters
@@ -266,6 +269,11 @@ class Calibration:
         The ``diff`` of the nominal and the identified model (``urdf2dh diff``'s).
     warnings
         Everything worth a person's attention.
+    units
+        The length unit of every figure above (residuals, noise, parameters, suspects, the
+        levels' scores, ``base_in_device``, ``markers_on_tool``): the measurements' own
+        (:mod:`.userunits`); ``nominal``, ``model``, ``device_model``, ``table`` and ``diff``
+        keep the nominal's.
     """
 
     nominal: PoeModel
@@ -283,6 +291,7 @@ class Calibration:
     iterations: int
     converged: bool
     formula: str
+    in_words: str
     comparisons: tuple[Comparison, ...]
     parameters: tuple[Parameter, ...]
     held: tuple[Held, ...]
@@ -296,6 +305,7 @@ class Calibration:
     convention_reason: str | None
     diff: Diff
     warnings: tuple[str, ...]
+    units: UserUnits
     rows: tuple[int, ...] = field(default=(), repr=False)  # fitted rows' numbers in the file
     schema: str = SCHEMA
 
@@ -320,7 +330,7 @@ class Calibration:
     def _repr_markdown_(self) -> str:
         """In a notebook: the residuals before and after on each set, and the identified
         parameters, as tables (names escaped)."""
-        t, unit = markdown_text, markdown_text(self.model.length_unit)
+        t, unit = markdown_text, markdown_text(self.units.length)
         c = self.counts
         out = [
             f"**{t(self.nominal.name)}** calibrated at level {self.level} ({self.chosen_by}) "
@@ -385,27 +395,6 @@ def check_measurements(nominal: PoeModel, m: Measurements, what: str = "") -> No
             )
 
 
-def check_noise(noise_pos: float | None, noise_rot: float | None, size: float, unit: str) -> None:
-    """Refuse a noise level that is not a number > 0, or that is as large as the robot (or a
-    radian): no measurement is exact, and one that noisy tells nothing."""
-    for what, value, bound, bound_text in (
-        ("position", noise_pos, size, f"the robot's size ({size:.3g} {unit})"),
-        ("rotation", noise_rot, 1.0, "1 rad"),
-    ):
-        if value is None:
-            continue
-        if not (math.isfinite(value) and value > 0.0):
-            raise InputError(
-                f"the {what} noise must be a number > 0 (measurements are never exact), "
-                f"not {value:g}"
-            )
-        if value >= bound:
-            raise InputError(
-                f"a {what} noise of {value:g} is not below {bound_text}: such measurements "
-                "tell nothing about the robot"
-            )
-
-
 def _check_markers(m: Measurements, pose: bool, layout: dict[int, Mat] | None) -> None:
     ids = m.marker_ids()
     if pose or layout is None:
@@ -465,6 +454,7 @@ def calibrate(
     tol: Tolerances = DEFAULT,
     max_iterations: int = MAX_ITERATIONS,
     check_samples: int | None = None,
+    accept: bool = False,
 ) -> Calibration:
     """Identify ``nominal``'s parameters from ``measurements`` (module docstring).
 
@@ -491,7 +481,9 @@ def calibrate(
         (``None``), or ``folds`` seeded folds of them; the ``simplest`` level within one
         standard error of the best, or the ``best``.
     noise_pos, noise_rot
-        Noise levels that weigh the residuals (default: estimated).
+        Noise levels that weigh the residuals, per coordinate (default: estimated): positions
+        in the measurements' length unit (``Measurements.length_unit``: the file's, where it
+        was read with ``Reading.length_unit``; else the nominal's), rotations in rad.
     helical
         Revolute joints whose pitch is identified too (``("all",)`` for all).
     keep_scale, keep_tool_axis
@@ -499,7 +491,7 @@ def calibrate(
     frame
         ``device`` or ``nominal``: the frame of the output model.
     layout
-        The markers' positions on the tool.
+        The markers' positions on the tool (the measurements' length unit, as ``noise_pos``).
     reject
         The outlier suspects (:mod:`.outliers`): rejected (``True``), kept (``False``), or
         rejected when that predicts the other configurations better (``None``).
@@ -508,20 +500,28 @@ def calibrate(
         and D-H style.
     tol, max_iterations, check_samples
         Tolerances, iterations of one solve at most, configurations of the table's self-check.
+    accept
+        Return a calibration the measurements contradict (:mod:`.plausible`) all the same, its
+        findings among the warnings, instead of raising :class:`~urdf2dh.errors.Implausible`.
 
     Returns
     -------
     Calibration
+        Its figures (residuals, noise, parameters, ...) in the measurements' length unit.
 
     Raises
     ------
     InputError
         Inconsistent or impossible measurements, bad noise levels, too few measurements.
+    Implausible
+        The measurements contradict the calibration (exit 3): the cause the data point to and
+        the argument that fixes it are named (:mod:`.plausible`, :mod:`.diagnosis`).
     NotConverged
         The final fit did not converge (exit 1).
     ConversionError
         The output table failed its self-check (exit 1).
     """
+    import scipy.linalg  # noqa: F401  (loaded before the limit below, so that it holds for it)
     from threadpoolctl import threadpool_limits
 
     check_instance(nominal, PoeModel, "calibrate: nominal", "urdf2dh.load(SOURCE) reads one")
@@ -532,6 +532,7 @@ def calibrate(
     if folds is not None:
         check_count(folds, "calibrate: folds", 2)
     check_count(max_iterations, "calibrate: max_iterations")
+    check_flag(accept, "calibrate: accept")
     check_instance(level, str, "calibrate: level")
     if level != AUTO and level not in LEVELS:
         raise UsageError(f"unknown level {level!r}; valid: {choices((AUTO, *LEVELS))}")
@@ -557,7 +558,8 @@ def calibrate(
     if validation is not None:
         check_measurements(nominal, validation, "the validation set")
         _check_markers(validation, pose, layout)
-    check_noise(noise_pos, noise_rot if pose else None, size, nominal.length_unit)
+    user = UserUnits.of(nominal.length_unit, m)
+    check_noise(noise_pos, noise_rot if pose else None, user.shown(size), user.length)
     _check_markers(m, pose, layout)
     if not 0.0 <= holdout < 1.0:
         raise UsageError(f"the held-out fraction must be in [0, 1), not {holdout}")
@@ -570,16 +572,17 @@ def calibrate(
         keep_scale=keep_scale,
         keep_tool_axis=keep_tool_axis,
         frame=frame,
-        noise_pos=noise_pos,
+        noise_pos=user.to_model(noise_pos),
         noise_rot=noise_rot if pose else None,
-        layout=layout,
+        layout=None if layout is None else {k: user.to_model_array(v) for k, v in layout.items()},
         max_iterations=max_iterations,
         tol=tol,
     )
+    asked = _Asked(user, noise_pos, noise_rot if pose else None, accept)
     with threadpool_limits(1, "blas"):  # small matrices: BLAS threads only cost wake-ups
         return _calibrate(
             nominal, m, opts, level, holdout, validation, seed, folds, rule, reject,
-            convention, style, tol, check_samples,
+            convention, style, tol, check_samples, asked,
         )  # fmt: skip
 
 
@@ -590,6 +593,16 @@ def _levels(identify_level: str, opts: FitOptions) -> tuple[str, ...]:
     if opts.keep_scale:  # full without scales is geometry
         levels = tuple(lv for lv in levels if lv != "full")
     return levels
+
+
+@dataclass(frozen=True, slots=True)
+class _Asked:
+    """What the user stated, in the user's units, and whether a contradicted fit is accepted."""
+
+    units: UserUnits
+    noise_pos: float | None
+    noise_rot: float | None
+    accept: bool
 
 
 def _calibrate(
@@ -607,19 +620,20 @@ def _calibrate(
     style: str,
     tol: Tolerances,
     check_samples: int | None,
+    asked: _Asked,
 ) -> Calibration:
     ids = sorted(set(m.marker_ids()) | set(validation.marker_ids() if validation else []))
     fit_rows, held_rows = holdout_split(m, holdout, seed)
+    if not len(fit_rows):
+        raise InputError(
+            f"{m.source}: holding out {holdout:g} of its {m.configurations()[1]} configurations "
+            "leaves none to fit; hold out less, or measure more configurations"
+        )
     fit, held = m.subset(fit_rows), m.subset(held_rows)
     levels = _levels(identify_level, opts)
     start, before = fit_before(nominal, fit, opts, ids)
     if not before.solution.converged:
-        raise NotConverged(
-            f"{m.source}: the fit of the base and tool did not converge in "
-            f"{before.solution.iterations} iterations (RMS position residual "
-            f"{_rms(before.solution.estimate, fit, opts.pose, ids):.3g} {nominal.length_unit});"
-            " nothing written"
-        )
+        raise unconverged(nominal, fit, opts, ids, "the fit of the base and tool", before.solution)
     if identify_level != AUTO:  # fewer equations than its parameters: say so now
         est, _, _ = level_start(nominal, before.solution.estimate, opts, ids)
         if not has_prior(est, opts):
@@ -641,7 +655,15 @@ def _calibrate(
         replace(s, row=int(fit_rows[s.row])) for s in suspects(fit, fits[level], opts.pose, ids)
     ]
     rejected, note = False, ""
-    if found and reject is not False:
+    user = asked.units
+    if found and reject is not False and not _rejectable(found, fit, fits[level], opts):
+        note = (
+            f"kept: {len(found)} of {len(fit)} are too many to be outliers (the noise or the "
+            "model is wrong)"
+            if len(found) > OUTLIER_SHARE * len(fit)
+            else "kept: without them too few measurements would be left to identify the level"
+        )
+    elif found and reject is not False:
         kept_rows = np.setdiff1d(fit_rows, [s.row for s in found])
         fit2 = m.subset(kept_rows)
         start2, before2 = fit_before(nominal, fit2, opts, ids)
@@ -655,15 +677,17 @@ def _calibrate(
             (selection, level),
             (selection2, level2 or ""),
         )
-        unit = nominal.length_unit
-        figures = f"left-out RMS position {without_rms:.3g} against {with_rms:.3g} {unit}"
+        figures = (
+            f"left-out RMS position {user.shown(without_rms):.3g} against "
+            f"{user.shown(with_rms):.3g} {user.length}"
+        )
         if reject is None and not helps:
             note = (
                 "kept: the other configurations are predicted no better without them "
                 f"({figures}); a wrong measurement, or the model's error at an unusual "
                 "configuration"
             )
-        elif level2 is not None and level2 in fits2:
+        elif level2 is not None and level2 in fits2 and before2.solution.converged:
             rejected = True
             note = (
                 "as asked"
@@ -678,14 +702,10 @@ def _calibrate(
         )
     result = identify(nominal, fit, replace(opts, level=level), ids, (start, before), fits[level])
     if not result.solution.converged:
-        raise NotConverged(
-            f"{m.source}: the identification did not converge in {result.solution.iterations} "
-            f"iterations (RMS position residual {_rms(result.estimate, fit, opts.pose, ids):.3g} "
-            f"{nominal.length_unit}); nothing written"
-        )
+        raise unconverged(nominal, fit, opts, ids, "the identification", result.solution)
     from .report import assemble
 
-    return assemble(
+    cal = assemble(
         nominal,
         m,
         fit,
@@ -707,11 +727,20 @@ def _calibrate(
         style,
         tol,
         check_samples,
+        user,
     )
+    return judged(
+        cal, nominal, fit, replace(opts, level=level), ids, result,
+        (asked.noise_pos, asked.noise_rot), asked.accept,
+    )  # fmt: skip
 
 
-def _rms(est: Estimate, m: Measurements, pose: bool, ids: list[int]) -> float:
-    data = to_data(m, pose, ids)
-    r, _ = evaluate(absorbed(est), data, 1.0, 1.0, jacobian=False)
-    rows = r.reshape(len(data), data.rows)
-    return float(np.sqrt(np.mean(np.sum(rows[:, :3] ** 2, axis=1))))
+def _rejectable(found: list[Suspect], fit: Measurements, level_fit: Fit, opts: FitOptions) -> bool:
+    """Whether the suspects may be rejected: not more than
+    :data:`~urdf2dh.tolerances.OUTLIER_SHARE` of the measurements (then the noise or the model
+    is wrong, not they), and leaving as many equations as the level has parameters."""
+    if len(found) > OUTLIER_SHARE * len(fit):
+        return False
+    rows = 6 if opts.pose else 3
+    left = (len(fit) - len(found)) * rows
+    return left >= count(level_fit.solution.estimate) and len(fit) - len(found) >= 2

@@ -64,7 +64,9 @@ __all__ = [
     "BASE_TOOL",
     "FULL",
     "GEOMETRY",
+    "HIGHER",
     "LEVELS",
+    "LOWER",
     "OFFSETS",
     "Chain",
     "Estimate",
@@ -100,6 +102,8 @@ OFFSETS = Level("offsets", base=True, lines=False, offsets=True, scales=False)
 GEOMETRY = Level("geometry", base=False, lines=True, offsets=False, scales=False)
 FULL = Level("full", base=False, lines=True, offsets=False, scales=True)
 LEVELS = {lv.name: lv for lv in (BASE_TOOL, OFFSETS, GEOMETRY, FULL)}
+LOWER = dict(zip(list(LEVELS)[1:], list(LEVELS)[:-1], strict=True))  # each level's simpler one
+HIGHER = {low: high for high, low in LOWER.items()}  # ... and its richer one
 
 
 def normal_basis(u: Mat) -> tuple[Mat, Mat]:

@@ -170,8 +170,8 @@ def _given_noise(opts: FitOptions, size: float, notes: list[str]) -> tuple[float
         )
     if opts.pose and sp > opts.noise_pos:
         notes.append(
-            f"the position noise given ({opts.noise_pos:.3g}) would weigh positions over "
-            f"{1 / NOISE_RATIO:.0e} times rotations and drown them; weighted as {sp:.3g}"
+            f"the position noise given would weigh positions over {1 / NOISE_RATIO:.0e} times "
+            f"rotations and drown them; weighted as {sp / opts.noise_pos:.3g} times it"
         )
     return sp, sr
 
@@ -301,6 +301,8 @@ def _solve_with_evidence(
         new_sp, new_sr = (found[0], found[1]) if opts.pose else (found[0], sr)
         if not given:
             new_sp, new_sr = bounded_noise(new_sp, new_sr, size)
+        else:  # as given (the search returns them through exp(log(.)))
+            new_sp, new_sr = sp, sr
         new_values = values.copy()
         new_values[present] = estimated
         floor = _DEVIATION_NEGLIGIBLE

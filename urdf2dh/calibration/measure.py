@@ -34,7 +34,7 @@ from ..geometry.se3 import twist_exp
 from ..model.poe import Joint, PoeModel
 from ..tolerances import MAX_MARKERS
 from .chart import line_motion
-from .measurements import MAX_MEASUREMENTS, Measurements
+from .measurements import MAX_MEASUREMENTS, Measurements, check_noise
 
 __all__ = ["MARKER_DISTANCE", "marker_layout", "measure", "perturb", "synthesize"]
 
@@ -93,7 +93,9 @@ def measure(
     Raises
     ------
     InputError
-        More than :data:`~.measurements.MAX_MEASUREMENTS` rows would be written.
+        More than :data:`~.measurements.MAX_MEASUREMENTS` rows would be written, or a noise
+        level no device has (as large as the robot, or a radian:
+        :func:`~.measurements.check_noise`).
     """
     check_instance(model, PoeModel, "measure: model", "urdf2dh.load(SOURCE) reads one")
     if configurations is None:
@@ -104,6 +106,7 @@ def measure(
     for value, where in ((noise_pos, "measure: noise_pos"), (noise_rot, "measure: noise_rot")):
         if check_real(value, where) < 0.0:
             raise ValueError(f"{where} must not be negative, not {value}")
+    check_noise(noise_pos, noise_rot, model.size(), model.length_unit, exact=True)
     check_seed(seed, "measure: seed")
     if markers is not None:
         check_count(markers, "measure: markers", 1, MAX_MARKERS)

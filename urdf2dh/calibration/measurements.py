@@ -52,6 +52,7 @@ from .. import units
 from ..errors import InputError, UsageError, choices, shown, visible
 from ..escape import csv_cell, csv_names, markdown_table, markdown_text, text_table
 from ..io.files import read_file
+from ..numerals import decimal, integer, read_decimal, why_not
 from ..tolerances import QUATERNION_NORM
 
 __all__ = [
@@ -59,8 +60,11 @@ __all__ = [
     "MAX_MEASUREMENTS",
     "POINT",
     "QUATERNION",
+    "AsRead",
     "Measurements",
     "Reading",
+    "check_noise",
+    "euler_quaternions",
     "read_configurations",
     "read_layout",
     "read_measurements",
@@ -134,6 +138,54 @@ class Reading:
             raise UsageError(f"two columns are renamed to {shown(twice)}")
 
 
+@dataclass(frozen=True, slots=True)
+class AsRead:
+    """How a file was read: the facts a diagnosis needs to read it differently
+    (:mod:`.diagnosis`), and the length unit its user works in.
+
+    Attributes
+    ----------
+    reading
+        The :class:`Reading` it was read with.
+    model_unit
+        The length unit its lengths were converted into (the nominal's), or ``None`` when they
+        were kept as the file holds them.
+    joint_columns
+        The file's header name read as each joint (the chain's order).
+    point_columns
+        The file's header names read as ``x, y, z`` (one point per row), else ``()``.
+    orientation_columns
+        The file's header names read as ``qx, qy, qz, qw``, or as the three angles (in the order
+        :attr:`Reading.euler` takes them), else ``()``.
+    angles
+        ``(N, 3)`` the three angle columns as the file holds them (rows as the measurements'),
+        or ``None``.
+    """
+
+    reading: Reading
+    model_unit: str | None
+    joint_columns: tuple[str, ...]
+    point_columns: tuple[str, ...] = ()
+    orientation_columns: tuple[str, ...] = ()
+    angles: Mat | None = None
+
+    @property
+    def length_unit(self) -> str | None:
+        """The file's length unit, when its lengths were converted from it (else ``None``)."""
+        if self.model_unit is None:
+            return None
+        return self.reading.length_unit
+
+    def subset(self, rows: NDArray[np.int64]) -> AsRead:
+        """The same, for the measurements at ``rows``."""
+        if self.angles is None:
+            return self
+        return AsRead(
+            self.reading, self.model_unit, self.joint_columns, self.point_columns,
+            self.orientation_columns, self.angles[rows],
+        )  # fmt: skip
+
+
 SHOWN_ROWS = 10  # the rows of measurements a notebook shows
 
 
@@ -159,6 +211,8 @@ class Measurements:
         Where the markers sit: marker -> ``(3,)`` point in the tool frame (length unit), when
         known (synthetic measurements: :func:`~.measure.measure`); ``None`` otherwise.
         :func:`~urdf2dh.calibrate` takes it as ``layout=`` to hold the markers there.
+    read_as
+        How they were read from a file (:func:`read_measurements`), or ``None``.
     """
 
     joints: tuple[str, ...]
@@ -168,6 +222,7 @@ class Measurements:
     markers: NDArray[np.int64] | None = None
     source: str = ""
     layout: dict[int, Mat] | None = None
+    read_as: AsRead | None = None
 
     def __post_init__(self) -> None:
         n = len(self.q)
@@ -180,6 +235,12 @@ class Measurements:
 
     def __len__(self) -> int:
         return len(self.q)
+
+    @property
+    def length_unit(self) -> str | None:
+        """The length unit of the file they were read from, when it was converted into the
+        nominal's (``Reading.length_unit``); ``None``: the nominal's."""
+        return None if self.read_as is None else self.read_as.length_unit
 
     def _repr_markdown_(self) -> str:
         """In a notebook: how many rows of what, and the first rows as a table (names
@@ -248,6 +309,7 @@ class Measurements:
             None if self.markers is None else self.markers[rows],
             self.source,
             self.layout,
+            None if self.read_as is None else self.read_as.subset(rows),
         )
 
     def of_configurations(self, chosen: NDArray[np.int64]) -> Measurements:
@@ -256,6 +318,32 @@ class Measurements:
         keep = np.zeros(count, dtype=bool)
         keep[chosen] = True
         return self.subset(np.flatnonzero(keep[index]))
+
+
+def check_noise(
+    noise_pos: float | None,
+    noise_rot: float | None,
+    size: float,
+    unit: str,
+    exact: bool = False,
+) -> None:
+    """Refuse a noise level that is not a number > 0 (>= 0 with ``exact``: synthetic
+    measurements may be exact), or that is as large as the robot (``size``, in ``unit``) or a
+    radian: no measurement is exact, and one that noisy tells nothing."""
+    for what, value, bound, bound_text in (
+        ("position", noise_pos, size, f"the robot's size ({size:.3g} {unit})"),
+        ("rotation", noise_rot, 1.0, "1 rad"),
+    ):
+        if value is None:
+            continue
+        if not (math.isfinite(value) and (value > 0.0 or (exact and value == 0.0))):
+            least = ">= 0" if exact else "> 0 (measurements are never exact)"
+            raise InputError(f"the {what} noise must be a number {least}, not {value:g}")
+        if value >= bound:
+            raise InputError(
+                f"a {what} noise of {value:g} is not below {bound_text}: such measurements "
+                "tell nothing about the robot"
+            )
 
 
 def _where(display: str, row: int, line: int, column: str | None = None) -> str:
@@ -401,18 +489,9 @@ def _rows(text: str) -> Iterator[tuple[int, list[str]]]:
 
 
 def _number(raw: list[str], k: int, name: str, where: str) -> float:
-    text_value = raw[k].strip()
-    try:
-        value = float(text_value)
-    except ValueError:
-        raise InputError(
-            f"{where}, column {shown(name)}: {shown(text_value)} is not a number"
-        ) from None
-    if not math.isfinite(value):
-        raise InputError(
-            f"{where}, column {shown(name)}: {shown(text_value)} is not a finite number"
-        )
-    return value
+    """The cell's number, by the one grammar of urdf2dh's files (:mod:`urdf2dh.numerals`);
+    spaces and tabs around it are allowed."""
+    return read_decimal(raw[k].strip(" \t"), f"{where}, column {shown(name)}")
 
 
 def _text(path: str | Path, display: str) -> str:
@@ -494,13 +573,10 @@ def read_measurements(
             orient = [_number(raw, k, shown_names[k], where) for k in layout.euler]
         mark = None
         if layout.marker is not None:
-            text_value = raw[layout.marker].strip()
-            try:
-                mark = int(text_value, 10)
-            except ValueError:
-                raise InputError(
-                    f"{where}, column 'marker': {shown(text_value)} is not an integer"
-                ) from None
+            text_value = raw[layout.marker].strip(" \t")
+            mark = integer(text_value)
+            if mark is None:
+                raise InputError(f"{where}, column 'marker': {shown(text_value)} is not an integer")
             if mark < 0:
                 raise InputError(f"{where}, column 'marker': {mark} is negative")
         for cols, marker in zip(layout.points, layout.point_ids, strict=True):
@@ -524,15 +600,22 @@ def read_measurements(
         for k, name in enumerate(joints):
             if name not in sliding:
                 q_all[:, k] = np.radians(q_all[:, k])
-    quats = None
+    quats, angles = None, None
+    orientation = layout.quaternion if layout.quaternion is not None else layout.euler
     if layout.quaternion is not None:
         quats = np.array(orient_rows, dtype=float)
         quats /= np.linalg.norm(quats, axis=1, keepdims=True)
     elif layout.euler is not None:
-        from scipy.spatial.transform import Rotation
-
         angles = np.array(orient_rows, dtype=float)
-        quats = Rotation.from_euler(reading.euler, angles, degrees=reading.degrees).as_quat()
+        quats = euler_quaternions(angles, reading.euler, reading.degrees)
+    read_as = AsRead(
+        reading,
+        length_unit,
+        tuple(fields[k] for k in layout.joints),
+        tuple(fields[k] for k in layout.points[0]) if len(layout.points) == 1 else (),
+        tuple(fields[k] for k in orientation) if orientation is not None else (),
+        angles,
+    )
     return Measurements(
         joints,
         q_all,
@@ -540,7 +623,17 @@ def read_measurements(
         quats,
         np.array(marks, dtype=np.int64) if marks else None,
         display,
+        read_as=read_as,
     )
+
+
+def euler_quaternions(angles: Mat, sequence: str, degrees: bool) -> Mat:
+    """``(N, 4)`` unit quaternions ``[x, y, z, w]`` of the angles ``(N, 3)`` in ``sequence``
+    (scipy's notation, :attr:`Reading.euler`)."""
+    from scipy.spatial.transform import Rotation
+
+    out: Mat = Rotation.from_euler(sequence, angles, degrees=degrees).as_quat()
+    return out
 
 
 def read_configurations(
@@ -627,20 +720,22 @@ def read_layout(path: str | Path, display: str | None = None) -> dict[int, Mat]:
         row, line = len(out) + 1, reader.line_num
         if len(raw) != 4:
             raise InputError(f"{_where(display, row, line)}: {len(raw)} fields, not 4")
-        try:
-            mark = int(raw[0].strip(), 10)
-        except ValueError:
+        mark = integer(raw[0].strip(" \t"))
+        if mark is None:
             raise InputError(
                 f"{_where(display, row, line, MARKER)}: {shown(raw[0].strip())} is not an integer"
-            ) from None
+            )
         if mark in out:
             raise InputError(f"{_where(display, row, line, MARKER)}: marker {mark} appears twice")
-        try:
-            xyz = np.array([float(v) for v in raw[1:]])
-        except ValueError:
-            raise InputError(f"{_where(display, row, line)}: x, y, z must be numbers") from None
-        if not np.all(np.isfinite(xyz)):
-            raise InputError(f"{_where(display, row, line)}: x, y, z must be finite")
+        values = [decimal(v.strip(" \t")) for v in raw[1:]]
+        if any(v is None for v in values):
+            bad = next(v for v in raw[1:] if decimal(v.strip(" \t")) is None)
+            reason = why_not(bad.strip(" \t"))
+            problem = "must be finite" if reason == "not finite" else "must be numbers"
+            raise InputError(
+                f"{_where(display, row, line)}: x, y, z {problem} ({shown(bad)}: {reason})"
+            )
+        xyz = np.array(values, dtype=float)
         out[mark] = xyz
         if len(out) > MAX_MEASUREMENTS:
             raise InputError(f"{display}: more than {MAX_MEASUREMENTS} markers")

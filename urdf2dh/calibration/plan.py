@@ -7,9 +7,15 @@ configurations are chosen one at a time to maximise the determinant of the infor
 ``J^T J`` (D-optimal design, greedily: Fedorov 1972, *Theory of Optimal Experiments*; the
 observability indices of Sun & Hollerbach 2008 rank designs alike), which minimises the volume of
 the parameters' confidence ellipsoid. With ``A`` the information so far, a candidate's rows
-``J_c`` raise ``log det A`` by ``log det(I + J_c A^-1 J_c^T)``, evaluated for all candidates at
-once; ``A`` starts as a small multiple of the identity (columns scaled to unit norm over the
-candidates) so that the first choices, fewer than the parameters, are ranked too.
+``J_c`` raise ``log det A`` by ``log det(I + J_c A^-1 J_c^T)``. Beyond a small plan each step
+weighs a seeded draw of the candidates left (stochastic greedy, :func:`_greedy`), so that the
+time grows linearly with the configurations asked for (and the candidates, 20 per
+configuration). ``A`` starts as a small multiple of the identity (columns scaled to unit norm
+over the candidates) so that the first choices, fewer than the parameters, are ranked too.
+
+Fewer configurations than give one equation per parameter (6 per pose, 3 per marker) are
+refused, naming the least; so are configurations that leave parameters undetermined, naming how
+many the greedy choice needs to determine them all (:func:`minimum`).
 
 The expected standard deviation of each parameter at the given noise is
 ``sqrt(diag((J^T J)^-1))`` over the chosen configurations (the linearised Gauss-Markov
@@ -34,14 +40,28 @@ from .identifiable import redundant
 from .measure import marker_layout
 from .residuals import Data, evaluate, prefix_products
 
-__all__ = ["DEFAULT_NOISE_POS_M", "DEFAULT_NOISE_ROT", "Plan", "plan"]
+__all__ = [
+    "DEFAULT_NOISE_POS_M",
+    "DEFAULT_NOISE_ROT",
+    "MAX_CANDIDATES",
+    "MAX_CONFIGURATIONS",
+    "SAMPLED",
+    "WHOLE",
+    "Plan",
+    "minimum",
+    "plan",
+]
 
 Mat = NDArray[np.float64]
 
 DEFAULT_NOISE_POS_M = 1e-4  # m: a laser tracker or a good camera, per coordinate
 DEFAULT_NOISE_ROT = 1e-4  # rad
 CANDIDATES_PER_CONFIGURATION = 20  # random candidates drawn per configuration chosen
-MAX_CANDIDATES = 20_000
+MAX_CANDIDATES = 20_000  # candidates drawn, or read from a file, at most
+MAX_CONFIGURATIONS = 10_000  # configurations planned at most (a few hundred identify a robot)
+SAMPLED = 100  # candidates weighed at each step of the greedy choice, at least
+_SHORTFALL = 0.01  # ... and candidates / configurations x ln(1 / this) (Mirzasoleiman 2015)
+WHOLE = 200_000  # every candidate weighed at every step up to this many weighings (~1 s)
 _RIDGE = 1e-6  # the information's start, x the identity (unit columns)
 
 
@@ -214,25 +234,84 @@ def _std(rows: Mat) -> Mat:
     return out
 
 
-def _greedy(rows: Mat, count: int) -> list[int]:
-    """D-optimal greedy choice of ``count`` candidates (module docstring)."""
+def _gains(scaled: Mat, chol: Mat, which: NDArray[np.int64]) -> Mat:
+    """``log det(I + J_c A^-1 J_c^T)`` of the candidates ``which`` (``A = L L^T``)."""
+    from scipy.linalg import solve_triangular
+
+    block = scaled[which]  # (k, r, p)
+    k, r, p = block.shape
+    half = solve_triangular(chol, block.reshape(k * r, p).T, lower=True)  # L^-1 J^T: (p, k r)
+    half = half.T.reshape(k, r, p)
+    inner = np.eye(r) + np.einsum("krp,ksp->krs", half, half)
+    gains: Mat = np.linalg.slogdet(inner)[1]
+    return gains
+
+
+def _greedy(rows: Mat, count: int, seed: int = 0) -> list[int]:
+    """D-optimal greedy choice of ``count`` candidates (module docstring), each step among a
+    sample of the candidates left, drawn with ``numpy.random.default_rng((seed, 10))``: of
+    ``candidates / count x ln 100`` of them (at least :data:`SAMPLED`), with which the
+    "stochastic greedy" choice keeps the greedy choice's guarantee for a submodular gain such as
+    ``log det`` to within 1% (Mirzasoleiman et al. 2015, "Lazier than lazy greedy"); its time
+    grows with the candidates, not with the candidates times ``count``. Up to :data:`WHOLE`
+    weighings in all, every candidate is weighed at every step (the greedy choice itself)."""
     norms = np.linalg.norm(rows.reshape(-1, rows.shape[2]), axis=0)
     norms[norms == 0.0] = 1.0
     scaled = rows / norms
     p = scaled.shape[2]
     info = _RIDGE * np.eye(p)
-    chosen: list[int] = []
+    rng = np.random.default_rng((seed, 10))
     available = np.ones(len(scaled), dtype=bool)
+    chosen: list[int] = []
+    sample = max(SAMPLED, math.ceil(len(scaled) / max(count, 1) * math.log(1.0 / _SHORTFALL)))
+    if len(scaled) * count <= WHOLE:  # few: weigh every candidate at every step
+        sample = len(scaled)
     for _ in range(count):
-        inverse = np.linalg.inv(info)
-        s = np.einsum("crp,pq,csq->crs", scaled, inverse, scaled)
-        gain = np.linalg.slogdet(np.eye(scaled.shape[1]) + s)[1]
-        gain[~available] = -np.inf
-        best = int(np.argmax(gain))
+        left = np.flatnonzero(available)
+        if len(left) > sample:
+            left = np.sort(rng.choice(left, sample, replace=False))
+        gains = _gains(scaled, np.asarray(np.linalg.cholesky(info), dtype=np.float64), left)
+        best = int(left[np.argmax(gains)])
         chosen.append(best)
         available[best] = False
         info = info + scaled[best].T @ scaled[best]
     return chosen
+
+
+def _too_few(
+    seed: int,
+    name: str,
+    level: str,
+    configs: int,
+    rows: Mat,
+    kind: str,
+    parameters: tuple[str, ...],
+) -> None:
+    """Refuse ``configs`` configurations that leave parameters undetermined, naming how many
+    the greedy choice needs to determine them all (or the parameters no candidate
+    determines)."""
+    more = _greedy(rows, min(len(rows), max(3 * configs, configs + 20)), seed)
+    for k in range(configs + 1, len(more) + 1):
+        if np.all(np.isfinite(_std(rows[more[:k]]))):
+            raise InputError(
+                f"{name}: {configs} configurations of {kind} leave some of the {level} level's "
+                f"parameters undetermined; {k} determine them all: plan at least {k}"
+            )
+    lost = [n for n, s in zip(parameters, _std(rows[more]), strict=True) if not math.isfinite(s)]
+    raise InputError(
+        f"{name}: no configurations among the candidates determine {', '.join(lost[:6])}"
+        + (f" ... ({len(lost)} in all)" if len(lost) > 6 else "")
+        + f" at the {level} level: plan for a lower level, or give other candidates"
+    )
+
+
+def minimum(model: PoeModel, level: str, pose: bool, markers: int | None) -> tuple[int, int]:
+    """The parameters ``level`` identifies and the configurations that give as many equations
+    (each measures 6 for a pose, 3 per marker): fewer cannot determine them."""
+    est = _estimate(model, level, pose, markers, 0)
+    p = len(names(est))
+    rows = 6 if pose and not markers else 3 * (markers or 1)
+    return p, math.ceil(p / rows)
 
 
 def plan(
@@ -278,14 +357,17 @@ def plan(
     TypeError, ValueError
         A wrong argument (an unknown level is a ``UsageError``).
     InputError
-        More configurations asked than there are candidates.
+        More configurations asked than there are candidates, more candidates than
+        :data:`MAX_CANDIDATES`, or too few configurations to determine the level's parameters
+        (the message names how many would).
     """
+    import scipy.linalg  # noqa: F401  (loaded before the limit below, so that it holds for it)
     from threadpoolctl import threadpool_limits
 
     from .. import units
 
     check_instance(model, PoeModel, "plan: model", "urdf2dh.load(SOURCE) reads one")
-    check_count(configs, "plan: configs")
+    check_count(configs, "plan: configs", 1, MAX_CONFIGURATIONS)
     check_instance(level, str, "plan: level")
     if level not in LEVELS:
         raise UsageError(f"unknown level {shown(level)}; valid: {choices(LEVELS)}")
@@ -305,17 +387,31 @@ def plan(
         else DEFAULT_NOISE_POS_M / units.metres_per(model.length_unit)
     )
     sr = noise_rot if noise_rot is not None else DEFAULT_NOISE_ROT
+    parameters, least = minimum(model, level, pose, markers)
+    kind = "poses" if pose else "positions"
+    if configs < least:
+        raise InputError(
+            f"{model.name}: the {level} level has {parameters} parameters, and {configs} "
+            f"configuration{'s' if configs > 1 else ''} of {kind} give fewer equations: plan "
+            f"at least {least}"
+        )
     if candidates is None:
         count = min(max(CANDIDATES_PER_CONFIGURATION * configs, 500), MAX_CANDIDATES)
         candidates = model.sample(max(count, configs), (seed, 7))
+    if len(candidates) > MAX_CANDIDATES:
+        raise InputError(
+            f"{len(candidates)} candidates, more than the {MAX_CANDIDATES} plan chooses among"
+        )
     if configs > len(candidates):
         raise InputError(f"{configs} configurations asked for, from {len(candidates)} candidates")
     with threadpool_limits(1, "blas"):
         est = _estimate(model, level, pose, markers, seed)
         rows = _rows(est, candidates, pose, sp, sr)
-        chosen = _greedy(rows, configs)
+        chosen = _greedy(rows, configs, seed)
         random = np.random.default_rng((seed, 8)).choice(len(candidates), configs, replace=False)
         std, random_std = _std(rows[chosen]), _std(rows[random])
+        if not np.all(np.isfinite(std)):
+            _too_few(seed, model.name, level, configs, rows, kind, tuple(names(est)))
     return Plan(
         model.name,
         level,

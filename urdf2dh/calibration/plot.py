@@ -34,8 +34,8 @@ _SET = {"fit": "fitted", "held_out": "held out", "validation": "validation"}
 
 
 def _panels(cal: Calibration) -> dict[str, Any]:
-    """What the panels draw, in the model's length unit."""
-    unit = cal.model.length_unit
+    """What the panels draw, in the calibration's (its user's) length unit."""
+    unit = cal.units.length
     joints = {j.name for j in cal.nominal.joints}
     params = [p for p in cal.parameters if p.name.rsplit(".", 1)[0] in joints]
     params = sorted(params, key=lambda p: -p.effect)[:LARGEST][::-1]

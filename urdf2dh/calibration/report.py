@@ -33,20 +33,21 @@ from ..errors import visible
 from ..model.identifiability import LINE_PARAMETERS, SYMBOLS
 from ..model.poe import PoeModel
 from ..tolerances import DIFF_ANGLE_DEG, DIFF_PARALLEL_DEG, POORLY_IDENTIFIED, Tolerances
-from .chart import Estimate, absorbed, local_coordinates
+from .chart import LOWER, Estimate, absorbed, local_coordinates
 from .identifiable import barely_moved
 from .identify import Fit, Identified
 from .measurements import Measurements
 from .outliers import Suspect
 from .prior import Deviations
 from .residuals import evaluate
-from .select import Selection
+from .select import Score, Selection
 from .start import FitOptions, to_data
+from .userunits import UserUnits
 
 if TYPE_CHECKING:
     from .calibration import Calibration, Comparison, Residuals
 
-__all__ = ["assemble", "formula", "output_table", "summary", "to_dict"]
+__all__ = ["assemble", "formula", "in_words", "output_table", "summary", "to_dict"]
 
 Mat = NDArray[np.float64]
 
@@ -77,6 +78,42 @@ def formula(est: Estimate) -> str:
     terms.append((end, str(tool) if tool is not None else f"3*{markers}", tool or 3 * markers))
     total = sum(t[2] for t in terms)
     return f"{' + '.join(t[0] for t in terms)} = {' + '.join(t[1] for t in terms)} = {total}"
+
+
+_KIND_WORDS = {"helical": "helical", "revolute": "revolute", "prismatic": "sliding"}
+
+
+def _count(n: int, one: str, many: str | None = None) -> str:
+    return f"{n} {one if n == 1 else (many or one + 's')}"
+
+
+def in_words(est: Estimate) -> str:
+    """What the level's parameters are, counted in words (the same count as :func:`formula`):
+    ``6 for the base, 4 for each of 6 revolute joints' lines, 6 joint scales, 6 for the
+    tool``."""
+    level = est.level
+    kinds = Counter(est.chain.kinds)
+    parts = []
+    if level.base:
+        parts.append("6 for the base")
+    if level.lines:
+        for kind, size in LINE_PARAMETERS.items():
+            if kinds[kind]:
+                joints = _count(kinds[kind], f"{_KIND_WORDS[kind]} joint")
+                parts.append(f"{size} for each of {joints}' lines" if kinds[kind] > 1
+                             else f"{size} for the {_KIND_WORDS[kind]} joint's line")  # fmt: skip
+    if level.offsets:
+        parts.append(_count(est.n, "joint offset"))
+    if level.scales:
+        parts.append(_count(est.n, "joint scale"))
+    if est.home is not None:
+        parts.append(f"{2 if est.keep_tool_axis else 6} for the tool")
+    else:
+        markers = 0 if est.markers is None else len(est.markers)
+        parts.append(
+            f"3 for each of {_count(markers, 'marker')}" if markers > 1 else "3 for the marker"
+        )
+    return ", ".join(parts)
 
 
 def _errors(est: Estimate, m: Measurements, pose: bool, ids: list[int]) -> Mat:
@@ -114,13 +151,15 @@ def _comparison(
     m: Measurements,
     pose: bool,
     ids: list[int],
+    user: UserUnits,
     index: NDArray[np.int64] | None = None,
 ) -> Comparison:
-    """Before and after on ``m``; ``index``: each row's configuration number in the file (by
-    default ``m``'s own)."""
+    """Before and after on ``m``, in the user's unit; ``index``: each row's configuration number
+    in the file (by default ``m``'s own)."""
     from .calibration import Comparison
 
     b, a = _errors(before, m, pose, ids), _errors(after, m, pose, ids)
+    b[:, 0], a[:, 0] = user.shown_array(b[:, 0]), user.shown_array(a[:, 0])
     if index is None:
         index = m.configurations()[0]
     count = int(index.max(initial=-1)) + 1
@@ -171,9 +210,11 @@ def _parameters(
     opts: FitOptions,
     ids: list[int],
     still: dict[str, str],
+    user: UserUnits,
 ) -> tuple[list[Any], list[str], list[str]]:
-    """The parameters with their values, changes and flags; the poorly identified ones' names;
-    the undetermined ones' names. ``still``: the joints that barely moved, with their span."""
+    """The parameters with their values, changes and flags (lengths in the user's unit); the
+    poorly identified ones' names; the undetermined ones' names. ``still``: the joints that
+    barely moved, with their span."""
     from .calibration import Parameter
 
     est = result.estimate
@@ -187,7 +228,8 @@ def _parameters(
     reach = _reach(est, fit, opts.pose, ids, size)
     kinds = dict(zip(est.chain.names, est.chain.kinds, strict=True))
     index = {n: i for i, n in enumerate(est.chain.names)}
-    unit = result.model.length_unit
+    unit = user.length
+    sigma = user.shown(result.sigma_pos)
     out, poor, lost = [], [], []
     for k, name in enumerate(result.names):
         owner, leaf = name.rsplit(".", 1)
@@ -214,17 +256,20 @@ def _parameters(
         elif std * reach[k] > POORLY_IDENTIFIED * result.sigma_pos:
             poor.append(name)
             flag = (
-                f"one standard deviation moves a measured point by {std * reach[k]:.3g} {unit}, "
-                f"over {POORLY_IDENTIFIED:g} times the position noise ({result.sigma_pos:.3g})"
+                f"one standard deviation moves a measured point by "
+                f"{user.shown(std * reach[k]):.3g} {unit}, over {POORLY_IDENTIFIED:g} times the "
+                f"position noise ({sigma:.3g} {unit})"
             )
+        kind = _unit(name, kinds.get(owner, ""), "length")
+        scale = user.per_model if kind in ("length", "length/rad") else 1.0
         out.append(
             Parameter(
                 name,
-                _unit(name, kinds.get(owner, ""), unit),
-                value,
-                float(changes[k]),
-                std if math.isfinite(std) else None,
-                abs(float(changes[k])) * float(reach[k]),
+                kind.replace("length", unit),
+                None if value is None else value * scale,
+                float(changes[k]) * scale,
+                std * scale if math.isfinite(std) else None,
+                user.shown(abs(float(changes[k])) * float(reach[k])),
                 flag,
             )
         )
@@ -293,6 +338,44 @@ def _diff(
     )
 
 
+def _selection(sel: Selection, user: UserUnits) -> Selection:
+    """``sel`` with its scores' lengths in the user's unit (its per-measurement errors, which
+    only compare levels, stay in the model's)."""
+    from dataclasses import replace
+
+    def score(s: Score) -> Score:
+        prior = s.prior
+        if prior is not None:
+            prior = replace(prior, length_per_angle=user.shown(prior.length_per_angle))
+        return replace(
+            s,
+            fit_rms_position=user.shown(s.fit_rms_position),
+            rms_position=user.shown(s.rms_position),
+            uncertainty=user.shown(s.uncertainty),
+            prior=prior,
+        )
+
+    return replace(sel, scores=tuple(score(s) for s in sel.scores))
+
+
+def _by_joint(names: list[str], spans: dict[str, float], kinds: dict[str, str], unit: str) -> str:
+    """The joints that own ``names`` (parameters), most first, with their measured spans."""
+    owners = Counter(n.rsplit(".", 1)[0] for n in names)
+    joints = [j for j, _ in owners.most_common() if j in spans]
+    return ", ".join(
+        f"{visible(j)} ({owners[j]}; moved over {spans[j]:.3g} "
+        f"{unit if kinds[j] == 'prismatic' else 'rad'})"
+        for j in joints
+    )
+
+
+def _fix(names: list[str], joints: dict[str, str]) -> str:
+    """The ``--fix`` that holds ``names`` at the nominal's: the joints' parameters among them
+    (the base, the tool and the markers have no nominal to hold them at), or ``""``."""
+    held = [n for n in names if n.rsplit(".", 1)[0] in joints]
+    return f"--fix {','.join(held)}" if held else ""
+
+
 def assemble(
     nominal: PoeModel,
     m: Measurements,
@@ -315,31 +398,43 @@ def assemble(
     style: str,
     tol: Tolerances,
     check_samples: int | None,
+    user: UserUnits,
 ) -> Calibration:
-    """The :class:`~.calibration.Calibration` of a finished identification."""
+    """The :class:`~.calibration.Calibration` of a finished identification, its figures in the
+    user's length unit (:mod:`.userunits`)."""
+    from dataclasses import replace
+
     from .calibration import Calibration, Counts, Held, Noise
 
     size = nominal.size()
-    unit = nominal.length_unit
+    unit = user.length
     pose = opts.pose
     before_est, after_est = before.solution.estimate, result.estimate
     index = m.configurations()[0]
-    comparisons = [_comparison("fit", before_est, after_est, fit, pose, ids, index[fit_rows])]
+    comparisons = [_comparison("fit", before_est, after_est, fit, pose, ids, user, index[fit_rows])]
     if len(held):
         comparisons.append(
-            _comparison("held_out", before_est, after_est, held, pose, ids, index[held_rows])
+            _comparison("held_out", before_est, after_est, held, pose, ids, user, index[held_rows])
         )
     if validation is not None:
-        comparisons.append(_comparison("validation", before_est, after_est, validation, pose, ids))
+        comparisons.append(
+            _comparison("validation", before_est, after_est, validation, pose, ids, user)
+        )
+    selection = _selection(selection, user)
+    found = tuple(replace(s, position=user.shown(s.position)) for s in found)
     still = barely_moved(fit.q, before_est, size)
     span_of = np.ptp(fit.q, axis=0)
-    spans = {j.name: float(s) for j, s in zip(nominal.joints, span_of, strict=True)}
+    kinds: dict[str, str] = {j.name: j.kind for j in nominal.joints}
+    spans = {
+        j.name: float(s) * (user.per_model if j.kind == "prismatic" else 1.0)
+        for j, s in zip(nominal.joints, span_of, strict=True)
+    }
     spans_text = {
         j.name: f"{spans[j.name]:.3g} {unit if j.kind == 'prismatic' else 'rad'}"
         for j in nominal.joints
         if j.name in still
     }
-    parameters, poor, lost = _parameters(result, fit, opts, ids, spans_text)
+    parameters, poor, lost = _parameters(result, fit, opts, ids, spans_text, user)
     held_list = [Held(n, "the level's other parameters carry it") for n in result.carried]
     held_list += [Held(n, "fixed as asked") for n in result.fixed]
     warnings = list(result.notes)
@@ -361,12 +456,19 @@ def assemble(
             warnings.append(
                 _overfit("cross-validated", score.rms_position, fit_rms, limit, level, p, unit)
             )
+    lower = LOWER.get(level)
     if still:
+        lines = [
+            q.name for q in parameters
+            if q.name.rsplit(".", 1)[0] in still and not q.name.endswith(".offset")
+        ]  # fmt: skip
+        hold = _fix(lines, kinds)
         warnings.append(
             "barely moved: "
             + ", ".join(f"{visible(n)} ({spans_text[n]})" for n in still)
             + "; how their lines lie and how far they scale is identified near these positions "
-            "only (measure configurations that move them)"
+            "only: measure configurations that move them over their range"
+            + (f", or hold their lines at the nominal's ({hold})" if hold else "")
         )
     if lost:
         causes = {n.rsplit(".", 1)[0] for n in lost} & set(still)
@@ -375,15 +477,45 @@ def assemble(
             if causes
             else "the configurations measured do not tell them apart from the others"
         )
+        hold = _fix(lost, kinds)
         warnings.append(
             f"the measurements determine {stats.rank} of the {p} parameters; not determined: "
-            f"{', '.join(lost)} ({why}; measure configurations that move these joints "
-            "differently)"
+            f"{', '.join(lost)} ({why}): their values are the nominal's plus whatever the "
+            "others left; measure configurations that move these joints differently"
+            + (f", or hold them at the nominal's ({hold})" if hold else "")
         )
     if poor:
+        one = len(poor) == 1
+        owners = {n.rsplit(".", 1)[0] for n in poor if n.rsplit(".", 1)[0] in spans}
+        joints = "joint" if len(owners) == 1 else "joints"
+        hold = _fix(poor, kinds)
+        remedies = []
+        if owners:
+            remedies.append(
+                f"to pin {'it' if one else 'them'} down, measure more configurations moving "
+                f"{'it over its' if len(owners) == 1 else 'these joints over their'} range"
+            )
+        if hold:
+            remedies.append(
+                f"hold {'it' if one else 'them'} at the nominal's ({hold}), which gives up what "
+                f"{'it explains' if one else 'they explain'} (judge it on held-out "
+                "configurations: --holdout)"
+            )
+        if lower and 2 * len(poor) > p:  # most of the level: the measurements do not support it
+            remedies.append(f"choose a lower level (--identify {lower})")
+        belong = (
+            f"; {'it belongs' if one else 'they belong'} to {joints} "
+            f"{_by_joint(poor, spans, kinds, unit)}"
+            if owners
+            else ""
+        )
+        todo = ": " + ", or ".join(remedies) if remedies else ""
         warnings.append(
-            f"poorly identified ({len(poor)} of {p}: their uncertainty at the tool exceeds "
-            f"{POORLY_IDENTIFIED:g} times the noise): {', '.join(poor)}"
+            f"{len(poor)} of the {p} parameters {'is' if one else 'are'} poorly identified: "
+            f"one standard deviation of {'it' if one else 'each'} moves a measured point by "
+            f"more than {POORLY_IDENTIFIED:g} times the position noise, so "
+            f"{'its value is' if one else 'their values are'} uncertain, though the model as a "
+            f"whole fits as the residuals say{belong}{todo}: {', '.join(poor)}"
         )
     if found:
         rows = ", ".join(
@@ -405,14 +537,14 @@ def assemble(
     conv, table, reason = output_table(result.model, convention, style, tol, check_samples)
     if table is not None:  # the reason for a chosen convention is the table's first warning
         warnings += list(table.warnings)
-    floor_rot = math.sqrt(3.0) * result.sigma_rot if pose else None
+    sigma_pos = user.shown(result.sigma_pos)
     noise = Noise(
-        result.sigma_pos,
+        sigma_pos,
         result.sigma_rot if pose else None,
         result.noise_given,
         stats.variance_factor,
-        math.sqrt(3.0) * result.sigma_pos,
-        floor_rot,
+        math.sqrt(3.0) * sigma_pos,
+        math.sqrt(3.0) * result.sigma_rot if pose else None,
     )
     configurations = int(index.max(initial=-1)) + 1
     counts = Counts(
@@ -427,6 +559,8 @@ def assemble(
         stats.rank,
         0 if after_est.markers is None else len(after_est.markers),
     )
+    base_in_device = result.base_in_device.copy()
+    base_in_device[:3, 3] = user.shown_array(base_in_device[:3, 3])
     return Calibration(
         nominal,
         result.model,
@@ -443,19 +577,21 @@ def assemble(
         result.solution.iterations,
         result.solution.converged,
         formula(after_est),
+        in_words(after_est),
         tuple(comparisons),
         tuple(parameters),
         tuple(held_list),
         tuple((n, spans[n]) for n in still),
         found,
         rejected,
-        result.base_in_device,
-        result.markers_on_tool,
+        base_in_device,
+        {k: user.shown_array(v) for k, v in result.markers_on_tool.items()},
         conv,
         table,
         reason,
         _diff(nominal, result.model, table, style, tol),
         tuple(warnings),
+        user,
         tuple(int(r) + 1 for r in fit_rows),
     )
 
@@ -463,12 +599,14 @@ def assemble(
 def _overfit(
     what: str, other: float, fit: float, limit: float, level: str, p: int, unit: str
 ) -> str:
+    lower = LOWER.get(level)
+    remedy = f"choose a lower level (--identify {lower}), or " if lower else ""
     return (
         f"the {what} RMS position error ({other:.3g} {unit}) is {other / fit:.3g} times the "
-        f"fit's ({fit:.3g}), more than noise explains (up to {limit:.3g} times): the {level} "
-        f"level's {p} parameters follow the fitted measurements' noise, or the other "
-        "configurations are unlike the fitted ones (identify less, or measure more varied "
-        "configurations)"
+        f"fit's ({fit:.3g}), more than noise explains (up to {limit:.3g} "
+        f"times): the {level} level's {p} parameters follow the fitted measurements' noise, or "
+        f"the other configurations are unlike the fitted ones; {remedy}measure more "
+        "configurations, spread over every joint's range"
     )
 
 
@@ -494,7 +632,7 @@ def to_dict(cal: Calibration) -> dict[str, Any]:
         "measurements": cal.measurements,
         "measure": cal.measure,
         "frame": cal.frame,
-        "units": {"length": cal.model.length_unit, "angle": "rad"},
+        "units": {"length": cal.units.length, "angle": "rad"},
         "level": cal.level,
         "chosen_by": cal.chosen_by,
         "selection": None
@@ -529,7 +667,7 @@ def to_dict(cal: Calibration) -> dict[str, Any]:
                 for s in sel.scores
             ],
         },
-        "counts": {**asdict(cal.counts), "formula": cal.formula},
+        "counts": {**asdict(cal.counts), "formula": cal.formula, "in_words": cal.in_words},
         "condition_number": _finite(cal.condition_number),
         "convergence": {"iterations": cal.iterations, "converged": cal.converged},
         "noise": {
@@ -587,7 +725,7 @@ def _deviations(dev: Deviations) -> str:
 
 def summary(cal: Calibration) -> str:
     """The brief text that ``urdf2dh calibrate`` prints (the report's main figures)."""
-    c, noise, unit = cal.counts, cal.noise, cal.model.length_unit
+    c, noise, unit = cal.counts, cal.noise, cal.units.length
     kind = "poses" if cal.measure == "pose" else "positions"
     held = f", {c.held_out} held out" if c.held_out else ""
     valid = f", {c.validation} to validate" if c.validation else ""
@@ -620,9 +758,11 @@ def summary(cal: Calibration) -> str:
         out.append(f"chosen: {sel.reason}")
     else:
         out.append(f"level: {cal.level} (as asked)")
+    kept = f"; {len(cal.held)} more held at the nominal's" if cal.held else ""
     out.append(
-        f"identified {c.parameters} parameters ({cal.formula}, {len(cal.held)} held); numerical "
-        f"rank {c.rank}; condition number {cal.condition_number:.3g}"
+        f"identified {c.parameters} parameters ({cal.in_words}{kept}); the measurements "
+        f"determine {c.rank} of them (numerical rank), condition number "
+        f"{cal.condition_number:.3g}"
     )
     levels = f"position {noise.position:.3g} {unit}"
     if noise.rotation is not None:

@@ -156,6 +156,8 @@ def solve(
     m = problem.data_rows
     for it in range(1, max_iterations + 1):
         assert jac is not None
+        if not (math.isfinite(cost) and np.all(np.isfinite(jac))):  # beyond float's range
+            return Solution(est, it - 1, False, math.sqrt(cost))
         norms = _norms(jac)
         gram = np.einsum("ij,ik->jk", jac, jac) / np.outer(norms, norms)  # no BLAS: see above
         grad = np.einsum("ij,i->j", jac, r) / norms
@@ -165,7 +167,13 @@ def solve(
             done(it)
         while True:
             damped = gram + lam * np.eye(len(gram))
-            ds = np.linalg.solve(damped, -grad)
+            ds = _solved(damped, -grad)
+            if ds is None:  # no step at this damping: damp more
+                lam *= nu
+                nu *= 2.0
+                if lam > _DAMPING_LIMIT:
+                    return Solution(est, it, False, math.sqrt(cost))
+                continue
             predicted = -2.0 * float(ds @ grad) - float(ds @ gram @ ds)
             change = np.einsum("ij,j->i", jac[:m], ds / norms)
             pos, rot = _step_size(change, problem.data, problem.sigma_pos, problem.sigma_rot)
@@ -198,6 +206,15 @@ def solve(
     return Solution(est, max_iterations, False, math.sqrt(cost))
 
 
+def _solved(a: Mat, b: Mat) -> Mat | None:
+    """``a^-1 b``, or ``None`` where ``a`` is singular or the solution not finite."""
+    try:
+        x = np.asarray(np.linalg.solve(a, b), dtype=np.float64)
+    except np.linalg.LinAlgError:
+        return None
+    return x if np.all(np.isfinite(x)) else None
+
+
 def _acceleration(
     est: Estimate, problem: Problem, r: Mat, jac: Mat, norms: Mat, ds: Mat, damped: Mat
 ) -> Mat | None:
@@ -207,7 +224,9 @@ def _acceleration(
     r_probe, _ = problem.evaluate(probe, jacobian=False)
     linear = np.einsum("ij,j->i", jac, ds / norms)
     curvature = (2.0 / _PROBE) * ((r_probe - r) / _PROBE - linear)
-    accel = np.linalg.solve(damped, -np.einsum("ij,i->j", jac, curvature) / norms)
+    accel = _solved(damped, -np.einsum("ij,i->j", jac, curvature) / norms)
+    if accel is None:
+        return None
     speed = float(np.linalg.norm(ds))
     if speed > 0.0 and 2.0 * float(np.linalg.norm(accel)) > _ACCELERATION_LIMIT * speed:
         return None
@@ -224,17 +243,22 @@ def statistics(est: Estimate, problem: Problem, exact: bool = True) -> Statistic
     r, jac = problem.evaluate(est)
     assert jac is not None
     m, p = jac.shape
+    if not (np.all(np.isfinite(r)) and np.all(np.isfinite(jac))):  # beyond float's range
+        return _undetermined(r, p)
     if p == 0:  # nothing identified
         factor = float(r @ r) / m if m else math.nan
         return Statistics(r, 0, 1.0, factor, np.zeros((0, 0)), np.zeros(0), np.zeros(m))
     norms = _norms(jac)
     jac /= norms  # J_s, in place (jac is this function's own)
-    if exact:  # the SVD of J_s's triangular factor: the same singular values, to round-off
-        _, s, vt = np.linalg.svd(_triangular(jac))
-    else:  # from the small eigenproblem (see above)
-        eig, v = np.linalg.eigh(np.einsum("ij,ik->jk", jac, jac))
-        s = np.sqrt(np.maximum(eig[::-1], 0.0))
-        vt = v[:, ::-1].T
+    try:
+        if exact:  # the SVD of J_s's triangular factor: the same singular values, to round-off
+            _, s, vt = np.linalg.svd(_triangular(jac))
+        else:  # from the small eigenproblem (see above)
+            eig, v = np.linalg.eigh(np.einsum("ij,ik->jk", jac, jac))
+            s = np.sqrt(np.maximum(eig[::-1], 0.0))
+            vt = v[:, ::-1].T
+    except np.linalg.LinAlgError:  # overflow on the way (columns of ~1e154 and more)
+        return _undetermined(r, p)
     keep = s > RANK_RELATIVE * (s[0] if len(s) else 0.0)
     rank = int(np.sum(keep))
     condition = float(s[0] / s[-1]) if len(s) and s[-1] > 0.0 else math.inf
@@ -254,6 +278,14 @@ def statistics(est: Estimate, problem: Problem, exact: bool = True) -> Statistic
         null = vt[~keep]
         std[np.abs(null).max(axis=0) > math.sqrt(RANK_RELATIVE)] = math.inf
     return Statistics(r, rank, condition, factor, covariance, std, leverage)
+
+
+def _undetermined(r: Mat, p: int) -> Statistics:
+    """The statistics of a solution beyond float's range: nothing determined."""
+    nothing = np.full(p, math.inf)
+    return Statistics(
+        r, 0, math.inf, math.nan, np.full((p, p), math.nan), nothing, np.zeros(len(r))
+    )
 
 
 def _norms(jac: Mat) -> Mat:

@@ -45,6 +45,7 @@ from ..errors import InputError, OracleError, UsageError, choices, shown, visibl
 from ..escape import markdown_table, markdown_text
 from ..geometry.frames import axis_frame, unit
 from ..geometry.se3 import matrix_of
+from ..io.fields import JointBound
 from ..io.sources import Source, open_source
 from ..io.urdf.chain import final_leader
 from ..io.xacro import XacroOptions
@@ -59,6 +60,7 @@ __all__ = [
     "ORACLE_CHOICES",
     "PINOCCHIO_MISREADS",
     "PINOCCHIO_WORLD_BODY",
+    "VERIFY_BOUND",
     "Abstention",
     "ModelCheck",
     "Oracle",
@@ -182,6 +184,15 @@ def _on_a_large_stack(work: Callable[[], _T]) -> _T:
     return value  # type: ignore[no-any-return]
 
 
+#: verify's bound on the joints of a SOURCE (a URDF's every joint: Pinocchio builds the whole
+#: file), checked by the reader once the joints are counted (:func:`open_source`'s ``bound``)
+#: and again of the model (:func:`check_verifiable`).
+VERIFY_BOUND = JointBound(
+    VERIFY_JOINTS,
+    "verify checks",
+    "(Pinocchio's model of more takes minutes and gigabytes to build)",
+)
+
 #: MJCF features (:data:`urdf2dh.io.mjcf.FEATURES`) that Pinocchio's MJCF parser (4.1) reads
 #: otherwise than MuJoCo -> what it does; each is shown by a test of ``tests/test_mjcf_oracles.py``.
 PINOCCHIO_MISREADS = {
@@ -266,13 +277,12 @@ def _pinocchio_mjcf(text: bytes) -> Any:
 def check_verifiable(source: Source, poe: PoeModel) -> None:
     """Refuse a model larger than :data:`~urdf2dh.tolerances.VERIFY_JOINTS` joints (a URDF's
     every joint: Pinocchio builds the whole file), naming the bound."""
-    joints = len(source.tree.joints) if source.tree is not None else poe.n
-    if joints > VERIFY_JOINTS:
-        what = f"the {source.kind.upper()} has" if source.tree is not None else "the chain has"
-        raise InputError(
-            f"{source.display}: {what} {joints:,} joints; verify checks at most "
-            f"{VERIFY_JOINTS:,} (Pinocchio's model of more takes minutes and gigabytes to build)"
+    if source.tree is not None:
+        VERIFY_BOUND.check(
+            len(source.tree.joints), source.display, f"the {source.kind.upper()} has"
         )
+    else:
+        VERIFY_BOUND.check(poe.n, source.display, "the chain has")
 
 
 def _model_from_urdf(
@@ -799,7 +809,9 @@ def verify(
     check_instance(oracle, str, "verify: oracle")
     _oracles(oracle)
     if not isinstance(source, Source):
-        source = open_source(check_source(source, "verify: source"), tol, xacro=xacro)
+        source = open_source(
+            check_source(source, "verify: source"), tol, xacro=xacro, bound=VERIFY_BOUND
+        )
     model = source.model(
         check_optional_name(base, "verify: base"),
         check_optional_name(tip, "verify: tip"),

@@ -138,7 +138,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         type=float,
         default=None,
         metavar="SIGMA",
-        help="position noise per coordinate, > 0 (weights; default: estimated)",
+        help="position noise per coordinate, > 0, in the measurement file's length unit "
+        "(--length-unit, else the nominal's) (weights; default: estimated)",
     )
     p.add_argument(
         "--noise-rot",
@@ -177,6 +178,13 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         metavar="FILE",
         help="the markers' nominal positions on the tool (marker,x,y,z): they define "
         "the tool frame of position measurements (needed for 2 or more markers)",
+    )
+    p.add_argument(
+        "--accept-implausible",
+        action="store_true",
+        help="write a calibration the measurements contradict all the same (residuals beyond "
+        "any device's or the noise given, a file that another reading explains: by default "
+        "the run stops with exit 3, naming the cause and the option that fixes it)",
     )
     p.add_argument(
         "--max-iterations",
@@ -220,6 +228,7 @@ def run(args: argparse.Namespace) -> int:
     from ..calibration.measurements import read_layout, read_measurements
     from ..calibration.prior import Prior
     from ..calibration.report import summary, to_dict
+    from ..calibration.userunits import UserUnits
     from ..emit.formats import FORMATS
     from .options import tolerances
 
@@ -262,13 +271,14 @@ def run(args: argparse.Namespace) -> int:
         raise UsageError(
             f"--convention poe writes a POE model file: --format yaml or json, not {args.format}"
         )
+    user = UserUnits.of(nominal.length_unit, m)
     for flag, value in (("--noise-pos", args.noise_pos), ("--noise-rot", args.noise_rot)):
         try:
             check_noise(
                 value if flag == "--noise-pos" else None,
                 value if flag == "--noise-rot" else None,
-                nominal.size(),
-                nominal.length_unit,
+                user.shown(nominal.size()),
+                user.length,
             )
         except InputError as e:
             raise UsageError(f"{flag} {value:g}: {e}") from e
@@ -297,6 +307,7 @@ def run(args: argparse.Namespace) -> int:
         tol=tol,
         max_iterations=args.max_iterations,
         check_samples=args.check_samples,
+        accept=args.accept_implausible,
     )
     text = _model_text(cal, args.format)
     outputs: list[tuple[str | None, str | bytes]] = [(args.output, text)]

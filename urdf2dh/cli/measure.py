@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from ..errors import UsageError
+from ..errors import InputError, UsageError
 from ..io.files import write_outputs
 from . import options
 
@@ -30,14 +30,15 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         type=options.nonnegative_float,
         default=0.0,
         metavar="SIGMA",
-        help="position noise per coordinate, source length unit (default 0)",
+        help="position noise per coordinate, in the source's length unit, below the robot's "
+        "size (default 0)",
     )
     p.add_argument(
         "--noise-rot",
         type=options.nonnegative_float,
         default=0.0,
         metavar="SIGMA",
-        help="rotation noise per axis, rad (default 0)",
+        help="rotation noise per axis, rad, below 1 (default 0)",
     )
     p.add_argument(
         "--measure",
@@ -76,6 +77,19 @@ def run(args: argparse.Namespace) -> int:
         raise UsageError("--marker-layout writes the layout of --markers K")
     if (args.configs is None) == (args.configurations is None):
         raise UsageError("measure takes --configs N or --configurations FILE (one of them)")
+    from ..calibration.measurements import check_noise
+
+    for flag, value in (("--noise-pos", args.noise_pos), ("--noise-rot", args.noise_rot)):
+        try:
+            check_noise(
+                value if flag == "--noise-pos" else None,
+                value if flag == "--noise-rot" else None,
+                model.size(),
+                model.length_unit,
+                exact=True,
+            )
+        except InputError as e:
+            raise UsageError(f"{flag} {value:g}: {e}") from e
     configurations = None
     if args.configurations:
         joints = tuple(j.name for j in model.joints)

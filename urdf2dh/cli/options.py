@@ -12,6 +12,7 @@ from ..errors import InputError, UsageError, choices, shown
 from ..tolerances import MAX_MARKERS, MAX_SAMPLES, MAX_SEED
 
 if TYPE_CHECKING:
+    from ..io.fields import JointBound
     from ..io.sources import Source
     from ..io.xacro import XacroOptions
     from ..model.poe import PoeModel
@@ -50,10 +51,13 @@ LEVELS = ("auto", "base-tool", "offsets", "geometry", "full")  # calibrate's --i
 
 
 def integer(text: str, low: int, high: int) -> int:
-    try:
-        value = int(text)
-    except ValueError as e:
-        raise argparse.ArgumentTypeError(f"'{text}' is not an integer") from e
+    """An option's integer: decimal ASCII digits with an optional sign (no ``1_000``, no
+    ``１``, which Python's ``int`` takes), from ``low`` to ``high``."""
+    from ..numerals import integer as read_integer
+
+    value = read_integer(text)
+    if value is None:
+        raise argparse.ArgumentTypeError(f"'{text}' is not an integer")
     if not low <= value <= high:
         raise argparse.ArgumentTypeError(f"must be from {low} to {high}, not {value}")
     return value
@@ -78,11 +82,20 @@ def parallel_angle(text: str) -> float:
     return value
 
 
+def number(text: str) -> float:
+    """An option's number, by the grammar of urdf2dh's files (:mod:`urdf2dh.numerals`)."""
+    from ..numerals import decimal, why_not
+
+    value = decimal(text)
+    if value is None:
+        reason = why_not(text)
+        said = "" if reason == "not a decimal number" else f" ({reason})"
+        raise argparse.ArgumentTypeError(f"'{text}' is not a number{said}")
+    return value
+
+
 def nonnegative_float(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError as e:
-        raise argparse.ArgumentTypeError(f"'{text}' is not a number") from e
+    value = number(text)
     if not value >= 0.0 or value == float("inf"):
         raise argparse.ArgumentTypeError(f"must be a finite number >= 0, not {text}")
     return value
@@ -290,23 +303,22 @@ def xacro_options(args: argparse.Namespace) -> XacroOptions:
     )
 
 
-def source(args: argparse.Namespace, tol: Tolerances | None = None) -> Source:
+def source(
+    args: argparse.Namespace, tol: Tolerances | None = None, bound: JointBound | None = None
+) -> Source:
     """The SOURCE the options name, opened with their xacro options (and ``tol`` for reading a
-    POE or table file)."""
+    POE or table file, ``bound`` the command's bound on a URDF's joints)."""
     from ..io.sources import open_source
     from ..tolerances import DEFAULT
 
-    return open_source(args.source, tol or DEFAULT, xacro=xacro_options(args))
+    return open_source(args.source, tol or DEFAULT, xacro=xacro_options(args), bound=bound)
 
 
 # --------------------------------------------------------------------------- calibration
 
 
 def fraction(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError as e:
-        raise argparse.ArgumentTypeError(f"'{text}' is not a number") from e
+    value = number(text)
     if not 0.0 <= value < 1.0:
         raise argparse.ArgumentTypeError(f"must be in [0, 1), not {text}")
     return value

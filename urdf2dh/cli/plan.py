@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from ..io.files import write_outputs
+from ..io.files import check_outputs, write_outputs
 from . import options
 
 __all__ = ["EXAMPLE", "HELP", "NAME", "add_arguments", "run"]
@@ -19,10 +19,11 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     options.add_chain(p)
     p.add_argument(
         "--configs",
-        type=lambda text: options.integer(text, 1, 100_000),
+        type=lambda text: options.integer(text, 1, 10_000),
         required=True,
         metavar="N",
-        help="number of configurations to choose",
+        help="number of configurations to choose (at least as many as give one equation per "
+        "parameter of the level; at most 10000)",
     )
     p.add_argument(
         "--identify",
@@ -71,6 +72,7 @@ def run(args: argparse.Namespace) -> int:
     model = options.nominal(args)
     joints = tuple(j.name for j in model.joints)
     candidates = read_configurations(args.candidates, joints) if args.candidates else None
+    check_outputs([args.output])  # before the choice, which may take a while
     result = plan(
         model,
         args.configs,

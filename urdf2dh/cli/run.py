@@ -1,7 +1,8 @@
 """A run of the ``urdf2dh`` command, and the one place errors become exit codes.
 
 Exit codes: 0 success, 1 verification failed (or a table failed its own check, or a calibration
-did not converge), 2 bad usage or bad input, 130 and 143 for Ctrl-C and ``SIGTERM``. Errors are
+did not converge), 2 bad usage or bad input, 3 a calibration the measurements contradict (its
+cause named), 130 and 143 for Ctrl-C and ``SIGTERM``. Errors are
 one line on stderr naming the file, link or joint (:func:`urdf2dh.errors.one_line`); output
 files are written all together through temporary files, so a failure never leaves one behind
 (:mod:`urdf2dh.io.files`); a signal ends the run with every output as it was
@@ -40,6 +41,7 @@ def console() -> None:
 
 def _main(argv: list[str] | None, restore: bool) -> int:
     with interrupts.handled(restore), files.one_run():
+        files.standard_streams()  # before anything is opened: a closed stdout is no file's number
         try:
             # imported here, not with this module: the run handles Ctrl-C from its first line on
             from .parser import command_of, get_argument_parser
@@ -96,14 +98,22 @@ OPTIONS = {
     "xacro.memory": "--xacro-memory",
     "tol.parallel_angle": "--parallel-angle",
     "tol.intersect_distance": "--intersect-distance",
+    "reading.degrees": "--degrees",
+    "reading.length_unit": "--length-unit",
+    "reading.rename": "--rename",
+    "reading.euler": "--euler",
+    "helical": "--helical",
+    "level": "--identify",
+    "fixed": "--fix",
+    "noise_pos, noise_rot": "--noise-pos and --noise-rot",
+    "accept": "--accept-implausible",
 }
 
 
 def _with_option(e: Urdf2DhError) -> str:
-    """The error's message, and the option that gets past it."""
-    if e.remedy is None:
-        return str(e)
-    return f"{e}{e.remedy.said(OPTIONS.get(e.remedy.argument, e.remedy.argument))}"
+    """The error's message, and the options that get past it."""
+    remedies = ([] if e.remedy is None else [e.remedy]) + list(e.also)
+    return str(e) + "".join(r.said(OPTIONS.get(r.argument, r.argument)) for r in remedies)
 
 
 def _report(e: Exception) -> int:

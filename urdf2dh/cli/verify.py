@@ -53,8 +53,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from ..check.verify import VERIFY_BOUND
+
     tol = options.tolerances(args)
-    source = options.source(args, tol)
+    source = options.source(args, tol, VERIFY_BOUND)
     if not several_of(args):
         judged = _verify_chain(args, source, args.base, one_tip(args), tol)
         if judged:

@@ -3,8 +3,9 @@
 :class:`~urdf2dh.errors.InputError` (or the subclass the reader passes) naming the field and
 saying what was expected and what came.
 
-Numbers come as YAML 1.2 and JSON read them (:mod:`.mappings`); where text arrives that a YAML
-1.1 reader would have read as a number or a boolean, the message says so (:func:`yaml11_note`).
+Numbers come as YAML 1.2 and JSON read them (:mod:`.mappings`), of urdf2dh's one number grammar
+(:mod:`urdf2dh.numerals`); where text arrives, the message says why it is not a number, or what a
+YAML 1.1 reader would have read it as (:func:`yaml11_note`).
 """
 
 from __future__ import annotations
@@ -12,13 +13,16 @@ from __future__ import annotations
 import math
 import re
 from collections.abc import Sequence
+from dataclasses import dataclass
 from typing import Any
 
 from ..errors import InputError, shown
 from ..model.mimic import Followed, Mimic
+from ..numerals import why_not
 from ..tolerances import JOINTS, LARGEST_NUMBER
 
 __all__ = [
+    "JointBound",
     "check_joint_count",
     "check_leaders",
     "check_name",
@@ -34,7 +38,7 @@ def check_number(value: Any, where: str, error: type[InputError] = InputError) -
     :data:`~urdf2dh.tolerances.LARGEST_NUMBER`; ``error`` naming
     ``where`` for anything else (booleans, strings, non-finite or huge numbers)."""
     if isinstance(value, bool) or not isinstance(value, int | float):
-        note = yaml11_note(value) if isinstance(value, str) else ""
+        note = _text_note(value) if isinstance(value, str) else ""
         raise error(f"{where} must be a number, not {shown(value)}{note}")
     try:
         out = float(value)
@@ -47,6 +51,16 @@ def check_number(value: Any, where: str, error: type[InputError] = InputError) -
             f"{where} is {out:.3g}: beyond {LARGEST_NUMBER:g}, no kinematic number is that large"
         )
     return out
+
+
+def _text_note(text: str) -> str:
+    """Why ``text``, where a number is expected, is not one: another base or not finite (YAML
+    1.2 reads these as numbers, urdf2dh's grammar does not), what YAML 1.1 would read it as, or
+    the grammar's reason."""
+    reason = why_not(text)
+    if reason.startswith(("hexadecimal", "octal", "not finite", "digits that")):
+        return f" ({reason})"
+    return yaml11_note(text) or ("" if reason == "not a decimal number" else f" ({reason})")
 
 
 # Text that YAML 1.1 readers (PyYAML's default loader, ROS 1's rosparam) take for a number or a
@@ -139,6 +153,35 @@ def check_joint_count(count: int, where: str, error: type[InputError] = InputErr
     """At most :data:`~urdf2dh.tolerances.JOINTS` joints in a POE or table file."""
     if count > JOINTS:
         raise error(f"{where}: {count:,} joints; urdf2dh reads chains of at most {JOINTS:,}")
+
+
+@dataclass(frozen=True, slots=True)
+class JointBound:
+    """A bound a command sets on the joints of its SOURCE, checked by the reader as soon as they
+    are counted (a URDF's joint elements once parsed, before anything is built from them).
+
+    Attributes
+    ----------
+    most
+        The most joints accepted.
+    command
+        Who says so, in the message (``"verify checks"``).
+    why
+        Why, in the message (``"(Pinocchio's model of more takes minutes ...)"``).
+    """
+
+    most: int
+    command: str
+    why: str = ""
+
+    def check(self, count: int, display: str, what: str) -> None:
+        """Refuse ``count`` joints beyond the bound: ``"<display>: <what> <count> joints;
+        <command> at most <most> <why>"``."""
+        if count > self.most:
+            raise InputError(
+                f"{display}: {what} {count:,} joints; {self.command} at most {self.most:,}"
+                + (f" {self.why}" if self.why else "")
+            )
 
 
 def check_leaders(joints: Sequence[Followed], where: str,

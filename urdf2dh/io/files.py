@@ -23,7 +23,10 @@ system makes them. A failed or interrupted run (an error, Ctrl-C, ``SIGTERM``) l
 as it was, and no temporary file behind. A failed write, to stdout included (a full disk,
 ``> /dev/full``), is an error (exit 2), never silent: every text the commands print goes through
 :func:`write_stdout`, and :func:`flush_stdout` ends each run. A reader that goes away (``| head``)
-is not an error.
+is not an error. A standard stream the program was started without (``>&-``, ``2>&-``) is
+given the null device by :func:`standard_streams`, so that no file the run opens takes its
+number; text for a closed stdout is a failed write like any other, text for a closed stderr is
+dropped (the exit code still tells).
 
 Several files go to ``-o DIR`` (:func:`write_directory`), all or nothing too: DIR is an existing
 directory (or a link to one), or a new name in an existing directory; each file's place in DIR
@@ -35,8 +38,11 @@ appears only on success, complete.
 from __future__ import annotations
 
 import contextlib
+import errno
+import io
 import os
 import secrets
+import select
 import shutil
 import stat
 import sys
@@ -45,6 +51,7 @@ from collections.abc import Iterable, Iterator, Mapping, Sequence
 from contextvars import ContextVar
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 from ..errors import InputError
 from ..tolerances import FILE_BYTES
@@ -57,6 +64,7 @@ __all__ = [
     "note_input",
     "one_run",
     "read_file",
+    "standard_streams",
     "write_directory",
     "write_output",
     "write_outputs",
@@ -163,6 +171,7 @@ class _Plan:
     mode: int | None  # the permissions of the regular file replaced; None: a new file
     stream: bool  # a character device or FIFO: written into
     identity: tuple[int, int] | tuple[str]  # the same file <=> the same identity
+    owner: tuple[int, int] | None = None  # user and group of the regular file replaced
 
 
 def _plan(output: str, in_directory: bool = False) -> _Plan:
@@ -191,7 +200,8 @@ def _plan(output: str, in_directory: bool = False) -> _Plan:
         return _Plan(output, path, None, True, identity)
     if not stat.S_ISREG(status.st_mode):
         raise InputError(f"{output}: is not a regular file; refusing to replace it")
-    return _Plan(output, path.resolve(), stat.S_IMODE(status.st_mode), False, identity)
+    owner = (status.st_uid, status.st_gid)
+    return _Plan(output, path.resolve(), stat.S_IMODE(status.st_mode), False, identity, owner)
 
 
 def _plan_all(outputs: Iterable[str], in_directory: bool = False) -> list[_Plan]:
@@ -266,30 +276,92 @@ def _bytes(data: str | bytes) -> bytes:
     return data.encode("utf-8") if isinstance(data, str) else data
 
 
+class _Closed(io.TextIOBase):
+    """Stands for a standard output the program was started without (``>&-``): every write
+    fails, as a write to a closed descriptor would (``EBADF``), with the one-line error of any
+    failed write to stdout (``print`` included)."""
+
+    def writable(self) -> bool:
+        return True
+
+    def write(self, text: str) -> int:
+        if not text:
+            return 0
+        raise _stdout_failed(OSError(errno.EBADF, "it is closed"))
+
+    @property
+    def buffer(self) -> _Closed:
+        return self  # bytes fail the same way
+
+
+def standard_streams() -> None:
+    """Give each standard descriptor (0, 1, 2) that is closed the null device, so that no file
+    the run opens is given its number (and a child inherits no file of ours as its stdout).
+
+    ``sys.stdout`` and ``sys.stderr`` left ``None`` by Python for a closed descriptor become
+    streams of their own: stdout one whose writes fail (:func:`write_stdout` says ``stdout:
+    cannot write (it is closed)``), stderr the null device (messages go nowhere; the exit code
+    still tells)."""
+    for number, flags in ((0, os.O_RDONLY), (1, os.O_WRONLY), (2, os.O_WRONLY)):
+        try:
+            os.fstat(number)
+        except OSError:
+            fd = os.open(os.devnull, flags)
+            if fd != number:  # a lower descriptor was closed too: it took that one
+                os.dup2(fd, number)
+                os.close(fd)
+    if sys.stdout is None:
+        sys.stdout = _Closed()
+    if sys.stderr is None:
+        sys.stderr = open(os.devnull, "w", encoding="utf-8")  # kept for the program's life
+
+
 def write_stdout(data: str | bytes) -> None:
     """Write ``data`` to stdout now (UTF-8), or raise ``InputError("stdout: cannot write
     (...)")``; a ``BrokenPipeError`` (the reader went away) is raised as it is, not an error of
     ours."""
     raw = data.encode("utf-8") if isinstance(data, str) else data
     try:
-        sys.stdout.flush()
+        _flush(sys.stdout)
         buffer = getattr(sys.stdout, "buffer", None)
         if buffer is None:  # a text-only stream (io.StringIO in place of stdout)
             sys.stdout.write(raw.decode("utf-8", "replace"))
-        else:
+            return
+        _flush(buffer)
+        try:
+            fd = buffer.fileno()
+        except (OSError, ValueError, AttributeError):  # a stream without a descriptor
             buffer.write(raw)
             buffer.flush()
+            return
+        view = memoryview(raw)
+        while view:
+            try:
+                view = view[os.write(fd, view) :]
+            except BlockingIOError:  # a non-blocking stdout, full: wait for its reader
+                select.select([], [fd], [])
     except BrokenPipeError:
         raise
     except OSError as e:
         raise _stdout_failed(e) from e
 
 
+def _flush(stream: Any) -> None:
+    """Flush ``stream``, waiting while a non-blocking descriptor beneath it is full (Python's
+    own flush would give up and keep the rest, which the program's exit then loses)."""
+    while True:
+        try:
+            stream.flush()
+            return
+        except BlockingIOError:
+            select.select([], [stream.fileno()], [])
+
+
 def flush_stdout() -> None:
     """Flush stdout: what is still buffered is written, or ``InputError`` as
     :func:`write_stdout` raises it."""
     try:
-        sys.stdout.flush()
+        _flush(sys.stdout)
     except BrokenPipeError:
         raise
     except OSError as e:
@@ -326,17 +398,20 @@ def _umask() -> int:
 
 
 def _stage(plan: _Plan, raw: bytes) -> Path:
-    """Write ``raw`` to a new temporary file beside the plan's target, with the permissions the
-    target will have; its path."""
+    """Write ``raw`` to a new temporary file beside the plan's target, with the owner, group and
+    permissions the target will have; its path."""
     try:
         fd, name = tempfile.mkstemp(prefix=f".{plan.target.name}.", dir=plan.target.parent)
     except OSError as e:
-        raise InputError(f"{plan.shown}: cannot write ({e.strerror})") from e
+        raise _cannot_write(plan.shown, plan.target.parent, e, plan.mode is not None) from e
     tmp = Path(name)
     try:
         with os.fdopen(fd, "wb") as f:
             f.write(raw)
+        if plan.owner is not None:
+            _keep_owner(tmp, *plan.owner)
         # mkstemp creates 0600: give it the mode of the file replaced, or the one open() gives
+        # (after the owner: a change of owner clears the set-user-ID and set-group-ID bits)
         os.chmod(tmp, 0o666 & ~_umask() if plan.mode is None else plan.mode)
     except BaseException as e:
         tmp.unlink(missing_ok=True)
@@ -344,6 +419,35 @@ def _stage(plan: _Plan, raw: bytes) -> Path:
             raise InputError(f"{plan.shown}: cannot write ({e.strerror})") from e
         raise
     return tmp
+
+
+def _keep_owner(path: Path, uid: int, gid: int) -> None:
+    """Give ``path`` the user and group ``uid``, ``gid`` as far as the process may: both (root,
+    or the owner already), else the group alone (a group the user is in), else neither (the
+    file then belongs to the user who wrote it, as a new file would)."""
+    status = os.stat(path)
+    if (status.st_uid, status.st_gid) == (uid, gid):
+        return
+    for user in (uid, -1):
+        try:
+            os.chown(path, user, gid)
+            return
+        except PermissionError:
+            continue
+
+
+def _cannot_write(shown: str, directory: Path, e: OSError, exists: bool) -> InputError:
+    """The error of a file that cannot be made in ``directory``: it names the directory, which
+    is what must be writable (a file is replaced through a new file beside it and a rename)."""
+    if e.errno not in (errno.EACCES, errno.EPERM, errno.EROFS):
+        return InputError(f"{shown}: cannot write ({e.strerror})")
+    why = (
+        "; an existing file is replaced by a new file written beside it and renamed, so its "
+        "directory must be writable"
+        if exists
+        else ""
+    )
+    return InputError(f"{shown}: cannot write in directory '{directory}' ({e.strerror}){why}")
 
 
 def _put_in_place(staged: Sequence[tuple[_Plan, Path]]) -> None:
@@ -357,7 +461,7 @@ def _put_in_place(staged: Sequence[tuple[_Plan, Path]]) -> None:
             except OSError as e:
                 if backup is not None:
                     backup.unlink(missing_ok=True)
-                raise InputError(f"{plan.shown}: cannot write ({e.strerror})") from e
+                raise _cannot_write(plan.shown, plan.target.parent, e, plan.mode is not None) from e
             done.append((plan.target, backup))
     except BaseException:
         for target, backup in reversed(done):
@@ -432,6 +536,8 @@ def write_directory(files: Mapping[str, str | bytes], output: str) -> None:
         with interrupts.committing():
             os.rename(tmp, directory)  # DIR appears now, complete
     except OSError as e:
+        if tmp is None:  # DIR's parent directory takes no new entry
+            raise _cannot_write(output, parent, e, False) from e
         raise InputError(f"{output}: cannot write ({e.strerror})") from e
     finally:  # an error, KeyboardInterrupt or SystemExit (SIGTERM) alike
         if tmp is not None:

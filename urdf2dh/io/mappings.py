@@ -4,13 +4,16 @@ POE model files and table files are YAML or JSON. Their numbers are read as JSON
 (its core schema) read them, never as YAML 1.1 does (PyYAML's default, which reads ``0100`` as
 64 and ``2:50`` as 170, a silently different table):
 
-* integers ``[-+]?(0|[1-9][0-9]*)``, ``0o17`` and ``0x1F``; floats such as ``1.5``, ``.5``,
-  ``1e3``, ``-2.5E-3``, ``.inf``, ``.nan``; ``true``/``false``; ``null``, ``~`` or nothing;
+* numbers are the decimal numbers of urdf2dh's one grammar (:mod:`urdf2dh.numerals`), which
+  the core schema reads alike: integers ``[-+]?(0|[1-9][0-9]*)``, floats such as ``1.5``,
+  ``.5``, ``5.``, ``1e3``, ``-2.5E-3``; ``true``/``false``; ``null``, ``~`` or nothing;
 * everything else is text: ``2:50`` (base 60), ``1_000``, ``0b101``, ``yes``, ``no``, ``on``,
-  ``off``. An integer written with a leading zero (``0100``) is text too: YAML 1.2 reads it
-  as 100 and YAML 1.1 as 64, so it is refused where a number is expected rather than read
-  either way. Text where a number is expected is an error naming the field, and says what a
-  YAML 1.1 reader would have made of it (:func:`urdf2dh.checks.check_number`).
+  ``off``, and the core schema's numbers of other forms, ``0x1F``, ``0o17``, ``.inf``, ``.nan``,
+  which no other file urdf2dh reads may hold either. An integer written with a leading zero
+  (``0100``) is text too: YAML 1.2 reads it as 100 and YAML 1.1 as 64, so it is refused where a
+  number is expected rather than read either way. Text where a number is expected is an error
+  naming the field, and says why it is not a number, or what a YAML 1.1 reader would have made
+  of it (:func:`urdf2dh.io.fields.check_number`).
 
 A key that appears twice in one mapping, in YAML or JSON, is an error naming the key (and for
 YAML its line); YAML 1.1's merge key (``<<: *defaults``) still merges, its keys overridden by
@@ -22,29 +25,24 @@ written, and again with aliases counted each time they are used) and is nested a
 from __future__ import annotations
 
 import json
-import math
 import re
 from pathlib import Path
 from typing import Any, ClassVar
 
 from ..errors import InputError, shown
+from ..numerals import DECIMAL
 from ..tolerances import MAPPING_DEPTH, MAPPING_VALUES
 
 __all__ = ["read_mapping", "yaml_text"]
 
-# The YAML 1.2 core schema (YAML 1.2.2, section 10.3.2), integers with a leading zero excepted
-# (a float has a point or an exponent here: digits alone are an integer or, with a leading
-# zero, text)
+# The YAML 1.2 core schema (YAML 1.2.2, section 10.3.2), its numbers restricted to urdf2dh's one
+# grammar (no 0o17, 0x1F, .inf, .nan) and integers with a leading zero excepted (a float has a
+# point or an exponent here: digits alone are an integer or, with a leading zero, text)
 _CORE = (
     ("null", r"~|null|Null|NULL|", "~nN"),
     ("bool", r"true|True|TRUE|false|False|FALSE", "tTfF"),
-    ("int", r"[-+]?(?:0|[1-9][0-9]*)|0o[0-7]+|0x[0-9a-fA-F]+", "-+0123456789"),
-    (
-        "float",
-        r"[-+]?(?:\.[0-9]+|[0-9]+\.[0-9]*)(?:[eE][-+]?[0-9]+)?|[-+]?[0-9]+[eE][-+]?[0-9]+"
-        r"|[-+]?\.(?:inf|Inf|INF)|\.(?:nan|NaN|NAN)",
-        "-+0123456789.",
-    ),
+    ("int", r"[-+]?(?:0|[1-9][0-9]*)", "-+0123456789"),
+    ("float", rf"(?![-+]?[0-9]+$){DECIMAL}", "-+0123456789."),
 )
 _MERGE = "tag:yaml.org,2002:merge"
 
@@ -197,17 +195,11 @@ def _make_loader() -> type:
 
 
 def _int(loader: Any, node: Any) -> int:
-    return int(loader.construct_scalar(node), 0)
+    return int(loader.construct_scalar(node))
 
 
 def _float(loader: Any, node: Any) -> float:
-    text = loader.construct_scalar(node)
-    word = text.lstrip("+-").lower()
-    if word == ".inf":
-        return -math.inf if text.startswith("-") else math.inf
-    if word == ".nan":
-        return math.nan
-    return float(text)
+    return float(loader.construct_scalar(node))  # of the grammar: 1e999 is inf, then refused
 
 
 def _within_budget(tree: Any, display: str) -> None:

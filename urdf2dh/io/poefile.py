@@ -57,8 +57,13 @@ def check_matrix(
         raise InputError(f"{where}: last row must be [0, 0, 0, 1]")
     r = m[:3, :3]
     off = float(np.abs(r.T @ r - np.eye(3)).max())
-    if off > tol.rotation_input or np.linalg.det(r) <= 0:
+    if off > tol.rotation_input:
         raise InputError(f"{where}: the 3x3 block is not a rotation (|R^T R - I| = {off:.2g})")
+    if (det := float(np.linalg.det(r))) < 0:  # orthonormal, so det is -1
+        raise InputError(
+            f"{where}: the 3x3 block is a reflection (determinant {det:.3g}), not a rotation; "
+            "a rotation's determinant is +1 (a left-handed frame? negate one axis)"
+        )
     note = None
     if off > 0.0:
         u, _, vt = np.linalg.svd(r)

@@ -51,6 +51,7 @@ from .xacro import XacroOptions
 
 if TYPE_CHECKING:
     from ..model.poe import PoeModel
+    from .fields import JointBound
     from .mjcf import MjcfElements
     from .urdf import UrdfTree
 
@@ -127,11 +128,13 @@ class Source:
 
 @dataclass(frozen=True, slots=True)
 class Reading:
-    """How files are read: the tolerances of typed numbers (POE and table files), and how
-    ``.xacro`` files are expanded."""
+    """How files are read: the tolerances of typed numbers (POE and table files), how
+    ``.xacro`` files are expanded, and a command's bound on a URDF's joints (refused as soon as
+    they are counted, before the tree is built)."""
 
     tol: Tolerances = DEFAULT
     xacro: XacroOptions | None = None
+    bound: JointBound | None = None
 
 
 class Content:
@@ -281,16 +284,18 @@ def open_source(
     tol: Tolerances = DEFAULT,
     package_paths: Mapping[str, str] | None = None,
     xacro: XacroOptions | None = None,
+    bound: JointBound | None = None,
 ) -> Source:
     """Resolve SOURCE: an existing file, else a bundled robot name (``urdf2dh robots``).
 
     ``package_paths`` maps ROS package names to directories, and ``xacro`` says how to expand
-    ``.xacro`` sources (its packages joined with ``package_paths``).
+    ``.xacro`` sources (its packages joined with ``package_paths``). ``bound``: a command's bound
+    on a URDF's joints, refused as soon as they are counted (before the tree is built).
     """
     if package_paths:
         xacro = replace(xacro or XacroOptions(), packages={
             **(xacro.packages if xacro else {}), **package_paths})  # fmt: skip
-    reading = Reading(tol, xacro)
+    reading = Reading(tol, xacro, bound)
     if not source:
         raise SourceError(
             f"SOURCE is empty: give a {source_kinds()} file, or a bundled robot's name "
@@ -302,7 +307,7 @@ def open_source(
     if source in ROBOTS:
         bundled = ROBOTS[source]
         file = robot_path(bundled)
-        return _from_file(file, file.name, Reading(tol), bundled)
+        return _from_file(file, file.name, Reading(tol, bound=bound), bundled)
     looks_like_file = any(ch in source for ch in "/\\.")
     if looks_like_file:
         shortened = source if len(source) <= SHOWN_LENGTH else shown(source)

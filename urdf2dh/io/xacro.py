@@ -189,7 +189,7 @@ def read_source(content: Content, reading: Reading) -> Source:
     (the ``xacro`` entry of :data:`~urdf2dh.io.sources.READERS`)."""
     from .urdf import urdf_source
 
-    return urdf_source(content, expand(content.path, content.display, reading.xacro))
+    return urdf_source(content, expand(content.path, content.display, reading.xacro), reading)
 
 
 def child_argv() -> list[str]:

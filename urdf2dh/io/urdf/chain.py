@@ -95,6 +95,12 @@ def _walk(
             )
         if uj.type == "fixed":
             continue
+        if uj.swapped:
+            warnings.append(
+                f"joint {shown(uj.name)}: its <limit> has lower {uj.upper:.6g} above upper "
+                f"{uj.lower:.6g}; read as the range [{uj.lower:.6g}, {uj.upper:.6g}] (as Gazebo "
+                "reads it; urdfdom and Pinocchio keep lower and upper as written)"
+            )
         axis = np.array(unit((t[:3, :3] @ uj.axis).tolist()))
         if uj.mimic is not None:
             lead = _helical_lead(uj, axis, moving)

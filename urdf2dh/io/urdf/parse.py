@@ -18,6 +18,7 @@ from typing import Any
 from ...errors import InputError, shown
 from ...tolerances import JOINTS
 from ..encodings import check_text, sniff
+from ..fields import JointBound
 from ..files import read_file
 from ..sources import Content, Reading, Source
 from .tree import UrdfTree, build_tree
@@ -26,6 +27,7 @@ from .validate import check_robot
 __all__ = [
     "check_size",
     "document",
+    "keep_attribute_whitespace",
     "load_tree",
     "parse_tree",
     "parse_xml",
@@ -42,6 +44,16 @@ _VERSION_1 = re.compile(rb"1\.[0-9]+")  # the versions libxml2 reads; "0.0" and 
 _LXML_SOURCE = re.compile(r" \(<string>, line [0-9]+\)$")  # lxml's suffix: the line is in it
 # libxml2's advice to its callers (an option urdf2dh does not set), not to a URDF's author
 _PARSER_HINT = re.compile(r",? (?:try|use|see) (?:XML_PARSE_HUGE|xmlCtxtSetMaxAmplification)[^,]*")
+# An attribute value holding a tab, line feed or carriage return (the quick test), and the markup
+# of a document as keep_attribute_whitespace walks it: comments, CDATA sections, processing
+# instructions and the document type declaration passed over, start tags with their values
+_SPACED_VALUE = re.compile(rb"""=[ \t\r\n]*(?:"[^"<]*[\t\r\n][^"<]*"|'[^'<]*[\t\r\n][^'<]*')""")
+_MARKUP = re.compile(
+    rb"<!--.*?-->|<!\[CDATA\[.*?\]\]>|<\?.*?\?>|<!DOCTYPE(?:[^\[>]|\[.*?\])*>"
+    rb"""|<[^\s/!?>][^\s/>]*(?:\s+[^\s=/>]+\s*=\s*(?:"[^"<]*"|'[^'<]*'))*\s*/?>""",
+    re.S,
+)
+_VALUE = re.compile(rb"""=(\s*)("[^"<]*"|'[^'<]*')""")
 _UTF8 = ("utf-8", "ascii")  # codec names (codecs.lookup) whose text is UTF-8 as it stands
 _WIDE = ("utf-16", "utf-32")  # declared without a BOM, yet the declaration was ASCII: UTF-8 too
 
@@ -115,6 +127,29 @@ def document(data: bytes, display: str) -> bytes:
     return _decode(body, codec, display)
 
 
+def keep_attribute_whitespace(xml: bytes) -> bytes:
+    """``xml`` with each tab and line break inside an attribute value written as a character
+    reference, so that lxml keeps it as urdfdom's XML parser (tinyxml2) does.
+
+    A conforming XML parser (lxml) turns each tab, line feed and carriage return of an attribute
+    value into a space (XML 1.0, section 3.3.3); tinyxml2 keeps them (CR LF and CR become LF), and
+    urdfdom, which separates numbers at spaces only, then refuses ``xyz="0<TAB>0 1"``. Written as
+    ``&#9;`` and ``&#10;``, they reach urdf2dh's check as they reach urdfdom. A document without
+    such a value (nearly every file) is returned as it is."""
+    if not _SPACED_VALUE.search(xml):
+        return xml
+
+    def value(m: re.Match[bytes]) -> bytes:
+        text = m[2].replace(b"\r\n", b"\n").replace(b"\r", b"\n")
+        return b"=" + m[1] + text.replace(b"\t", b"&#9;").replace(b"\n", b"&#10;")
+
+    def markup(m: re.Match[bytes]) -> bytes:
+        tag = m[0]
+        return tag if tag[1:2] in (b"!", b"?") else _VALUE.sub(value, tag)
+
+    return _MARKUP.sub(markup, xml)
+
+
 def parse_xml(xml: bytes, display: str) -> Any:
     """lxml's element tree of a UTF-8 document (comments and processing instructions dropped;
     no entity from outside the document is read, nothing from the network).
@@ -147,9 +182,10 @@ def parse_xml(xml: bytes, display: str) -> Any:
         raise InputError(f"{display}: not enough memory to parse the XML") from e
 
 
-def check_size(root: Any, display: str) -> None:
+def check_size(root: Any, display: str, bound: JointBound | None = None) -> None:
     """Refuse a URDF of more than :data:`~urdf2dh.tolerances.JOINTS` joints (or links than a tree
-    of as many joints has), before anything is done per element."""
+    of as many joints has), or more joints than the command's ``bound``, before anything is done
+    per element."""
     for kind, most in (("joint", JOINTS), ("link", JOINTS + 1)):
         count = sum(1 for _ in root.iterchildren(kind))
         if count > most:
@@ -157,37 +193,41 @@ def check_size(root: Any, display: str) -> None:
                 f"{display}: {count:,} {kind}s; urdf2dh reads URDFs of at most {JOINTS:,} joints "
                 f"({JOINTS + 1:,} links)"
             )
+        if kind == "joint" and bound is not None:
+            bound.check(count, display, "the URDF has")
 
 
 def yourdfpy_robot(root: Any, display: str) -> Any:
-    """yourdfpy's ``Robot`` of a checked root element, made by its element parsers (the ones
-    ``URDF.load`` uses), link by link and joint by joint so that a failure names the element.
+    """yourdfpy's ``Robot`` of a checked root element: its links by name, and its joints made by
+    yourdfpy's joint parser (the one ``URDF.load`` uses), joint by joint so that a failure names
+    the joint.
 
-    A floating-point fault in its matrix code (a link's visual origin ``inf``, which the strict
-    check does not read and urdfdom refuses) is such a failure too, not a numpy warning;
-    underflow (``rpy="1e-300 1e-300 0"``) is no fault."""
+    A link's inertial, visual and collision elements are not read: the chain needs none of them,
+    and urdfdom (Pinocchio's reader) keeps a link whatever they hold, so a file Pinocchio loads is
+    not refused for them. A floating-point fault in yourdfpy's matrix code is a failure naming the
+    joint, not a numpy warning; underflow (``rpy="1e-300 1e-300 0"``) is no fault."""
     import numpy as np
 
     from ._yourdfpy import urdf as yourdfpy  # its element parsers, without trimesh's package
 
     robot = yourdfpy.Robot(name=root.get("name"))
-    for kind, parse, items in (
-        ("link", yourdfpy.URDF._parse_link, robot.links),
-        ("joint", yourdfpy.URDF._parse_joint, robot.joints),
-    ):
-        for el in root.iterchildren(kind):
-            try:
-                with np.errstate(over="raise", invalid="raise", divide="raise"):
-                    items.append(parse(el))
-            except Exception as e:  # yourdfpy raises many kinds (ValueError, KeyError, ...)
-                reason = " ".join(f"{type(e).__name__}: {e}".split())
-                raise InputError(
-                    f"{display}: {kind} {shown(el.get('name'))}: yourdfpy cannot read it ({reason})"
-                ) from e
+    robot.links.extend(yourdfpy.Link(name=el.get("name")) for el in root.iterchildren("link"))
+    for el in root.iterchildren("joint"):
+        if el.get("type") in ("fixed", "floating"):  # urdfdom reads no axis of these
+            for axis in el.findall("axis"):
+                el.remove(axis)
+        try:
+            with np.errstate(over="raise", invalid="raise", divide="raise"):
+                robot.joints.append(yourdfpy.URDF._parse_joint(el))
+        except Exception as e:  # yourdfpy raises many kinds (ValueError, KeyError, ...)
+            reason = " ".join(f"{type(e).__name__}: {e}".split())
+            raise InputError(
+                f"{display}: joint {shown(el.get('name'))}: yourdfpy cannot read it ({reason})"
+            ) from e
     return robot
 
 
-def parse_tree(data: bytes, display: str) -> UrdfTree:
+def parse_tree(data: bytes, display: str, bound: JointBound | None = None) -> UrdfTree:
     """Parse URDF text into a checked :class:`UrdfTree`.
 
     Parameters
@@ -196,6 +236,8 @@ def parse_tree(data: bytes, display: str) -> UrdfTree:
         The file's bytes (UTF-8, or any encoding its BOM or XML declaration names).
     display
         The file's name in messages.
+    bound
+        A command's bound on the joints (all of the file's), checked once they are counted.
 
     Returns
     -------
@@ -209,8 +251,8 @@ def parse_tree(data: bytes, display: str) -> UrdfTree:
     """
     check_text(data, display, "URDF XML")
     xml = document(data, display)
-    root = parse_xml(xml, display)
-    check_size(root, display)
+    root = parse_xml(keep_attribute_whitespace(xml), display)
+    check_size(root, display, bound)
     check_robot(root, display)
     return build_tree(yourdfpy_robot(root, display), display, xml)
 
@@ -223,11 +265,12 @@ def load_tree(path: str | Path, display: str | None = None) -> UrdfTree:
 
 def read_source(content: Content, reading: Reading) -> Source:
     """The SOURCE of a URDF file (the ``urdf`` entry of :data:`~urdf2dh.io.sources.READERS`)."""
-    return urdf_source(content, content.data)
+    return urdf_source(content, content.data, reading)
 
 
-def urdf_source(content: Content, data: bytes) -> Source:
-    """The SOURCE of URDF text ``data`` read from ``content``'s file (or expanded from it)."""
-    tree = parse_tree(data, content.display)
+def urdf_source(content: Content, data: bytes, reading: Reading) -> Source:
+    """The SOURCE of URDF text ``data`` read from ``content``'s file (or expanded from it), with
+    ``reading``'s bound on its joints."""
+    tree = parse_tree(data, content.display, reading.bound)
     return Source("urdf", content.display, content.name(tree.name), tree, tree.xml,
                   bundled=content.bundled)  # fmt: skip

@@ -51,9 +51,13 @@ class UrdfJoint:
         ``(3,)`` read-only: the unit axis in the joint's frame for a moving joint (normalised as
         urdfdom does); as written for the other types.
     lower, upper
-        Position limits, or ``None`` where absent (always ``None`` for continuous joints).
+        Position limits of a revolute or prismatic joint (``None`` for the other types, and
+        where the file has no ``<limit>``); ``lower <= upper``.
     mimic, multiplier, offset
         The joint this one mimics (``None`` if none): ``q = multiplier * q_mimic + offset``.
+    swapped
+        The file's ``<limit>`` has ``lower`` above ``upper``: they are read as the range between
+        them (as Gazebo's URDF reader reads them), and the chain's model warns of it.
     refused
         Why a chain may not hold this joint, beyond its type (an MJCF ball joint, a coupling no
         mimic relation describes), said after its name; ``None`` where it may.
@@ -73,6 +77,7 @@ class UrdfJoint:
     mimic: str | None
     multiplier: float = 1.0
     offset: float = 0.0
+    swapped: bool = False
     refused: str | None = None
     refused_coupling: bool = False
 
@@ -203,8 +208,12 @@ def _joint(j: Any) -> UrdfJoint:
         x, y, z = axis.tolist()
         axis /= math.sqrt(x * x + y * y + z * z)
     lower = upper = None
-    if j.limit is not None and j.type != "continuous":
-        lower, upper = j.limit.lower, j.limit.upper
+    if j.limit is not None and j.type in ("revolute", "prismatic"):  # urdfdom: absent is 0
+        lower = 0.0 if j.limit.lower is None else j.limit.lower
+        upper = 0.0 if j.limit.upper is None else j.limit.upper
+    swapped = lower is not None and upper is not None and lower > upper
+    if swapped:
+        lower, upper = upper, lower
     mimic = j.mimic
     return UrdfJoint(
         j.name,
@@ -218,6 +227,7 @@ def _joint(j: Any) -> UrdfJoint:
         None if mimic is None else mimic.joint,
         1.0 if mimic is None else float(mimic.multiplier),
         0.0 if mimic is None else float(mimic.offset),
+        swapped,
     )
 
 
