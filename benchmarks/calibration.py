@@ -58,8 +58,8 @@ from urdf2dh import (  # noqa: E402
     render,
     to_table,
 )
-from urdf2dh.calibration.calibration import holdout_split  # noqa: E402
 from urdf2dh.calibration.identify import identify  # noqa: E402
+from urdf2dh.calibration.levels import NAMES  # noqa: E402
 from urdf2dh.calibration.measure import perturb, synthesize  # noqa: E402
 from urdf2dh.calibration.measurements import (  # noqa: E402
     Measurements,
@@ -67,6 +67,7 @@ from urdf2dh.calibration.measurements import (  # noqa: E402
     read_measurements,
     write_measurements,
 )
+from urdf2dh.calibration.problem import holdout_split  # noqa: E402
 from urdf2dh.calibration.start import FitOptions, placement  # noqa: E402
 from urdf2dh.geometry.lie import log_so3, rotation_of  # noqa: E402
 from urdf2dh.io.catalog import ROBOTS, robot_path  # noqa: E402
@@ -328,7 +329,7 @@ def more_datasets(nominal: PoeModel, poses: int, count: int) -> None:
 
 DATA = Path(__file__).resolve().parents[1] / "examples" / "calibration-data"
 FIGAROH_LEVELS = ("full_params", "joint_offset")
-LEVEL_NAMES = ("base-tool", "offsets", "geometry", "full")
+LEVEL_NAMES = NAMES
 
 
 @dataclass(frozen=True)

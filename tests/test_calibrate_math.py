@@ -10,10 +10,6 @@ import pytest
 import urdf2dh
 from urdf2dh import Joint, PoeModel, to_table
 from urdf2dh.calibration.chart import (
-    BASE_TOOL,
-    FULL,
-    GEOMETRY,
-    OFFSETS,
     Estimate,
     absorbed,
     count,
@@ -21,6 +17,7 @@ from urdf2dh.calibration.chart import (
     local_coordinates,
     retract,
 )
+from urdf2dh.calibration.levels import BASE_TOOL, FULL, GEOMETRY, OFFSETS
 from urdf2dh.calibration.residuals import Data, evaluate, model_poses
 from urdf2dh.geometry.lie import (
     exp_so3,

@@ -13,9 +13,10 @@ from scipy.optimize import approx_fprime
 
 import urdf2dh
 from urdf2dh.calibration.calibration import calibrate
-from urdf2dh.calibration.chart import GEOMETRY, count, local_coordinates, retract
+from urdf2dh.calibration.chart import count, local_coordinates, retract
 from urdf2dh.calibration.evidence import _objective, linearised, maximise
 from urdf2dh.calibration.identify import fit_before, joint_locations, level_start, solve_level
+from urdf2dh.calibration.levels import GEOMETRY
 from urdf2dh.calibration.measure import perturb, synthesize
 from urdf2dh.calibration.prior import Deviations, Prior, Regulariser, link_errors
 from urdf2dh.calibration.residuals import evaluate

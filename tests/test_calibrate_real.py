@@ -15,8 +15,9 @@ import pytest
 import yaml
 
 import urdf2dh
-from urdf2dh.calibration.calibration import calibrate, holdout_split
+from urdf2dh.calibration.calibration import calibrate
 from urdf2dh.calibration.measurements import Reading, read_measurements
+from urdf2dh.calibration.problem import holdout_split
 from urdf2dh.calibration.report import to_dict
 from urdf2dh.cli import main
 from urdf2dh.conventions import NAMES

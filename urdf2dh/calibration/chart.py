@@ -59,18 +59,11 @@ from ..geometry.lie import cross3, cross_rows, exp_so3, left_jacobian, log_se3
 from ..geometry.se3 import twist_exp
 from ..model.identifiability import LINE_PARAMETERS
 from ..model.poe import Joint
+from .levels import FULL, Level
 
 __all__ = [
-    "BASE_TOOL",
-    "FULL",
-    "GEOMETRY",
-    "HIGHER",
-    "LEVELS",
-    "LOWER",
-    "OFFSETS",
     "Chain",
     "Estimate",
-    "Level",
     "absorbed",
     "all_names",
     "count",
@@ -84,26 +77,6 @@ __all__ = [
 ]
 
 Mat = NDArray[np.float64]
-
-
-@dataclass(frozen=True, slots=True)
-class Level:
-    """What one level of identification moves (module docstring)."""
-
-    name: str
-    base: bool
-    lines: bool
-    offsets: bool
-    scales: bool
-
-
-BASE_TOOL = Level("base-tool", base=True, lines=False, offsets=False, scales=False)
-OFFSETS = Level("offsets", base=True, lines=False, offsets=True, scales=False)
-GEOMETRY = Level("geometry", base=False, lines=True, offsets=False, scales=False)
-FULL = Level("full", base=False, lines=True, offsets=False, scales=True)
-LEVELS = {lv.name: lv for lv in (BASE_TOOL, OFFSETS, GEOMETRY, FULL)}
-LOWER = dict(zip(list(LEVELS)[1:], list(LEVELS)[:-1], strict=True))  # each level's simpler one
-HIGHER = {low: high for high, low in LOWER.items()}  # ... and its richer one
 
 
 def normal_basis(u: Mat) -> tuple[Mat, Mat]:
@@ -234,7 +207,7 @@ class Estimate:
     markers
         ``(K, 3)`` each marker's home position in the device frame (position measurements).
     level
-        What is identified (:data:`LEVELS`).
+        What is identified (:data:`.levels.LEVELS`).
     keep_tool_axis
         Whether the tool keeps its placement relative to the last joint's line.
     offsets

@@ -42,9 +42,10 @@ from ..errors import InputError
 from ..geometry.se3 import inv
 from ..model.poe import PoeModel
 from ..tolerances import NOISE_FLOOR, NOISE_RATIO, Tolerances
-from .chart import LEVELS, Estimate, absorbed, count, names, retract
+from .chart import Estimate, absorbed, count, names, retract
 from .evidence import linearised, maximise
 from .identifiable import free_coordinates
+from .levels import BASE_TOOL, LEVELS
 from .measurements import Measurements
 from .prior import AUTO, NONE, Deviations, LinkErrors, Prior, Regulariser, link_errors
 from .residuals import Data, evaluate, model_poses, prefix_products
@@ -178,7 +179,7 @@ def _given_noise(opts: FitOptions, size: float, notes: list[str]) -> tuple[float
 
 def has_prior(est: Estimate, opts: FitOptions) -> bool:
     """Whether ``est``'s level is fitted with a prior (:func:`prior_of`)."""
-    if est.level.name == "base-tool" or opts.prior == NONE:
+    if est.level == BASE_TOOL or opts.prior == NONE:
         return False
     return opts.prior != AUTO or est.level.lines
 
@@ -432,7 +433,7 @@ def identify(
         check_equations(count(est0), data, fit.source, opts.pose)
     if solved is not None:
         result = with_statistics(solved, data)
-    elif opts.level == "base-tool" and not opts.fixed_patterns:
+    elif opts.level == BASE_TOOL.name and not opts.fixed_patterns:
         result = base_fit
     else:
         noise = (base_fit.sigma_pos, base_fit.sigma_rot)

@@ -31,12 +31,13 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..checks import check_configurations, check_count, check_instance, check_real, check_seed
-from ..errors import InputError, UsageError, choices, shown
+from ..errors import InputError, shown
 from ..escape import markdown_table, markdown_text
 from ..model.poe import PoeModel
 from ..tolerances import MAX_MARKERS
-from .chart import LEVELS, Estimate, names
+from .chart import Estimate, names
 from .identifiable import redundant
+from .levels import FULL, LEVELS, check_level
 from .measure import marker_layout
 from .residuals import Data, evaluate, prefix_products
 
@@ -317,7 +318,7 @@ def minimum(model: PoeModel, level: str, pose: bool, markers: int | None) -> tup
 def plan(
     model: PoeModel,
     configs: int,
-    level: str = "full",
+    level: str = FULL.name,
     pose: bool = True,
     markers: int | None = None,
     candidates: Mat | None = None,
@@ -335,7 +336,7 @@ def plan(
     configs
         How many configurations to choose.
     level
-        The level planned for (:data:`.chart.LEVELS`).
+        The level planned for (:data:`.levels.LEVELS`).
     pose, markers
         Pose measurements, or positions of ``markers`` markers at seeded points of the tool (as
         ``urdf2dh measure --markers`` places them) or of the tool origin.
@@ -369,8 +370,7 @@ def plan(
     check_instance(model, PoeModel, "plan: model", "urdf2dh.load(SOURCE) reads one")
     check_count(configs, "plan: configs", 1, MAX_CONFIGURATIONS)
     check_instance(level, str, "plan: level")
-    if level not in LEVELS:
-        raise UsageError(f"unknown level {shown(level)}; valid: {choices(LEVELS)}")
+    check_level(level, "plan")
     if candidates is not None:
         n = model.dof
         candidates = check_configurations(candidates, n, "plan: candidates", True)

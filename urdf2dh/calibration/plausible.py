@@ -63,9 +63,10 @@ from ..tolerances import (
     WORSE_RATIO,
     WORSE_THAN_BEFORE,
 )
-from .chart import HIGHER, LOWER, Estimate, absorbed
+from .chart import Estimate, absorbed
 from .diagnosis import HELICAL_GAIN, explained, helical, misread, spread_ratio
 from .identify import Identified
+from .levels import BASE_TOOL, HIGHER, LOWER, OFFSETS
 from .measurements import Measurements
 from .residuals import evaluate
 from .rigid import fit_rigid
@@ -75,7 +76,8 @@ from .start import FitOptions, to_data
 from .userunits import UserUnits
 
 if TYPE_CHECKING:
-    from .calibration import Calibration, Comparison
+    from .problem import CalibrationProblem
+    from .result import Calibration, Comparison
 
 __all__ = [
     "ACCEPT",
@@ -125,7 +127,7 @@ def _less(level: str) -> Remedy:
         "level",
         "; choose a lower level ({}), or measure more configurations, spread over every joint's "
         "range",
-        LOWER.get(level, "base-tool"),
+        LOWER.get(level, BASE_TOOL.name),
     )
 
 
@@ -164,7 +166,7 @@ def _gross(cal: Calibration, size: float) -> list[Finding]:
     fit = cal.comparisons[0].after
     unit = cal.units.length
     out = []
-    higher = HIGHER.get(cal.level) if cal.level in ("base-tool", "offsets") else None
+    higher = HIGHER.get(cal.level) if cal.level in (BASE_TOOL.name, OFFSETS.name) else None
     if not fit.rms_position <= GROSS_POSITION * size:  # NaN counts as gross
         out.append(
             Finding(
@@ -410,16 +412,16 @@ def _worse_than_before(cal: Calibration, index: NDArray[np.int64]) -> list[Findi
     sel = cal.selection
     if (
         sel is not None
-        and cal.level != "base-tool"
+        and cal.level != BASE_TOOL.name
         and cal.level in sel.left_out
-        and "base-tool" in sel.left_out
+        and BASE_TOOL.name in sel.left_out
         and sel.configurations >= 2
     ):
         count = int(index.max(initial=-1)) + 1
         mine = per_configuration(sel.left_out[cal.level], index, count) @ sel.weights
-        base = per_configuration(sel.left_out["base-tool"], index, count) @ sel.weights
+        base = per_configuration(sel.left_out[BASE_TOOL.name], index, count) @ sel.weights
         if worse(mine, base):
-            score, first = sel.score(cal.level), sel.score("base-tool")
+            score, first = sel.score(cal.level), sel.score(BASE_TOOL.name)
             out.append(
                 Finding(
                     "worse-than-before",
@@ -479,20 +481,18 @@ def beyond_limits(nominal: PoeModel, q: Mat) -> tuple[tuple[str, float, float, f
 
 def judged(
     cal: Calibration,
-    nominal: PoeModel,
-    fit: Measurements,
+    problem: CalibrationProblem,
     opts: FitOptions,
-    ids: list[int],
     result: Identified,
-    given: tuple[float | None, float | None],
     accept: bool,
 ) -> Calibration:
     """``cal`` judged against the measurements: returned when nothing contradicts it (with the
     joints beyond their limits named among its warnings), or with ``accept`` (the findings
     among them too); else :class:`~urdf2dh.errors.Implausible`, naming the likely cause
-    (:func:`refusal`). ``fit`` are the fitted measurements, ``opts`` (at the level identified)
-    and ``ids`` how they were fitted, ``result`` the identification, ``given`` the noise levels
-    given (user's unit, rad; ``None``: estimated)."""
+    (:func:`refusal`). ``problem`` holds the fitted measurements and the noise levels given,
+    ``opts`` (at the level identified) how they were fitted, ``result`` the identification."""
+    nominal, fit, ids = problem.nominal, problem.fit, problem.markers
+    given = (problem.noise_pos, problem.noise_rot)
     findings = judge(cal, fit, opts, ids, result.before, result.estimate, given)
     notes = [
         f"joint {visible(name)}'s values reach {value:.4g}, beyond its limits [{lower:.4g}, "

@@ -37,29 +37,43 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field, replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
 
-from ..errors import UsageError
 from ..model.poe import PoeModel
 from ..progress import progress
 from ..tolerances import RANK_RELATIVE
-from .chart import LEVELS, Estimate, absorbed, count
-from .identifiable import redundant
-from .identify import Fit, joint_locations, level_start, prior_of, solve_level
+from .chart import Estimate, absorbed, count
+from .identifiable import check_patterns, redundant
+from .identify import (
+    Fit,
+    check_equations,
+    fit_before,
+    has_prior,
+    joint_locations,
+    level_start,
+    prior_of,
+    solve_level,
+)
+from .levels import AUTO, BASE_TOOL, LEVELS
 from .measurements import Measurements
 from .prior import Deviations
 from .residuals import evaluate
 from .solver import Problem
 from .start import FitOptions, to_data
 
+if TYPE_CHECKING:
+    from .problem import CalibrationProblem, Options
+
 __all__ = [
-    "RULES",
+    "Pass",
     "Score",
     "Selection",
     "cross_validate",
     "fold_of_configurations",
+    "judge_levels",
     "left_out_errors",
     "level_fits",
     "per_configuration",
@@ -67,8 +81,6 @@ __all__ = [
 ]
 
 Mat = NDArray[np.float64]
-
-RULES = ("simplest", "best")  # the simplest level within one SE of the best, or the best
 
 
 @dataclass(frozen=True, slots=True)
@@ -239,7 +251,7 @@ def level_fits(
     noise = (before.sigma_pos, before.sigma_rot)
     deviations: Deviations | None = None  # ... and its prior's estimate from the simpler one's
     for level in progress(levels, what="calibrate: levels"):
-        if level == "base-tool" and not opts.fixed_patterns:
+        if level == BASE_TOOL.name and not opts.fixed_patterns:
             fits[level] = before
             continue
         lopts = replace(opts, level=level)
@@ -289,8 +301,6 @@ def cross_validate(
     ``before`` is the base-tool level's fit to all of ``fit``; ``rule`` is ``simplest`` or
     ``best``. Returns the selection and every level's fit to all the measurements.
     """
-    if rule not in RULES:
-        raise UsageError(f"unknown rule {rule!r}; valid: {', '.join(RULES)}")
     index, configurations = fit.configurations()
     group_of = fold_of_configurations(configurations, folds, seed)
     groups = int(group_of.max(initial=-1)) + 1
@@ -395,3 +405,78 @@ def _reason(chosen: Score, best: Score, pose: bool, alone: bool) -> str:
         f"error of the best level, {best.level} ({left}; {what}), with fewer parameters "
         f"({chosen.parameters} against {best.parameters})"
     )
+
+
+@dataclass(frozen=True)
+class Pass:
+    """The levels fitted to one set of measurements and judged on it.
+
+    Attributes
+    ----------
+    problem
+        The problem, its fitted rows those judged.
+    options
+        How each level was identified (at the base-tool level).
+    start
+        The nominal placed in the device frame by the rigid fit.
+    before
+        The base-tool level's fit: the start of every other level, and the fair "before".
+    selection
+        The levels judged and the choice.
+    fits
+        Each level's fit to all the fitted measurements.
+    level
+        The level chosen, or asked for (``None``: none could be judged).
+    """
+
+    problem: CalibrationProblem
+    options: FitOptions
+    start: Estimate
+    before: Fit
+    selection: Selection
+    fits: dict[str, Fit]
+    level: str | None
+
+    @property
+    def fit(self) -> Measurements:
+        """The measurements fitted."""
+        return self.problem.fit
+
+    @property
+    def usable(self) -> bool:
+        """Whether the base-tool level converged and the level could be fitted."""
+        return self.before.solution.converged and self.level is not None and self.level in self.fits
+
+
+def judge_levels(problem: CalibrationProblem, options: Options, first: bool = True) -> Pass:
+    """Fit every level :class:`~.problem.LevelChoice` asks for to ``problem``'s fitted
+    measurements, judge them (module docstring) and take the level asked for or chosen.
+
+    ``first``: the first pass, whose base-tool fit must converge (the caller is told
+    otherwise: :attr:`Pass.usable`), and whose fixed parameters and equations are checked.
+    """
+    choice, opts = options.choice, options.fitting
+    nominal, fit, ids = problem.nominal, problem.fit, problem.markers
+    levels = choice.levels(opts.keep_scale)
+    start, before = fit_before(nominal, fit, opts, ids)
+    if first and not before.solution.converged:
+        return Pass(
+            problem, opts, start, before, Selection(0, None, 0, (), None, None, ""), {}, None
+        )
+    if first and choice.level != AUTO:  # fewer equations than its parameters: say so now
+        est, _, _ = level_start(
+            nominal, before.solution.estimate, replace(opts, level=choice.level), ids
+        )
+        if not has_prior(est, opts):
+            check_equations(count(est), to_data(fit, opts.pose, ids), fit.source, opts.pose)
+    if first and opts.fixed:
+        probes = [
+            level_start(nominal, before.solution.estimate, replace(opts, level=lv), ids)[0]
+            for lv in levels
+        ]
+        check_patterns(opts.fixed, probes, ids)
+    selection, fits = cross_validate(
+        nominal, fit, opts, ids, before, levels, choice.folds, choice.seed, choice.rule
+    )
+    level = choice.level if choice.level != AUTO else selection.chosen
+    return Pass(problem, opts, start, before, selection, fits, level)

@@ -20,7 +20,8 @@ from ..errors import UsageError, choices, shown
 from ..geometry.lie import rotation_of
 from ..model.poe import Joint, PoeModel
 from ..tolerances import DEFAULT, Tolerances
-from .chart import BASE_TOOL, LEVELS, Estimate, line_point
+from .chart import Estimate, line_point
+from .levels import BASE_TOOL, FULL, check_level
 from .measurements import Measurements
 from .prior import CHOICES, NONE, Prior
 from .residuals import Data
@@ -51,7 +52,7 @@ class FitOptions:
     pose
         Pose measurements (else positions).
     level
-        The level identified (:data:`.chart.LEVELS`).
+        The level identified (:data:`.levels.LEVELS`).
     fixed
         Parameters held at the nominal's values: names or shell-style patterns
         (``*.scale``, ``arm_7_joint.*``).
@@ -77,7 +78,7 @@ class FitOptions:
     """
 
     pose: bool = True
-    level: str = "full"
+    level: str = FULL.name
     fixed: tuple[str, ...] = ()
     prior: Prior | str = NONE
     helical: tuple[str, ...] = ()
@@ -93,8 +94,7 @@ class FitOptions:
     def __post_init__(self) -> None:
         if self.frame not in ("device", "nominal"):
             raise UsageError(f"frame must be device or nominal, not {shown(self.frame)}")
-        if self.level not in LEVELS:
-            raise UsageError(f"unknown level {shown(self.level)}; valid: {choices(LEVELS)}")
+        check_level(self.level, "FitOptions")
         if not isinstance(self.prior, Prior) and self.prior not in CHOICES:
             raise UsageError(
                 f"unknown prior {shown(str(self.prior))}; valid: {choices(CHOICES)} or a Prior"
