@@ -33,13 +33,13 @@ from ..errors import visible
 from ..model.identifiability import LINE_PARAMETERS, SYMBOLS
 from ..model.poe import PoeModel
 from ..tolerances import DIFF_ANGLE_DEG, DIFF_PARALLEL_DEG, POORLY_IDENTIFIED, Tolerances
-from .chart import Estimate, absorbed, local_coordinates
+from .chart import FRAME, Estimate, absorbed, local_coordinates
 from .identifiable import barely_moved
 from .identify import Identified
 from .levels import LOWER
 from .measurements import Measurements
 from .outliers import Outliers
-from .residuals import evaluate
+from .residuals import errors, evaluate, rms
 from .result import Calibration, Comparison, Counts, Held, Noise, Parameter, Residuals
 from .select import Pass, Score, Selection
 from .start import FitOptions, to_data
@@ -61,8 +61,8 @@ def formula(est: Estimate) -> str:
     others name their parts (``base 6 + offsets n + tool 6``)."""
     level = est.level
     kinds = Counter(est.chain.kinds)
-    tool = (2 if est.keep_tool_axis else 6) if est.home is not None else None
-    markers = 0 if est.markers is None else len(est.markers)
+    tool = (2 if est.keep_tool_axis else 6) if est.tool == FRAME else None
+    markers = len(est.markers)
     terms: list[tuple[str, str, int]] = []
     if level.base:
         terms.append(("base 6", "6", 6))
@@ -107,10 +107,10 @@ def in_words(est: Estimate) -> str:
         parts.append(_count(est.n, "joint offset"))
     if level.scales:
         parts.append(_count(est.n, "joint scale"))
-    if est.home is not None:
+    if est.tool == FRAME:
         parts.append(f"{2 if est.keep_tool_axis else 6} for the tool")
     else:
-        markers = 0 if est.markers is None else len(est.markers)
+        markers = len(est.markers)
         parts.append(
             f"3 for each of {_count(markers, 'marker')}" if markers > 1 else "3 for the marker"
         )
@@ -119,20 +119,14 @@ def in_words(est: Estimate) -> str:
 
 def _errors(est: Estimate, m: Measurements, pose: bool, ids: list[int]) -> Mat:
     """``(N, 1 or 2)`` each row's position error and, for poses, rotation error."""
-    data = to_data(m, pose, ids)
-    r, _ = evaluate(absorbed(est), data, 1.0, 1.0, jacobian=False)
-    rows = r.reshape(len(data), data.rows)
-    out: Mat = np.linalg.norm(rows[:, :3], axis=1, keepdims=True)
-    if pose:
-        out = np.hstack([out, np.linalg.norm(rows[:, 3:], axis=1, keepdims=True)])
-    return out
+    return errors(absorbed(est), to_data(m, pose, ids))
 
 
-def _residuals(errors: Mat) -> Residuals:
-    pos = errors[:, 0]
-    out = Residuals(len(errors), float(np.sqrt(np.mean(pos**2))), float(pos.max()))
-    if errors.shape[1] > 1:
-        rot = errors[:, 1]
+def _residuals(each: Mat) -> Residuals:
+    pos = each[:, 0]
+    out = Residuals(len(each), rms(pos), float(pos.max()))
+    if each.shape[1] > 1:
+        rot = each[:, 1]
         out = Residuals(
             out.count,
             out.rms_position,
@@ -196,7 +190,6 @@ def _reach(est: Estimate, m: Measurements, pose: bool, ids: list[int], size: flo
     robot's size) per unit of it."""
     data = to_data(m, pose, ids)
     _, jac = evaluate(absorbed(est) if est.offsets is None else est, data, 1.0, 1.0 / size)
-    assert jac is not None
     rows = jac.reshape(len(data), data.rows, -1)
     return np.sqrt(np.sum(rows**2, axis=1)).max(axis=0) if len(data) else np.zeros(rows.shape[2])
 
@@ -213,11 +206,7 @@ def _parameters(
     poorly identified ones' names; the undetermined ones' names. ``still``: the joints that
     barely moved, with their span."""
     est = result.estimate
-    start = result.before.with_level(est.level)
-    start = Estimate(
-        start.chain, start.home, start.markers, start.level, start.keep_tool_axis,
-        start.offsets, start.base, est.free,
-    )  # fmt: skip
+    start = result.before.with_level(est.level, est.free)
     changes = local_coordinates(start, est)
     size = result.device_model.size()
     reach = _reach(est, fit, opts.pose, ids, size)
@@ -533,7 +522,7 @@ def assemble(chosen: Pass, result: Identified, outliers: Outliers, options: Opti
         equations,
         p,
         stats.rank,
-        0 if after_est.markers is None else len(after_est.markers),
+        0 if after_est.tool == FRAME else len(after_est.markers),
     )
     base_in_device = result.base_in_device.copy()
     base_in_device[:3, 3] = user.shown_array(base_in_device[:3, 3])

@@ -42,13 +42,13 @@ from ..errors import InputError
 from ..geometry.se3 import inv
 from ..model.poe import PoeModel
 from ..tolerances import NOISE_FLOOR, NOISE_RATIO, Tolerances
-from .chart import Estimate, absorbed, count, names, retract
+from .chart import FRAME, Estimate, absorbed, count, names, retract
 from .evidence import linearised, maximise
 from .identifiable import free_coordinates
 from .levels import BASE_TOOL, LEVELS
 from .measurements import Measurements
 from .prior import AUTO, NONE, Deviations, LinkErrors, Prior, Regulariser, link_errors
-from .residuals import Data, evaluate, model_poses, prefix_products
+from .residuals import Data, evaluate, model_poses, modelled_points
 from .rigid import anchor_base, fit_rigid, pose_points, tool_on_last_axis
 from .solver import Problem, Solution, Statistics, solve, statistics
 from .start import (
@@ -242,7 +242,6 @@ def solve_level(
         rounds += 1
         if prior is None and opts.pose:  # only their ratio matters: that of greatest evidence
             r0, jac = evaluate(sol.estimate, data, 1.0, 1.0)
-            assert jac is not None
             found, _, step = maximise(linearised(r0, jac, data.rows), (sp, sr), np.zeros(0), floors)
             new_sp, new_sr = bounded_noise(found[0], found[1], size)
             settled = abs((new_sr / new_sp) / (sr / sp) - 1.0) <= _WEIGHT_SETTLED
@@ -293,7 +292,6 @@ def _solve_with_evidence(
     problem = Problem(data, sp, sr)
     for _ in range(_EVIDENCE_ROUNDS):
         r0, jac = evaluate(sol.estimate, data, 1.0, 1.0)
-        assert jac is not None
         here = (errors, errors.tangent(sol.estimate), errors.deviations(sol.estimate), parts)
         lin = linearised(r0, jac, data.rows, here)
         levels = (sp, sr) if opts.pose else (sp,)
@@ -339,8 +337,8 @@ def _stepped(est: Estimate, step: Mat, problem: Problem) -> Estimate:
     if not len(step) or len(step) != count(est):
         return est
     moved = retract(est, step)
-    before = problem.evaluate(est, jacobian=False)[0]
-    after = problem.evaluate(moved, jacobian=False)[0]
+    before = problem.residuals(est)
+    after = problem.residuals(moved)
     return moved if float(after @ after) < float(before @ before) else est
 
 
@@ -445,7 +443,7 @@ def identify(
     identified_points = (
         pose_points(model_poses(absorbed(est), fit.q), size)
         if opts.pose
-        else _identified_points(absorbed(est), data)
+        else modelled_points(absorbed(est), data)
     )
     nominal_pts = nominal_points(nominal, fit, opts, ids)
     if nominal.n:
@@ -496,10 +494,9 @@ def _device_model(
     size = nominal.size()
     flat = absorbed(est)
     markers_on_tool: dict[int, Mat] = {}
-    if flat.home is not None:
+    if est.tool == FRAME:
         home = flat.home
         if est.keep_tool_axis:
-            assert start.home is not None
             home, snapped = tool_on_last_axis(
                 start.joints[-1],
                 start.home,
@@ -514,14 +511,13 @@ def _device_model(
                     "axis: --keep-tool-axis puts it on the axis"
                 )
     else:
-        assert flat.markers is not None and start.markers is not None
         g = placement(nominal, fit, opts, ids)
         reference = (est.base_motion() @ g @ nominal.home)[:3, :3]  # the nominal's, placed
-        home = fit_rigid(layout_points(opts, ids), flat.markers, reference)
+        points = flat.device_markers()
+        home = fit_rigid(layout_points(opts, ids), points, reference)
         inv_home = inv(home)
         markers_on_tool = {
-            k: inv_home[:3, :3] @ c + inv_home[:3, 3]
-            for k, c in zip(ids, flat.markers, strict=True)
+            k: inv_home[:3, :3] @ c + inv_home[:3, 3] for k, c in zip(ids, points, strict=True)
         }
     return _output_model(nominal, flat, home, fit.source, opts.tol), markers_on_tool
 
@@ -545,11 +541,3 @@ def _output_model(
         nominal.tip_link,
         nominal.length_unit,
     )
-
-
-def _identified_points(est: Estimate, data: Data) -> Mat:
-    assert est.markers is not None and data.marker_rows is not None
-    last = prefix_products(est, data.q)[-1]
-    c = est.markers[data.marker_rows]
-    points: Mat = np.einsum("nij,nj->ni", last[:, :3, :3], c) + last[:, :3, 3]
-    return points

@@ -33,7 +33,7 @@ from ..tolerances import OUTLIER_CHANCE, OUTLIER_GAIN, OUTLIER_SHARE
 from .chart import count
 from .identify import Fit, with_statistics
 from .measurements import Measurements
-from .residuals import evaluate
+from .residuals import residuals
 from .select import Pass, Selection, judge_levels, per_configuration, within
 from .start import to_data
 
@@ -73,7 +73,7 @@ def suspects(fit: Measurements, result: Fit, pose: bool, ids: list[int]) -> list
     from scipy.stats import chi2
 
     data = to_data(fit, pose, ids)
-    r, _ = evaluate(result.solution.estimate, data, result.sigma_pos, result.sigma_rot, False)
+    r = residuals(result.solution.estimate, data, result.sigma_pos, result.sigma_rot)
     rows = r.reshape(len(data), data.rows)
     m = len(data) * data.rows
     leverage = result.statistics.leverage[:m].reshape(len(data), data.rows).sum(axis=1)

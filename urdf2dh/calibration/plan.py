@@ -25,7 +25,7 @@ covariance at the nominal; the measurements' own will differ as the robot differ
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from numpy.typing import NDArray
@@ -39,7 +39,7 @@ from .chart import Estimate, names
 from .identifiable import redundant
 from .levels import FULL, LEVELS, check_level
 from .measure import marker_layout
-from .residuals import Data, evaluate, prefix_products
+from .residuals import evaluate, observed
 
 __all__ = [
     "DEFAULT_NOISE_POS_M",
@@ -188,36 +188,22 @@ def _geometric_mean_ratio(a: Mat, b: Mat) -> float | None:
 
 def _estimate(model: PoeModel, level: str, pose: bool, markers: int | None, seed: int) -> Estimate:
     """The nominal at ``level``, in its own base frame, with its free coordinates."""
-    joints = model.joints
+    home, level_of = model.home.copy(), LEVELS[level]
     if pose:
-        est = Estimate.of(joints, home=model.home.copy(), level=LEVELS[level])
+        est = Estimate.of(model.joints, home, level=level_of)
     else:
         layout = marker_layout(model, markers, seed) if markers else {0: np.zeros(3)}
         local = np.array([layout[k] for k in sorted(layout)])
-        points = local @ model.home[:3, :3].T + model.home[:3, 3]
-        est = Estimate.of(joints, markers=points, level=LEVELS[level])
+        est = Estimate.of(model.joints, home, local, level=level_of)
     carried = redundant(est, model.limits(), model.size())
-    return Estimate(est.chain, est.home, est.markers, est.level, False, None, None, ~carried)
+    return replace(est, free=~carried)
 
 
-def _rows(est: Estimate, q: Mat, pose: bool, sp: float, sr: float) -> Mat:
-    """``(C, r, p)`` each candidate's weighted Jacobian rows."""
-    if pose:
-        assert est.home is not None
-        last = prefix_products(est, q)[-1] @ est.home
-        data = Data(q, last[:, :3, 3], last[:, :3, :3])
-        _, jac = evaluate(est, data, sp, sr)
-        assert jac is not None
-        return jac.reshape(len(q), 6, -1)
-    assert est.markers is not None
-    k = len(est.markers)
-    qs = np.repeat(q, k, axis=0)
-    rows = np.tile(np.arange(k, dtype=np.int64), len(q))
-    last = prefix_products(est, qs)[-1]
-    points = np.einsum("nij,nj->ni", last[:, :3, :3], est.markers[rows]) + last[:, :3, 3]
-    _, jac = evaluate(est, Data(qs, points, None, rows), sp, sr)
-    assert jac is not None
-    return jac.reshape(len(q), 3 * k, -1)
+def _rows(est: Estimate, q: Mat, sp: float, sr: float) -> Mat:
+    """``(C, r, p)`` each candidate's weighted Jacobian rows (3 per marker, or 6 per pose)."""
+    data = observed(est, q)
+    _, jac = evaluate(est, data, sp, sr)
+    return jac.reshape(len(q), len(est.markers) * data.rows, -1)
 
 
 def _std(rows: Mat) -> Mat:
@@ -406,7 +392,7 @@ def plan(
         raise InputError(f"{configs} configurations asked for, from {len(candidates)} candidates")
     with threadpool_limits(1, "blas"):
         est = _estimate(model, level, pose, markers, seed)
-        rows = _rows(est, candidates, pose, sp, sr)
+        rows = _rows(est, candidates, sp, sr)
         chosen = _greedy(rows, configs, seed)
         random = np.random.default_rng((seed, 8)).choice(len(candidates), configs, replace=False)
         std, random_std = _std(rows[chosen]), _std(rows[random])

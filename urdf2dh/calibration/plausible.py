@@ -68,7 +68,8 @@ from .diagnosis import HELICAL_GAIN, explained, helical, misread, spread_ratio
 from .identify import Identified
 from .levels import BASE_TOOL, HIGHER, LOWER, OFFSETS
 from .measurements import Measurements
-from .residuals import evaluate
+from .residuals import errors
+from .residuals import rms as root_mean_square
 from .rigid import fit_rigid
 from .select import per_configuration, within
 from .solver import Solution
@@ -588,10 +589,8 @@ def unconverged(
     :class:`~urdf2dh.errors.NotConverged` (exit 1)."""
     reads, _, _ = misread(nominal, fit, opts, ids)
     user = UserUnits.of(nominal.length_unit, fit)
-    data = to_data(fit, opts.pose, ids)
-    r, _ = evaluate(absorbed(solution.estimate), data, 1.0, 1.0, jacobian=False)
-    rows = r.reshape(len(data), data.rows)
-    rms = user.shown(float(np.sqrt(np.mean(np.sum(rows[:, :3] ** 2, axis=1)))))
+    each = errors(absorbed(solution.estimate), to_data(fit, opts.pose, ids))
+    rms = user.shown(root_mean_square(each[:, 0]))
     if reads:
         cause, remedies = explained(reads, fit)
         return Implausible(

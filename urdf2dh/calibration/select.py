@@ -60,7 +60,7 @@ from .identify import (
 from .levels import AUTO, BASE_TOOL, LEVELS
 from .measurements import Measurements
 from .prior import Deviations
-from .residuals import evaluate
+from .residuals import errors
 from .solver import Problem
 from .start import FitOptions, to_data
 
@@ -187,12 +187,7 @@ def per_configuration(squared: Mat, index: NDArray[np.int64], count: int) -> Mat
 
 def _squared_errors(est: Estimate, m: Measurements, pose: bool, ids: list[int]) -> Mat:
     """``(N, 1 or 2)``: each row's squared position error and, for poses, squared rotation."""
-    data = to_data(m, pose, ids)
-    r, _ = evaluate(absorbed(est), data, 1.0, 1.0, jacobian=False)
-    rows = r.reshape(len(data), data.rows)
-    out: Mat = np.sum(rows[:, :3] ** 2, axis=1, keepdims=True)
-    if pose:
-        out = np.hstack([out, np.sum(rows[:, 3:] ** 2, axis=1, keepdims=True)])
+    out: Mat = errors(absorbed(est), to_data(m, pose, ids)) ** 2
     return out
 
 
@@ -201,7 +196,6 @@ def left_out_errors(problem: Problem, est: Estimate, group: NDArray[np.int64]) -
     (``group[row]``, a configuration or a fold) is left out of the fit (module docstring), in
     the physical units; ``None`` when some group alone determines a parameter."""
     r, jac = problem.evaluate(est)
-    assert jac is not None
     data = problem.data
     rows, m = data.rows, problem.data_rows
     norms = np.sqrt(np.einsum("ij,ij->j", jac, jac))

@@ -52,7 +52,7 @@ from ..tolerances import (
 )
 from .chart import Estimate, retract
 from .prior import Regulariser
-from .residuals import Data, evaluate
+from .residuals import Data, evaluate, residuals
 
 __all__ = ["Problem", "Solution", "Statistics", "solve", "statistics"]
 
@@ -83,17 +83,20 @@ class Problem:
     sigma_rot: float
     prior: Regulariser | None = None
 
-    def evaluate(self, est: Estimate, jacobian: bool = True) -> tuple[Mat, Mat | None]:
+    def evaluate(self, est: Estimate) -> tuple[Mat, Mat]:
         """Residuals (the measurements', then the prior's) and their Jacobian."""
-        r, jac = evaluate(est, self.data, self.sigma_pos, self.sigma_rot, jacobian)
+        r, jac = evaluate(est, self.data, self.sigma_pos, self.sigma_rot)
         if self.prior is None:
             return r, jac
-        rp, jp = self.prior.rows(est, jacobian)
-        r = np.concatenate([r, rp])
-        if jac is not None:
-            assert jp is not None
-            jac = np.concatenate([jac, jp])
-        return r, jac
+        rp, jp = self.prior.rows(est)
+        return np.concatenate([r, rp]), np.concatenate([jac, jp])
+
+    def residuals(self, est: Estimate) -> Mat:
+        """The residuals alone (:meth:`evaluate`)."""
+        r = residuals(est, self.data, self.sigma_pos, self.sigma_rot)
+        if self.prior is None:
+            return r
+        return np.concatenate([r, self.prior.residuals(est)])
 
     @property
     def data_rows(self) -> int:
@@ -155,7 +158,6 @@ def solve(
     nu = 2.0
     m = problem.data_rows
     for it in range(1, max_iterations + 1):
-        assert jac is not None
         if not (math.isfinite(cost) and np.all(np.isfinite(jac))):  # beyond float's range
             return Solution(est, it - 1, False, math.sqrt(cost))
         norms = _norms(jac)
@@ -182,7 +184,7 @@ def solve(
             ):
                 # nothing left to gain above round-off: no point moves, or the cost is flat
                 new = retract(est, ds / norms)
-                cost_new = float(np.sum(problem.evaluate(new, jacobian=False)[0] ** 2))
+                cost_new = float(np.sum(problem.residuals(new) ** 2))
                 if cost_new < cost:
                     est, cost = new, cost_new
                 return Solution(est, it, True, math.sqrt(cost))
@@ -190,7 +192,7 @@ def solve(
             step = None if accel is None else ds + 0.5 * accel
             if step is not None:
                 new = retract(est, step / norms)
-                r_new, _ = problem.evaluate(new, jacobian=False)
+                r_new = problem.residuals(new)
                 cost_new = float(r_new @ r_new)
             if step is not None and cost_new < cost and predicted > 0.0:
                 gain = (cost - cost_new) / predicted
@@ -221,7 +223,7 @@ def _acceleration(
     """The geodesic acceleration of the step ``ds`` (scaled), or ``None`` when it is too large
     for the step to be trusted (module docstring)."""
     probe = retract(est, _PROBE * ds / norms)
-    r_probe, _ = problem.evaluate(probe, jacobian=False)
+    r_probe = problem.residuals(probe)
     linear = np.einsum("ij,j->i", jac, ds / norms)
     curvature = (2.0 / _PROBE) * ((r_probe - r) / _PROBE - linear)
     accel = _solved(damped, -np.einsum("ij,i->j", jac, curvature) / norms)
@@ -241,7 +243,6 @@ def statistics(est: Estimate, problem: Problem, exact: bool = True) -> Statistic
     about ``1e-8`` of the largest, enough for the leverages that weigh the noise levels.
     """
     r, jac = problem.evaluate(est)
-    assert jac is not None
     m, p = jac.shape
     if not (np.all(np.isfinite(r)) and np.all(np.isfinite(jac))):  # beyond float's range
         return _undetermined(r, p)

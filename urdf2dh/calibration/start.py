@@ -109,16 +109,15 @@ class FitOptions:
 
 
 def to_data(m: Measurements, pose: bool, marker_ids: list[int]) -> Data:
-    """The residuals' view of measurements."""
-    if pose:
-        assert m.quaternions is not None
-        return Data(m.q, m.points, rotation_of(m.quaternions))
+    """The residuals' view of measurements: the orientations too with ``pose``; each row's
+    marker as its place among ``marker_ids``."""
     rows = (
         np.zeros(len(m), dtype=np.int64)
         if m.markers is None
         else np.searchsorted(np.array(marker_ids), m.markers).astype(np.int64)
     )
-    return Data(m.q, m.points, None, rows)
+    rotations = rotation_of(m.quaternions) if pose and m.quaternions is not None else None
+    return Data(m.q, m.points, rows, rotations)
 
 
 def moved(model_joints: tuple[Joint, ...], g: Mat) -> tuple[Joint, ...]:
@@ -140,26 +139,23 @@ def layout_points(opts: FitOptions, ids: list[int]) -> Mat:
 
 
 def nominal_points(nominal: PoeModel, m: Measurements, opts: FitOptions, ids: list[int]) -> Mat:
-    """The nominal's tool points at the measured configurations (in its base frame)."""
+    """The nominal's tool points at the measured configurations (in its base frame): for poses,
+    each pose's origin and axis tips (:func:`.rigid.pose_points`); for positions, the markers
+    placed on the tool by the layout."""
     poses = nominal.fk_batch(m.q)
     if opts.pose:
         return pose_points(poses, nominal.size())
-    local = layout_points(opts, ids)
-    rows = (
-        np.zeros(len(m), dtype=np.int64)
-        if m.markers is None
-        else np.searchsorted(np.array(ids), m.markers)
-    )
-    points: Mat = np.einsum("nij,nj->ni", poses[:, :3, :3], local[rows]) + poses[:, :3, 3]
+    local = layout_points(opts, ids)[to_data(m, False, ids).markers]
+    points: Mat = np.einsum("nij,nj->ni", poses[:, :3, :3], local) + poses[:, :3, 3]
     return points
 
 
 def _measured_points(m: Measurements, size: float, pose: bool) -> Mat:
-    if not pose:
+    data = to_data(m, pose, [])
+    if data.rotations is None:
         return m.points
-    assert m.quaternions is not None
     poses = np.zeros((len(m), 4, 4))
-    poses[:, :3, :3] = rotation_of(m.quaternions)
+    poses[:, :3, :3] = data.rotations
     poses[:, :3, 3] = m.points
     return pose_points(poses, size)
 
@@ -182,7 +178,5 @@ def start_estimate(nominal: PoeModel, g: Mat, opts: FitOptions, ids: list[int]) 
     )
     home = g @ nominal.home
     if opts.pose:
-        return Estimate.of(joints, home=home, level=BASE_TOOL, keep_tool_axis=opts.keep_tool_axis)
-    local = layout_points(opts, ids)
-    markers = local @ home[:3, :3].T + home[:3, 3]
-    return Estimate.of(joints, markers=markers, level=BASE_TOOL)
+        return Estimate.of(joints, home, level=BASE_TOOL, keep_tool_axis=opts.keep_tool_axis)
+    return Estimate.of(joints, home, layout_points(opts, ids), level=BASE_TOOL)
