@@ -15,7 +15,7 @@ import urdf2dh
 from urdf2dh.calibration.calibration import calibrate
 from urdf2dh.calibration.chart import count, local_coordinates, retract
 from urdf2dh.calibration.evidence import _objective, linearised, maximise
-from urdf2dh.calibration.identify import fit_before, joint_locations, level_start, solve_level
+from urdf2dh.calibration.fit import fit_before, joint_locations, level_start, solve_level
 from urdf2dh.calibration.levels import GEOMETRY
 from urdf2dh.calibration.measure import perturb, synthesize
 from urdf2dh.calibration.prior import Deviations, Prior, Regulariser, link_errors
@@ -194,7 +194,7 @@ def test_leaving_each_configuration_out_agrees_with_refits(ur5):
     fit = solve_level(start, data, opts, ur5.size(), start, noise, where)
     problem = fit.problem(data)
     index, configurations = layout_free.configurations()
-    predicted = left_out_errors(problem, fit.solution.estimate, index)
+    predicted = left_out_errors(problem, fit.solution.lin, index)
     assert predicted is not None
     refits = []
     for c in range(configurations):

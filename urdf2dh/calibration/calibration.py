@@ -60,6 +60,7 @@ from .problem import (
 )
 from .result import Calibration
 from .select import judge_levels
+from .solver import one_thread
 from .start import MAX_ITERATIONS
 
 __all__ = ["calibrate", "run"]
@@ -160,9 +161,6 @@ def calibrate(
     ConversionError
         The output table failed its self-check (exit 1).
     """
-    import scipy.linalg  # noqa: F401  (loaded before the limit below, so that it holds for it)
-    from threadpoolctl import threadpool_limits
-
     check_instance(nominal, PoeModel, "calibrate: nominal", "urdf2dh.load(SOURCE) reads one")
     check_instance(measurements, Measurements, "calibrate: measurements", MEASUREMENTS_HINT)
     if validation is not None:
@@ -180,7 +178,7 @@ def calibrate(
         problem, fixed, prior, helical, keep_scale, keep_tool_axis, frame, max_iterations, tol
     )
     options = Options(fitting, choice, reject, Output(convention, style, check_samples), accept)
-    with threadpool_limits(1, "blas"):  # small matrices: BLAS threads only cost wake-ups
+    with one_thread():  # small matrices: BLAS threads only cost wake-ups
         return run(problem, options)
 
 

@@ -46,7 +46,8 @@ from ..errors import Remedy, visible
 from ..model.poe import PoeModel
 from ..tolerances import SPREAD
 from .chart import absorbed
-from .identify import fit_before, identify
+from .fit import fit_before
+from .identify import identify
 from .measurements import (
     POINT,
     QUATERNION,

@@ -31,7 +31,7 @@ from numpy.typing import NDArray
 
 from ..tolerances import OUTLIER_CHANCE, OUTLIER_GAIN, OUTLIER_SHARE
 from .chart import count
-from .identify import Fit, with_statistics
+from .fit import Fit, with_statistics
 from .measurements import Measurements
 from .residuals import residuals
 from .select import Pass, Selection, judge_levels, per_configuration, within

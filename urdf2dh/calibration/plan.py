@@ -40,6 +40,7 @@ from .identifiable import redundant
 from .levels import FULL, LEVELS, check_level
 from .measure import marker_layout
 from .residuals import evaluate, observed
+from .solver import one_thread
 
 __all__ = [
     "DEFAULT_NOISE_POS_M",
@@ -348,9 +349,6 @@ def plan(
         :data:`MAX_CANDIDATES`, or too few configurations to determine the level's parameters
         (the message names how many would).
     """
-    import scipy.linalg  # noqa: F401  (loaded before the limit below, so that it holds for it)
-    from threadpoolctl import threadpool_limits
-
     from .. import units
 
     check_instance(model, PoeModel, "plan: model", "urdf2dh.load(SOURCE) reads one")
@@ -390,7 +388,7 @@ def plan(
         )
     if configs > len(candidates):
         raise InputError(f"{configs} configurations asked for, from {len(candidates)} candidates")
-    with threadpool_limits(1, "blas"):
+    with one_thread():
         est = _estimate(model, level, pose, markers, seed)
         rows = _rows(est, candidates, sp, sr)
         chosen = _greedy(rows, configs, seed)

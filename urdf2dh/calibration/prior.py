@@ -216,6 +216,10 @@ class LinkErrors:
             out[rows] = here[joint[rows]] - there[joint[rows]]
         return out
 
+    def evaluate(self, est: Estimate) -> tuple[Mat, Mat]:
+        """:meth:`deviations` and :meth:`tangent` at ``est``."""
+        return self.deviations(est), self.tangent(est)
+
     def tangent(self, est: Estimate) -> Mat:
         """``(m, p)`` the derivatives of :meth:`deviations` by ``est``'s free coordinates: 1 for
         pitches, offsets and scales; for a line's, central differences along the chart's four

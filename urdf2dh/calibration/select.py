@@ -46,23 +46,14 @@ from ..model.poe import PoeModel
 from ..progress import progress
 from ..tolerances import RANK_RELATIVE
 from .chart import Estimate, absorbed, count
+from .fit import Fit, check_equations, fit_before, joint_locations, level_start, solve_level
 from .identifiable import check_patterns, redundant
-from .identify import (
-    Fit,
-    check_equations,
-    fit_before,
-    has_prior,
-    joint_locations,
-    level_start,
-    prior_of,
-    solve_level,
-)
 from .levels import AUTO, BASE_TOOL, LEVELS
 from .measurements import Measurements
 from .prior import Deviations
 from .residuals import errors
-from .solver import Problem
-from .start import FitOptions, to_data
+from .solver import Linearisation, Problem
+from .start import FitOptions, has_prior, prior_of, to_data
 
 if TYPE_CHECKING:
     from .problem import CalibrationProblem, Options
@@ -191,25 +182,31 @@ def _squared_errors(est: Estimate, m: Measurements, pose: bool, ids: list[int]) 
     return out
 
 
-def left_out_errors(problem: Problem, est: Estimate, group: NDArray[np.int64]) -> Mat | None:
+def left_out_errors(problem: Problem, lin: Linearisation, group: NDArray[np.int64]) -> Mat | None:
     """``(N, 1 or 2)``: each measurement's squared position (and rotation) error when its group
-    (``group[row]``, a configuration or a fold) is left out of the fit (module docstring), in
-    the physical units; ``None`` when some group alone determines a parameter."""
-    r, jac = problem.evaluate(est)
+    (``group[row]``, a configuration or a fold) is left out of the fit whose linearisation at
+    its solution is ``lin`` (module docstring), in the physical units; ``None`` when some group
+    alone determines a parameter."""
+    r, jac = problem.weighted(lin)
     data = problem.data
     rows, m = data.rows, problem.data_rows
     norms = np.sqrt(np.einsum("ij,ij->j", jac, jac))
     norms[norms == 0.0] = 1.0
     scaled = jac / norms
-    eig, vec = np.linalg.eigh(np.einsum("ij,ik->jk", scaled, scaled))
+    eig, vec = np.linalg.eigh(scaled.T @ scaled)
     keep = eig > RANK_RELATIVE * float(eig.max(initial=0.0))
     u = scaled[:m] @ (vec[:, keep] / np.sqrt(eig[keep]))  # the data rows of J_s V S^-1
     count = int(group.max(initial=-1)) + 1
-    members = [np.flatnonzero(group == g) for g in range(count)]
-    width = max(len(k) for k in members) * rows
+    # each group's rows side by side, in file order (one sort, not a search per group)
+    order = np.argsort(group, kind="stable")
+    members = np.bincount(group, minlength=count)
+    slot = np.arange(len(group)) - np.repeat(np.cumsum(members) - members, members)
+    width = int(members.max(initial=0)) * rows
     index = np.full((count, width), -1, dtype=np.int64)
-    for g, k in enumerate(members):
-        index[g, : len(k) * rows] = (k[:, None] * rows + np.arange(rows)).ravel()
+    within_row = np.arange(rows)
+    index[group[order][:, None], slot[:, None] * rows + within_row] = (
+        order[:, None] * rows + within_row
+    )
     padded_u = np.vstack([u, np.zeros((1, u.shape[1]))])[index]  # (groups, width, rank)
     padded_r = np.append(r[:m], 0.0)[index]
     system = np.eye(width) - np.einsum("gik,gjk->gij", padded_u, padded_u)
@@ -308,7 +305,7 @@ def cross_validate(
         if groups < 2:
             failures[level] = "a single configuration cannot be left out"
             continue
-        squared = left_out_errors(f.problem(data), f.solution.estimate, group_of[index])
+        squared = left_out_errors(f.problem(data), f.solution.lin, group_of[index])
         if squared is None:
             failures[level] = (
                 "a configuration alone determines some of its parameters: without it "

@@ -19,20 +19,24 @@ from numpy.typing import NDArray
 from ..errors import UsageError, choices, shown
 from ..geometry.lie import rotation_of
 from ..model.poe import Joint, PoeModel
-from ..tolerances import DEFAULT, Tolerances
+from ..tolerances import DEFAULT, NOISE_FLOOR, NOISE_RATIO, Tolerances
 from .chart import Estimate, line_point
 from .levels import BASE_TOOL, FULL, check_level
 from .measurements import Measurements
-from .prior import CHOICES, NONE, Prior
+from .prior import AUTO, CHOICES, NONE, Deviations, LinkErrors, Prior, link_errors
 from .residuals import Data
 from .rigid import fit_rigid, pose_points
 
 __all__ = [
     "FitOptions",
+    "bounded_noise",
+    "given_noise",
+    "has_prior",
     "layout_points",
     "moved",
     "nominal_points",
     "placement",
+    "prior_of",
     "start_estimate",
     "to_data",
 ]
@@ -106,6 +110,52 @@ class FitOptions:
     def fixed_patterns(self) -> tuple[str, ...]:
         """The fixed parameters' patterns, the scales' with ``keep_scale``."""
         return (*self.fixed, "*.scale") if self.keep_scale else self.fixed
+
+
+def bounded_noise(sp: float, sr: float, size: float) -> tuple[float, float]:
+    """The noise levels raised to the floors (module docstring): each above round-off, and
+    neither kind weighted more than ``1 / NOISE_RATIO`` times the other."""
+    sp, sr = max(sp, NOISE_FLOOR * size), max(sr, NOISE_FLOOR)
+    return max(sp, NOISE_RATIO * sr * size), max(sr, NOISE_RATIO * sp / size)
+
+
+def given_noise(opts: FitOptions, size: float, notes: list[str]) -> tuple[float, float]:
+    """The noise levels given, raised to the floors, with a note where they were raised."""
+    given = opts.noise_pos if opts.noise_pos is not None else 1.0
+    sp, sr = bounded_noise(given, opts.noise_rot or given / size, size)
+    if opts.pose and opts.noise_rot is not None and sr > opts.noise_rot:
+        notes.append(
+            f"the rotation noise given ({opts.noise_rot:.3g} rad) would weigh rotations "
+            f"over {1 / NOISE_RATIO:.0e} times positions and drown them; weighted as "
+            f"{sr:.3g} rad"
+        )
+    if opts.pose and sp > given:
+        notes.append(
+            f"the position noise given would weigh positions over {1 / NOISE_RATIO:.0e} times "
+            f"rotations and drown them; weighted as {sp / given:.3g} times it"
+        )
+    return sp, sr
+
+
+def has_prior(est: Estimate, opts: FitOptions) -> bool:
+    """Whether ``est``'s level is fitted with a prior (:func:`prior_of`)."""
+    if est.level == BASE_TOOL or opts.prior == NONE:
+        return False
+    return opts.prior != AUTO or est.level.lines
+
+
+def prior_of(
+    est: Estimate, opts: FitOptions, reference: Estimate | None, locations: Mat | None
+) -> tuple[LinkErrors | None, Deviations | None]:
+    """The level's link errors (:mod:`.prior`) and the stated deviations (``None``: to be
+    estimated), or ``(None, None)`` when the level has no prior: the base-tool level, ``none``,
+    and with ``auto`` the offsets level (zero settings that the measurements see directly)."""
+    if not has_prior(est, opts) or reference is None or locations is None:
+        return None, None
+    errors = link_errors(reference, locations)
+    if errors is None or not isinstance(opts.prior, Prior):
+        return errors, None
+    return errors, Deviations.stated(opts.prior, errors.links)
 
 
 def to_data(m: Measurements, pose: bool, marker_ids: list[int]) -> Data:
