@@ -54,14 +54,20 @@ class HandOff:
     beyond: list[np.ndarray] = field(default_factory=list)  # q whose pose got a solution > BOUND
     seconds: float = 0.0  # in the solver
     derived: float | None = None  # seconds the solver took to be made (roboticstoolbox)
+    form: str = ""  # which of the consumer's answers (rtb: "raw", its own; "solve()", polished)
+    steps: int | None = None  # the most Gauss-Newton steps a branch took (rtb's solve())
+    recovered: int | None = None  # branches solve() has that the consumer's own answer lacks
+    moved: float | None = None  # rad: the farthest a polished branch is from where it started
 
     def within(self, bound: float = BOUND) -> bool:
         return self.position <= bound and self.rotation <= bound
 
     def text(self) -> str:
         counts = ", ".join(f"{k}: {v}" for k, v in sorted(self.branches.items()))
+        form = f" ({self.form})" if self.form else ""
         return (
-            f"{self.target} {self.robot}: worst {self.position:.2g} x size, {self.rotation:.2g} "
+            f"{self.target} {self.robot}{form}: worst {self.position:.2g} x size, "
+            f"{self.rotation:.2g} "
             f"rad over {self.poses} poses ({len(self.beyond)} beyond {BOUND:g}); branches per pose "
             f"{{{counts}}}; configuration missed {len(self.missed)}"
         )
@@ -115,12 +121,14 @@ def declared(text: str) -> tuple[float, float]:
 
 @dataclass
 class Scripted:
-    """A Python export run: the source, its model, the script and the robot it defines."""
+    """A Python export run: the source, its model, the script, the robot it defines and the
+    script's namespace (its functions)."""
 
     source: Source
     model: PoeModel
     script: str
     robot: Any
+    namespace: dict[str, Any]
 
 
 def scripted(target: str, consumer: str, label: str, path: str,
@@ -150,7 +158,7 @@ def scripted(target: str, consumer: str, label: str, path: str,
                                rel=EXACT + position / model.size(),
                                rot=EXACT + rotation)  # fmt: skip
     report(target, consumer, errors, model.size())
-    return Scripted(source, model, script, robot), q
+    return Scripted(source, model, script, robot, namespace), q
 
 
 def eaik_solutions(robot: Any, pose: np.ndarray, n: int = 6) -> np.ndarray:
@@ -217,6 +225,10 @@ def record(result: HandOff) -> None:
         "beyond": len(result.beyond),
         "ms_per_pose": 1e3 * result.seconds / max(result.poses, 1),
         "derived_s": result.derived,
+        "form": result.form,
+        "steps": result.steps,
+        "recovered": result.recovered,
+        "moved": result.moved,
     }
     with open(path, "a") as f:
         f.write(json.dumps(line) + "\n")

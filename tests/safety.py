@@ -234,12 +234,46 @@ def _matlab(text: str, clean: str, names: dict[str, str]) -> None:
     _comments(comments, want.comments, names, "MATLAB")
 
 
+# the comments urdf2dh reads a controller file back with (io/halfile, io/opwfile): JSON, ASCII
+CHAIN = re.compile(r"urdf2dh (?:chain|joint \d+): ")
+
+
+def _chain_comments(text: str) -> tuple[str, list[Any]]:
+    """``text`` (comments run together) without its ``urdf2dh chain:`` comment and the
+    ``urdf2dh joint i:`` ones right after it, and their JSON values: each its prefix, then ASCII
+    JSON as :func:`visible` shows it (backslashes doubled)."""
+    start = text.find("urdf2dh chain: ")
+    if start < 0:
+        return text, []
+    plain, where, i = [], [], start  # text[start:] with doubled backslashes single; its places
+    while i < len(text):
+        where.append(i)
+        pair = text.startswith("\\\\", i)
+        plain.append(text[i])
+        i += 2 if pair else 1
+    where.append(len(text))
+    joined = "".join(plain)
+    values, at, decoder = [], 0, json.JSONDecoder()
+    while (m := CHAIN.match(joined, at)) is not None:
+        try:
+            value, at = decoder.raw_decode(joined, m.end())
+        except json.JSONDecodeError as e:
+            raise Unsafe(f"an urdf2dh chain comment is not JSON: {e}") from e
+        if not joined[m.start() : at].isascii():
+            raise Unsafe("an urdf2dh chain comment holds a character beyond ASCII")
+        values.append(value)
+    return text[:start] + text[where[at] :], values
+
+
 def _hal(text: str, clean: str, names: dict[str, str]) -> None:
     got, want = read_hal(text), read_hal(clean)
     if got.commands != want.commands:
         raise Unsafe(f"HAL live lines {got.commands!r} differ from the clean file's")
     joined = "".join(c[1:] if c.startswith(" ") else c for c in got.comments)
     clean_joined = "".join(c[1:] for c in want.comments)
+    joined, chain = _chain_comments(joined)
+    clean_joined, clean_chain = _chain_comments(clean_joined)
+    _same(chain, clean_chain, names, "HAL chain comments")
     _comments([joined], [clean_joined], names, "HAL")
 
 
@@ -253,9 +287,14 @@ def _yaml_comments(text: str, clean: str, names: dict[str, str]) -> None:
     lines, clean_lines = text.split("\n"), clean.split("\n")
     if len(lines) != len(clean_lines):
         raise Unsafe("the YAML file has another number of lines than the clean one")
+    comments = [x[1:].lstrip() for x in lines if x.startswith("#")]
+    clean_comments = [x[1:].lstrip() for x in clean_lines if x.startswith("#")]
+    chain = [v for x in comments if CHAIN.match(x) for v in _chain_comments(x)[1]]
+    clean_chain = [v for x in clean_comments if CHAIN.match(x) for v in _chain_comments(x)[1]]
+    _same(chain, clean_chain, names, "YAML chain comments")
     _comments(
-        [x for x in lines if x.startswith("#")],
-        [x for x in clean_lines if x.startswith("#")],
+        ["# " + x for x in comments if not CHAIN.match(x)],
+        ["# " + x for x in clean_comments if not CHAIN.match(x)],
         names,
         "YAML",
         squeeze=True,

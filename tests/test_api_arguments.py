@@ -291,9 +291,21 @@ def test_every_public_callable_is_tried_here():
     # results the jobs make (their fields are the jobs' checked output)
     tried |= {"VerifyReport", "ModelCheck", "Diff", "Info", "Calibration", "Plan"}
     tried |= {"XacroOptions"}  # tests/test_xacro*.py
+    tried |= {"match", "Match"}  # below; Match's fields are match's checked output
     public = {n for n in urdf2dh.__all__ if callable(getattr(urdf2dh, n))}
     assert public - {"Urdf2DhError"} <= tried, public - tried
     assert Row is urdf2dh.Row
+
+
+def test_match_checks_its_arguments():
+    refuses(lambda: urdf2dh.match(None, "ur5"), TypeError, "match: table")
+    refuses(lambda: urdf2dh.match("ur5-dh", "ur5", convention="cpc"), UsageError,
+            "unknown convention 'cpc'")  # fmt: skip
+    refuses(lambda: urdf2dh.match("ur5-dh", "ur5", angle_unit="grad"), UsageError, "angle_unit")
+    refuses(lambda: urdf2dh.match("ur5-dh", "ur5", length_unit="furlong"), UsageError,
+            "length_unit")  # fmt: skip
+    refuses(lambda: urdf2dh.match("ur5-dh", "ur5", samples=0), ValueError, "match: samples")
+    refuses(lambda: urdf2dh.match("ur5-dh", "ur5", tol=1e-9), TypeError, "match: tol")
 
 
 def test_export_checks_its_arguments():

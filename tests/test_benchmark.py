@@ -24,6 +24,7 @@ SECTIONS = (
     "Bounds (new processes)",
     "Batch forward kinematics",
     "verify",
+    "match",
 )
 
 

@@ -31,6 +31,7 @@ COMMANDS = [
     "measure",
     "calibrate",
     "plan",
+    "match",
 ]
 
 
@@ -78,6 +79,8 @@ OUTPUTS = [
     ["plan", "ur5", "--configs", "3"],
     ["convert", "ur5", "-o", str(FULL)],
     ["plot", "ur5", "-o", str(FULL)],
+    ["match", str(ROOT / "robots" / "references" / "ur5-dh.yaml"), "ur5"],
+    ["match", str(ROOT / "robots" / "references" / "ur5-dh.yaml"), "ur5", "-o", str(FULL)],
 ]
 
 

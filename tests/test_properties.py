@@ -105,20 +105,31 @@ def _assert_close(model, poses, q, label, declared=None):
     assert pos <= allowed_pos and rot <= allowed_rot, (label, pos, rot)
 
 
-def _conditioning(table) -> float:
+def _conditioning(table, size: float) -> float:
     """1 / sin(alpha) of the most nearly parallel (but not parallel) pair in a D-H table: the
     common normal of two lines at angle alpha is known to eps / sin(alpha) only, so that is
-    how well two exact conversions of the same geometry can agree on d, a and theta."""
+    how well two exact conversions of the same geometry can agree on d, a and theta. Where the
+    x axis points from one axis to the other instead (a Hayati row: to where the next axis
+    crosses the xy plane; a D-H row of parallel axes: along their common normal), at a
+    distance a (round-off for nearly coincident axes) its direction is known to eps size / a
+    only, and with it theta."""
     if table.convention == "cpc":
         return 1.0
     alphas = [getattr(table.base, "alpha", None), getattr(table.tool, "alpha", None)]
     alphas += [r.params.alpha for r in table.rows]
     sines = [abs(math.sin(x)) for x in alphas if x is not None and abs(math.sin(x)) > 1e-15]
-    return 1.0 / min(sines, default=1.0)
+    links = [table.base, *(r.params for r in table.rows)]
+    crossings = [
+        abs(p.a) / size
+        for p in links
+        if getattr(p, "a", 0.0) != 0.0
+        and (hasattr(p, "beta") or abs(math.sin(getattr(p, "alpha", 1.0))) <= 1e-15)
+    ]
+    return 1.0 / min(sines + crossings, default=1.0)
 
 
 def _same_params(a, b, size, label):
-    cond = max(1.0, 1e-6 * _conditioning(a))  # 1e-9 * cond stays >= 1e-15 / sin(alpha)
+    cond = max(1.0, 1e-6 * _conditioning(a, size))  # 1e-9 * cond stays >= 1e-15 / sin(alpha)
     pairs = [(a.base.values(), b.base.values()), (a.tool.values(), b.tool.values())]
     pairs += [(x.params.values(), y.params.values()) for x, y in zip(a.rows, b.rows, strict=True)]
     for pa, pb in pairs:

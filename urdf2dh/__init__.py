@@ -21,6 +21,8 @@ function         does                                         returns
 :func:`export`   writes a controller or toolbox file          ``str``
 :func:`verify`   every convention against Pinocchio           :class:`VerifyReport`
 :func:`diff`     two parameter sets side by side              :class:`Diff`
+:func:`match`    which table is this: a hand-written table    :class:`Match`
+                 against a robot, what differs in words
 :func:`info`     what a SOURCE holds, identifiability         :class:`Info`
 :func:`measure`  synthetic measurements of a model            :class:`Measurements`
 :func:`calibrate` identifies a model from measurements        :class:`Calibration`
@@ -50,6 +52,7 @@ __all__ = [
     "ExportOptions",
     "Info",
     "Joint",
+    "Match",
     "Measurements",
     "ModelCheck",
     "Plan",
@@ -66,6 +69,7 @@ __all__ = [
     "export",
     "info",
     "load",
+    "match",
     "measure",
     "plan",
     "plot",
@@ -82,6 +86,7 @@ if TYPE_CHECKING:
     from .calibration.result import Calibration
     from .check.diff import Diff, diff
     from .check.info import Info, info
+    from .check.match import Match, match
     from .check.verify import ModelCheck, VerifyReport, verify
     from .conventions import NAMES as CONVENTIONS
     from .conventions.convert import to_table
@@ -106,6 +111,7 @@ _LAZY = {
     "ExportOptions": ("urdf2dh.emit.export.common", "ExportOptions"),
     "Info": ("urdf2dh.check.info", "Info"),
     "Joint": ("urdf2dh.model.poe", "Joint"),
+    "Match": ("urdf2dh.check.match", "Match"),
     "Measurements": ("urdf2dh.calibration.measurements", "Measurements"),
     "ModelCheck": ("urdf2dh.check.verify", "ModelCheck"),
     "Plan": ("urdf2dh.calibration.plan", "Plan"),
@@ -121,6 +127,7 @@ _LAZY = {
     "export": ("urdf2dh.emit.export", "export"),
     "info": ("urdf2dh.check.info", "info"),
     "load": ("urdf2dh.io.sources", "load"),
+    "match": ("urdf2dh.check.match", "match"),
     "measure": ("urdf2dh.calibration.measure", "measure"),
     "plan": ("urdf2dh.calibration.plan", "plan"),
     "plot": ("urdf2dh.emit.plot", "plot"),

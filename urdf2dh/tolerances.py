@@ -45,6 +45,7 @@ __all__ = [
     "LAYOUT_MISFIT",
     "MAPPING_DEPTH",
     "MAPPING_VALUES",
+    "MATCH_ROUND_OFF",
     "MAX_SAMPLES",
     "MAX_SEED",
     "MJCF_INCLUDES",
@@ -94,6 +95,12 @@ DIFF_PARALLEL_DEG = 5.0
 # this (rad, or x robot size): a table read back and converted again moves its parameters by
 # round-off of up to ~1e-14 x size, which is no change.
 DIFF_ROUND_OFF = 1e-12
+
+# `match` judges a table against its source at the precision the table is written in, plus this
+# (x robot size for positions, rad for rotations) for the source's own rounding: URDFs write pi/2
+# to 10 or 11 digits (1.57079632679 is 4.9e-12 rad off), UR's kinematics files 1.570796327
+# (2e-10 rad).
+MATCH_ROUND_OFF = 1e-9
 
 # ----------------------------------------------------------------------------- calibration
 

@@ -5,14 +5,17 @@ check: FK against the source at 100 configurations: max position error 4e-16 m, 
 warning: made exact for the analytic solvers (--exact keeps them): theta of 'shoulder_lift_joint': pi - 4.9e-12 rad, written pi; theta of 'wrist_1_joint': pi - 4.9e-12 rad, written pi
 warning: analytic form: FK deviation from the table 5.23e-12 m, 9.79e-12 rad (worst of 1000 configurations)
 declared bound against the source: 4.7e-11 m, 2e-11 rad (the table's and the snaps' above)
-analytic IK: robot.ikine_analytic(T), robot.analytic_ik().solve(T): closed form (axes 2, 3, 4), which roboticstoolbox derives symbolically once per robot and process (seconds to minutes)
+analytic IK: solve(T), every branch of roboticstoolbox's robot.analytic_ik(): closed form (axes 2, 3, 4), each polished on robot's own forward kinematics (docs/exports/rtb.md#analytic-ik); roboticstoolbox derives its solver symbolically once per robot and process (seconds to minutes)
 """
 
 import copy
 from math import degrees, pi, radians
 
+import numpy as np
 from roboticstoolbox import DHRobot, RevoluteDH
+from roboticstoolbox.robot.IK import IKSolution, normalise_q, within_limits
 from spatialmath import SE3
+from spatialmath.base import tr2delta
 
 robot = DHRobot(
     [
@@ -27,6 +30,78 @@ robot = DHRobot(
     base=SE3(),
     tool=SE3.Rx(4.8966500924867e-12),
 )
+
+SIZE = 0.8393931236807168  # m: the robot's size; solve() holds positions to tol x SIZE
+REVOLUTE = np.array([link.isrevolute for link in robot.links])
+# robot reaches QUARTER @ T where it reaches T, joint 1 a quarter turn further (its axis
+# is the base's z)
+QUARTER = (robot.base * SE3.Rz(pi / 2) * robot.base.inv()).A
+
+
+def candidates(T):
+    """The rows solve() polishes for the pose T (4x4 array), as
+    robot.analytic_ik().solve(T, joint_limits=False) returns them (k, n): roboticstoolbox's
+    branches for T, then its branches for QUARTER @ T with joint 1 turned back into [-pi, pi)
+    (its closed form loses digits as cos(q1) -> 0, and drops such branches; the turned pose
+    has them away from there)."""
+    ik = robot.analytic_ik()  # derived on the first call, then kept: seconds to minutes
+    turned = ik.solve(QUARTER @ T, joint_limits=False).q
+    turned[:, 0] = np.remainder(turned[:, 0] + pi / 2, 2 * pi) - pi
+    return np.vstack([ik.solve(T, joint_limits=False).q, turned])
+
+
+def polish(q, T, steps=10):
+    """Gauss-Newton steps on robot's own forward kinematics (robot.fkine, robot.jacobe) from
+    q toward T, each taken if it at least halves the error: (q, error, steps taken), the error
+    the larger of the position's (/ SIZE) and the rotation's (rad)."""
+
+    def error(q):
+        delta = tr2delta(robot.fkine(q).A, T)  # in the tip's frame, as robot.jacobe(q)
+        return delta, max(np.linalg.norm(delta[:3]) / SIZE, np.linalg.norm(delta[3:]))
+
+    delta, worst = error(q)
+    for taken in range(steps):
+        if not worst > 0.0:  # exact, or not a number
+            return q, worst, taken
+        moved = q + np.linalg.lstsq(robot.jacobe(q), delta, rcond=None)[0]
+        delta_moved, worst_moved = error(moved)
+        if not worst_moved <= worst / 2:  # no longer converging
+            return q, worst, taken
+        q, delta, worst = moved, delta_moved, worst_moved
+    return q, worst, steps
+
+
+def same(a, b):
+    """Whether configurations a and b are one: every revolute joint within 1e-9 rad (modulo
+    2 pi), every prismatic one within 1e-9 x SIZE."""
+    gap = np.where(REVOLUTE, np.remainder(a - b + pi, 2 * pi) - pi, (a - b) / SIZE)
+    return bool(np.abs(gap).max() <= 1e-9)
+
+
+def solve(T, joint_limits=True, tol=1e-10):
+    """Every branch of the analytic IK for the pose T (SE3 or 4x4 array: the tip link in the
+    base link): each row of candidates(T) polished until it reaches T within tol x SIZE and
+    tol rad, a row that lands on a branch found before left out. An IKSolution, as
+    robot.analytic_ik().solve(T): q has a branch a row, revolute joints moved by whole turns
+    into their limits and, with joint_limits, the branches beyond them dropped; iterations is
+    the most steps a row took; reason names the rows that did not reach T (not in q), and
+    success is whether q has a branch and every row reached T."""
+    T = np.asarray(T.A if isinstance(T, SE3) else T, dtype=float)
+    found, reasons, most = [], [], 0
+    for k, row in enumerate(candidates(T)):
+        q, worst, taken = polish(row, T)
+        most = max(most, taken)
+        if not worst <= tol:
+            reasons.append(f"candidate {k} stops {worst:.1e} from T")
+        elif not any(same(q, other) for other in found):
+            found.append(q)
+    q = np.array([normalise_q(b, robot.qlim, REVOLUTE) for b in found]).reshape(-1, robot.n)
+    if joint_limits:
+        q = q[np.array([within_limits(b, robot.qlim) for b in q], dtype=bool)]
+        if found and not len(q):
+            reasons.append(f"all {len(found)} branches violate the joint limits")
+    return IKSolution(q, len(q) > 0 and not reasons, most, reason="; ".join(reasons))
+
 
 if __name__ == "__main__":
     # rtb prints every digit of an angle: the robot shown, and its pose at home, have

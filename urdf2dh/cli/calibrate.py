@@ -171,10 +171,12 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--frame",
         choices=("device", "nominal"),
-        default="device",
+        default=None,
         help="frame of the output model: the measuring device's (default) or the "
-        "nominal base, anchored on joint 1's axis and fitted to the nominal",
+        "nominal base, anchored on joint 1's axis and fitted to the nominal (default with "
+        "--like)",
     )
+    options.add_like(p)
     p.add_argument(
         "--marker-layout",
         metavar="FILE",
@@ -237,6 +239,14 @@ def run(args: argparse.Namespace) -> int:
     # before anything is read
     args.format = options.output_format(args, FORMATS, poe_file=args.convention == "poe")
     tol = tolerances(args)
+    options.check_like(args)
+    if args.like and args.frame == "device":
+        raise UsageError(
+            "--like writes the model into NOMINAL's base link: --frame nominal, not device"
+        )
+    frame = args.frame or ("nominal" if args.like else "device")
+    if args.like and args.convention:
+        raise UsageError("--like writes a URDF; --convention does not apply")
     nominal = options.nominal(args, tol)
     joints = tuple(j.name for j in nominal.joints)
     sliding = tuple(j.name for j in nominal.joints if j.kind == "prismatic")
@@ -301,17 +311,17 @@ def run(args: argparse.Namespace) -> int:
         helical=_helical(args.helical, joints),
         keep_scale=args.keep_scale,
         keep_tool_axis=args.keep_tool_axis,
-        frame=args.frame,
+        frame=frame,
         layout=layout,
         reject=args.reject,
-        convention=args.convention,
+        convention="poe" if args.like else args.convention,
         style=args.style,
         tol=tol,
         max_iterations=args.max_iterations,
         check_samples=args.check_samples,
         accept=args.accept_implausible,
     )
-    text = _model_text(cal, args.format)
+    text = options.like(args, cal.model, tol) if args.like else _model_text(cal, args.format)
     outputs: list[tuple[str | None, str | bytes]] = [(args.output, text)]
     if args.report:
         import json

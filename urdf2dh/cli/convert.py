@@ -50,18 +50,26 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         "trailing slash, or an existing directory) one file per tip (DIR/<tip>.txt, .json, "
         ".yaml, .csv, .md, .urdf, .poe.yaml), all or nothing",
     )
+    options.add_like(p)
     options.add_tolerances(p)
 
 
 def run(args: argparse.Namespace) -> int:
     from ..emit.formats import FORMATS, render
+    from ..errors import UsageError
 
     args.format = options.output_format(args, FORMATS)  # before anything is read
     tol = options.tolerances(args)
+    options.check_like(args)
     if several_of(args):
+        if args.like:
+            raise UsageError("--like writes one chain into NOMINAL: give one --tip")
         return _convert_tips(args)
     source = options.source(args, tol)
     model = source.model(args.base, one_tip(args), args.ignore_mimic)
+    if args.like:
+        write_output(options.like(args, model, tol), args.output)
+        return 0
     write_output(render(_table(model, args, tol), args.format), args.output)
     return 0
 

@@ -22,11 +22,14 @@ __all__ = [
     "add_chain",
     "add_chain_options",
     "add_format",
+    "add_like",
     "add_markers",
     "add_reading",
     "add_tolerances",
+    "check_like",
     "fraction",
     "integer",
+    "like",
     "names",
     "nominal",
     "nonnegative_float",
@@ -244,6 +247,41 @@ def output_format(
             "--format out (the suffix chooses), or name the file for its format"
         )
     return str(args.format)
+
+
+def add_like(p: argparse.ArgumentParser) -> None:
+    p.add_argument(
+        "--like",
+        metavar="NOMINAL",
+        help="with --format urdf: write NOMINAL (a URDF) with only its joint origins and axes "
+        "changed, so that its forward kinematics is the model's while every link keeps its "
+        "visual, collision and inertial elements in its own frame",
+    )
+
+
+def like(args: argparse.Namespace, model: PoeModel, tol: Tolerances) -> str:
+    """The URDF ``--like NOMINAL`` asks for (``--format urdf`` or no format), its notes on
+    stderr."""
+    import sys
+
+    from ..emit.urdf_like import urdf_like
+
+    result = urdf_like(model, args.like, tol=tol, xacro=xacro_options(args))
+    for note in result.notes:
+        print(f"urdf2dh: {note}", file=sys.stderr)
+    print(f"urdf2dh: {result.summary()}", file=sys.stderr)
+    return result.text
+
+
+def check_like(args: argparse.Namespace, default: str = "text") -> None:
+    """``--like`` writes a URDF: with ``--format urdf`` (or none given), into a NOMINAL that is
+    named (an empty one is not taken for none)."""
+    from ..errors import UsageError
+
+    if args.like == "":
+        raise UsageError("--like: NOMINAL is empty (the path of the URDF to write into)")
+    if args.like and args.format not in ("urdf", default):
+        raise UsageError(f"--like writes a URDF: --format urdf, not {args.format}")
 
 
 def add_tolerances(p: argparse.ArgumentParser) -> None:

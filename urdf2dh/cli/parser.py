@@ -130,6 +130,7 @@ def commands() -> tuple[Command, ...]:
         diff,
         export,
         info,
+        match,
         measure,
         plan,
         plot,
@@ -137,7 +138,7 @@ def commands() -> tuple[Command, ...]:
         verify,
     )
 
-    return convert, verify, diff, info, export, plot, robots, measure, calibrate, plan
+    return convert, verify, diff, match, info, export, plot, robots, measure, calibrate, plan
 
 
 def command_of(argv: list[str]) -> str:

@@ -31,9 +31,11 @@ __all__ = [
     "Column",
     "Convention",
     "Conversion",
+    "Guide",
     "Params",
     "Part",
     "Quantity",
+    "Style",
     "angle",
     "columns",
     "direction",
@@ -187,6 +189,28 @@ def written_angle(value: float, within: float, wrap: bool = True) -> float:
 
 
 @dataclass(frozen=True, slots=True)
+class Guide:
+    """Frames a D-H table's free choices follow, in place of a named style: for each line the
+    table puts a frame's z axis on (after the base z: each joint's axis, then the tool's z), the
+    frame it should come nearest, in the model's base frame.
+
+    Of the equally exact frames on a line (the common normal's two directions; for parallel
+    axes, where along them the normal lies; for coincident ones, any turn and height), the
+    conversion takes the one nearest the guide's; :func:`urdf2dh.match` writes a table in the
+    layout of the one a person wrote this way."""
+
+    frames: tuple[Frame, ...]
+
+    def __str__(self) -> str:
+        return "guided"
+
+
+Style = str | Guide
+"""What chooses among equally exact tables: a style's name (``wu``, ``ur``, ``zero``) or a
+:class:`Guide`."""
+
+
+@dataclass(frozen=True, slots=True)
 class Conversion:
     """What ``from_poe`` makes of a model: records for the base, each joint and the tool, each
     joint's sign (``-1`` where the convention moves it against its frame's z), the tolerance
@@ -218,8 +242,10 @@ class Convention(Protocol):
     """The parameter records each place may hold (a table file's ``params`` keys pick one)."""
     styles: tuple[str, ...]
     """The styles it takes, the default first (see :mod:`urdf2dh.conventions.dh`)."""
+    guided: bool
+    """Whether it takes a :class:`Guide` for its style."""
 
-    def from_poe(self, model: PoeModel, tol: Tolerances, style: str) -> Conversion:
+    def from_poe(self, model: PoeModel, tol: Tolerances, style: Style) -> Conversion:
         """The table of ``model`` in this convention, unchecked
         (:func:`urdf2dh.conventions.convert.to_table`
         checks it)."""

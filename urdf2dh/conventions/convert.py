@@ -19,6 +19,7 @@ from ..model.fk import chains_fk
 from ..model.poe import PoeModel
 from ..tolerances import DEFAULT, EPS, FK_ROUNDING, Tolerances
 from . import REGISTRY, STYLES, Conversion, get
+from .base import Guide, Style
 from .table import Check, Row, Table
 
 __all__ = [
@@ -42,18 +43,23 @@ JUDGED_SAMPLES = 1000
 
 
 def build_table(
-    model: PoeModel, convention: str, tol: Tolerances, style: str = "wu"
+    model: PoeModel, convention: str, tol: Tolerances, style: Style = "wu"
 ) -> tuple[Table, Conversion]:
     """Convert without checking: the table and what the convention made of the model (its
     judgements and notes).
 
     ``style`` chooses among equally exact tables where the convention allows a choice
-    (:mod:`urdf2dh.conventions.dh`: ``wu``, ``ur``, ``zero``).
+    (:mod:`urdf2dh.conventions.dh`: ``wu``, ``ur``, ``zero``, or a
+    :class:`~urdf2dh.conventions.base.Guide`).
     """
     conv = get(convention)
-    if style not in STYLES:
+    if isinstance(style, Guide):
+        if not conv.guided:
+            takers = [c.name for c in REGISTRY.values() if c.guided]
+            raise UsageError(f"a guide applies to {', '.join(takers)} tables, not {conv.name}")
+    elif style not in STYLES:
         raise UsageError(f"unknown style '{style}'{near(style, STYLES)}; valid: {choices(STYLES)}")
-    if style not in conv.styles:
+    elif style not in conv.styles:
         takers = [c.name for c in REGISTRY.values() if style in c.styles]
         raise UsageError(f"style {style} applies to {', '.join(takers)} tables, not {conv.name}")
     result = conv.from_poe(model, tol, style)
@@ -133,8 +139,9 @@ def check_arguments(
     hint = f"read one first: urdf2dh.load({shown(model)})" if isinstance(model, str) else (
         "urdf2dh.load(SOURCE) reads one")  # fmt: skip
     check_instance(model, PoeModel, "to_table: model", hint)
-    for name, value in (("convention", convention), ("style", style)):
-        check_instance(value, str, f"to_table: {name}")
+    check_instance(convention, str, "to_table: convention")
+    if not isinstance(style, Guide):
+        check_instance(style, str, "to_table: style")
     check_instance(tol, Tolerances, "to_table: tol", "urdf2dh.Tolerances(...) or urdf2dh.DEFAULT")
     if samples is not None:
         check_count(samples, "to_table: samples")
@@ -147,7 +154,7 @@ def to_table(
     tol: Tolerances = DEFAULT,
     samples: int | None = None,
     seed: int = 0,
-    style: str = "wu",
+    style: Style = "wu",
 ) -> Table:
     """Convert ``model`` to ``convention`` and check the result before returning it.
 
@@ -165,7 +172,8 @@ def to_table(
     seed
         Seed of the self-check's configurations.
     style
-        Which of the equally exact tables (``wu``, ``ur``, ``zero``; D-H conventions).
+        Which of the equally exact tables (``wu``, ``ur``, ``zero``; D-H conventions), or a
+        :class:`~urdf2dh.conventions.base.Guide` whose frames the D-H tables come nearest.
 
     Returns
     -------

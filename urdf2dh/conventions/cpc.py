@@ -51,7 +51,7 @@ from typing import TYPE_CHECKING
 from ..errors import shown
 from ..geometry import frames
 from ..geometry.frames import Frame, Vec3
-from .base import Conversion, Params, angle, direction, offset, unit_direction
+from .base import Conversion, Params, Style, angle, direction, offset, unit_direction
 
 if TYPE_CHECKING:
     from ..model.poe import PoeModel
@@ -126,8 +126,9 @@ class CpcConvention:
     row_types: tuple[type[Params], ...] = (CpcShape,)
     tool_types: tuple[type[Params], ...] = (CpcTool,)
     styles: tuple[str, ...] = ("wu",)
+    guided = False
 
-    def from_poe(self, model: PoeModel, tol: Tolerances, style: str) -> Conversion:
+    def from_poe(self, model: PoeModel, tol: Tolerances, style: Style) -> Conversion:
         """Sumenkov's Algorithm 1. Frames are accumulated from the parameters as they will be
         evaluated, so each row sees the previous rows' rounding."""
         signs = reversals(model, tol)

@@ -30,7 +30,7 @@ from ..errors import shown
 from ..geometry import frames
 from ..geometry.frames import Frame, Vec3
 from ..geometry.normals import Judgement, Limits, LinkParams, link_to_line
-from .base import Conversion, Params, angle, length
+from .base import Conversion, Guide, Params, Style, angle, length
 
 if TYPE_CHECKING:
     from ..model.poe import PoeModel
@@ -115,8 +115,9 @@ class StandardDH:
     row_types: tuple[type[Params], ...] = (DhLink,)
     tool_types: tuple[type[Params], ...] = (RzTz,)
     styles: tuple[str, ...] = STYLES
+    guided = True
 
-    def from_poe(self, model: PoeModel, tol: Tolerances, style: str) -> Conversion:
+    def from_poe(self, model: PoeModel, tol: Tolerances, style: Style) -> Conversion:
         links, (theta, d), judgements = links_from_poe(model, tol, style)
         rows = tuple(_link(p) for p in links[1:])
         return Conversion(
@@ -132,6 +133,24 @@ class StandardDH:
 DH = StandardDH()
 
 
+def _nearest(link: LinkParams, exact: bool, target: Frame) -> LinkParams:
+    """Of the links equally exact to ``link``'s line, the one whose frame is nearest
+    ``target`` (given in the frame the link starts from): its x axis the common normal's
+    direction nearer the target's x; on coincident lines the target's turn and height, on
+    (exactly) parallel ones the target's height."""
+    if link.free:  # any turn about and slide along the line
+        turn = frames.angle(target[1][0], target[0][0])
+        return replace(link, theta=turn, d=target[2][3] + 0.0)
+    if link.parallel and exact:
+        link = replace(link, d=target[2][3] + 0.0)
+    turned = link.turned()
+
+    def along(p: LinkParams) -> float:
+        return math.cos(p.theta) * target[0][0] + math.sin(p.theta) * target[1][0]
+
+    return turned if along(turned) > along(link) else link
+
+
 def _prefer_small_theta(link: LinkParams) -> LinkParams:
     """Of the two x directions along the common normal, the one with ``theta`` in
     ``(-pi/2, pi/2]`` (zero offsets where the geometry allows; ``a`` may be < 0)."""
@@ -139,10 +158,11 @@ def _prefer_small_theta(link: LinkParams) -> LinkParams:
 
 
 def links_from_poe(
-    model: PoeModel, tol: Tolerances, style: str = "wu"
+    model: PoeModel, tol: Tolerances, style: Style = "wu"
 ) -> tuple[list[LinkParams], tuple[float, float], list[Judgement]]:
     """The n + 1 D-H links (base->1, 1->2, ..., n->tool z), the tool's ``(theta, d)`` and the
-    tolerance judgements made, in ``style`` (module docstring).
+    tolerance judgements made, in ``style`` (module docstring), or nearest a
+    :class:`~urdf2dh.conventions.base.Guide`'s frames.
 
     Frames are built from the parameters as they will be evaluated (``F = F . H``), so the
     rounding of each row is seen by the next one and never accumulates unchecked.
@@ -154,6 +174,7 @@ def links_from_poe(
     links: list[LinkParams] = []
     judgements: list[Judgement] = []
     names = ["base z"] + [line[0] for line in lines]
+    guide = style if isinstance(style, Guide) else None
     prefer_small_theta = style in ("ur", "zero")
 
     def source_angle(k: int) -> float:
@@ -176,6 +197,8 @@ def links_from_poe(
             origin = frames.compose(built[k], frames.dh_frame(link.theta, link.d, 0.0, link.a))
             pivot = math.hypot(origin[0][3], origin[1][3], origin[2][3])
             found = [replace(j, source_angle=source, pivot=pivot) for j in found]
+        if guide is not None:
+            return _nearest(link, not found, frames.between(built[k], guide.frames[k])), found
         return (_prefer_small_theta(link) if prefer_small_theta else link), found
 
     for k in range(len(lines)):

@@ -37,7 +37,7 @@ from typing import TYPE_CHECKING, ClassVar
 from ..geometry import frames
 from ..geometry.frames import Frame, Vec3
 from ..geometry.normals import Judgement, Limits, link_to_line
-from .base import Conversion, Params, angle, length
+from .base import Conversion, Params, Style, angle, length
 from .dh import DhLink, RzTz, chain_lines
 
 if TYPE_CHECKING:
@@ -116,8 +116,9 @@ class HayatiConvention:
     row_types: tuple[type[Params], ...] = (DhLink, HayatiLink)
     tool_types: tuple[type[Params], ...] = (RzTz,)
     styles: tuple[str, ...] = ("wu",)
+    guided = False
 
-    def from_poe(self, model: PoeModel, tol: Tolerances, style: str) -> Conversion:
+    def from_poe(self, model: PoeModel, tol: Tolerances, style: Style) -> Conversion:
         """Each line's link by the rule of the module docstring, in frames built from the
         parameters as they will be evaluated."""
         # no judgement beyond the exactness promised: every row exact

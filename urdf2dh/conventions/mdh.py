@@ -21,7 +21,7 @@ from typing import TYPE_CHECKING
 
 from ..geometry import frames
 from ..geometry.frames import Frame
-from .base import Conversion, Params, angle, length
+from .base import Conversion, Params, Style, angle, length
 from .dh import STYLES, RzTz, far_rows, links_from_poe
 
 if TYPE_CHECKING:
@@ -62,8 +62,9 @@ class ModifiedDH:
     row_types: tuple[type[Params], ...] = (CraigLink,)
     tool_types: tuple[type[Params], ...] = (CraigLink,)
     styles: tuple[str, ...] = STYLES
+    guided = True
 
-    def from_poe(self, model: PoeModel, tol: Tolerances, style: str) -> Conversion:
+    def from_poe(self, model: PoeModel, tol: Tolerances, style: Style) -> Conversion:
         links, (theta, d), judgements = links_from_poe(model, tol, style)
         rows = tuple(
             CraigLink(prev.alpha, prev.a, cur.theta, cur.d)

@@ -46,7 +46,16 @@ from ..geometry.se3 import pose_errors
 from ..model.poe import PoeModel
 from ..tolerances import DEFAULT, Tolerances
 
-__all__ = ["GEOMETRY", "OpwParameters", "opw_fk", "opw_from_poe", "rotations_y", "rotations_z"]
+__all__ = [
+    "GEOMETRY",
+    "JOINT_NAMES",
+    "OpwParameters",
+    "opw_fk",
+    "opw_from_poe",
+    "opw_to_poe",
+    "rotations_y",
+    "rotations_z",
+]
 
 Mat = NDArray[np.float64]
 CHECK_SAMPLES, JUDGED_SAMPLES = 100, 1000  # as the tables' self-check (convert.py)
@@ -127,6 +136,61 @@ def opw_fk(p: OpwParameters, theta: NDArray[np.float64]) -> NDArray[np.float64]:
     out[:, :3, :3] = rot
     out[:, :3, 3] = centre[..., 0] + p.c4 * rot[:, :, 2]
     out[:, 3, 3] = 1.0
+    return out
+
+
+JOINT_NAMES = ("joint_1", "joint_2", "joint_3", "joint_4", "joint_5", "joint_6")
+
+
+def opw_to_poe(
+    p: OpwParameters,
+    names: tuple[str, ...] = JOINT_NAMES,
+    name: str = "",
+    source: str = "",
+    base_link: str = "",
+    tip_link: str = "",
+) -> PoeModel:
+    """The chain ``base . F(sign q - offsets) . tool`` as a POE model (``q`` the source's joint
+    positions): each joint's axis at ``q = 0`` (OPW's angles ``-offsets``), turning as ``sign``
+    makes OPW's angle follow ``q``; the home pose ``base . F(-offsets) . tool``."""
+    from ..model.poe import Joint
+
+    t = -np.array(p.offsets, dtype=float)
+
+    def rz(a: float) -> Mat:
+        return _homogeneous(rotations_z(np.array(a)))
+
+    def ry(a: float) -> Mat:
+        return _homogeneous(rotations_y(np.array(a)))
+
+    def move(x: float, y: float, z: float) -> Mat:
+        out = np.eye(4)
+        out[:3, 3] = (x, y, z)
+        return out
+
+    # each joint's local axis (z: 2, y: 1) and what follows it in F, in order
+    steps = [
+        (2, rz(float(t[0])) @ move(p.a1, 0.0, p.c1)),
+        (1, ry(float(t[1])) @ move(0.0, 0.0, p.c2)),
+        (1, ry(float(t[2])) @ move(p.a2, p.b, p.c3)),
+        (2, rz(float(t[3]))),
+        (1, ry(float(t[4]))),
+        (2, rz(float(t[5])) @ move(0.0, 0.0, p.c4)),
+    ]
+    frame = p.base.copy()
+    joints = []
+    for i, (column, after) in enumerate(steps):
+        axis = p.signs[i] * frame[:3, column]
+        joints.append(Joint(names[i], "revolute", axis, frame[:3, 3].copy()))
+        frame = frame @ after
+    home = frame @ p.tool
+    home[3] = (0.0, 0.0, 0.0, 1.0)
+    return PoeModel(tuple(joints), home, name, source, base_link, tip_link, "m")
+
+
+def _homogeneous(r: Mat) -> Mat:
+    out = np.eye(4)
+    out[:3, :3] = r
     return out
 
 

@@ -1,5 +1,6 @@
 """Bundled robots: the serial arms that example-robot-data ships, plus the models in ``robots/``
-(three of them MuJoCo Menagerie's MJCF arms, their licences in ``robots/LICENSES/``).
+(three of them MuJoCo Menagerie's MJCF arms, their licences in ``robots/LICENSES/``), and the
+vendors' published tables in ``robots/references/`` (each file names its source).
 
 example-robot-data 6 installs data only (no Python module): its URDFs live under
 ``<site-packages>/cmeel.prefix/share/example-robot-data/robots/``. Each entry names its file and a
@@ -15,7 +16,15 @@ from pathlib import Path
 
 from ..errors import InputError
 
-__all__ = ["ROBOTS", "Bundled", "example_robot_data_dir", "our_robots_dir", "robot_path"]
+__all__ = [
+    "REFERENCES",
+    "ROBOTS",
+    "Bundled",
+    "example_robot_data_dir",
+    "lookup",
+    "our_robots_dir",
+    "robot_path",
+]
 
 ERD = "erd:"  # file under example-robot-data's robots/
 OURS = "ours:"  # file under this project's robots/
@@ -226,6 +235,68 @@ ROBOTS: dict[str, Bundled] = {
         ),
     ]
 }
+
+
+#: Vendors' published tables (``robots/references/``, each file naming its source): TABLEs for
+#: ``urdf2dh match`` and, as they state their convention and units, SOURCEs like the robots.
+REFERENCES: dict[str, Bundled] = {
+    b.name: b
+    for b in [
+        *(
+            Bundled(
+                f"{model}-dh",
+                OURS + f"references/{model}-dh.yaml",
+                None,
+                None,
+                f"{title}: Universal Robots' published D-H table (reference)",
+            )
+            for model, title in [
+                ("ur3", "UR3"),
+                ("ur5", "UR5"),
+                ("ur10", "UR10"),
+                ("ur3e", "UR3e"),
+                ("ur5e", "UR5e"),
+                ("ur10e", "UR10e"),
+                ("ur16e", "UR16e"),
+                ("ur20", "UR20"),
+                ("ur30", "UR30"),
+            ]
+        ),
+        Bundled(
+            "panda-mdh",
+            OURS + "references/panda-mdh.yaml",
+            None,
+            None,
+            "Franka Emika Panda: Franka's published modified D-H table (reference)",
+        ),
+        Bundled(
+            "kuka-kr6-r700-sixx-opw",
+            OURS + "references/kuka-kr6-r700-sixx-opw.yaml",
+            None,
+            None,
+            "KUKA KR 6 R700 sixx: OPW parameters as opw_kinematics publishes them (reference)",
+        ),
+        Bundled(
+            "fanuc-m20ia-opw",
+            OURS + "references/fanuc-m20ia-opw.yaml",
+            None,
+            None,
+            "FANUC M-20iA: ROS-Industrial's OPW parameters (reference)",
+        ),
+        Bundled(
+            "puma560-wu2019-dh",
+            OURS + "references/puma560-wu2019-dh.yaml",
+            None,
+            None,
+            "PUMA 560 nominal: Wu 2019 Table II's D-H table (reference)",
+        ),
+    ]
+}
+
+
+def lookup(name: str) -> Bundled | None:
+    """The bundled robot or reference table called ``name``, if there is one."""
+    return ROBOTS.get(name) or REFERENCES.get(name)
 
 
 def example_robot_data_dir() -> Path:

@@ -1,5 +1,6 @@
 """SOURCE resolution (docs/commands/index.md): a file in one of the formats of :data:`READERS`,
-or a bundled robot (:data:`~urdf2dh.io.catalog.ROBOTS`), whose installed file is read the same way.
+or a bundled robot (:data:`~urdf2dh.io.catalog.ROBOTS`) or reference table
+(:data:`~urdf2dh.io.catalog.REFERENCES`), whose installed file is read the same way.
 
 =========  =================================================  ===============================
 reader     recognised by                                      module
@@ -10,6 +11,16 @@ reader     recognised by                                      module
            (a root other than ``<robot>`` is its error)
 ``poe``    a YAML or JSON mapping with ``format: poe``         :mod:`.poefile`
 ``table``  a YAML or JSON mapping with a ``schema`` key        :mod:`.tablefile`
+``ur``     a YAML mapping ``kinematics: {shoulder: ...}``   :mod:`.urkinematics`
+           (Universal Robots' kinematics file)
+``hal``    a ``.hal`` file, or text with                    :mod:`.halfile`
+           ``setp genserkins.`` lines (LinuxCNC)
+``opw``    a YAML mapping with                              :mod:`.opwfile`
+           ``opw_kinematics_geometric_parameters`` (or a
+           group of one holding it)
+``hand``   a YAML or JSON list of rows ``theta, d, a, alpha``  :mod:`.readings` (its format:
+           (or under ``joints:``) that says its convention    :mod:`.handtable`)
+           and units: a datasheet's table
 =========  =================================================  ===============================
 
 The first reader in :data:`READERS` that claims a file reads it. Adding a format is its module
@@ -44,7 +55,7 @@ from ..errors import (
 )
 from ..schemas import TABLE_FILE
 from ..tolerances import DEFAULT, Tolerances
-from .catalog import ROBOTS, Bundled, robot_path
+from .catalog import REFERENCES, ROBOTS, Bundled, lookup, robot_path
 from .encodings import check_text, first_character, xml_root
 from .files import SOURCE_ROLE, read_file
 from .xacro import XacroOptions
@@ -187,6 +198,19 @@ class Content:
         """The robot's name: a bundled robot's, else ``own`` (the file's)."""
         return self.bundled.name if self.bundled else own
 
+    @property
+    def text(self) -> str:
+        """The bytes as UTF-8 text (a character that is not, as U+FFFD)."""
+        return self.data.decode("utf-8", errors="replace")
+
+    def chain_source(self, kind: str, model: PoeModel) -> Source:
+        """The :class:`Source` of a file that holds one chain, ``model``: named as a bundled
+        robot is, else as the model names itself, else as the file."""
+        from dataclasses import replace
+
+        model = replace(model, name=self.name(model.name or self.path.stem))
+        return Source(kind, self.display, model.name, poe=model, bundled=self.bundled)
+
 
 @dataclass(frozen=True, slots=True)
 class Reader:
@@ -231,6 +255,41 @@ def _mapping_key(key: str, value: str | None = None) -> Callable[[Content], bool
     return claims
 
 
+def _ur_kinematics(content: Content) -> bool:
+    """A claim on a UR kinematics file (:func:`~urdf2dh.io.urkinematics.is_ur_kinematics`)."""
+    from .urkinematics import is_ur_kinematics
+
+    return is_ur_kinematics(content.mapping)
+
+
+def _hal(content: Content) -> bool:
+    """A claim on a genserkins HAL file (:func:`~urdf2dh.io.halfile.is_hal`)."""
+    from .halfile import is_hal
+
+    return is_hal(content.data, content.suffix)
+
+
+def _opw(content: Content) -> bool:
+    """A claim on an OPW parameter file (:func:`~urdf2dh.io.opwfile.is_opw`)."""
+    from .opwfile import is_opw
+
+    return is_opw(content.mapping)
+
+
+def _ikdh(content: Content) -> bool:
+    """A claim on an ikdh robot file (:func:`~urdf2dh.io.ikdhfile.is_ikdh`)."""
+    from .ikdhfile import is_ikdh
+
+    return is_ikdh(content.mapping)
+
+
+def _hand_table(content: Content) -> bool:
+    """A claim on a hand-written table (:func:`~urdf2dh.io.handtable.is_hand_table`)."""
+    from .handtable import is_hand_table
+
+    return is_hand_table(content.mapping)
+
+
 READERS: dict[str, Reader] = {
     r.name: r
     for r in [
@@ -250,6 +309,35 @@ READERS: dict[str, Reader] = {
             f"table file ('schema: {TABLE_FILE}')",
             "tablefile",
             _mapping_key("schema"),
+        ),
+        Reader(
+            "ur",
+            "UR kinematics",
+            "UR kinematics file ('kinematics: {shoulder: ...}')",
+            "urkinematics",
+            _ur_kinematics,
+        ),
+        Reader(
+            "hal",
+            "LinuxCNC HAL",
+            "LinuxCNC genserkins HAL file (.hal, 'setp genserkins.')",
+            "halfile",
+            _hal,
+        ),
+        Reader(
+            "opw",
+            "OPW",
+            "OPW parameter file ('opw_kinematics_geometric_parameters')",
+            "opwfile",
+            _opw,
+        ),
+        Reader("ikdh", "ikdh", "ikdh robot file ('dh: {a, d, alpha, theta}')", "ikdhfile", _ikdh),
+        Reader(
+            "hand",
+            "hand-written table",
+            "hand-written table (rows of theta, d, a, alpha, with convention and units)",
+            "readings",
+            _hand_table,
         ),
     ]
 }
@@ -304,8 +392,8 @@ def open_source(
     path = Path(source)
     if _exists(path):
         return _from_file(path, source, reading, None)
-    if source in ROBOTS:
-        bundled = ROBOTS[source]
+    bundled = lookup(source)
+    if bundled is not None:
         file = robot_path(bundled)
         return _from_file(file, file.name, Reading(tol, bound=bound), bundled)
     looks_like_file = any(ch in source for ch in "/\\.")
@@ -313,9 +401,10 @@ def open_source(
         shortened = source if len(source) <= SHOWN_LENGTH else shown(source)
         raise SourceError(f"{shortened}: no such file")
     raise SourceError(
-        f"{shown(source)} is neither a file nor a bundled robot{near(source, ROBOTS)}; bundled "
-        "robots are "
-        f"{choices(ROBOTS, limit=30)}"
+        f"{shown(source)} is neither a file nor a bundled robot"
+        f"{near(source, [*ROBOTS, *REFERENCES])}; bundled robots are "
+        f"{choices(ROBOTS, limit=30)} (urdf2dh robots lists them, and {len(REFERENCES)} "
+        "reference tables)"
     )
 
 

@@ -98,4 +98,17 @@ def render(table: Table, opts: ExportOptions) -> str:
         lines.append(f"  J{i}: [{yaml_float(math.degrees(lo))}, {yaml_float(math.degrees(hi))}]")
     lines += _matrix("base", table.base_matrix, numbers)
     lines += _matrix("tool", table.tool_matrix, numbers)
+    lines.append(yaml_comment(_chain(table, unit)))
     return "\n".join(lines) + "\n"
+
+
+def _chain(table: Table, unit: str) -> str:
+    """``urdf2dh chain: {...}``, the comment urdf2dh reads the file back with
+    (:mod:`urdf2dh.io.ikdhfile`): the robot, its links, its joints' names, the length unit and
+    the joints whose limits the file makes up (+-180 deg: the table has none)."""
+    from ...io.chaincomment import encoded
+
+    unlimited = [i for i, r in enumerate(table.rows) if r.lower is None or r.upper is None]
+    return encoded({"robot": table.robot, "base_link": table.base_link,
+                    "tip_link": table.tip_link, "joints": [r.name for r in table.rows],
+                    "unit": unit, "unlimited": unlimited})  # fmt: skip

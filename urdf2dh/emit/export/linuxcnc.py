@@ -26,6 +26,10 @@ angle ``sign_i q_i + offset_i`` of the arm's joint position ``q_i`` (:class:`Joi
   whose origin is off the axis cannot be held (LinuxCNC would move another point);
 * fewer than six joints leave the last links zero (their joints held at 0).
 
+The chain is named in comments that urdf2dh reads back (:mod:`urdf2dh.io.halfile`): a JSON line
+``urdf2dh chain: {...}`` (robot, base and tip links, length unit, world frame, tool turn) and a
+line ``urdf2dh joint i: "name"`` per joint.
+
 A joint whose sign is not 1 or whose offset is not 0 gets two HAL ``scale`` components
 (``out = in * gain + offset``) between motion's joint position (genserkins' angle) and the
 drive's (the arm's ``q``): ``urdf2dh-fb-i`` for the feedback, ``q -> sign q + offset``, and
@@ -240,6 +244,23 @@ def _frame_notes(table: Table, g: Genser, numbers: Numbers, unit: str) -> list[s
     return notes
 
 
+def _chain_notes(table: Table, g: Genser, numbers: Numbers, unit: str) -> list[str]:
+    """The chain as urdf2dh reads the file back (:mod:`urdf2dh.io.halfile`): one JSON line with
+    the robot, its links, the length unit, the world frame and the tool's turn, and a line per
+    joint with its name (JSON strings, ASCII: the names whatever they hold)."""
+    import json
+
+    from ...io.chaincomment import encoded
+
+    world = None if g.world is None else [g.world[0], numbers.length(g.world[1])]
+    chain = {"robot": table.robot, "base_link": table.base_link, "tip_link": table.tip_link,
+             "unit": unit, "world": world,
+             "tool_turn": None if g.tool_turn is None else list(g.tool_turn)}  # fmt: skip
+    lines = [encoded(chain)]
+    lines += [f"urdf2dh joint {i}: " + json.dumps(r.name) for i, r in enumerate(table.rows)]
+    return lines
+
+
 def render(table: Table, opts: ExportOptions) -> str:
     """HAL lines for genserkins and the joint zeros (see the module docstring)."""
     require_convention(table, "linuxcnc", ("mdh",))
@@ -269,6 +290,7 @@ def render(table: Table, opts: ExportOptions) -> str:
     for i in range(table.n, JOINTS):
         notes.append(f"joint {i}: none (a zero link; hold this joint at 0)")
     notes += _frame_notes(table, g, numbers, unit)
+    notes += _chain_notes(table, g, numbers, unit)
     out = [line for note in notes for line in hal_comment(note)]
     links = list(g.links) + [Link(0.0, 0.0, 0.0)] * (JOINTS - len(g.links))
     for i, link in enumerate(links):

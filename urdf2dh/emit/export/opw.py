@@ -14,8 +14,10 @@ What OPW cannot hold is written beside them, in comments and in two blocks of ou
 consumers ignore: ``urdf2dh_base_transform`` (OPW's base frame in the chain's base link, ``B``) and
 ``urdf2dh_tool_transform`` (the tip link in OPW's flange frame, ``T``), each as ``xyz`` (metres) and
 ``rpy`` (radians, URDF's ``R = Rz(yaw) Ry(pitch) Rx(roll)``), so that
-``pose(q) = B . F(theta) . T``. Both are the identity when the base link's z lies on axis 1 and the
-tip sits on axis 6 facing along it, as in the support packages.
+``pose(q) = B . F(theta) . T``. Both are the identity when the base link's z lies on axis 1 and
+the tip sits on axis 6 facing along it, as in the support packages. A last comment,
+``# urdf2dh chain: {...}``, names the robot, its base and tip links and its joints (JSON), with
+which urdf2dh reads the file back as a SOURCE (:mod:`urdf2dh.io.opwfile`).
 
 Names from the source appear only in comments, each line made safe by
 :func:`~urdf2dh.escape.yaml_comment`.
@@ -93,7 +95,19 @@ def render_model(model: PoeModel, opts: ExportOptions, samples: int | None = Non
     lines.extend(yaml_comment(line) for line in _frames_note(model, p, numbers))
     lines.extend(_transform("urdf2dh_base_transform", p.base, numbers))
     lines.extend(_transform("urdf2dh_tool_transform", p.tool, numbers))
+    lines.append(yaml_comment(_chain(model)))
     return "\n".join(lines) + "\n"
+
+
+def _chain(model: PoeModel) -> str:
+    """``urdf2dh chain: {...}``, the comment urdf2dh reads the file back with
+    (:mod:`urdf2dh.io.opwfile`): the robot, its base and tip links, its joints' names, as one
+    line of JSON (ASCII: the names whatever they hold)."""
+    from ...io.chaincomment import encoded
+
+    names = [j.name for j in model.joints]
+    return encoded({"robot": model.name, "base_link": model.base_link,
+                    "tip_link": model.tip_link, "joints": names})  # fmt: skip
 
 
 def render(table: Table, opts: ExportOptions) -> str:

@@ -55,16 +55,18 @@ def chain_header(chain: AnalyticChain, what: str, formula: str) -> list[str]:
 class RtbForm:
     """What the ``rtb`` export writes of a table: the analytic form where roboticstoolbox's
     analytic IK can take the chain (``chain``, else ``None``: the table's rows), the motions the
-    tool takes over from the last row (``Rx``, ``Tx``), and the docstring's lines."""
+    tool takes over from the last row (``Rx``, ``Tx``), the docstring's lines, and the method
+    roboticstoolbox solves the chain with (``closed form``, ``general 6R``; ``None``: none)."""
 
     chain: AnalyticChain | None
     tool_motions: list[tuple[str, float]]
     lines: list[str]
+    method: str | None = None
 
 
 def rtb_form(table: Table, opts: ExportOptions) -> RtbForm:
     """The ``rtb`` export's chain: a six-joint ``dh`` table as its analytic form (exact multiples
-    of pi and zeros, the last row's tilt in the tool), so that ``robot.ikine_analytic`` derives
+    of pi and zeros, the last row's tilt in the tool), so that ``robot.analytic_ik()`` derives
     its solver; any other table as it is, saying why roboticstoolbox has no analytic IK for it."""
     what = "roboticstoolbox-python DHRobot"
     if table.convention != "dh" or table.n != 6:
@@ -82,10 +84,12 @@ def rtb_form(table: Table, opts: ExportOptions) -> RtbForm:
     else:
         axes = f" (axes {', '.join(map(str, method[1]))})" if method[1] else ""
         lines.append(
-            f"analytic IK: robot.ikine_analytic(T), robot.analytic_ik().solve(T): {method[0]}"
-            f"{axes}, which roboticstoolbox derives symbolically once per robot and process "
-            "(seconds to minutes)"
+            f"analytic IK: solve(T), every branch of roboticstoolbox's robot.analytic_ik(): "
+            f"{method[0]}{axes}, each polished on robot's own forward kinematics "
+            "(docs/exports/rtb.md#analytic-ik); roboticstoolbox derives its solver symbolically "
+            "once per robot and process (seconds to minutes)"
         )
     last = table.rows[-1].params
     assert isinstance(last, DhLink)  # a dh table's rows
-    return RtbForm(chain, [("Rx", last.alpha), ("Tx", last.a)], lines)
+    name = None if isinstance(method, str) else method[0]
+    return RtbForm(chain, [("Rx", last.alpha), ("Tx", last.a)], lines, name)

@@ -27,9 +27,10 @@ The client library (``urcl::primary_interface::KinematicsInfo::toHash``) writes 
 alpha`` of joint 1, then of joint 2, ... joint 6 into a C++ stream with its default formatting
 (``%g``, 6 significant digits), no separators, and hashes the text with
 ``std::hash<std::string>``; libstdc++ on 64-bit targets implements that as ``_Hash_bytes`` with
-seed ``0xc70f6907``, a variant of MurmurHash64A (reproduced in :func:`hash_bytes`). The driver
-compares ``calib_<hash>`` with the yaml's ``hash`` to tell whether the description matches the
-robot's calibration.
+seed ``0xc70f6907``, a variant of MurmurHash64A (reproduced in
+:func:`urdf2dh.io.urkinematics.hash_bytes`, with the file's reader). The driver compares
+``calib_<hash>`` with the yaml's ``hash`` to tell whether the description matches the robot's
+calibration.
 
 Our tables are exact, so they carry round-off-sized values where UR's text has zeros (the
 URDF's rounded pi/2 leaves theta = -4.9e-12 in UR10's), and lengths one ulp off their decimal
@@ -52,6 +53,7 @@ from ...conventions.table import Table
 from ...errors import ExportError, shown, visible
 from ...escape import yaml_comment
 from ...geometry.se3 import dh_matrix, rot_z, rpy
+from ...io.urkinematics import LINKS, SEED, calibration_hash, hash_bytes, hash_text, hashed_rows
 from ...tolerances import HASH_DECIMALS
 from .common import (
     ExportOptions,
@@ -77,56 +79,7 @@ __all__ = [
 
 Mat = NDArray[np.float64]
 
-LINKS = ("shoulder", "upper_arm", "forearm", "wrist_1", "wrist_2", "wrist_3")
-SEED = 0xC70F6907  # libstdc++'s seed for std::hash<std::string>
-_MUL = 0xC6A4A7935BD1E995  # MurmurHash64A's multiplier
-_MASK = (1 << 64) - 1
 _MACRO_BASE = rot_z(math.pi)  # base_link -> base_link_inertia in ur_macro.xacro
-
-
-def _shift_mix(v: int) -> int:
-    return v ^ (v >> 47)
-
-
-def hash_bytes(data: bytes, seed: int = SEED) -> int:
-    """libstdc++'s 64-bit ``_Hash_bytes``: MurmurHash64A over 8-byte little-endian words, with
-    the tail bytes mixed in as one word and a final double shift-mix."""
-    n = len(data)
-    h = (seed ^ (n * _MUL)) & _MASK
-    whole = n - n % 8
-    for i in range(0, whole, 8):
-        word = int.from_bytes(data[i : i + 8], "little")
-        word = (_shift_mix((word * _MUL) & _MASK) * _MUL) & _MASK
-        h = ((h ^ word) * _MUL) & _MASK
-    if n % 8:
-        h = ((h ^ int.from_bytes(data[whole:], "little")) * _MUL) & _MASK
-    h = (_shift_mix(h) * _MUL) & _MASK
-    return _shift_mix(h)
-
-
-def hashed_rows(table: Table) -> list[tuple[float, float, float, float]]:
-    """``(theta, d, a, alpha)`` per joint in metres and radians, rounded to :data:`HASH_DECIMALS`
-    decimals (-0 turned into 0)."""
-    k = units.factor(table.length_unit, "m")
-
-    def snap(x: float) -> float:
-        return round(x, HASH_DECIMALS) + 0.0
-
-    return [
-        (snap(p["theta"]), snap(k * p["d"]), snap(k * p["a"]), snap(p["alpha"]))
-        for p in (floats(r.params) for r in table.rows)
-    ]
-
-
-def hash_text(rows: list[tuple[float, float, float, float]]) -> str:
-    """The text UR's client library hashes: every value as a C++ stream writes a double by
-    default (``%g``), joint after joint, no separators."""
-    return "".join(f"{v:g}" for row in rows for v in row)
-
-
-def calibration_hash(table: Table) -> str:
-    """``calib_<n>`` for a UR-style table (see the module docstring)."""
-    return f"calib_{hash_bytes(hash_text(hashed_rows(table)).encode('ascii'))}"
 
 
 def _check(table: Table, opts: ExportOptions) -> None:
