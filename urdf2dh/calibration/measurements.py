@@ -53,7 +53,7 @@ from ..errors import InputError, UsageError, choices, shown, visible
 from ..escape import csv_cell, csv_names, markdown_table, markdown_text, text_table
 from ..io.files import read_file
 from ..numerals import decimal, integer, read_decimal, why_not
-from ..tolerances import QUATERNION_NORM
+from ..tolerances import MEASUREMENT_BYTES, QUATERNION_NORM
 
 __all__ = [
     "EULER",
@@ -495,7 +495,7 @@ def _number(raw: list[str], k: int, name: str, where: str) -> float:
 
 
 def _text(path: str | Path, display: str) -> str:
-    data = read_file(Path(path), display)
+    data = read_file(Path(path), display, limit=MEASUREMENT_BYTES)
     try:
         return data.decode("utf-8-sig")
     except UnicodeDecodeError as e:
