@@ -96,6 +96,18 @@ def test_the_default_converges_and_is_never_worse_held_out_than_base_and_tool(de
 
 
 @pytest.mark.parametrize("name", sorted(SETS))
+def test_the_level_chosen_asked_for_gives_the_same_model(defaults, name):
+    """Fitting the level the default chose, asked for by name, fits the levels below it first
+    as the choice did: the same model to the last bit, not a nearby one."""
+    cal = defaults[name]
+    nominal, m = load(name)
+    again = calibrate(nominal, m, holdout=0.3, seed=0, level=cal.level)
+    assert again.level == cal.level and again.chosen_by == "option"
+    q = nominal.sample(50, 1)
+    assert np.array_equal(again.device_model.fk_batch(q), cal.device_model.fk_batch(q))
+
+
+@pytest.mark.parametrize("name", sorted(SETS))
 def test_the_default_is_within_five_percent_of_the_best_anchor(defaults, name):
     """The README's held-out split, the default (the level chosen by leaving configurations of
     the fit part out): within 5% of the best anchor's held-out RMS position (UR10 3.61 mm and

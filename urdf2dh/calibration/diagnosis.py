@@ -48,6 +48,7 @@ from ..tolerances import SPREAD
 from .chart import absorbed
 from .fit import fit_before
 from .identify import identify
+from .levels import BASE_TOOL
 from .measurements import (
     POINT,
     QUATERNION,
@@ -591,7 +592,7 @@ def helical(
     from ..errors import Urdf2DhError
 
     turning = [j.name for j in nominal.joints if j.kind == "revolute"]
-    if not turning or "all" in opts.helical or opts.level == "base-tool":
+    if not turning or "all" in opts.helical or opts.level == BASE_TOOL.name:
         return None
     trial = replace(opts, helical=("all",))
     try:

@@ -281,10 +281,12 @@ class LevelChoice:
 
     def levels(self, keep_scale: bool) -> tuple[str, ...]:
         """The levels fitted and judged: every one (``auto``; without ``full`` when the scales
-        are kept: that would be ``geometry``), or base-tool and the one asked for."""
+        are kept: that would be ``geometry``), or those up to the one asked for. Each level is
+        fitted from the simpler one's solution, so that a level asked for is the model the
+        choice among them gives when it chooses that level."""
         if self.level == AUTO:
             return tuple(lv for lv in NAMES if not (keep_scale and lv == FULL.name))
-        return tuple(dict.fromkeys((BASE_TOOL.name, self.level)))
+        return NAMES[: NAMES.index(self.level) + 1]
 
     def chosen(self, selection: Selection, source: str) -> str:
         """The level to identify: the one asked for, or the one cross-validation chose.
