@@ -659,7 +659,9 @@ def one_set(real: RealSet, repeats: int, work: Path) -> Row:
     times["default"], cal = best_time(partial(calibrate, nominal, fit, convention="poe"), repeats)
     held["default"] = _held_out(cal.device_model, cal, test)
     for level in LEVEL_NAMES:
-        run = partial(calibrate, nominal, fit, level=level, convention="poe")
+        # accepted where the measurements contradict it (base-tool alone on MATE): a figure to
+        # compare, not a model written
+        run = partial(calibrate, nominal, fit, level=level, convention="poe", accept=True)
         times[level], other = best_time(run, repeats)
         held[level] = _held_out(other.device_model, other, test)
     tools: list[tuple[str, Any]] = [

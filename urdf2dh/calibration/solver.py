@@ -131,15 +131,6 @@ class Linearisation:
         r, jac = evaluate(est, data, 1.0, 1.0)
         return cls(est, r, jac, data.rows, None if errors is None else errors.evaluate(est))
 
-    def errors(self) -> Mat:
-        """``(N, 1 or 2)`` each measurement's position and (poses) rotation error: the norms of
-        its residuals (:func:`.residuals.errors`)."""
-        each = self.residuals.reshape(-1, self.rows)
-        out: Mat = np.linalg.norm(each[:, :3], axis=1, keepdims=True)
-        if self.rows == 6:
-            out = np.hstack([out, np.linalg.norm(each[:, 3:], axis=1, keepdims=True)])
-        return out
-
 
 @dataclass(frozen=True, slots=True)
 class Problem:
