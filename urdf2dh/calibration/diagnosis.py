@@ -58,7 +58,7 @@ from .measurements import (
     euler_quaternions,
 )
 from .residuals import errors, rms
-from .rigid import fit_rigid, pose_points
+from .rigid import fit_rigid, pose_points, spread
 from .start import FitOptions, nominal_points, to_data
 
 __all__ = [
@@ -338,10 +338,9 @@ def spread_ratio(nominal: PoeModel, fit: Measurements, opts: FitOptions, ids: li
     ours = (
         nominal.fk_batch(fit.q)[:, :3, 3] if opts.pose else nominal_points(nominal, fit, opts, ids)
     )
-    spread = float(np.sqrt(np.mean(np.sum((ours - ours.mean(axis=0)) ** 2, axis=1))))
-    theirs = fit.points
-    measured = float(np.sqrt(np.mean(np.sum((theirs - theirs.mean(axis=0)) ** 2, axis=1))))
-    return measured / spread if spread > 0.0 else math.nan
+    nominal_spread = spread(ours)
+    measured = spread(fit.points)
+    return measured / nominal_spread if nominal_spread > 0.0 else math.nan
 
 
 def _sample(m: Measurements) -> Measurements:

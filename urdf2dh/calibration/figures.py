@@ -131,7 +131,7 @@ def _residuals(each: Mat) -> Residuals:
             out.count,
             out.rms_position,
             out.max_position,
-            float(np.sqrt(np.mean(rot**2))),
+            rms(rot),
             float(rot.max()),
         )
     return out
