@@ -480,10 +480,17 @@ def _group(
     return tuple(seen[c] for c in names)
 
 
-def _rows(text: str) -> Iterator[tuple[int, list[str]]]:
-    """The CSV's non-blank rows with their line numbers."""
+def _rows(text: str, display: str) -> Iterator[tuple[int, list[str]]]:
+    """The CSV's non-blank rows with their line numbers; a row the csv module cannot read (a
+    cell beyond its field limit, a stray quote at the end) is an error naming its line."""
     reader = csv.reader(io.StringIO(text, newline=""))
-    for raw in reader:
+    while True:
+        try:
+            raw = next(reader)
+        except StopIteration:
+            return
+        except csv.Error as e:
+            raise InputError(f"{display}, line {reader.line_num}: not a CSV row ({e})") from e
         if any(f.strip() for f in raw):
             yield reader.line_num, raw
 
@@ -534,7 +541,7 @@ def read_measurements(
     """
     display = display or str(path)
     reading = reading or Reading()
-    rows = _rows(_text(path, display))
+    rows = _rows(_text(path, display), display)
     first = next(rows, None)
     if first is None:
         raise InputError(f"{display}: empty file (expected a header row and measurements)")
@@ -646,7 +653,7 @@ def read_configurations(
     """``(N, n)`` joint values from a CSV file with a column per joint (others are skipped):
     candidate configurations for :func:`urdf2dh.calibration.plan.plan`, or its own output."""
     display = display or str(path)
-    rows = _rows(_text(path, display))
+    rows = _rows(_text(path, display), display)
     first = next(rows, None)
     if first is None:
         raise InputError(f"{display}: empty file (expected a header row and configurations)")
