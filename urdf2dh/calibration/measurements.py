@@ -716,15 +716,13 @@ def read_layout(path: str | Path, display: str | None = None) -> dict[int, Mat]:
     """A marker layout file: ``marker,x,y,z`` rows, the markers' positions in the tool frame."""
     display = display or str(path)
     text = read_file(Path(path), display).decode("utf-8-sig", errors="replace")
-    reader = csv.reader(io.StringIO(text, newline=""))
-    header = [f.strip() for f in next(reader, [])]
+    rows = _rows(text, display)
+    first = next(rows, None)
+    header = [] if first is None else [f.strip() for f in first[1]]
     if header != [MARKER, *POINT]:
         raise InputError(f"{display}: a marker layout has the header 'marker,x,y,z'")
     out: dict[int, Mat] = {}
-    for raw in reader:
-        if not any(f.strip() for f in raw):
-            continue
-        row, line = len(out) + 1, reader.line_num
+    for row, (line, raw) in enumerate(rows, start=1):
         if len(raw) != 4:
             raise InputError(f"{_where(display, row, line)}: {len(raw)} fields, not 4")
         mark = integer(raw[0].strip(" \t"))
