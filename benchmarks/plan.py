@@ -46,7 +46,7 @@ def _whole(model, configs: int) -> list[int]:
     est = planning._estimate(model, "full", True, None, 0)
     count = min(max(planning.CANDIDATES_PER_CONFIGURATION * configs, 500), planning.MAX_CANDIDATES)
     candidates = model.sample(max(count, configs), (0, 7))
-    rows = planning._rows(est, candidates, True, 1e-4, 1e-4)
+    rows = planning._rows(est, candidates, 1e-4, 1e-4)
     sampled = planning.SAMPLED
     planning.SAMPLED = 10**9
     try:
@@ -57,7 +57,7 @@ def _whole(model, configs: int) -> list[int]:
 
 def _logdet(model, q: np.ndarray) -> float:
     est = planning._estimate(model, "full", True, None, 0)
-    rows = planning._rows(est, q, True, 1e-4, 1e-4).reshape(-1, 36)
+    rows = planning._rows(est, q, 1e-4, 1e-4).reshape(-1, 36)
     rows = rows / np.linalg.norm(rows, axis=0)
     return float(np.linalg.slogdet(rows.T @ rows)[1])
 

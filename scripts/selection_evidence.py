@@ -46,8 +46,8 @@ sys.path.insert(0, str(ROOT / "benchmarks"))
 import calibration as bench  # noqa: E402
 
 from urdf2dh import calibrate  # noqa: E402
-from urdf2dh.calibration.chart import LEVELS  # noqa: E402
-from urdf2dh.calibration.identify import fit_before  # noqa: E402
+from urdf2dh.calibration.fit import fit_before  # noqa: E402
+from urdf2dh.calibration.levels import LEVELS  # noqa: E402
 from urdf2dh.calibration.measurements import Measurements  # noqa: E402
 from urdf2dh.calibration.prior import AUTO  # noqa: E402
 from urdf2dh.calibration.select import (  # noqa: E402

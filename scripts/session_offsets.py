@@ -40,8 +40,8 @@ sys.path.insert(0, str(ROOT / "benchmarks"))
 import calibration as bench  # noqa: E402
 
 from urdf2dh import calibrate  # noqa: E402
-from urdf2dh.calibration.calibration import holdout_split  # noqa: E402
 from urdf2dh.calibration.measurements import Measurements  # noqa: E402
+from urdf2dh.calibration.problem import holdout_split  # noqa: E402
 from urdf2dh.model.poe import PoeModel  # noqa: E402
 
 BLOCK = 8

@@ -257,7 +257,7 @@ def test_plan_chooses_among_a_sample_as_well_as_among_all():
 
     ur5 = urdf2dh.load("ur5")
     est = planning._estimate(ur5, "full", True, None, 0)
-    rows = planning._rows(est, ur5.sample(400, 2), True, 1e-4, 1e-4)
+    rows = planning._rows(est, ur5.sample(400, 2), 1e-4, 1e-4)
     scaled = rows / np.linalg.norm(rows.reshape(-1, rows.shape[2]), axis=0)
 
     def logdet(chosen):

@@ -14,7 +14,8 @@ import pytest
 
 import urdf2dh
 from urdf2dh import PoeModel, calibrate
-from urdf2dh.calibration.chart import OFFSETS, Estimate, absorbed
+from urdf2dh.calibration.chart import Estimate, absorbed
+from urdf2dh.calibration.levels import OFFSETS
 from urdf2dh.calibration.measure import marker_layout, perturb, synthesize
 from urdf2dh.calibration.measurements import MAX_MEASUREMENTS, Measurements, write_measurements
 from urdf2dh.calibration.plot import plot_calibration

@@ -4,16 +4,14 @@ analytic Jacobian against finite differences, and identifiability by numerical r
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
 import urdf2dh
 from urdf2dh import Joint, PoeModel, to_table
 from urdf2dh.calibration.chart import (
-    BASE_TOOL,
-    FULL,
-    GEOMETRY,
-    OFFSETS,
     Estimate,
     absorbed,
     count,
@@ -21,7 +19,8 @@ from urdf2dh.calibration.chart import (
     local_coordinates,
     retract,
 )
-from urdf2dh.calibration.residuals import Data, evaluate, model_poses
+from urdf2dh.calibration.levels import BASE_TOOL, FULL, GEOMETRY, OFFSETS
+from urdf2dh.calibration.residuals import Data, evaluate, model_poses, residuals
 from urdf2dh.geometry.lie import (
     exp_so3,
     left_jacobian,
@@ -108,8 +107,8 @@ def _numeric_jacobian(est, data, sp, sr, h=1e-6):
     for k in range(count(est)):
         d = np.zeros(count(est))
         d[k] = h
-        plus, _ = evaluate(retract(est, d), data, sp, sr, jacobian=False)
-        minus, _ = evaluate(retract(est, -d), data, sp, sr, jacobian=False)
+        plus = residuals(retract(est, d), data, sp, sr)
+        minus = residuals(retract(est, -d), data, sp, sr)
         cols.append((plus - minus) / (2 * h))
     return np.array(cols).T
 
@@ -143,17 +142,18 @@ def test_analytic_jacobian_equals_finite_differences(case):
     }.get(case, FULL)
     if case in ("position", "offsets-position", "markers-fixed"):
         base = estimate(model, helical=case != "offsets-position")
-        est = Estimate(
-            base.chain,
-            markers=np.array([[200.0, 60.0, -10.0], [260.0, 30, 5]]),
+        est = Estimate.of(
+            base.joints,
+            model.home.copy(),
+            np.array([[200.0, 60.0, -10.0], [260.0, 30, 5]]),
             level=level,
             offsets=rng.normal(size=model.n) * 0.1 if level.offsets else None,
         )
         if case == "markers-fixed":
             free = np.ones(count(est), dtype=bool)
             free[[3, 10, -1, -5]] = False
-            est = Estimate(est.chain, markers=est.markers, free=free)
-        data = Data(q, rng.normal(size=(15, 3)) * 100, marker_rows=rng.integers(0, 2, 15))
+            est = replace(est, free=free)
+        data = Data(q, rng.normal(size=(15, 3)) * 100, rng.integers(0, 2, 15))
     else:
         est = estimate(
             model,
@@ -162,14 +162,14 @@ def test_analytic_jacobian_equals_finite_differences(case):
             level=level,
         )
         if level.offsets:
-            est = Estimate(est.chain, est.home, level=level, offsets=rng.normal(size=model.n) * 0.1)
+            est = replace(est, offsets=rng.normal(size=model.n) * 0.1)
         if case == "some-fixed":
             free = np.ones(count(est), dtype=bool)
             free[[0, 7, 20, -2]] = False
-            est = Estimate(est.chain, est.home, level=level, free=free)
+            est = replace(est, free=free)
         poses = model_poses(est, q)
         turn = exp_so3(rng.normal(size=(15, 3)) * 0.2)  # residuals far from 0: J_l^-1 matters
-        data = Data(q, poses[:, :3, 3] + rng.normal(size=(15, 3)), poses[:, :3, :3] @ turn)
+        data = Data.poses(q, poses[:, :3, 3] + rng.normal(size=(15, 3)), poses[:, :3, :3] @ turn)
     sp, sr = 0.5, 0.01
     _, jac = evaluate(est, data, sp, sr)
     numeric = _numeric_jacobian(est, data, sp, sr)
@@ -184,12 +184,7 @@ def test_offsets_are_absorbed_into_the_same_motion(robot):
     tool (chart.absorbed) move alike at every configuration."""
     model = urdf2dh.load(robot)
     rng = np.random.default_rng(9)
-    est = Estimate(
-        estimate(model).chain,
-        model.home.copy(),
-        level=OFFSETS,
-        offsets=rng.normal(size=model.n) * 0.3,
-    )
+    est = replace(estimate(model), level=OFFSETS, offsets=rng.normal(size=model.n) * 0.3)
     flat = absorbed(est)
     q = model.sample(50, 10)
     assert np.allclose(model_poses(est, q), model_poses(flat, q), atol=1e-12 * model.size())
@@ -211,7 +206,7 @@ def test_pose_count_is_wu_eq_23_and_the_jacobian_has_that_rank(robot):
     assert count(est) == Identifiability.of(j.kind for j in model.joints).maximum
     q = model.sample(30, 6)
     poses = model_poses(est, q)
-    data = Data(q, poses[:, :3, 3], poses[:, :3, :3])
+    data = Data.poses(q, poses[:, :3, 3], poses[:, :3, :3])
     _, jac = evaluate(est, data, 1.0, 1.0 / model.size())
     assert _rank(jac) == count(est)
 

@@ -13,12 +13,13 @@ from scipy.optimize import approx_fprime
 
 import urdf2dh
 from urdf2dh.calibration.calibration import calibrate
-from urdf2dh.calibration.chart import GEOMETRY, count, local_coordinates, retract
+from urdf2dh.calibration.chart import count, local_coordinates, retract
 from urdf2dh.calibration.evidence import _objective, linearised, maximise
-from urdf2dh.calibration.identify import fit_before, joint_locations, level_start, solve_level
+from urdf2dh.calibration.fit import fit_before, joint_locations, level_start, solve_level
+from urdf2dh.calibration.levels import GEOMETRY
 from urdf2dh.calibration.measure import perturb, synthesize
 from urdf2dh.calibration.prior import Deviations, Prior, Regulariser, link_errors
-from urdf2dh.calibration.residuals import evaluate
+from urdf2dh.calibration.residuals import evaluate, residuals
 from urdf2dh.calibration.select import left_out_errors
 from urdf2dh.calibration.solver import solve
 from urdf2dh.calibration.start import FitOptions, to_data
@@ -86,7 +87,7 @@ def test_a_link_s_error_moves_every_later_joint_and_the_base_is_free(ur5):
             np.sum(point[g_index:] * axis[g_index:], axis=1)[:, None] * axis[g_index:]
         )
         moved = replace(start, chain=replace(chain, axis=axis, point=point))
-        r, _ = prior.rows(moved, jacobian=False)
+        r = prior.residuals(moved)
         return float(r @ r)
 
     # the base moved: free to first order (the cost is of fourth order in the motion, where
@@ -107,7 +108,7 @@ def test_a_link_s_error_moves_every_later_joint_and_the_base_is_free(ur5):
     axis[elbow] = axis[elbow] + np.cross(turn, axis[elbow])
     axis[elbow] /= np.linalg.norm(axis[elbow])
     alone = replace(single, chain=replace(start.chain, axis=axis))
-    r, _ = prior.rows(alone, jacobian=False)
+    r = prior.residuals(alone)
     assert float(r @ r) > 2.0 * link
 
 
@@ -193,7 +194,7 @@ def test_leaving_each_configuration_out_agrees_with_refits(ur5):
     fit = solve_level(start, data, opts, ur5.size(), start, noise, where)
     problem = fit.problem(data)
     index, configurations = layout_free.configurations()
-    predicted = left_out_errors(problem, fit.solution.estimate, index)
+    predicted = left_out_errors(problem, fit.solution.lin, index)
     assert predicted is not None
     refits = []
     for c in range(configurations):
@@ -202,7 +203,7 @@ def test_leaving_each_configuration_out_agrees_with_refits(ur5):
         again = solve(fit.solution.estimate, part, ur5.size(), 200)
         assert again.converged
         held = to_data(layout_free.subset(np.flatnonzero(~keep)), True, [])
-        r, _ = evaluate(again.estimate, held, 1.0, 1.0, jacobian=False)
+        r = residuals(again.estimate, held, 1.0, 1.0)
         refits.append([float(r[:3] @ r[:3]), float(r[3:] @ r[3:])])
     refits = np.array(refits)
     assert np.allclose(predicted, refits, rtol=0.05, atol=1e-3 * NOISE**2)

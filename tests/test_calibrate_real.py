@@ -15,8 +15,9 @@ import pytest
 import yaml
 
 import urdf2dh
-from urdf2dh.calibration.calibration import calibrate, holdout_split
+from urdf2dh.calibration.calibration import calibrate
 from urdf2dh.calibration.measurements import Reading, read_measurements
+from urdf2dh.calibration.problem import holdout_split
 from urdf2dh.calibration.report import to_dict
 from urdf2dh.cli import main
 from urdf2dh.conventions import NAMES
@@ -92,6 +93,18 @@ def test_the_default_converges_and_is_never_worse_held_out_than_base_and_tool(de
     )
     assert len(tree["selection"]["levels"]) == 4 and tree["selection"]["reason"]
     assert json.loads(json.dumps(tree)) == tree
+
+
+@pytest.mark.parametrize("name", sorted(SETS))
+def test_the_level_chosen_asked_for_gives_the_same_model(defaults, name):
+    """Fitting the level the default chose, asked for by name, fits the levels below it first
+    as the choice did: the same model to the last bit, not a nearby one."""
+    cal = defaults[name]
+    nominal, m = load(name)
+    again = calibrate(nominal, m, holdout=0.3, seed=0, level=cal.level)
+    assert again.level == cal.level and again.chosen_by == "option"
+    q = nominal.sample(50, 1)
+    assert np.array_equal(again.device_model.fk_batch(q), cal.device_model.fk_batch(q))
 
 
 @pytest.mark.parametrize("name", sorted(SETS))

@@ -46,3 +46,13 @@ def test_the_unseen_tiago_session_is_benchmarked_as_it_is_and_with_the_offsets_o
     sets = [r for r in bench.unseen_sets(tmp_path) if "cross_valid" in r.source]
     assert [r.shifted for r in sets] == [None, bench.PAL_OFFSETS]
     assert sets[0].files == sets[1].files
+
+
+def test_a_scaling_row_reads_and_calibrates_its_poses(capsys):
+    """benchmarks/calibration.py --scaling's row, at 300 poses: the CSV written and read back,
+    the default calibration's level, times and the process's peak memory."""
+    assert bench.scaling_child(300) == 0
+    poses, size, reading, fitting, peak, level = capsys.readouterr().out.split()
+    assert int(poses) == 300 and int(size) > 300 * 100
+    assert float(reading) > 0 and float(fitting) > 0 and int(peak) > 2**20
+    assert level in ("base-tool", "offsets", "geometry", "full")

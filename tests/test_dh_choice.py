@@ -13,7 +13,7 @@ import pytest
 from test_doc_blocks import _workspace
 
 import urdf2dh
-from urdf2dh.calibration.report import output_table
+from urdf2dh.calibration.figures import output_table
 from urdf2dh.cli import main
 from urdf2dh.conventions.choice import choose, objection
 from urdf2dh.emit.export import TARGETS

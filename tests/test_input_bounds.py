@@ -14,11 +14,12 @@ from pathlib import Path
 import pytest
 from chains import random_chain_urdf
 
+import urdf2dh
 from urdf2dh import tolerances
 from urdf2dh.cli import main
 from urdf2dh.errors import MESSAGE_LENGTH, SHOWN_LENGTH, InputError, one_line, shown
 from urdf2dh.io.files import read_file
-from urdf2dh.tolerances import FILE_BYTES, JOINTS
+from urdf2dh.tolerances import FILE_BYTES, JOINTS, MEASUREMENT_BYTES
 
 
 def one_line_error(capsys, argv: list[str]) -> str:
@@ -66,6 +67,28 @@ def test_a_regular_file_beyond_the_bound_is_refused(tmp_path, capsys):
     out = tmp_path / "out.json"
     line = one_line_error(capsys, ["convert", str(path), "-o", str(out)])
     assert line == f"urdf2dh: error: {path}: larger than 16 MiB, the most urdf2dh reads"
+    assert not out.exists()
+
+
+def test_a_measurement_file_has_a_bound_of_its_own(tmp_path, capsys):
+    """Measurement files are bounded for a million poses (MEASUREMENT_BYTES), not by the 16 MiB
+    of a robot file: a file beyond FILE_BYTES is read (here one row, its last cell padded with
+    spaces, so that it then fails for a reason of its own), one beyond MEASUREMENT_BYTES refused
+    in one line."""
+    joints = [j.name for j in urdf2dh.load("ur5").joints]
+    head = ",".join([*joints, "x", "y", "z"]) + "\n0,0,0,0,0,0,0.1,0.2,0.3"
+    path = tmp_path / "poses.csv"
+    with open(path, "wb") as f:
+        f.write(head.encode())
+        f.write(b" " * (FILE_BYTES + 1) + b"\n")
+    line = one_line_error(capsys, ["calibrate", "ur5", str(path)])
+    assert line.startswith(f"urdf2dh: error: {path}, line 2: not a CSV row (field larger than")
+    with open(path, "wb") as f:
+        f.write(head.encode())
+        f.truncate(MEASUREMENT_BYTES + 1)  # sparse: no time to write
+    out = tmp_path / "out.json"
+    line = one_line_error(capsys, ["calibrate", "ur5", str(path), "-o", str(out)])
+    assert line == f"urdf2dh: error: {path}: larger than 512 MiB, the most urdf2dh reads"
     assert not out.exists()
 
 

@@ -79,10 +79,11 @@ __all__ = [
 ]
 
 if TYPE_CHECKING:
-    from .calibration.calibration import Calibration, calibrate
+    from .calibration.calibration import calibrate
     from .calibration.measure import measure
     from .calibration.measurements import Measurements
     from .calibration.plan import Plan, plan
+    from .calibration.result import Calibration
     from .check.diff import Diff, diff
     from .check.info import Info, info
     from .check.match import Match, match
@@ -104,7 +105,7 @@ _LAZY = {
     "CONVENTIONS": ("urdf2dh.conventions", "NAMES"),
     "DEFAULT": ("urdf2dh.tolerances", "DEFAULT"),
     "EXACT": ("urdf2dh.tolerances", "EXACT"),
-    "Calibration": ("urdf2dh.calibration.calibration", "Calibration"),
+    "Calibration": ("urdf2dh.calibration.result", "Calibration"),
     "Check": ("urdf2dh.conventions.table", "Check"),
     "Diff": ("urdf2dh.check.diff", "Diff"),
     "ExportOptions": ("urdf2dh.emit.export.common", "ExportOptions"),

@@ -48,6 +48,7 @@ __all__ = [
     "MATCH_ROUND_OFF",
     "MAX_SAMPLES",
     "MAX_SEED",
+    "MEASUREMENT_BYTES",
     "MJCF_INCLUDES",
     "NOISE_BALANCE",
     "NOISE_FLOOR",
@@ -252,6 +253,12 @@ BEYOND_LIMITS = 0.5
 # expansion): a URDF of JOINTS joints is ~3 MB, a POE or table file of as many joints under 2 MB.
 FILE_BYTES = 16 * 2**20
 
+# Bytes of a measurement CSV (calibrate's, plan's): sized for a million poses of a 7-joint arm
+# (about 300 bytes a row); the rows read are bounded again by calibration's own count
+# (:data:`urdf2dh.calibration.measurements.MAX_MEASUREMENTS`), so that a bigger file is refused
+# in one line, not after minutes.
+MEASUREMENT_BYTES = 512 * 2**20
+
 # Joints of a URDF (all its joints, on the chain or not), of a POE or table file, of a xacro
 # file's expansion, and of the chains of one run over several tips.
 JOINTS = 10_000
@@ -309,6 +316,7 @@ JOINT_SCALES = (1e-9, 1e9)
 #: The bounds on input by name, as ``docs/limits.md`` lists them.
 BOUNDS = (
     "FILE_BYTES",
+    "MEASUREMENT_BYTES",
     "JOINTS",
     "MAPPING_VALUES",
     "MAPPING_DEPTH",

@@ -30,12 +30,13 @@ from typing import TYPE_CHECKING
 __all__ = ["Calibration", "Measurements", "Plan", "Reading", "calibrate", "read_measurements"]
 
 if TYPE_CHECKING:
-    from .calibration import Calibration, calibrate
+    from .calibration import calibrate
     from .measurements import Measurements, Reading, read_measurements
     from .plan import Plan
+    from .result import Calibration
 
 _LAZY = {
-    "Calibration": "calibration",
+    "Calibration": "result",
     "calibrate": "calibration",
     "Measurements": "measurements",
     "Reading": "measurements",

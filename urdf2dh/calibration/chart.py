@@ -29,11 +29,16 @@ each step, a retraction), so no parameter is singular anywhere, parallel axes in
   shifts along them; ``e1, e2`` an orthonormal basis normal to ``u``); helical, 5: and the
   pitch ``h' = h + dh``; prismatic, 2: the direction turned, ``u' = exp(a e1 + b e2) u``.
 * offset ``o' = o + do`` and scale ``s' = s + ds``: 1 each.
-* tool (poses): ``M' = M exp(zeta)``, 6. With ``keep_tool_axis`` the tool keeps the nominal's
-  placement relative to the last joint's line: it moves with that line and only screws about
-  and along it, 2.
-* markers (positions): each marker's home position in the device frame ``c_k' = c_k + dc``, 3
-  each (the tool frame itself is not observed; see :mod:`.identify`).
+* the tool: what is measured decides (:attr:`Estimate.tool`). Every measurement sees a point
+  ``T(q) c_k`` of the tool, ``c_k`` in the tool frame (the origin, ``c = 0``, for poses), and,
+  for poses, the tool's orientation too:
+
+  * ``frame`` (poses): the tool frame ``M' = M exp(zeta)``, 6. With ``keep_tool_axis`` the tool
+    keeps the nominal's placement relative to the last joint's line: it moves with that line
+    and only screws about and along it, 2;
+  * ``markers`` (positions): the tool frame is not observed and stays as placed; each marker's
+    home position in the device frame ``M c_k`` moves by ``dc``, 3 each (the frame is completed
+    afterwards from the marker layout; see :mod:`.identify`).
 
 For ``full`` this is Wu 2019 eq. (23) for poses, ``5h + 4r + 2t + n + 6`` coordinates, and
 ``5h + 4r + 2t + n + 3K`` for positions of K markers. The lines' variations are the adjoint
@@ -59,18 +64,14 @@ from ..geometry.lie import cross3, cross_rows, exp_so3, left_jacobian, log_se3
 from ..geometry.se3 import twist_exp
 from ..model.identifiability import LINE_PARAMETERS
 from ..model.poe import Joint
+from .levels import FULL, Level
 
 __all__ = [
-    "BASE_TOOL",
-    "FULL",
-    "GEOMETRY",
-    "HIGHER",
-    "LEVELS",
-    "LOWER",
-    "OFFSETS",
+    "FRAME",
+    "MARKERS",
+    "TOOLS",
     "Chain",
     "Estimate",
-    "Level",
     "absorbed",
     "all_names",
     "count",
@@ -84,26 +85,6 @@ __all__ = [
 ]
 
 Mat = NDArray[np.float64]
-
-
-@dataclass(frozen=True, slots=True)
-class Level:
-    """What one level of identification moves (module docstring)."""
-
-    name: str
-    base: bool
-    lines: bool
-    offsets: bool
-    scales: bool
-
-
-BASE_TOOL = Level("base-tool", base=True, lines=False, offsets=False, scales=False)
-OFFSETS = Level("offsets", base=True, lines=False, offsets=True, scales=False)
-GEOMETRY = Level("geometry", base=False, lines=True, offsets=False, scales=False)
-FULL = Level("full", base=False, lines=True, offsets=False, scales=True)
-LEVELS = {lv.name: lv for lv in (BASE_TOOL, OFFSETS, GEOMETRY, FULL)}
-LOWER = dict(zip(list(LEVELS)[1:], list(LEVELS)[:-1], strict=True))  # each level's simpler one
-HIGHER = {low: high for high, low in LOWER.items()}  # ... and its richer one
 
 
 def normal_basis(u: Mat) -> tuple[Mat, Mat]:
@@ -221,6 +202,11 @@ class Chain:
         return replace(self, kinds=kinds)
 
 
+FRAME = "frame"  # poses: the tool frame is measured (module docstring)
+MARKERS = "markers"  # positions: points on the tool are
+TOOLS = (FRAME, MARKERS)
+
+
 @dataclass(frozen=True, slots=True)
 class Estimate:
     """A POE model being identified, in the device frame.
@@ -230,11 +216,14 @@ class Estimate:
     chain
         The joints (``helical`` ones have their pitch identified; revolute ones keep pitch 0).
     home
-        ``(4, 4)`` the tool's home pose ``M`` (pose measurements), else ``None``.
+        ``(4, 4)`` the tool's home pose ``M``.
     markers
-        ``(K, 3)`` each marker's home position in the device frame (position measurements).
+        ``(K, 3)`` the points measured on the tool, in the tool frame (the origin for poses).
+    tool
+        What is measured (:data:`TOOLS`): the tool's ``frame`` (poses), or its ``markers``
+        (positions); it decides the tool's coordinates (module docstring).
     level
-        What is identified (:data:`LEVELS`).
+        What is identified (:data:`.levels.LEVELS`).
     keep_tool_axis
         Whether the tool keeps its placement relative to the last joint's line.
     offsets
@@ -246,8 +235,9 @@ class Estimate:
     """
 
     chain: Chain
-    home: Mat | None = None
-    markers: Mat | None = None
+    home: Mat
+    markers: Mat
+    tool: str = FRAME
     level: Level = FULL
     keep_tool_axis: bool = False
     offsets: Mat | None = None
@@ -255,10 +245,10 @@ class Estimate:
     free: NDArray[np.bool_] | None = None
 
     def __post_init__(self) -> None:
-        if (self.home is None) == (self.markers is None):
-            raise ValueError("an estimate has a home pose (poses) or markers (positions)")
+        if self.tool not in TOOLS or self.markers.ndim != 2 or not len(self.markers):
+            raise ValueError(f"an estimate measures a tool frame or markers, not {self.tool}")
         if self.keep_tool_axis and (
-            self.home is None or not len(self.chain) or self.chain.kinds[-1] == "prismatic"
+            self.tool != FRAME or not len(self.chain) or self.chain.kinds[-1] == "prismatic"
         ):
             raise InputError(
                 "keeping the tool on the last joint's axis needs pose measurements "
@@ -268,9 +258,19 @@ class Estimate:
             raise ValueError("free must have one entry per coordinate of the level")
 
     @classmethod
-    def of(cls, joints: tuple[Joint, ...], **kw: object) -> Estimate:
-        """An estimate of ``joints`` (the other fields as keywords)."""
-        return cls(Chain.of(joints), **kw)  # type: ignore[arg-type]
+    def of(
+        cls, joints: tuple[Joint, ...], home: Mat, markers: Mat | None = None, **kw: object
+    ) -> Estimate:
+        """An estimate of ``joints`` with the tool at ``home``: its frame measured, or, with
+        ``markers`` ``(K, 3)`` (tool frame), those points (the other fields as keywords)."""
+        if markers is None:
+            return cls(Chain.of(joints), home, np.zeros((1, 3)), FRAME, **kw)  # type: ignore[arg-type]
+        return cls(Chain.of(joints), home, markers, MARKERS, **kw)  # type: ignore[arg-type]
+
+    def device_markers(self) -> Mat:
+        """``(K, 3)`` the markers' home positions in the device frame, ``M c_k``."""
+        out: Mat = self.markers @ self.home[:3, :3].T + self.home[:3, 3]
+        return out
 
     @property
     def n(self) -> int:
@@ -311,9 +311,7 @@ def _joint_size(kind: str, level: Level) -> int:
 def sizes(est: Estimate, every: bool = False) -> list[int]:
     """Coordinates per block: the base (0 or 6), one per joint, then the tool (or the markers).
     Counted over the level (``every``) or only the free ones."""
-    tool = (
-        (2 if est.keep_tool_axis else 6) if est.home is not None else 3 * len(est.markers)  # type: ignore[arg-type]
-    )
+    tool = (2 if est.keep_tool_axis else 6) if est.tool == FRAME else 3 * len(est.markers)
     free = None if every or est.free is None else est.free.tobytes()
     return list(_sizes(est.level, est.chain.kinds, tool, free))
 
@@ -352,14 +350,13 @@ def all_names(est: Estimate, marker_ids: list[int] | None = None) -> list[str]:
             out.append(f"{name}.offset")
         if est.level.scales:
             out.append(f"{name}.scale")
-    if est.home is not None:
+    if est.tool == FRAME:
         out += (
             ["tool.turn", "tool.slide"]
             if est.keep_tool_axis
             else [f"tool.{k}" for k in ("rx", "ry", "rz", "x", "y", "z")]
         )
     else:
-        assert est.markers is not None
         ids = marker_ids if marker_ids is not None else list(range(len(est.markers)))
         out += [f"marker{m}.{c}" for m in ids for c in "xyz"]
     return out
@@ -392,9 +389,9 @@ def line_motion(u: Mat, p: Mat, a: float, b: float, c: float, d: float) -> Mat:
 
 
 def tool_screws(est: Estimate) -> Mat:
-    """``(6, 2)``: with ``keep_tool_axis``, the last line's screws (turn about it, slide along
-    it) in the tool's body frame: ``Ad(M^-1) [u, p x u]`` and ``Ad(M^-1) [0, u]``."""
-    assert est.home is not None
+    """``(6, 2)``: with ``keep_tool_axis`` (a tool frame), the last line's screws (turn about
+    it, slide along it) in the tool's body frame: ``Ad(M^-1) [u, p x u]`` and
+    ``Ad(M^-1) [0, u]``."""
     u, p = est.chain.axis[-1], est.chain.point[-1]
     twists = np.array([np.concatenate([u, cross3(p, u)]), np.concatenate([np.zeros(3), u])]).T
     r, t = est.home[:3, :3], est.home[:3, 3]
@@ -404,12 +401,9 @@ def tool_screws(est: Estimate) -> Mat:
 
 
 def _moved_all(est: Estimate, g: Mat) -> Estimate:
-    """Everything of ``est`` moved by the rigid motion ``g`` (a base motion)."""
-    home = None if est.home is None else g @ est.home
-    markers = None if est.markers is None else est.markers @ g[:3, :3].T + g[:3, 3]
-    return replace(
-        est, chain=est.chain.moved(g), home=home, markers=markers, base=g @ est.base_motion()
-    )
+    """Everything of ``est`` moved by the rigid motion ``g`` (a base motion; the markers move
+    with the tool frame)."""
+    return replace(est, chain=est.chain.moved(g), home=g @ est.home, base=g @ est.base_motion())
 
 
 def joint_columns(est: Estimate) -> tuple[NDArray[np.int64], ...]:
@@ -486,15 +480,14 @@ def retract(est: Estimate, delta: Mat) -> Estimate:
             last_motion[:3, 3] = shift[-1]
     new_chain = replace(chain, **changes) if changes else chain  # type: ignore[arg-type]
     k = sum(sizes(est, every=True)[:-1])
-    if est.home is not None:
+    if est.tool == FRAME:
         if est.keep_tool_axis:
             zeta = tool_screws(est) @ x_all[k : k + 2]
             home = last_motion @ est.home @ twist_exp(zeta)
         else:
             home = est.home @ twist_exp(x_all[k : k + 6])
         return replace(est, chain=new_chain, home=home, offsets=offsets)
-    assert est.markers is not None
-    markers = est.markers + x_all[k:].reshape(-1, 3)
+    markers = est.markers + x_all[k:].reshape(-1, 3) @ est.home[:3, :3]  # device-frame moves
     return replace(est, chain=new_chain, markers=markers, offsets=offsets)
 
 
@@ -555,8 +548,7 @@ def local_coordinates(est: Estimate, other: Estimate) -> Mat:
     if level.scales:
         full[scale_at] = b.scale - a.scale
     k = sum(sizes(est, every=True)[:-1])
-    if est.home is not None:
-        assert other.home is not None
+    if est.tool == FRAME:
         start = base @ est.home
         if est.keep_tool_axis:
             zeta = log_se3(np.linalg.inv(start) @ np.linalg.inv(motion) @ other.home)
@@ -564,9 +556,8 @@ def local_coordinates(est: Estimate, other: Estimate) -> Mat:
         else:
             full[k:] = log_se3(np.linalg.inv(start) @ other.home)
     else:
-        assert est.markers is not None and other.markers is not None
-        start_markers = est.markers @ base[:3, :3].T + base[:3, 3]
-        full[k:] = (other.markers - start_markers).ravel()
+        start_markers = est.device_markers() @ base[:3, :3].T + base[:3, 3]
+        full[k:] = (other.device_markers() - start_markers).ravel()
     return full if est.free is None else full[est.free]
 
 
@@ -592,12 +583,6 @@ def absorbed(est: Estimate) -> Estimate:
         else:
             twist = np.concatenate([np.zeros(3), u])
         c = c @ twist_exp(twist * chain.scale[i] * offsets[i])
-    home = None if est.home is None else c @ est.home
-    markers = None if est.markers is None else est.markers @ c[:3, :3].T + c[:3, 3]
     return replace(
-        est,
-        chain=replace(chain, axis=axis, point=point),
-        home=home,
-        markers=markers,
-        offsets=None,
+        est, chain=replace(chain, axis=axis, point=point), home=c @ est.home, offsets=None
     )

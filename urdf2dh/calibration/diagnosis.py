@@ -46,7 +46,9 @@ from ..errors import Remedy, visible
 from ..model.poe import PoeModel
 from ..tolerances import SPREAD
 from .chart import absorbed
-from .identify import fit_before, identify
+from .fit import fit_before
+from .identify import identify
+from .levels import BASE_TOOL
 from .measurements import (
     POINT,
     QUATERNION,
@@ -55,8 +57,8 @@ from .measurements import (
     Reading,
     euler_quaternions,
 )
-from .residuals import evaluate
-from .rigid import fit_rigid, pose_points
+from .residuals import errors, rms
+from .rigid import fit_rigid, pose_points, spread
 from .start import FitOptions, nominal_points, to_data
 
 __all__ = [
@@ -336,10 +338,9 @@ def spread_ratio(nominal: PoeModel, fit: Measurements, opts: FitOptions, ids: li
     ours = (
         nominal.fk_batch(fit.q)[:, :3, 3] if opts.pose else nominal_points(nominal, fit, opts, ids)
     )
-    spread = float(np.sqrt(np.mean(np.sum((ours - ours.mean(axis=0)) ** 2, axis=1))))
-    theirs = fit.points
-    measured = float(np.sqrt(np.mean(np.sum((theirs - theirs.mean(axis=0)) ** 2, axis=1))))
-    return measured / spread if spread > 0.0 else math.nan
+    nominal_spread = spread(ours)
+    measured = spread(fit.points)
+    return measured / nominal_spread if nominal_spread > 0.0 else math.nan
 
 
 def _sample(m: Measurements) -> Measurements:
@@ -395,15 +396,13 @@ def score(nominal: PoeModel, m: Measurements, opts: FitOptions, ids: list[int]) 
     try:
         with np.errstate(all="ignore"):
             _, before = fit_before(nominal, m, trial, ids)
-            data = to_data(m, opts.pose, ids)
-            r, _ = evaluate(absorbed(before.solution.estimate), data, 1.0, 1.0, jacobian=False)
+            each = errors(absorbed(before.solution.estimate), to_data(m, opts.pose, ids))
+            out = np.zeros(2)
+            out[0] = rms(each[:, 0]) / nominal.size()
+            if opts.pose:
+                out[1] = rms(each[:, 1])
     except (Urdf2DhError, ValueError, np.linalg.LinAlgError):
         return np.full(2, math.inf)
-    rows = r.reshape(len(data), data.rows)
-    out = np.zeros(2)
-    out[0] = float(np.sqrt(np.mean(np.sum(rows[:, :3] ** 2, axis=1)))) / nominal.size()
-    if opts.pose:
-        out[1] = float(np.sqrt(np.mean(np.sum(rows[:, 3:] ** 2, axis=1))))
     out[~np.isfinite(out)] = math.inf
     return out
 
@@ -592,25 +591,22 @@ def helical(
     from ..errors import Urdf2DhError
 
     turning = [j.name for j in nominal.joints if j.kind == "revolute"]
-    if not turning or "all" in opts.helical or opts.level == "base-tool":
+    if not turning or "all" in opts.helical or opts.level == BASE_TOOL.name:
         return None
     trial = replace(opts, helical=("all",))
     try:
         with np.errstate(all="ignore"):
             result = identify(nominal, fit, trial, ids)
-            data = to_data(fit, opts.pose, ids)
-            r, _ = evaluate(absorbed(result.estimate), data, 1.0, 1.0, jacobian=False)
+            fitted = rms(errors(absorbed(result.estimate), to_data(fit, opts.pose, ids))[:, 0])
     except (Urdf2DhError, ValueError, np.linalg.LinAlgError):
         return None
-    rows = r.reshape(len(data), data.rows)
-    rms = float(np.sqrt(np.mean(np.sum(rows[:, :3] ** 2, axis=1))))
-    if not rms * HELICAL_GAIN <= rms_position:
+    if not fitted * HELICAL_GAIN <= rms_position:
         return None
     chain = result.estimate.chain
     span = np.ptp(fit.q, axis=0)
     named = tuple(
         name
         for name, pitch, travel in zip(chain.names, chain.pitch, span, strict=True)
-        if name in turning and abs(pitch) * travel > 3.0 * max(rms, 1e-300)
+        if name in turning and abs(pitch) * travel > 3.0 * max(fitted, 1e-300)
     )
     return named or tuple(turning)

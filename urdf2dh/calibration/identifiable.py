@@ -16,6 +16,7 @@ fixed. What the measurements at hand leave undetermined
 from __future__ import annotations
 
 import fnmatch
+from dataclasses import replace
 
 import numpy as np
 from numpy.typing import NDArray
@@ -23,7 +24,7 @@ from numpy.typing import NDArray
 from ..errors import InputError, choices
 from ..tolerances import BARELY_MOVED, RANK_RELATIVE
 from .chart import Estimate, all_names, sizes
-from .residuals import Data, evaluate, model_poses, prefix_products
+from .residuals import evaluate, observed
 
 __all__ = [
     "barely_moved",
@@ -74,31 +75,10 @@ def redundant(est: Estimate, limits: NDArray[np.float64], size: float) -> NDArra
     ``limits``: ``(n, 2)`` the joints' ranges to draw configurations from; ``size``: the
     robot's size (rotation rows count at that lever).
     """
-    probe = Estimate(
-        est.chain,
-        est.home,
-        est.markers,
-        est.level,
-        est.keep_tool_axis,
-        est.offsets,
-        est.base,
-        None,
-    )
+    probe = replace(est, free=None)
     rng = np.random.default_rng((0, 6))
     q = rng.uniform(limits[:, 0], limits[:, 1], size=(_SAMPLES, est.n))
-    if est.home is not None:
-        poses = model_poses(probe, q)
-        data = Data(q, poses[:, :3, 3], poses[:, :3, :3])
-    else:
-        assert est.markers is not None
-        k = len(est.markers)
-        qs = np.repeat(q, k, axis=0)
-        rows = np.tile(np.arange(k, dtype=np.int64), _SAMPLES)
-        last = prefix_products(probe, qs)[-1]
-        points = np.einsum("nij,nj->ni", last[:, :3, :3], est.markers[rows]) + last[:, :3, 3]
-        data = Data(qs, points, None, rows)
-    _, jac = evaluate(probe, data, size, 1.0)
-    assert jac is not None
+    _, jac = evaluate(probe, observed(probe, q), size, 1.0)
     norms = np.linalg.norm(jac, axis=0)
     order = _order(est)
     unit = jac[:, order] / np.where(norms[order] > 0.0, norms[order], 1.0)

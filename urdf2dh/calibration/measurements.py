@@ -53,7 +53,7 @@ from ..errors import InputError, UsageError, choices, shown, visible
 from ..escape import csv_cell, csv_names, markdown_table, markdown_text, text_table
 from ..io.files import read_file
 from ..numerals import decimal, integer, read_decimal, why_not
-from ..tolerances import QUATERNION_NORM
+from ..tolerances import MEASUREMENT_BYTES, QUATERNION_NORM
 
 __all__ = [
     "EULER",
@@ -480,10 +480,17 @@ def _group(
     return tuple(seen[c] for c in names)
 
 
-def _rows(text: str) -> Iterator[tuple[int, list[str]]]:
-    """The CSV's non-blank rows with their line numbers."""
+def _rows(text: str, display: str) -> Iterator[tuple[int, list[str]]]:
+    """The CSV's non-blank rows with their line numbers; a row the csv module cannot read (a
+    cell beyond its field limit, a stray quote at the end) is an error naming its line."""
     reader = csv.reader(io.StringIO(text, newline=""))
-    for raw in reader:
+    while True:
+        try:
+            raw = next(reader)
+        except StopIteration:
+            return
+        except csv.Error as e:
+            raise InputError(f"{display}, line {reader.line_num}: not a CSV row ({e})") from e
         if any(f.strip() for f in raw):
             yield reader.line_num, raw
 
@@ -495,7 +502,7 @@ def _number(raw: list[str], k: int, name: str, where: str) -> float:
 
 
 def _text(path: str | Path, display: str) -> str:
-    data = read_file(Path(path), display)
+    data = read_file(Path(path), display, limit=MEASUREMENT_BYTES)
     try:
         return data.decode("utf-8-sig")
     except UnicodeDecodeError as e:
@@ -534,7 +541,7 @@ def read_measurements(
     """
     display = display or str(path)
     reading = reading or Reading()
-    rows = _rows(_text(path, display))
+    rows = _rows(_text(path, display), display)
     first = next(rows, None)
     if first is None:
         raise InputError(f"{display}: empty file (expected a header row and measurements)")
@@ -646,7 +653,7 @@ def read_configurations(
     """``(N, n)`` joint values from a CSV file with a column per joint (others are skipped):
     candidate configurations for :func:`urdf2dh.calibration.plan.plan`, or its own output."""
     display = display or str(path)
-    rows = _rows(_text(path, display))
+    rows = _rows(_text(path, display), display)
     first = next(rows, None)
     if first is None:
         raise InputError(f"{display}: empty file (expected a header row and configurations)")
@@ -709,15 +716,13 @@ def read_layout(path: str | Path, display: str | None = None) -> dict[int, Mat]:
     """A marker layout file: ``marker,x,y,z`` rows, the markers' positions in the tool frame."""
     display = display or str(path)
     text = read_file(Path(path), display).decode("utf-8-sig", errors="replace")
-    reader = csv.reader(io.StringIO(text, newline=""))
-    header = [f.strip() for f in next(reader, [])]
+    rows = _rows(text, display)
+    first = next(rows, None)
+    header = [] if first is None else [f.strip() for f in first[1]]
     if header != [MARKER, *POINT]:
         raise InputError(f"{display}: a marker layout has the header 'marker,x,y,z'")
     out: dict[int, Mat] = {}
-    for raw in reader:
-        if not any(f.strip() for f in raw):
-            continue
-        row, line = len(out) + 1, reader.line_num
+    for row, (line, raw) in enumerate(rows, start=1):
         if len(raw) != 4:
             raise InputError(f"{_where(display, row, line)}: {len(raw)} fields, not 4")
         mark = integer(raw[0].strip(" \t"))

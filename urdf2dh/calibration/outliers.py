@@ -23,19 +23,24 @@ thrown away on weak evidence). Asked, they are always rejected or kept.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
 
-from ..tolerances import OUTLIER_CHANCE, OUTLIER_GAIN
-from .identify import Fit
+from ..tolerances import OUTLIER_CHANCE, OUTLIER_GAIN, OUTLIER_SHARE
+from .chart import count
+from .fit import Fit, with_statistics
 from .measurements import Measurements
-from .residuals import evaluate
-from .select import Selection, per_configuration, within
+from .residuals import residuals
+from .select import Pass, Selection, judge_levels, per_configuration, within
 from .start import to_data
 
-__all__ = ["Suspect", "rejecting_helps", "suspects"]
+if TYPE_CHECKING:
+    from .problem import Options
+
+__all__ = ["Outliers", "Suspect", "rejecting_helps", "settle", "suspects"]
 
 Mat = NDArray[np.float64]
 
@@ -68,7 +73,7 @@ def suspects(fit: Measurements, result: Fit, pose: bool, ids: list[int]) -> list
     from scipy.stats import chi2
 
     data = to_data(fit, pose, ids)
-    r, _ = evaluate(result.solution.estimate, data, result.sigma_pos, result.sigma_rot, False)
+    r = residuals(result.solution.estimate, data, result.sigma_pos, result.sigma_rot)
     rows = r.reshape(len(data), data.rows)
     m = len(data) * data.rows
     leverage = result.statistics.leverage[:m].reshape(len(data), data.rows).sum(axis=1)
@@ -103,3 +108,92 @@ def rejecting_helps(
     weights = second_sel.weights
     helps = not within(first @ weights, second @ weights, OUTLIER_GAIN)
     return helps, float(np.sqrt(np.mean(first[:, 0]))), float(np.sqrt(np.mean(second[:, 0])))
+
+
+@dataclass(frozen=True, slots=True)
+class Outliers:
+    """What became of the outlier suspects.
+
+    Attributes
+    ----------
+    suspects
+        The suspects, their rows numbered in the whole file (from 0).
+    rejected
+        Whether they were rejected.
+    note
+        Why they were rejected or kept, in a clause.
+    """
+
+    suspects: tuple[Suspect, ...] = ()
+    rejected: bool = False
+    note: str = ""
+
+
+def _rejectable(found: list[Suspect], fit: Measurements, level_fit: Fit, pose: bool) -> bool:
+    """Whether the suspects may be rejected: not more than
+    :data:`~urdf2dh.tolerances.OUTLIER_SHARE` of the measurements (then the noise or the model
+    is wrong, not they), and leaving as many equations as the level has parameters."""
+    if len(found) > OUTLIER_SHARE * len(fit):
+        return False
+    rows = 6 if pose else 3
+    left = (len(fit) - len(found)) * rows
+    return left >= count(level_fit.solution.estimate) and len(fit) - len(found) >= 2
+
+
+def settle(first: Pass, level: str, options: Options) -> tuple[Pass, Outliers]:
+    """The suspects of ``first``'s ``level`` (module docstring), and the pass the calibration
+    goes on with: ``first``, or the levels judged again without the suspects when they are
+    rejected. The level's fit in ``first`` gets its statistics."""
+    problem, opts = first.problem, first.options
+    fit, ids, rows = problem.fit, problem.markers, problem.fit_rows
+    first.fits[level] = with_statistics(first.fits[level], to_data(fit, opts.pose, ids))
+    found = [
+        replace(s, row=int(rows[s.row])) for s in suspects(fit, first.fits[level], opts.pose, ids)
+    ]
+    reject = options.reject
+    units = problem.units
+    if not found:
+        return first, Outliers()
+    if reject is False:
+        return first, Outliers(
+            tuple(found),
+            False,
+            "kept as asked; a wrong measurement, or the model's error at an unusual configuration",
+        )
+    if not _rejectable(found, fit, first.fits[level], opts.pose):
+        return first, Outliers(
+            tuple(found),
+            False,
+            f"kept: {len(found)} of {len(fit)} are too many to be outliers (the noise or the "
+            "model is wrong)"
+            if len(found) > OUTLIER_SHARE * len(fit)
+            else "kept: without them too few measurements would be left to identify the level",
+        )
+    kept_rows = np.setdiff1d(rows, [s.row for s in found])
+    second = judge_levels(problem.refitted(kept_rows), options, first=False)
+    helps, with_rms, without_rms = rejecting_helps(
+        np.flatnonzero(np.isin(rows, kept_rows)),
+        second.fit.configurations()[0],
+        (first.selection, level),
+        (second.selection, second.level or ""),
+    )
+    figures = (
+        f"left-out RMS position {units.shown(without_rms):.3g} against "
+        f"{units.shown(with_rms):.3g} {units.length}"
+    )
+    if reject is None and not helps:
+        return first, Outliers(
+            tuple(found),
+            False,
+            "kept: the other configurations are predicted no better without them "
+            f"({figures}); a wrong measurement, or the model's error at an unusual "
+            "configuration",
+        )
+    if not second.usable:
+        return first, Outliers(tuple(found), False, "")
+    why = (
+        "as asked"
+        if reject
+        else f"without them the other configurations are predicted better ({figures})"
+    )
+    return second, Outliers(tuple(found), True, why)

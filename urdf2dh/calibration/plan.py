@@ -25,20 +25,22 @@ covariance at the nominal; the measurements' own will differ as the robot differ
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from numpy.typing import NDArray
 
 from ..checks import check_configurations, check_count, check_instance, check_real, check_seed
-from ..errors import InputError, UsageError, choices, shown
+from ..errors import InputError, shown
 from ..escape import markdown_table, markdown_text
 from ..model.poe import PoeModel
 from ..tolerances import MAX_MARKERS
-from .chart import LEVELS, Estimate, names
+from .chart import Estimate, names
 from .identifiable import redundant
+from .levels import FULL, LEVELS, check_level
 from .measure import marker_layout
-from .residuals import Data, evaluate, prefix_products
+from .residuals import evaluate, observed
+from .solver import one_thread
 
 __all__ = [
     "DEFAULT_NOISE_POS_M",
@@ -187,36 +189,22 @@ def _geometric_mean_ratio(a: Mat, b: Mat) -> float | None:
 
 def _estimate(model: PoeModel, level: str, pose: bool, markers: int | None, seed: int) -> Estimate:
     """The nominal at ``level``, in its own base frame, with its free coordinates."""
-    joints = model.joints
+    home, level_of = model.home.copy(), LEVELS[level]
     if pose:
-        est = Estimate.of(joints, home=model.home.copy(), level=LEVELS[level])
+        est = Estimate.of(model.joints, home, level=level_of)
     else:
         layout = marker_layout(model, markers, seed) if markers else {0: np.zeros(3)}
         local = np.array([layout[k] for k in sorted(layout)])
-        points = local @ model.home[:3, :3].T + model.home[:3, 3]
-        est = Estimate.of(joints, markers=points, level=LEVELS[level])
+        est = Estimate.of(model.joints, home, local, level=level_of)
     carried = redundant(est, model.limits(), model.size())
-    return Estimate(est.chain, est.home, est.markers, est.level, False, None, None, ~carried)
+    return replace(est, free=~carried)
 
 
-def _rows(est: Estimate, q: Mat, pose: bool, sp: float, sr: float) -> Mat:
-    """``(C, r, p)`` each candidate's weighted Jacobian rows."""
-    if pose:
-        assert est.home is not None
-        last = prefix_products(est, q)[-1] @ est.home
-        data = Data(q, last[:, :3, 3], last[:, :3, :3])
-        _, jac = evaluate(est, data, sp, sr)
-        assert jac is not None
-        return jac.reshape(len(q), 6, -1)
-    assert est.markers is not None
-    k = len(est.markers)
-    qs = np.repeat(q, k, axis=0)
-    rows = np.tile(np.arange(k, dtype=np.int64), len(q))
-    last = prefix_products(est, qs)[-1]
-    points = np.einsum("nij,nj->ni", last[:, :3, :3], est.markers[rows]) + last[:, :3, 3]
-    _, jac = evaluate(est, Data(qs, points, None, rows), sp, sr)
-    assert jac is not None
-    return jac.reshape(len(q), 3 * k, -1)
+def _rows(est: Estimate, q: Mat, sp: float, sr: float) -> Mat:
+    """``(C, r, p)`` each candidate's weighted Jacobian rows (3 per marker, or 6 per pose)."""
+    data = observed(est, q)
+    _, jac = evaluate(est, data, sp, sr)
+    return jac.reshape(len(q), len(est.markers) * data.rows, -1)
 
 
 def _std(rows: Mat) -> Mat:
@@ -317,7 +305,7 @@ def minimum(model: PoeModel, level: str, pose: bool, markers: int | None) -> tup
 def plan(
     model: PoeModel,
     configs: int,
-    level: str = "full",
+    level: str = FULL.name,
     pose: bool = True,
     markers: int | None = None,
     candidates: Mat | None = None,
@@ -335,7 +323,7 @@ def plan(
     configs
         How many configurations to choose.
     level
-        The level planned for (:data:`.chart.LEVELS`).
+        The level planned for (:data:`.levels.LEVELS`).
     pose, markers
         Pose measurements, or positions of ``markers`` markers at seeded points of the tool (as
         ``urdf2dh measure --markers`` places them) or of the tool origin.
@@ -361,16 +349,12 @@ def plan(
         :data:`MAX_CANDIDATES`, or too few configurations to determine the level's parameters
         (the message names how many would).
     """
-    import scipy.linalg  # noqa: F401  (loaded before the limit below, so that it holds for it)
-    from threadpoolctl import threadpool_limits
-
     from .. import units
 
     check_instance(model, PoeModel, "plan: model", "urdf2dh.load(SOURCE) reads one")
     check_count(configs, "plan: configs", 1, MAX_CONFIGURATIONS)
     check_instance(level, str, "plan: level")
-    if level not in LEVELS:
-        raise UsageError(f"unknown level {shown(level)}; valid: {choices(LEVELS)}")
+    check_level(level, "plan")
     if candidates is not None:
         n = model.dof
         candidates = check_configurations(candidates, n, "plan: candidates", True)
@@ -404,9 +388,9 @@ def plan(
         )
     if configs > len(candidates):
         raise InputError(f"{configs} configurations asked for, from {len(candidates)} candidates")
-    with threadpool_limits(1, "blas"):
+    with one_thread():
         est = _estimate(model, level, pose, markers, seed)
-        rows = _rows(est, candidates, pose, sp, sr)
+        rows = _rows(est, candidates, sp, sr)
         chosen = _greedy(rows, configs, seed)
         random = np.random.default_rng((seed, 8)).choice(len(candidates), configs, replace=False)
         std, random_std = _std(rows[chosen]), _std(rows[random])

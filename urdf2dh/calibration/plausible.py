@@ -63,19 +63,22 @@ from ..tolerances import (
     WORSE_RATIO,
     WORSE_THAN_BEFORE,
 )
-from .chart import HIGHER, LOWER, Estimate, absorbed
+from .chart import Estimate, absorbed
 from .diagnosis import HELICAL_GAIN, explained, helical, misread, spread_ratio
 from .identify import Identified
+from .levels import BASE_TOOL, HIGHER, LOWER, OFFSETS
 from .measurements import Measurements
-from .residuals import evaluate
-from .rigid import fit_rigid
+from .residuals import errors
+from .residuals import rms as root_mean_square
+from .rigid import fit_rigid, spread
 from .select import per_configuration, within
 from .solver import Solution
 from .start import FitOptions, to_data
 from .userunits import UserUnits
 
 if TYPE_CHECKING:
-    from .calibration import Calibration, Comparison
+    from .problem import CalibrationProblem
+    from .result import Calibration, Comparison
 
 __all__ = [
     "ACCEPT",
@@ -125,7 +128,7 @@ def _less(level: str) -> Remedy:
         "level",
         "; choose a lower level ({}), or measure more configurations, spread over every joint's "
         "range",
-        LOWER.get(level, "base-tool"),
+        LOWER.get(level, BASE_TOOL.name),
     )
 
 
@@ -164,7 +167,7 @@ def _gross(cal: Calibration, size: float) -> list[Finding]:
     fit = cal.comparisons[0].after
     unit = cal.units.length
     out = []
-    higher = HIGHER.get(cal.level) if cal.level in ("base-tool", "offsets") else None
+    higher = HIGHER.get(cal.level) if cal.level in (BASE_TOOL.name, OFFSETS.name) else None
     if not fit.rms_position <= GROSS_POSITION * size:  # NaN counts as gross
         out.append(
             Finding(
@@ -333,15 +336,15 @@ def _layout(cal: Calibration, opts: FitOptions) -> list[Finding]:
     found = np.array([cal.markers_on_tool[k] for k in ids])
     g = fit_rigid(given, found)
     misfit = float(np.sqrt(np.mean(np.sum((given @ g[:3, :3].T + g[:3, 3] - found) ** 2, 1))))
-    spread = float(np.sqrt(np.mean(np.sum((given - given.mean(axis=0)) ** 2, axis=1))))
-    if misfit <= LAYOUT_MISFIT * spread:
+    reach = spread(given)
+    if misfit <= LAYOUT_MISFIT * reach:
         return []
     unit = cal.units.length
     return [
         Finding(
             "marker-layout",
             f"the markers' identified positions on the tool miss the layout given by "
-            f"{misfit:.3g} {unit} RMS (the layout spreads {spread:.3g} {unit}): markers "
+            f"{misfit:.3g} {unit} RMS (the layout spreads {reach:.3g} {unit}): markers "
             f"numbered otherwise, or a layout in another unit (it is read in {unit})",
         )
     ]
@@ -410,16 +413,16 @@ def _worse_than_before(cal: Calibration, index: NDArray[np.int64]) -> list[Findi
     sel = cal.selection
     if (
         sel is not None
-        and cal.level != "base-tool"
+        and cal.level != BASE_TOOL.name
         and cal.level in sel.left_out
-        and "base-tool" in sel.left_out
+        and BASE_TOOL.name in sel.left_out
         and sel.configurations >= 2
     ):
         count = int(index.max(initial=-1)) + 1
         mine = per_configuration(sel.left_out[cal.level], index, count) @ sel.weights
-        base = per_configuration(sel.left_out["base-tool"], index, count) @ sel.weights
+        base = per_configuration(sel.left_out[BASE_TOOL.name], index, count) @ sel.weights
         if worse(mine, base):
-            score, first = sel.score(cal.level), sel.score("base-tool")
+            score, first = sel.score(cal.level), sel.score(BASE_TOOL.name)
             out.append(
                 Finding(
                     "worse-than-before",
@@ -479,20 +482,18 @@ def beyond_limits(nominal: PoeModel, q: Mat) -> tuple[tuple[str, float, float, f
 
 def judged(
     cal: Calibration,
-    nominal: PoeModel,
-    fit: Measurements,
+    problem: CalibrationProblem,
     opts: FitOptions,
-    ids: list[int],
     result: Identified,
-    given: tuple[float | None, float | None],
     accept: bool,
 ) -> Calibration:
     """``cal`` judged against the measurements: returned when nothing contradicts it (with the
     joints beyond their limits named among its warnings), or with ``accept`` (the findings
     among them too); else :class:`~urdf2dh.errors.Implausible`, naming the likely cause
-    (:func:`refusal`). ``fit`` are the fitted measurements, ``opts`` (at the level identified)
-    and ``ids`` how they were fitted, ``result`` the identification, ``given`` the noise levels
-    given (user's unit, rad; ``None``: estimated)."""
+    (:func:`refusal`). ``problem`` holds the fitted measurements and the noise levels given,
+    ``opts`` (at the level identified) how they were fitted, ``result`` the identification."""
+    nominal, fit, ids = problem.nominal, problem.fit, problem.markers
+    given = (problem.noise_pos, problem.noise_rot)
     findings = judge(cal, fit, opts, ids, result.before, result.estimate, given)
     notes = [
         f"joint {visible(name)}'s values reach {value:.4g}, beyond its limits [{lower:.4g}, "
@@ -588,10 +589,8 @@ def unconverged(
     :class:`~urdf2dh.errors.NotConverged` (exit 1)."""
     reads, _, _ = misread(nominal, fit, opts, ids)
     user = UserUnits.of(nominal.length_unit, fit)
-    data = to_data(fit, opts.pose, ids)
-    r, _ = evaluate(absorbed(solution.estimate), data, 1.0, 1.0, jacobian=False)
-    rows = r.reshape(len(data), data.rows)
-    rms = user.shown(float(np.sqrt(np.mean(np.sum(rows[:, :3] ** 2, axis=1)))))
+    each = errors(absorbed(solution.estimate), to_data(fit, opts.pose, ids))
+    rms = user.shown(root_mean_square(each[:, 0]))
     if reads:
         cause, remedies = explained(reads, fit)
         return Implausible(

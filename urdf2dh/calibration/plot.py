@@ -24,7 +24,7 @@ from ..errors import UsageError
 from ..escape import html_text, matplotlib_text
 
 if TYPE_CHECKING:
-    from .calibration import Calibration
+    from .result import Calibration
 
 __all__ = ["FORMATS", "LARGEST", "plot_calibration"]
 

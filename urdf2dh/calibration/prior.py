@@ -216,6 +216,10 @@ class LinkErrors:
             out[rows] = here[joint[rows]] - there[joint[rows]]
         return out
 
+    def evaluate(self, est: Estimate) -> tuple[Mat, Mat]:
+        """:meth:`deviations` and :meth:`tangent` at ``est``."""
+        return self.deviations(est), self.tangent(est)
+
     def tangent(self, est: Estimate) -> Mat:
         """``(m, p)`` the derivatives of :meth:`deviations` by ``est``'s free coordinates: 1 for
         pitches, offsets and scales; for a line's, central differences along the chart's four
@@ -267,11 +271,15 @@ class Regulariser:
         factor = np.linalg.cholesky(errors.covariance(dev))
         return cls(errors, dev, np.linalg.solve(factor, errors.project))
 
-    def rows(self, est: Estimate, jacobian: bool = True) -> tuple[Mat, Mat | None]:
+    def rows(self, est: Estimate) -> tuple[Mat, Mat]:
         """The prior's residuals ``(k,)`` and their Jacobian ``(k, p)`` by ``est``'s free
         coordinates."""
-        r = self.whiten @ self.errors.deviations(est)
-        return r, (self.whiten @ self.errors.tangent(est) if jacobian else None)
+        return self.residuals(est), self.whiten @ self.errors.tangent(est)
+
+    def residuals(self, est: Estimate) -> Mat:
+        """The prior's residuals alone (:meth:`rows`)."""
+        out: Mat = self.whiten @ self.errors.deviations(est)
+        return out
 
 
 def link_errors(reference: Estimate, locations: Mat) -> LinkErrors | None:

@@ -1,9 +1,10 @@
 """Measurement residuals of an :class:`~.chart.Estimate` and their analytic Jacobian.
 
-Residuals, per measurement (model minus measured, both in the device frame):
+Residuals, per measurement (model minus measured, both in the device frame), with
+``T(q) = P_n(q) M`` the tool's pose:
 
-* position ``x(q) - x_meas`` of the tool origin (poses) or of marker ``k``, ``x = P_n(q) c_k``
-  (positions), divided by the position noise ``sigma_p``;
+* position ``x(q) - x_meas`` of the point the measurement saw, ``x = T(q) c_k`` (marker ``k``
+  in the tool frame; the tool origin for poses), divided by the position noise ``sigma_p``;
 * for poses, rotation ``phi = log(R(q) R_meas^T)`` (a rotation vector in the device frame),
   divided by the rotation noise ``sigma_r``.
 
@@ -20,7 +21,8 @@ Jacobian. A change of the coordinates moves the tool by a small space-frame twis
 * its pitch ``h + dh`` (``[0, u]`` commutes with ``xi_hat``):
   ``d = Ad(P_(i-1)) [0, u] s (q_i + o_i) dh``;
 * the base ``exp(beta)`` applied to everything: ``d = beta``;
-* the home pose ``M exp(zeta)``: ``d = Ad(T) zeta``; a marker ``c + dc``: ``dx = R_(P_n) dc``.
+* the home pose ``M exp(zeta)``: ``d = Ad(T) zeta``; a marker's home position in the device
+  frame moved by ``dc``: ``dx = R_(P_n) dc``.
 
 ``Ad([R, t]) [w, v] = [R w, R v + t x R w]`` (Wu 2019 eq. 4). Everything is evaluated for all
 measurements and all joints at once: ``N`` configurations as ``(N, ...)`` stacks, each joint's
@@ -37,9 +39,19 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..geometry.lie import ad_apply, cross_columns, cross_rows, left_jacobian_inverse, log_so3
-from .chart import Estimate, normal_bases, sizes, tool_screws
+from .chart import FRAME, Estimate, normal_bases, sizes, tool_screws
 
-__all__ = ["Data", "evaluate", "model_poses", "prefix_products"]
+__all__ = [
+    "Data",
+    "errors",
+    "evaluate",
+    "model_poses",
+    "modelled_points",
+    "observed",
+    "prefix_products",
+    "residuals",
+    "rms",
+]
 
 Mat = NDArray[np.float64]
 
@@ -48,7 +60,7 @@ SLOTS = ("turn1", "turn2", "shift1", "shift2", "pitch", "offset", "scale")
 
 @dataclass(frozen=True, slots=True)
 class Data:
-    """What the model is compared with.
+    """What the model is compared with: measurements of poses and of positions alike.
 
     Attributes
     ----------
@@ -56,34 +68,36 @@ class Data:
         ``(N, n)`` joint positions.
     points
         ``(N, 3)`` measured tool points in the device frame.
+    markers
+        ``(N,)`` the row of :attr:`.chart.Estimate.markers` each measurement saw (0 for poses).
     rotations
-        ``(N, 3, 3)`` measured tool orientations (pose measurements), else ``None``.
-    marker_rows
-        ``(N,)`` for position measurements, the row of :attr:`Estimate.markers` each
-        measurement saw, else ``None``.
+        ``(N, 3, 3)`` measured tool orientations (pose measurements), or ``None``.
     """
 
     q: Mat
     points: Mat
+    markers: NDArray[np.int64]
     rotations: Mat | None = None
-    marker_rows: NDArray[np.int64] | None = None
 
     def __post_init__(self) -> None:
         n = len(self.q)
-        if self.points.shape != (n, 3):
-            raise ValueError(f"points must be ({n}, 3), not {self.points.shape}")
+        if self.points.shape != (n, 3) or self.markers.shape != (n,):
+            raise ValueError(f"points must be ({n}, 3) and markers ({n},)")
         if self.rotations is not None and self.rotations.shape != (n, 3, 3):
             raise ValueError(f"rotations must be ({n}, 3, 3), not {self.rotations.shape}")
-        if (self.rotations is None) == (self.marker_rows is None):
-            raise ValueError("data holds rotations (poses) or marker rows (positions)")
+
+    @classmethod
+    def poses(cls, q: Mat, points: Mat, rotations: Mat) -> Data:
+        """Pose measurements: tool origins and orientations."""
+        return cls(q, points, np.zeros(len(q), dtype=np.int64), rotations)
 
     def part(self, rows: slice) -> Data:
         """The measurements in ``rows``."""
         return Data(
             self.q[rows],
             self.points[rows],
+            self.markers[rows],
             None if self.rotations is None else self.rotations[rows],
-            None if self.marker_rows is None else self.marker_rows[rows],
         )
 
     @property
@@ -165,9 +179,53 @@ def prefix_products(est: Estimate, q: Mat) -> list[Mat]:
 
 
 def model_poses(est: Estimate, q: Mat) -> Mat:
-    """``(N, 4, 4)`` the tool poses ``P_n(q) M`` (pose estimates only)."""
-    assert est.home is not None
+    """``(N, 4, 4)`` the tool poses ``T(q) = P_n(q) M``."""
     return prefix_products(est, q)[-1] @ est.home
+
+
+def _tool(est: Estimate, rots: Mat, trans: Mat, markers: NDArray[np.int64]) -> tuple[Mat, Mat]:
+    """The tool's poses ``T = P_n M`` ``(N, 4, 4)`` from ``P_n`` (``rots``, ``trans``) and the
+    points ``(N, 3)`` the measurements saw, ``T c_k`` (``markers``: each one's ``k``)."""
+    tool = np.zeros((len(rots), 4, 4))
+    tool[:, :3, :3] = rots @ est.home[:3, :3]
+    tool[:, :3, 3] = rots @ est.home[:3, 3] + trans
+    tool[:, 3, 3] = 1.0
+    x: Mat = np.einsum("nij,nj->ni", tool[:, :3, :3], est.markers[markers]) + tool[:, :3, 3]
+    return tool, x
+
+
+def modelled_points(est: Estimate, data: Data) -> Mat:
+    """``(N, 3)`` the points of ``est``'s tool each measurement of ``data`` saw."""
+    rots, trans = _prefix(_arrays(est), data.q)
+    return _tool(est, rots[-1], trans[-1], data.markers)[1]
+
+
+def observed(est: Estimate, q: Mat) -> Data:
+    """What a device would measure of ``est`` at ``q`` ``(N, n)``, without noise: the tool's
+    poses (a tool frame), or each marker's position at each configuration (markers; rows
+    configuration by configuration, each marker in turn)."""
+    k = len(est.markers)
+    qs = np.repeat(q, k, axis=0) if k > 1 else q
+    rows = np.tile(np.arange(k, dtype=np.int64), len(q))
+    rots, trans = _prefix(_arrays(est), qs)
+    tool, points = _tool(est, rots[-1], trans[-1], rows)
+    return Data(qs, points, rows, tool[:, :3, :3] if est.tool == FRAME else None)
+
+
+def rms(values: Mat) -> float:
+    """The root of the mean square of ``values`` (errors, residuals)."""
+    return float(np.sqrt(np.mean(np.square(values))))
+
+
+def errors(est: Estimate, data: Data) -> Mat:
+    """``(N, 1 or 2)`` each measurement's position error (the distance between the modelled and
+    the measured point) and, for poses, its rotation error (the angle of ``R R_meas^T``): the
+    one formula every residual statistic is made of (offsets absorbed or not alike)."""
+    rows = residuals(est, data, 1.0, 1.0).reshape(len(data), data.rows)
+    out: Mat = np.linalg.norm(rows[:, :3], axis=1, keepdims=True)
+    if data.rotations is not None:
+        out = np.hstack([out, np.linalg.norm(rows[:, 3:], axis=1, keepdims=True)])
+    return out
 
 
 @lru_cache(maxsize=256)
@@ -235,9 +293,7 @@ def _ad(rots: Mat, trans: Mat, x: Mat) -> Mat:
     return out
 
 
-def _space_columns(
-    est: Estimate, js: _Joints, q: Mat, rots: Mat, trans: Mat, tool: Mat | None
-) -> Mat:
+def _space_columns(est: Estimate, js: _Joints, q: Mat, rots: Mat, trans: Mat, tool: Mat) -> Mat:
     """``(N, 6, p)`` the tool's space-frame twist per free coordinate (module docstring); the
     marker coordinates of position estimates are left at zero (they move points, not the
     tool)."""
@@ -264,7 +320,7 @@ def _space_columns(
         blocks.append(flat[:, :, joint_cols])
     total = sizes(est, every=True)[-1]
     tool_free = np.ones(total, dtype=bool) if est.free is None else est.free[-total:]
-    if tool is not None:
+    if est.tool == FRAME:
         basis = tool_screws(est) if est.keep_tool_axis else np.eye(6)
         blocks.append(ad_apply(tool, basis[:, tool_free]))
     else:
@@ -275,15 +331,26 @@ def _space_columns(
 CHUNK = 4096  # measurements evaluated at once: memory stays ~ rows x parameters, not 3 x that
 
 
-def evaluate(
-    est: Estimate, data: Data, sigma_pos: float, sigma_rot: float, jacobian: bool = True
-) -> tuple[Mat, Mat | None]:
-    """Weighted residuals ``(N * rows,)`` and, if asked, their Jacobian ``(N * rows, p)`` with
-    respect to the free coordinates of ``est`` (rows: position x, y, z then, for poses,
-    rotation x, y, z of each measurement in turn). Evaluated :data:`CHUNK` measurements at a
-    time, into one array."""
+def evaluate(est: Estimate, data: Data, sigma_pos: float, sigma_rot: float) -> tuple[Mat, Mat]:
+    """Weighted residuals ``(N * rows,)`` and their Jacobian ``(N * rows, p)`` with respect to
+    the free coordinates of ``est`` (rows: position x, y, z then, for poses, rotation x, y, z of
+    each measurement in turn)."""
+    jac = np.empty((len(data), data.rows, sum(sizes(est))))
+    res = _evaluated(est, data, sigma_pos, sigma_rot, jac)
+    return res, jac.reshape(len(data) * data.rows, -1)
+
+
+def residuals(est: Estimate, data: Data, sigma_pos: float, sigma_rot: float) -> Mat:
+    """The weighted residuals alone (:func:`evaluate`)."""
+    return _evaluated(est, data, sigma_pos, sigma_rot, None)
+
+
+def _evaluated(
+    est: Estimate, data: Data, sigma_pos: float, sigma_rot: float, jac: Mat | None
+) -> Mat:
+    """The residuals ``(N * rows,)``, and the Jacobian into ``jac`` ``(N, rows, p)`` when
+    given; :data:`CHUNK` measurements at a time."""
     res = np.empty((len(data), data.rows))
-    jac = np.empty((len(data), data.rows, sum(sizes(est)))) if jacobian else None
     js = _arrays(est)
     for start in range(0, len(data), CHUNK):
         rows = slice(start, start + CHUNK)
@@ -296,9 +363,8 @@ def evaluate(
             res[rows],
             None if jac is None else jac[rows],
         )
-    if jac is None:
-        return res.ravel(), None
-    return res.ravel(), jac.reshape(len(data) * data.rows, -1)
+    out: Mat = res.ravel()
+    return out
 
 
 def _evaluate_into(
@@ -311,22 +377,11 @@ def _evaluate_into(
     jac: Mat | None,
 ) -> None:
     rots, trans = _prefix(js, data.q)
-    last_r, last_t = rots[-1], trans[-1]
-    tool = None
-    if est.home is not None:
-        tool = np.zeros((len(data), 4, 4))
-        tool[:, :3, :3] = last_r @ est.home[:3, :3]
-        tool[:, :3, 3] = last_r @ est.home[:3, 3] + last_t
-        tool[:, 3, 3] = 1.0
-        x = tool[:, :3, 3]
-    else:
-        assert est.markers is not None and data.marker_rows is not None
-        c = est.markers[data.marker_rows]
-        x = np.einsum("nij,nj->ni", last_r, c) + last_t
+    last_r = rots[-1]
+    tool, x = _tool(est, last_r, trans[-1], data.markers)
     res[:, :3] = (x - data.points) / sigma_pos
     phi = None
     if data.rotations is not None:
-        assert tool is not None
         phi = log_so3(tool[:, :3, :3] @ np.swapaxes(data.rotations, 1, 2))
         res[:, 3:] = phi / sigma_rot
     if jac is None:
@@ -335,14 +390,13 @@ def _evaluate_into(
     jac[:, :3] = (cols[:, 3:] + cross_columns(cols[:, :3], x[:, :, None])) / sigma_pos
     if phi is not None:
         jac[:, 3:] = left_jacobian_inverse(phi) @ cols[:, :3] / sigma_rot
+    if est.tool == FRAME:
         return
-    assert est.markers is not None and data.marker_rows is not None
     total = 3 * len(est.markers)
     free = np.ones(total, dtype=bool) if est.free is None else est.free[-total:]
-    first = jac.shape[2] - int(np.sum(free))
-    column = first
+    column = jac.shape[2] - int(np.sum(free))
     for k in range(len(est.markers)):
-        rows = data.marker_rows == k
+        rows = data.markers == k
         for axis in range(3):
             if free[3 * k + axis]:
                 jac[rows, :3, column] = last_r[rows, :, axis] / sigma_pos

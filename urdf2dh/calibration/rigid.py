@@ -29,9 +29,15 @@ from ..geometry.se3 import inv, matrix_of
 from ..model.poe import Joint
 from ..tolerances import RANK_RELATIVE
 
-__all__ = ["anchor_base", "fit_rigid", "pose_points", "tool_on_last_axis"]
+__all__ = ["anchor_base", "fit_rigid", "pose_points", "spread", "tool_on_last_axis"]
 
 Mat = NDArray[np.float64]
+
+
+def spread(points: Mat) -> float:
+    """The RMS distance of ``points`` ``(N, 3)`` from their centroid: how far a point set
+    reaches, the scale its misfits are judged against."""
+    return float(np.sqrt(np.mean(np.sum((points - points.mean(axis=0)) ** 2, axis=1))))
 
 
 def _align(a: Mat, b: Mat) -> Mat:

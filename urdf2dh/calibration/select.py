@@ -37,29 +37,34 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field, replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
 
-from ..errors import UsageError
 from ..model.poe import PoeModel
 from ..progress import progress
 from ..tolerances import RANK_RELATIVE
-from .chart import LEVELS, Estimate, absorbed, count
-from .identifiable import redundant
-from .identify import Fit, joint_locations, level_start, prior_of, solve_level
+from .chart import Estimate, absorbed, count
+from .fit import Fit, check_equations, fit_before, joint_locations, level_start, solve_level
+from .identifiable import check_patterns, redundant
+from .levels import AUTO, BASE_TOOL, LEVELS
 from .measurements import Measurements
 from .prior import Deviations
-from .residuals import evaluate
-from .solver import Problem
-from .start import FitOptions, to_data
+from .residuals import errors
+from .solver import Linearisation, Problem
+from .start import FitOptions, has_prior, prior_of, to_data
+
+if TYPE_CHECKING:
+    from .problem import CalibrationProblem, Options
 
 __all__ = [
-    "RULES",
+    "Pass",
     "Score",
     "Selection",
     "cross_validate",
     "fold_of_configurations",
+    "judge_levels",
     "left_out_errors",
     "level_fits",
     "per_configuration",
@@ -67,8 +72,6 @@ __all__ = [
 ]
 
 Mat = NDArray[np.float64]
-
-RULES = ("simplest", "best")  # the simplest level within one SE of the best, or the best
 
 
 @dataclass(frozen=True, slots=True)
@@ -175,35 +178,35 @@ def per_configuration(squared: Mat, index: NDArray[np.int64], count: int) -> Mat
 
 def _squared_errors(est: Estimate, m: Measurements, pose: bool, ids: list[int]) -> Mat:
     """``(N, 1 or 2)``: each row's squared position error and, for poses, squared rotation."""
-    data = to_data(m, pose, ids)
-    r, _ = evaluate(absorbed(est), data, 1.0, 1.0, jacobian=False)
-    rows = r.reshape(len(data), data.rows)
-    out: Mat = np.sum(rows[:, :3] ** 2, axis=1, keepdims=True)
-    if pose:
-        out = np.hstack([out, np.sum(rows[:, 3:] ** 2, axis=1, keepdims=True)])
+    out: Mat = errors(absorbed(est), to_data(m, pose, ids)) ** 2
     return out
 
 
-def left_out_errors(problem: Problem, est: Estimate, group: NDArray[np.int64]) -> Mat | None:
+def left_out_errors(problem: Problem, lin: Linearisation, group: NDArray[np.int64]) -> Mat | None:
     """``(N, 1 or 2)``: each measurement's squared position (and rotation) error when its group
-    (``group[row]``, a configuration or a fold) is left out of the fit (module docstring), in
-    the physical units; ``None`` when some group alone determines a parameter."""
-    r, jac = problem.evaluate(est)
-    assert jac is not None
+    (``group[row]``, a configuration or a fold) is left out of the fit whose linearisation at
+    its solution is ``lin`` (module docstring), in the physical units; ``None`` when some group
+    alone determines a parameter."""
+    r, jac = problem.weighted(lin)
     data = problem.data
     rows, m = data.rows, problem.data_rows
     norms = np.sqrt(np.einsum("ij,ij->j", jac, jac))
     norms[norms == 0.0] = 1.0
     scaled = jac / norms
-    eig, vec = np.linalg.eigh(np.einsum("ij,ik->jk", scaled, scaled))
+    eig, vec = np.linalg.eigh(scaled.T @ scaled)
     keep = eig > RANK_RELATIVE * float(eig.max(initial=0.0))
     u = scaled[:m] @ (vec[:, keep] / np.sqrt(eig[keep]))  # the data rows of J_s V S^-1
     count = int(group.max(initial=-1)) + 1
-    members = [np.flatnonzero(group == g) for g in range(count)]
-    width = max(len(k) for k in members) * rows
+    # each group's rows side by side, in file order (one sort, not a search per group)
+    order = np.argsort(group, kind="stable")
+    members = np.bincount(group, minlength=count)
+    slot = np.arange(len(group)) - np.repeat(np.cumsum(members) - members, members)
+    width = int(members.max(initial=0)) * rows
     index = np.full((count, width), -1, dtype=np.int64)
-    for g, k in enumerate(members):
-        index[g, : len(k) * rows] = (k[:, None] * rows + np.arange(rows)).ravel()
+    within_row = np.arange(rows)
+    index[group[order][:, None], slot[:, None] * rows + within_row] = (
+        order[:, None] * rows + within_row
+    )
     padded_u = np.vstack([u, np.zeros((1, u.shape[1]))])[index]  # (groups, width, rank)
     padded_r = np.append(r[:m], 0.0)[index]
     system = np.eye(width) - np.einsum("gik,gjk->gij", padded_u, padded_u)
@@ -239,7 +242,7 @@ def level_fits(
     noise = (before.sigma_pos, before.sigma_rot)
     deviations: Deviations | None = None  # ... and its prior's estimate from the simpler one's
     for level in progress(levels, what="calibrate: levels"):
-        if level == "base-tool" and not opts.fixed_patterns:
+        if level == BASE_TOOL.name and not opts.fixed_patterns:
             fits[level] = before
             continue
         lopts = replace(opts, level=level)
@@ -289,8 +292,6 @@ def cross_validate(
     ``before`` is the base-tool level's fit to all of ``fit``; ``rule`` is ``simplest`` or
     ``best``. Returns the selection and every level's fit to all the measurements.
     """
-    if rule not in RULES:
-        raise UsageError(f"unknown rule {rule!r}; valid: {', '.join(RULES)}")
     index, configurations = fit.configurations()
     group_of = fold_of_configurations(configurations, folds, seed)
     groups = int(group_of.max(initial=-1)) + 1
@@ -304,7 +305,7 @@ def cross_validate(
         if groups < 2:
             failures[level] = "a single configuration cannot be left out"
             continue
-        squared = left_out_errors(f.problem(data), f.solution.estimate, group_of[index])
+        squared = left_out_errors(f.problem(data), f.solution.lin, group_of[index])
         if squared is None:
             failures[level] = (
                 "a configuration alone determines some of its parameters: without it "
@@ -395,3 +396,78 @@ def _reason(chosen: Score, best: Score, pose: bool, alone: bool) -> str:
         f"error of the best level, {best.level} ({left}; {what}), with fewer parameters "
         f"({chosen.parameters} against {best.parameters})"
     )
+
+
+@dataclass(frozen=True)
+class Pass:
+    """The levels fitted to one set of measurements and judged on it.
+
+    Attributes
+    ----------
+    problem
+        The problem, its fitted rows those judged.
+    options
+        How each level was identified (at the base-tool level).
+    start
+        The nominal placed in the device frame by the rigid fit.
+    before
+        The base-tool level's fit: the start of every other level, and the fair "before".
+    selection
+        The levels judged and the choice.
+    fits
+        Each level's fit to all the fitted measurements.
+    level
+        The level chosen, or asked for (``None``: none could be judged).
+    """
+
+    problem: CalibrationProblem
+    options: FitOptions
+    start: Estimate
+    before: Fit
+    selection: Selection
+    fits: dict[str, Fit]
+    level: str | None
+
+    @property
+    def fit(self) -> Measurements:
+        """The measurements fitted."""
+        return self.problem.fit
+
+    @property
+    def usable(self) -> bool:
+        """Whether the base-tool level converged and the level could be fitted."""
+        return self.before.solution.converged and self.level is not None and self.level in self.fits
+
+
+def judge_levels(problem: CalibrationProblem, options: Options, first: bool = True) -> Pass:
+    """Fit every level :class:`~.problem.LevelChoice` asks for to ``problem``'s fitted
+    measurements, judge them (module docstring) and take the level asked for or chosen.
+
+    ``first``: the first pass, whose base-tool fit must converge (the caller is told
+    otherwise: :attr:`Pass.usable`), and whose fixed parameters and equations are checked.
+    """
+    choice, opts = options.choice, options.fitting
+    nominal, fit, ids = problem.nominal, problem.fit, problem.markers
+    levels = choice.levels(opts.keep_scale)
+    start, before = fit_before(nominal, fit, opts, ids)
+    if first and not before.solution.converged:
+        return Pass(
+            problem, opts, start, before, Selection(0, None, 0, (), None, None, ""), {}, None
+        )
+    if first and choice.level != AUTO:  # fewer equations than its parameters: say so now
+        est, _, _ = level_start(
+            nominal, before.solution.estimate, replace(opts, level=choice.level), ids
+        )
+        if not has_prior(est, opts):
+            check_equations(count(est), to_data(fit, opts.pose, ids), fit.source, opts.pose)
+    if first and opts.fixed:
+        probes = [
+            level_start(nominal, before.solution.estimate, replace(opts, level=lv), ids)[0]
+            for lv in levels
+        ]
+        check_patterns(opts.fixed, probes, ids)
+    selection, fits = cross_validate(
+        nominal, fit, opts, ids, before, levels, choice.folds, choice.seed, choice.rule
+    )
+    level = choice.level if choice.level != AUTO else selection.chosen
+    return Pass(problem, opts, start, before, selection, fits, level)

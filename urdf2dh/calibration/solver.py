@@ -7,9 +7,7 @@ Each iteration linearises the weighted residuals ``r`` at the current estimate (
     ``(J_s^T J_s + lambda I) d_s = -J_s^T r``,  ``d = D^-1 d_s``
 
 from the small ``p x p`` system (a step's precision only sets how fast the iteration
-converges, not where to). Products with the tall ``J_s`` are taken by ``einsum``, not BLAS, and
-no tall factorisation is made: OpenBLAS wakes its threads for those, and on a busy two-core
-machine their spinning made the whole solve four to ten times slower. A step that lowers
+converges, not where to). A step that lowers
 ``|r|^2`` is kept and the chart re-centred on the new estimate (:func:`.chart.retract`), and
 ``lambda`` adapts by the gain ratio (Nielsen 1999; Madsen, Nielsen & Tingleff 2004, "Methods for
 non-linear least squares problems", §3.2). Each step carries its geodesic acceleration
@@ -24,11 +22,21 @@ tool point by more than ``CALIBRATION_STEP`` x size and no orientation by more t
 ``CALIBRATION_COST`` of it, or when the gradient vanishes (:mod:`urdf2dh.tolerances`). With a
 prior (:mod:`.prior`) its rows join the measurements' (a :class:`Problem`).
 
+The model is evaluated once per step tried, residuals and Jacobian together, with the weights
+left out (a :class:`Linearisation`): a step kept brings the next iteration's Jacobian with it,
+and the solution's linearisation is what its statistics, the noise levels and the prior's
+deviations of greatest evidence (:mod:`.evidence`), and the configurations left out
+(:mod:`.select`) are computed from, under any weights, without evaluating the model again.
+Products with the tall Jacobian go through BLAS on one thread (:func:`one_thread`: on a shared
+two-core machine, OpenBLAS's threads waking for small matrices made the whole solve four to ten
+times slower).
+
 Statistics (Gauss-Markov, linearised at the solution): with ``m`` residuals and ``p``
 coordinates, the variance factor ``s^2 = |r|^2 / (m - p)`` (about 1 when the noise levels used
-as weights are right), the covariance ``s^2 (J^T J)^-1`` (through the SVD of ``J_s``'s
-triangular factor, once; directions with singular values below ``RANK_RELATIVE`` x the largest
-are rank-deficient and their parameters get an infinite deviation), the numerical rank and the
+as weights are right), the covariance ``s^2 (J^T J)^-1`` (through the SVD of the triangular
+factor of ``J_s``'s QR factorisation, once; directions with singular values below
+``RANK_RELATIVE`` x the largest are rank-deficient and their parameters get an infinite
+deviation), the numerical rank and the
 condition number of ``J_s``, and each residual's leverage (the diagonal of the hat matrix, for
 variance-component estimation). With a prior, the covariance is the posterior's (its rows
 included), but the rank, the condition number and the parameters not determined are the
@@ -38,8 +46,11 @@ measurements' alone (their rows' ``J_s``): what the prior holds, the measurement
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass
+from functools import lru_cache
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -51,10 +62,18 @@ from ..tolerances import (
     RANK_RELATIVE,
 )
 from .chart import Estimate, retract
-from .prior import Regulariser
-from .residuals import Data, evaluate
+from .prior import LinkErrors, Regulariser
+from .residuals import Data, evaluate, residuals
 
-__all__ = ["Problem", "Solution", "Statistics", "solve", "statistics"]
+__all__ = [
+    "Linearisation",
+    "Problem",
+    "Solution",
+    "Statistics",
+    "one_thread",
+    "solve",
+    "statistics",
+]
 
 Mat = NDArray[np.float64]
 
@@ -62,6 +81,55 @@ _DAMPING_START = 1e-6  # initial lambda (the scaled columns have unit norm)
 _DAMPING_LIMIT = 1e16  # lambda beyond which no step can lower the cost
 _PROBE = 0.1  # finite-difference step of the geodesic acceleration, x the step (Transtrum 2012)
 _ACCELERATION_LIMIT = 0.75  # steps whose acceleration exceeds this x their size are refused
+
+
+@lru_cache(maxsize=1)
+def _controller() -> Any:
+    """threadpoolctl's view of the BLAS libraries loaded (scipy's among them), found once."""
+    import scipy.linalg  # noqa: F401  (loaded first, so that its BLAS is among them)
+    from threadpoolctl import ThreadpoolController
+
+    return ThreadpoolController()
+
+
+@contextmanager
+def one_thread() -> Iterator[None]:
+    """BLAS on one thread within: calibration's matrices are small, and BLAS threads only cost
+    wake-ups (module docstring)."""
+    with _controller().limit(limits=1, user_api="blas"):
+        yield
+
+
+@dataclass(frozen=True, slots=True)
+class Linearisation:
+    """A model linearised at an estimate, the weights left out (module docstring).
+
+    Attributes
+    ----------
+    estimate
+        Where.
+    residuals, jacobian
+        The measurements' residuals ``(m,)`` and their Jacobian ``(m, p)`` at unit noise
+        levels (:func:`.residuals.evaluate`).
+    rows
+        Residuals per measurement (3 or 6).
+    prior
+        With a prior (:mod:`.prior`), its coordinates ``(k,)`` and their derivatives
+        ``(k, p)`` (:meth:`.prior.LinkErrors.evaluate`), else ``None``.
+    """
+
+    estimate: Estimate
+    residuals: Mat
+    jacobian: Mat
+    rows: int
+    prior: tuple[Mat, Mat] | None = None
+
+    @classmethod
+    def at(cls, est: Estimate, data: Data, errors: LinkErrors | None = None) -> Linearisation:
+        """The linearisation at ``est`` of the measurements ``data`` and, with ``errors``, of
+        the prior's coordinates."""
+        r, jac = evaluate(est, data, 1.0, 1.0)
+        return cls(est, r, jac, data.rows, None if errors is None else errors.evaluate(est))
 
 
 @dataclass(frozen=True, slots=True)
@@ -83,17 +151,51 @@ class Problem:
     sigma_rot: float
     prior: Regulariser | None = None
 
-    def evaluate(self, est: Estimate, jacobian: bool = True) -> tuple[Mat, Mat | None]:
-        """Residuals (the measurements', then the prior's) and their Jacobian."""
-        r, jac = evaluate(est, self.data, self.sigma_pos, self.sigma_rot, jacobian)
+    def linearise(self, est: Estimate) -> Linearisation:
+        """The linearisation at ``est`` of what this problem weighs."""
+        return Linearisation.at(est, self.data, None if self.prior is None else self.prior.errors)
+
+    def weights(self) -> Mat:
+        """``(rows,)`` each residual row's weight: ``1 / sigma`` of its kind."""
+        w = np.full(self.data.rows, 1.0 / self.sigma_pos)
+        w[3:] = 1.0 / self.sigma_rot
+        return w
+
+    def weighted(self, lin: Linearisation) -> tuple[Mat, Mat]:
+        """The residuals (the measurements', then the prior's) and their Jacobian at ``lin``,
+        weighed."""
+        w = self.weights()
+        r = (lin.residuals.reshape(-1, lin.rows) * w).ravel()
+        jac = (lin.jacobian.reshape(-1, lin.rows, lin.jacobian.shape[1]) * w[:, None]).reshape(
+            lin.jacobian.shape
+        )
         if self.prior is None:
             return r, jac
-        rp, jp = self.prior.rows(est, jacobian)
-        r = np.concatenate([r, rp])
-        if jac is not None:
-            assert jp is not None
-            jac = np.concatenate([jac, jp])
-        return r, jac
+        deviations, tangent = self._prior_part(self.prior, lin)
+        whiten = self.prior.whiten
+        return np.concatenate([r, whiten @ deviations]), np.vstack([jac, whiten @ tangent])
+
+    def cost(self, lin: Linearisation) -> float:
+        """The weighted sum of squares at ``lin``."""
+        w = self.weights()
+        r = lin.residuals.reshape(-1, lin.rows) * w
+        total = float(np.sum(r * r))
+        if self.prior is not None:
+            rp = self.prior.whiten @ self._prior_part(self.prior, lin)[0]
+            total += float(rp @ rp)
+        return total
+
+    @staticmethod
+    def _prior_part(prior: Regulariser, lin: Linearisation) -> tuple[Mat, Mat]:
+        """The prior's coordinates and tangent at ``lin`` (found there when it has none)."""
+        return prior.errors.evaluate(lin.estimate) if lin.prior is None else lin.prior
+
+    def residuals(self, est: Estimate) -> Mat:
+        """The weighted residuals alone at ``est``."""
+        r = residuals(est, self.data, self.sigma_pos, self.sigma_rot)
+        if self.prior is None:
+            return r
+        return np.concatenate([r, self.prior.residuals(est)])
 
     @property
     def data_rows(self) -> int:
@@ -105,13 +207,14 @@ class Problem:
 
 @dataclass(frozen=True, slots=True)
 class Solution:
-    """The end of a solve: the estimate, the iterations taken, whether it converged, and the
-    weighted residual norm reached."""
+    """The end of a solve: the estimate, the iterations taken, whether it converged, the
+    weighted residual norm reached, and the linearisation there."""
 
     estimate: Estimate
     iterations: int
     converged: bool
     cost: float
+    lin: Linearisation
 
 
 @dataclass(frozen=True, slots=True)
@@ -146,23 +249,33 @@ def solve(
     size: float,
     max_iterations: int,
     done: Callable[[int], None] | None = None,
+    lin: Linearisation | None = None,
+    first: Mat | None = None,
 ) -> Solution:
     """Minimise ``problem``'s residuals from ``est`` (module docstring). ``done`` is told each
-    iteration's number (a progress display)."""
-    r, jac = problem.evaluate(est)
-    cost = float(r @ r)
+    iteration's number (a progress display); ``lin`` is ``problem``'s linearisation at ``est``
+    when the caller has it; ``first``, a step to try before any (a linearised model's
+    solution: kept when it lowers the cost)."""
+    lin = problem.linearise(est) if lin is None else lin
+    cost = problem.cost(lin)
+    if first is not None and len(first) and len(first) == lin.jacobian.shape[1]:
+        moved = retract(est, first)
+        there = problem.linearise(moved)
+        cost_there = problem.cost(there)
+        if cost_there < cost:
+            est, lin, cost = moved, there, cost_there
+    r, jac = problem.weighted(lin)
     lam = _DAMPING_START  # the columns have unit norm: diag(J_s^T J_s) = 1
     nu = 2.0
     m = problem.data_rows
     for it in range(1, max_iterations + 1):
-        assert jac is not None
         if not (math.isfinite(cost) and np.all(np.isfinite(jac))):  # beyond float's range
-            return Solution(est, it - 1, False, math.sqrt(cost))
+            return Solution(est, it - 1, False, math.sqrt(cost), lin)
         norms = _norms(jac)
-        gram = np.einsum("ij,ik->jk", jac, jac) / np.outer(norms, norms)  # no BLAS: see above
-        grad = np.einsum("ij,i->j", jac, r) / norms
+        gram = (jac.T @ jac) / np.outer(norms, norms)
+        grad = (jac.T @ r) / norms
         if np.abs(grad).max(initial=0.0) <= CALIBRATION_GRADIENT * math.sqrt(cost):
-            return Solution(est, it - 1, True, math.sqrt(cost))
+            return Solution(est, it - 1, True, math.sqrt(cost), lin)
         if done is not None:
             done(it)
         while True:
@@ -172,38 +285,39 @@ def solve(
                 lam *= nu
                 nu *= 2.0
                 if lam > _DAMPING_LIMIT:
-                    return Solution(est, it, False, math.sqrt(cost))
+                    return Solution(est, it, False, math.sqrt(cost), lin)
                 continue
             predicted = -2.0 * float(ds @ grad) - float(ds @ gram @ ds)
-            change = np.einsum("ij,j->i", jac[:m], ds / norms)
+            change = jac[:m] @ (ds / norms)
             pos, rot = _step_size(change, problem.data, problem.sigma_pos, problem.sigma_rot)
             if (pos <= CALIBRATION_STEP * size and rot <= CALIBRATION_STEP) or (
                 0.0 <= predicted <= CALIBRATION_COST * cost
             ):
                 # nothing left to gain above round-off: no point moves, or the cost is flat
                 new = retract(est, ds / norms)
-                cost_new = float(np.sum(problem.evaluate(new, jacobian=False)[0] ** 2))
+                there = problem.linearise(new)
+                cost_new = problem.cost(there)
                 if cost_new < cost:
-                    est, cost = new, cost_new
-                return Solution(est, it, True, math.sqrt(cost))
+                    est, lin, cost = new, there, cost_new
+                return Solution(est, it, True, math.sqrt(cost), lin)
             accel = _acceleration(est, problem, r, jac, norms, ds, damped)
             step = None if accel is None else ds + 0.5 * accel
             if step is not None:
                 new = retract(est, step / norms)
-                r_new, _ = problem.evaluate(new, jacobian=False)
-                cost_new = float(r_new @ r_new)
+                there = problem.linearise(new)
+                cost_new = problem.cost(there)
             if step is not None and cost_new < cost and predicted > 0.0:
                 gain = (cost - cost_new) / predicted
-                est, cost = new, cost_new
+                est, lin, cost = new, there, cost_new
                 lam *= max(1.0 / 3.0, 1.0 - (2.0 * gain - 1.0) ** 3)
                 nu = 2.0
-                r, jac = problem.evaluate(est)
+                r, jac = problem.weighted(lin)
                 break
             lam *= nu
             nu *= 2.0
             if lam > _DAMPING_LIMIT:
-                return Solution(est, it, False, math.sqrt(cost))
-    return Solution(est, max_iterations, False, math.sqrt(cost))
+                return Solution(est, it, False, math.sqrt(cost), lin)
+    return Solution(est, max_iterations, False, math.sqrt(cost), lin)
 
 
 def _solved(a: Mat, b: Mat) -> Mat | None:
@@ -221,10 +335,10 @@ def _acceleration(
     """The geodesic acceleration of the step ``ds`` (scaled), or ``None`` when it is too large
     for the step to be trusted (module docstring)."""
     probe = retract(est, _PROBE * ds / norms)
-    r_probe, _ = problem.evaluate(probe, jacobian=False)
-    linear = np.einsum("ij,j->i", jac, ds / norms)
+    r_probe = problem.residuals(probe)
+    linear = jac @ (ds / norms)
     curvature = (2.0 / _PROBE) * ((r_probe - r) / _PROBE - linear)
-    accel = _solved(damped, -np.einsum("ij,i->j", jac, curvature) / norms)
+    accel = _solved(damped, -(jac.T @ curvature) / norms)
     if accel is None:
         return None
     speed = float(np.linalg.norm(ds))
@@ -233,15 +347,14 @@ def _acceleration(
     return accel
 
 
-def statistics(est: Estimate, problem: Problem, exact: bool = True) -> Statistics:
-    """The linearised statistics of ``est`` as a solution (module docstring).
+def statistics(lin: Linearisation, problem: Problem, exact: bool = True) -> Statistics:
+    """The linearised statistics of ``problem`` at its solution ``lin`` (module docstring).
 
     ``exact`` takes the SVD of the Jacobian's triangular factor, which resolves singular values
     down to round-off (the rank); otherwise the eigenproblem of ``J_s^T J_s`` gives them to
     about ``1e-8`` of the largest, enough for the leverages that weigh the noise levels.
     """
-    r, jac = problem.evaluate(est)
-    assert jac is not None
+    r, jac = problem.weighted(lin)
     m, p = jac.shape
     if not (np.all(np.isfinite(r)) and np.all(np.isfinite(jac))):  # beyond float's range
         return _undetermined(r, p)
@@ -254,7 +367,7 @@ def statistics(est: Estimate, problem: Problem, exact: bool = True) -> Statistic
         if exact:  # the SVD of J_s's triangular factor: the same singular values, to round-off
             _, s, vt = np.linalg.svd(_triangular(jac))
         else:  # from the small eigenproblem (see above)
-            eig, v = np.linalg.eigh(np.einsum("ij,ik->jk", jac, jac))
+            eig, v = np.linalg.eigh(jac.T @ jac)
             s = np.sqrt(np.maximum(eig[::-1], 0.0))
             vt = v[:, ::-1].T
     except np.linalg.LinAlgError:  # overflow on the way (columns of ~1e154 and more)
@@ -266,7 +379,7 @@ def statistics(est: Estimate, problem: Problem, exact: bool = True) -> Statistic
     v = vt[keep].T / s[keep]
     covariance = factor * (v @ v.T) / np.outer(norms, norms)
     std = np.sqrt(np.diag(covariance))
-    u = np.einsum("ij,jk->ik", jac, v)  # J_s V S^-1: the left singular vectors, no BLAS
+    u = jac @ v  # J_s V S^-1: the left singular vectors
     leverage = np.einsum("ij,ij->i", u, u)
     if problem.prior is not None and exact:  # what the measurements alone determine
         _, s, vt = np.linalg.svd(_triangular(jac[: problem.data_rows]), full_matrices=True)
@@ -300,16 +413,6 @@ def _norms(jac: Mat) -> Mat:
 
 
 def _triangular(a: Mat) -> Mat:
-    """``R`` of ``a = Q R`` (``p x p``) by Householder reflections written with ``einsum``: the
-    tall factorisation without BLAS (LAPACK's wakes OpenBLAS's threads, see above)."""
-    a = a.copy()
-    m, p = a.shape
-    for k in range(min(m, p)):
-        v = a[k:, k].copy()
-        norm = math.sqrt(float(np.einsum("i,i->", v, v)))
-        if norm == 0.0:
-            continue
-        v[0] += math.copysign(norm, v[0])
-        w = np.einsum("i,ij->j", v, a[k:, k:]) * (2.0 / float(np.einsum("i,i->", v, v)))
-        a[k:, k:] -= np.multiply.outer(v, w)
-    return np.triu(a[:p])
+    """``R`` of ``a = Q R`` (``min(m, p) x p``), by LAPACK's Householder QR."""
+    out: Mat = np.asarray(np.linalg.qr(a, mode="r"), dtype=np.float64)
+    return out

@@ -19,19 +19,24 @@ from numpy.typing import NDArray
 from ..errors import UsageError, choices, shown
 from ..geometry.lie import rotation_of
 from ..model.poe import Joint, PoeModel
-from ..tolerances import DEFAULT, Tolerances
-from .chart import BASE_TOOL, LEVELS, Estimate, line_point
+from ..tolerances import DEFAULT, NOISE_FLOOR, NOISE_RATIO, Tolerances
+from .chart import Estimate, line_point
+from .levels import BASE_TOOL, FULL, check_level
 from .measurements import Measurements
-from .prior import CHOICES, NONE, Prior
+from .prior import AUTO, CHOICES, NONE, Deviations, LinkErrors, Prior, link_errors
 from .residuals import Data
 from .rigid import fit_rigid, pose_points
 
 __all__ = [
     "FitOptions",
+    "bounded_noise",
+    "given_noise",
+    "has_prior",
     "layout_points",
     "moved",
     "nominal_points",
     "placement",
+    "prior_of",
     "start_estimate",
     "to_data",
 ]
@@ -51,7 +56,7 @@ class FitOptions:
     pose
         Pose measurements (else positions).
     level
-        The level identified (:data:`.chart.LEVELS`).
+        The level identified (:data:`.levels.LEVELS`).
     fixed
         Parameters held at the nominal's values: names or shell-style patterns
         (``*.scale``, ``arm_7_joint.*``).
@@ -77,7 +82,7 @@ class FitOptions:
     """
 
     pose: bool = True
-    level: str = "full"
+    level: str = FULL.name
     fixed: tuple[str, ...] = ()
     prior: Prior | str = NONE
     helical: tuple[str, ...] = ()
@@ -93,8 +98,7 @@ class FitOptions:
     def __post_init__(self) -> None:
         if self.frame not in ("device", "nominal"):
             raise UsageError(f"frame must be device or nominal, not {shown(self.frame)}")
-        if self.level not in LEVELS:
-            raise UsageError(f"unknown level {shown(self.level)}; valid: {choices(LEVELS)}")
+        check_level(self.level, "FitOptions")
         if not isinstance(self.prior, Prior) and self.prior not in CHOICES:
             raise UsageError(
                 f"unknown prior {shown(str(self.prior))}; valid: {choices(CHOICES)} or a Prior"
@@ -108,17 +112,62 @@ class FitOptions:
         return (*self.fixed, "*.scale") if self.keep_scale else self.fixed
 
 
+def bounded_noise(sp: float, sr: float, size: float) -> tuple[float, float]:
+    """The noise levels raised to the floors (module docstring): each above round-off, and
+    neither kind weighted more than ``1 / NOISE_RATIO`` times the other."""
+    sp, sr = max(sp, NOISE_FLOOR * size), max(sr, NOISE_FLOOR)
+    return max(sp, NOISE_RATIO * sr * size), max(sr, NOISE_RATIO * sp / size)
+
+
+def given_noise(opts: FitOptions, size: float, notes: list[str]) -> tuple[float, float]:
+    """The noise levels given, raised to the floors, with a note where they were raised."""
+    given = opts.noise_pos if opts.noise_pos is not None else 1.0
+    sp, sr = bounded_noise(given, opts.noise_rot or given / size, size)
+    if opts.pose and opts.noise_rot is not None and sr > opts.noise_rot:
+        notes.append(
+            f"the rotation noise given ({opts.noise_rot:.3g} rad) would weigh rotations "
+            f"over {1 / NOISE_RATIO:.0e} times positions and drown them; weighted as "
+            f"{sr:.3g} rad"
+        )
+    if opts.pose and sp > given:
+        notes.append(
+            f"the position noise given would weigh positions over {1 / NOISE_RATIO:.0e} times "
+            f"rotations and drown them; weighted as {sp / given:.3g} times it"
+        )
+    return sp, sr
+
+
+def has_prior(est: Estimate, opts: FitOptions) -> bool:
+    """Whether ``est``'s level is fitted with a prior (:func:`prior_of`)."""
+    if est.level == BASE_TOOL or opts.prior == NONE:
+        return False
+    return opts.prior != AUTO or est.level.lines
+
+
+def prior_of(
+    est: Estimate, opts: FitOptions, reference: Estimate | None, locations: Mat | None
+) -> tuple[LinkErrors | None, Deviations | None]:
+    """The level's link errors (:mod:`.prior`) and the stated deviations (``None``: to be
+    estimated), or ``(None, None)`` when the level has no prior: the base-tool level, ``none``,
+    and with ``auto`` the offsets level (zero settings that the measurements see directly)."""
+    if not has_prior(est, opts) or reference is None or locations is None:
+        return None, None
+    errors = link_errors(reference, locations)
+    if errors is None or not isinstance(opts.prior, Prior):
+        return errors, None
+    return errors, Deviations.stated(opts.prior, errors.links)
+
+
 def to_data(m: Measurements, pose: bool, marker_ids: list[int]) -> Data:
-    """The residuals' view of measurements."""
-    if pose:
-        assert m.quaternions is not None
-        return Data(m.q, m.points, rotation_of(m.quaternions))
+    """The residuals' view of measurements: the orientations too with ``pose``; each row's
+    marker as its place among ``marker_ids``."""
     rows = (
         np.zeros(len(m), dtype=np.int64)
         if m.markers is None
         else np.searchsorted(np.array(marker_ids), m.markers).astype(np.int64)
     )
-    return Data(m.q, m.points, None, rows)
+    rotations = rotation_of(m.quaternions) if pose and m.quaternions is not None else None
+    return Data(m.q, m.points, rows, rotations)
 
 
 def moved(model_joints: tuple[Joint, ...], g: Mat) -> tuple[Joint, ...]:
@@ -140,26 +189,23 @@ def layout_points(opts: FitOptions, ids: list[int]) -> Mat:
 
 
 def nominal_points(nominal: PoeModel, m: Measurements, opts: FitOptions, ids: list[int]) -> Mat:
-    """The nominal's tool points at the measured configurations (in its base frame)."""
+    """The nominal's tool points at the measured configurations (in its base frame): for poses,
+    each pose's origin and axis tips (:func:`.rigid.pose_points`); for positions, the markers
+    placed on the tool by the layout."""
     poses = nominal.fk_batch(m.q)
     if opts.pose:
         return pose_points(poses, nominal.size())
-    local = layout_points(opts, ids)
-    rows = (
-        np.zeros(len(m), dtype=np.int64)
-        if m.markers is None
-        else np.searchsorted(np.array(ids), m.markers)
-    )
-    points: Mat = np.einsum("nij,nj->ni", poses[:, :3, :3], local[rows]) + poses[:, :3, 3]
+    local = layout_points(opts, ids)[to_data(m, False, ids).markers]
+    points: Mat = np.einsum("nij,nj->ni", poses[:, :3, :3], local) + poses[:, :3, 3]
     return points
 
 
 def _measured_points(m: Measurements, size: float, pose: bool) -> Mat:
-    if not pose:
+    data = to_data(m, pose, [])
+    if data.rotations is None:
         return m.points
-    assert m.quaternions is not None
     poses = np.zeros((len(m), 4, 4))
-    poses[:, :3, :3] = rotation_of(m.quaternions)
+    poses[:, :3, :3] = data.rotations
     poses[:, :3, 3] = m.points
     return pose_points(poses, size)
 
@@ -182,7 +228,5 @@ def start_estimate(nominal: PoeModel, g: Mat, opts: FitOptions, ids: list[int]) 
     )
     home = g @ nominal.home
     if opts.pose:
-        return Estimate.of(joints, home=home, level=BASE_TOOL, keep_tool_axis=opts.keep_tool_axis)
-    local = layout_points(opts, ids)
-    markers = local @ home[:3, :3].T + home[:3, 3]
-    return Estimate.of(joints, markers=markers, level=BASE_TOOL)
+        return Estimate.of(joints, home, level=BASE_TOOL, keep_tool_axis=opts.keep_tool_axis)
+    return Estimate.of(joints, home, layout_points(opts, ids), level=BASE_TOOL)

@@ -8,6 +8,8 @@ import sys
 from pathlib import Path
 from typing import Any
 
+from ..calibration.levels import AUTO
+from ..calibration.levels import NAMES as LEVELS
 from ..errors import InputError, UsageError, choices, shown
 from ..io.files import check_outputs, write_outputs
 from . import options
@@ -39,8 +41,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     )
     p.add_argument(
         "--identify",
-        choices=options.LEVELS,
-        default="auto",
+        choices=(AUTO, *LEVELS),
+        default=AUTO,
         help="how much to identify: base and tool only, and joint offsets, and every joint's "
         "line, and joint scales; auto (default) chooses the level that best predicts "
         "configurations left out of the fit",
@@ -226,8 +228,8 @@ def _reading(args: argparse.Namespace) -> Any:
 
 def run(args: argparse.Namespace) -> int:
     """``urdf2dh calibrate``: identify, convert, report (docs/calibration.md)."""
-    from ..calibration.calibration import calibrate, check_noise
-    from ..calibration.measurements import read_layout, read_measurements
+    from ..calibration.calibration import calibrate
+    from ..calibration.measurements import check_noise, read_layout, read_measurements
     from ..calibration.prior import Prior
     from ..calibration.report import summary, to_dict
     from ..calibration.userunits import UserUnits

@@ -19,7 +19,6 @@ if TYPE_CHECKING:
     from ..tolerances import Tolerances
 
 __all__ = [
-    "LEVELS",
     "add_chain",
     "add_chain_options",
     "add_format",
@@ -50,7 +49,6 @@ __all__ = [
 ]
 
 MAX_PARALLEL_ANGLE = 0.1  # rad: beyond, "nearly parallel" would take in perpendicular axes
-LEVELS = ("auto", "base-tool", "offsets", "geometry", "full")  # calibrate's --identify
 
 
 def integer(text: str, low: int, high: int) -> int:

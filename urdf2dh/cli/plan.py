@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import sys
 
+from ..calibration.levels import FULL, NAMES
 from ..io.files import check_outputs, write_outputs
 from . import options
 
@@ -27,8 +28,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     )
     p.add_argument(
         "--identify",
-        choices=options.LEVELS[1:],
-        default="full",
+        choices=NAMES,
+        default=FULL.name,
         help="the level to plan for (default %(default)s)",
     )
     p.add_argument(
