@@ -140,3 +140,21 @@ def test_format_poe_round_trip(tmp_path, capsys):
     for ra, rb in zip(a.rows, b.rows, strict=True):
         va, vb = ra.params.scalars(), rb.params.scalars()
         assert all(abs(va[k] - vb[k]) < 1e-12 for k in va)
+
+
+def test_a_revolute_axis_through_the_origin_reads_back_revolute():
+    """Found by a random search of tests/test_diff_properties.py: an axis through the base origin
+    given by a point 0.517 m along it has the moment v = p x w ~ 1e-65 of pure round-off along
+    w, which read back as a pitch (a helical joint) before the writer took it off."""
+    from urdf2dh import Joint, PoeModel
+    from urdf2dh.io.poefile import poe_to_dict
+
+    axis = np.array([7.498798913309288e-33, -1.0, -6.123233995736766e-17])
+    point = np.array([-3.8781770425441945e-33, 0.5171730949687141, 3.166771876792829e-17])
+    model = PoeModel((Joint("j2", "revolute", axis, point),), np.eye(4), "through origin")
+    tree = poe_to_dict(model)
+    w, v = np.array(tree["joints"][0]["twist"][:3]), np.array(tree["joints"][0]["twist"][3:])
+    assert abs(float(w @ v)) <= 1e-16 * np.linalg.norm(v)
+    again = read_poe(tree, "a.yaml")
+    assert again.joints[0].kind == "revolute"
+    assert np.abs(again.fk(np.array([0.7]))[:3, 3] - model.fk(np.array([0.7]))[:3, 3]).max() < 1e-15

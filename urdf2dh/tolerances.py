@@ -64,6 +64,7 @@ __all__ = [
     "RANK_RELATIVE",
     "RIGID_INPUT",
     "SCALE_FACTOR",
+    "SMALLEST_SIZE",
     "SPREAD",
     "VERIFY_JOINTS",
     "WORSE_CONFIGURATIONS",
@@ -73,6 +74,11 @@ __all__ = [
 ]
 
 EPS = sys.float_info.epsilon  # float64's; not numpy's, so that `urdf2dh --help` needs no numpy
+
+# A robot size below this (1e-292) would make every relative tolerance (round-off, eps x size) a
+# subnormal float or 0: a chain within it of the base origin is all at the origin (size 1), so
+# that its tolerances are round-off and not an underflow (a tip 4.9e-324 m away).
+SMALLEST_SIZE = sys.float_info.min / EPS
 
 # Decimals kept of each D-H value before Universal Robots' calibration hash is taken
 # (emit/export/ur.py): an exact table carries round-off (theta = -4.9e-12 where UR writes 0, a

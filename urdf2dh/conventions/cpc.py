@@ -192,10 +192,14 @@ def reversals(model: PoeModel, tol: Tolerances) -> list[float]:
     if model.n and _dot(zs[-1], tool_z) < reverse_below:
         # Reverse a run of last frames, starting at joint `first` (1-based): the pair
         # (first - 1, first) then turns round. Prefer the shortest run whose turned pair stays
-        # within the preference; else the one whose turned pair is farthest from singular.
+        # within the preference; else the shortest of those whose turned pair is farthest from
+        # singular, up to round-off (pairs at equal angles, such as an axis parallel to the base
+        # z, would otherwise be told apart by round-off, differently when the table's POE model
+        # is converted again).
         turned = {first: -_dot(zs[first - 1], zs[first]) for first in range(model.n, 0, -1)}
         ok = [f for f, v in turned.items() if v >= reverse_below]
-        first = ok[0] if ok else max(turned, key=lambda f: turned[f])
+        best = max(turned.values())
+        first = ok[0] if ok else next(f for f, v in turned.items() if v >= best - tol.noise)
         if turned[first] > -1.0 + tol.cpc_singular_margin:
             for k in range(first - 1, model.n):
                 signs[k] = -signs[k]

@@ -21,11 +21,14 @@ joint's axis), in the frames as evaluated so far: compute the exact D-H link (Wu
 tolerance judgement: :mod:`urdf2dh.geometry.normals` with exact tolerances, lines meeting only
 within what costs less than the exactness promised) and the Hayati link; take the Hayati link when
 its ``|a|`` is smaller than the D-H link's larger length ``max(|d|, |a|)`` by more than that
-distance, or when the D-H link could only be had by a judgement beyond round-off (axes 1e-15 to
-1e-13 rad from parallel, whose exact common normal is far away) and the Hayati link needs none; the
-D-H link otherwise (so exactly parallel axes keep Wu's ``d = 0`` row, and an axis in the xy plane,
-which the Hayati link cannot reach, a D-H one). Every table is exact, and every length stays within
-the geometry's own distances.
+distance (over ``sin(alpha)`` for a common normal, which is known to that only), or when the D-H
+link could only be had by a judgement beyond round-off (axes 1e-15 to 1e-13 rad from parallel,
+whose exact common normal is far away) and the Hayati link needs none, or when the D-H link's
+common normal is itself set by round-off (axes 1e-13 to 2.4e-7 rad from parallel); the D-H link
+otherwise (so exactly parallel axes keep Wu's ``d = 0`` row, and an axis in the xy plane, which
+the Hayati link cannot reach, a D-H one). Every table is exact, every length stays within the
+geometry's own distances, and no row's form is decided by round-off: converting the table's POE
+model again gives the same rows.
 """
 
 from __future__ import annotations
@@ -36,7 +39,7 @@ from typing import TYPE_CHECKING, ClassVar
 
 from ..geometry import frames
 from ..geometry.frames import Frame, Vec3
-from ..geometry.normals import Judgement, Limits, link_to_line
+from ..geometry.normals import Judgement, Limits, LinkParams, link_to_line
 from .base import Conversion, Params, Style, angle, length
 from .dh import DhLink, RzTz, chain_lines
 
@@ -99,6 +102,28 @@ def hayati_link(u: Vec3, p: Vec3, lim: Limits) -> tuple[HayatiLink, float] | Non
     return HayatiLink(theta, a, alpha, beta), 0.0
 
 
+def _shorter(u: Vec3, link: LinkParams, hayati: HayatiLink, lim: Limits) -> bool:
+    """Whether the Hayati link is the shorter one by more than round-off.
+
+    A D-H link that pivots (parallel or meeting lines) is known to ``lim.distance``; one on the
+    common normal of lines ``alpha`` apart to ``lim.distance / sin(alpha)`` only (the ``d`` of
+    intersecting axes is a few 1e-17 m of round-off on a mm chain), so the Hayati link must be
+    shorter by that much; and where the lines are ``rho =
+    sin(angle)`` from parallel, crossing the local xy plane at ``c``, the foot ``d = -c.e / rho``
+    moves by ``|c| delta / rho^2`` for a round-off ``delta`` of ``u``: more than ``|c|`` itself
+    where ``rho^2 <= lim.noise``, and which link is longer is round-off there, so the Hayati
+    link, as well conditioned as the geometry, is taken. Either way the choice holds when the
+    table is converted again."""
+    rho = math.hypot(u[0], u[1])
+    if link.parallel:  # a pivot's d and a, not a common normal's
+        margin = lim.distance
+    elif rho * rho <= lim.noise:
+        return True
+    else:
+        margin = lim.distance / abs(math.sin(link.alpha))
+    return hayati.a + margin < max(abs(link.d), abs(link.a))
+
+
 class HayatiConvention:
     """The ``hayati`` convention."""
 
@@ -134,10 +159,10 @@ class HayatiConvention:
             link, found = link_to_line(u, p, limits, (names[k], names[k + 1]), is_tool)
             record: Params = DhLink(link.theta, link.d, link.alpha, link.a)
             hayati = hayati_link(u, p, limits)
-            shorter = hayati is not None and hayati[0].a + limits.distance < max(
-                abs(link.d), abs(link.a))  # fmt: skip
             judged = any(j.angle > limits.clean or j.gap > limits.free for j in found)
-            if hayati is not None and (shorter or (judged and hayati[1] == 0.0)):
+            if hayati is not None and (
+                _shorter(u, link, hayati[0], limits) or (judged and hayati[1] == 0.0)
+            ):
                 record = hayati[0]
                 if hayati[1] > 0.0:  # round-off only: the limits are exact
                     found = [Judgement("coincident", names[k], names[k + 1], 0.0, hayati[1])]

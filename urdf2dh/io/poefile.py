@@ -166,10 +166,16 @@ def poe_to_dict(model: PoeModel) -> dict[str, Any]:
     """A POE model file tree for ``model`` (tool as a matrix; limits where known)."""
     joints = []
     for j in model.joints:
+        xi = j.twist()
+        if j.kind == "revolute":
+            # v = p x w carries round-off along w relative to |p|, not to |v|: on an axis through
+            # the origin (v ~ 1e-65 from a point 0.5 m along it) it would read back as a pitch
+            w, v = xi[:3], xi[3:]
+            xi = np.concatenate([w, v - (float(w @ v) / float(w @ w)) * w])
         entry: dict[str, Any] = {
             "name": j.name,
             "type": j.kind,
-            "twist": [float(x) for x in j.twist()],
+            "twist": [float(x) for x in xi],
         } | j.file_fields()
         joints.append(entry)
     return {

@@ -33,7 +33,7 @@ from ..checks import (
 from ..errors import InputError, shown, visible
 from ..escape import markdown_table, markdown_text, text_table
 from ..geometry import frames, se3
-from ..tolerances import JOINT_POSITIONS, RIGID_INPUT
+from ..tolerances import JOINT_POSITIONS, RIGID_INPUT, SMALLEST_SIZE
 from ..units import DECIMALS, fixed
 from ._fastfk import chain_fk
 from .mimic import Mimic, actuated, row_positions
@@ -319,9 +319,9 @@ class PoeModel:
     def size(self) -> float:
         """The robot's size, which errors are measured against (docs/commands/index.md, "Robot
         size"): the extent at home plus the travel of the sliding joints (1 for a chain that is
-        all at the origin and cannot slide)."""
+        all at the origin and cannot slide, within :data:`~urdf2dh.tolerances.SMALLEST_SIZE`)."""
         e = self._once("size", lambda: self.extent() + self.travel())
-        return e if e > 0.0 else 1.0
+        return e if e >= SMALLEST_SIZE else 1.0
 
     def reach(self) -> float:
         """An upper bound on any point's distance from the base origin over all configurations:
