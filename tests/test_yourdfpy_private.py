@@ -40,11 +40,13 @@ def test_the_private_instance_serves():
     assert _yourdfpy.urdf.URDF is not yourdfpy.URDF
 
 
-@pytest.mark.parametrize("name", sorted({ROBOTS[n].file for n in ROBOTS}))
+URDF_FILES = {robot_path(r).name: robot_path(r) for r in ROBOTS.values()}  # MJCF, POE: no yourdfpy
+URDF_FILES = {n: p for n, p in URDF_FILES.items() if p.suffix == ".urdf"}
+
+
+@pytest.mark.parametrize("name", sorted(URDF_FILES))
 def test_element_parsers_give_what_yourdfpy_gives(name):
-    path = next(robot_path(ROBOTS[n]) for n in ROBOTS if ROBOTS[n].file == name)
-    if path.suffix != ".urdf":
-        pytest.skip(f"{name} is not a URDF")  # POE and table files: no yourdfpy
+    path = URDF_FILES[name]
     root = etree.parse(str(path)).getroot()
     for kind in ("link", "joint"):
         parse_ours = getattr(_yourdfpy.urdf.URDF, f"_parse_{kind}")
