@@ -1,4 +1,4 @@
-"""Run the overwrite corpus (tests/overwrite_corpus.py) and report the counts.
+"""Run the overwrite corpus (tests/overwrite_cases.py) and report the counts.
 
     python scripts/overwrite_corpus.py [--verbose]
 
@@ -20,7 +20,7 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this checkout's urdf2dh
 
-from overwrite_corpus import FAILURES, Workspace, cases, run_case
+from overwrite_cases import FAILURES, Workspace, cases, run_case
 
 
 def main(argv: list[str] | None = None) -> int:

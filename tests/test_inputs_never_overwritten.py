@@ -228,8 +228,8 @@ def test_measure_writes_both_files_or_neither(inputs, capsys, monkeypatch):
 
 
 def test_a_sample_of_the_overwrite_corpus(tmp_path):
-    """A seeded sample of tests/overwrite_corpus.py (scripts/overwrite_corpus.py runs it all)."""
-    from overwrite_corpus import Workspace, run_case, sample
+    """A seeded sample of tests/overwrite_cases.py (scripts/overwrite_corpus.py runs it all)."""
+    from overwrite_cases import Workspace, run_case, sample
 
     ws = Workspace(tmp_path)
     verdicts = [run_case(ws, case) for case in sample(ws, 24, seed=18)]
