@@ -9,7 +9,7 @@ nominal joints with base and tool fitted) that no measuring device leaves, where
 the right way fits that level to about the nominal's accuracy. So the other readings of each
 aspect of the measurements (:func:`rereadings`) are tried on at most :data:`SAMPLE` of their
 configurations. They are ranked by the rigid fit of the nominal's tool points
-(:func:`.rigid.fit_rigid`), the points alone and, for poses, with the tips of the tool's axes
+(:func:`.rigid.misfit`), the points alone and, for poses, with the tips of the tool's axes
 at the robot's size (so that orientations count); the best :data:`CONFIRMED` by each are fitted
 at the base-tool level and scored by their RMS position residual over the robot's size and,
 for poses, their RMS rotation residual (rad) (:func:`score`). A reading is named when the
@@ -58,7 +58,7 @@ from .measurements import (
     euler_quaternions,
 )
 from .residuals import errors, rms
-from .rigid import fit_rigid, pose_points, spread
+from .rigid import misfit, pose_points, spread
 from .start import FitOptions, nominal_points, to_data
 
 __all__ = [
@@ -368,9 +368,7 @@ def _rigid_scores(
             if not (np.all(np.isfinite(a)) and np.all(np.isfinite(b))):
                 out.append(math.inf)
                 continue
-            g = fit_rigid(a, b)
-            moved = a @ g[:3, :3].T + g[:3, 3]
-            value = float(np.sqrt(np.mean(np.sum((moved - b) ** 2, axis=1)))) / size
+            value = misfit(a, b) / size
             out.append(value if math.isfinite(value) else math.inf)
     return out[0], out[1]
 
@@ -490,9 +488,9 @@ def _orientation_by_model(
         if r.aspect == "orientations":
             other = r.apply(m).quaternions
             assert other is not None
-            misfit = rotation_misfit(model, rotation_of(other))
-            if misfit < least:
-                best, least = r, misfit
+            turn = rotation_misfit(model, rotation_of(other))
+            if turn < least:
+                best, least = r, turn
     return best if least * GAIN <= given else None
 
 

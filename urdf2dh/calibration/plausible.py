@@ -70,7 +70,7 @@ from .levels import BASE_TOOL, HIGHER, LOWER, OFFSETS
 from .measurements import Measurements
 from .residuals import errors
 from .residuals import rms as root_mean_square
-from .rigid import fit_rigid, spread
+from .rigid import misfit, spread
 from .select import per_configuration, within
 from .solver import Solution
 from .start import FitOptions, to_data
@@ -334,17 +334,16 @@ def _layout(cal: Calibration, opts: FitOptions) -> list[Finding]:
     ids = sorted(cal.markers_on_tool)
     given = cal.units.shown_array(np.array([opts.layout[k] for k in ids]))
     found = np.array([cal.markers_on_tool[k] for k in ids])
-    g = fit_rigid(given, found)
-    misfit = float(np.sqrt(np.mean(np.sum((given @ g[:3, :3].T + g[:3, 3] - found) ** 2, 1))))
+    layout_misfit = misfit(given, found)
     reach = spread(given)
-    if misfit <= LAYOUT_MISFIT * reach:
+    if layout_misfit <= LAYOUT_MISFIT * reach:
         return []
     unit = cal.units.length
     return [
         Finding(
             "marker-layout",
             f"the markers' identified positions on the tool miss the layout given by "
-            f"{misfit:.3g} {unit} RMS (the layout spreads {reach:.3g} {unit}): markers "
+            f"{layout_misfit:.3g} {unit} RMS (the layout spreads {reach:.3g} {unit}): markers "
             f"numbered otherwise, or a layout in another unit (it is read in {unit})",
         )
     ]

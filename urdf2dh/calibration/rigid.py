@@ -29,7 +29,7 @@ from ..geometry.se3 import inv, matrix_of
 from ..model.poe import Joint
 from ..tolerances import RANK_RELATIVE
 
-__all__ = ["anchor_base", "fit_rigid", "pose_points", "spread", "tool_on_last_axis"]
+__all__ = ["anchor_base", "fit_rigid", "misfit", "pose_points", "spread", "tool_on_last_axis"]
 
 Mat = NDArray[np.float64]
 
@@ -80,6 +80,14 @@ def fit_rigid(a: Mat, b: Mat, reference: Mat | None = None) -> Mat:
     out[:3, :3] = r
     out[:3, 3] = cb - r @ ca
     return out
+
+
+def misfit(a: Mat, b: Mat) -> float:
+    """The RMS distance between ``b``'s points and ``a``'s (both ``(k, 3)``) after the best rigid
+    fit of ``a`` onto ``b`` (:func:`fit_rigid`): what no placement of one set explains."""
+    g = fit_rigid(a, b)
+    moved = a @ g[:3, :3].T + g[:3, 3]
+    return float(np.sqrt(np.mean(np.sum((moved - b) ** 2, axis=1))))
 
 
 def pose_points(poses: Mat, length: float) -> Mat:

@@ -1,7 +1,7 @@
 """The options of an identification and its start: the nominal placed in the device frame.
 
 The start is the nominal model moved by the rigid transform that best fits its tool points to
-the measured ones (:func:`.frames.fit_rigid`; for poses, each pose's origin and axis tips at the
+the measured ones (:func:`.rigid.fit_rigid`; for poses, each pose's origin and axis tips at the
 robot's size, so orientations count too; for positions, the markers' points, placed on the tool
 by the marker layout, or at the tool origin), at the ``base-tool`` level (:mod:`.chart`): the
 identification fits that level first, and starts every other from its solution. Revolute joints
