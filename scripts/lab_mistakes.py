@@ -173,13 +173,18 @@ def _rename(lab: LabFile, joints: tuple[str, ...]) -> str:
     return ",".join(pairs)
 
 
+def _reading(lab: LabFile, robot: PoeModel, *more: str) -> tuple[str, ...]:
+    """The options that read a lab file (its names, a time column, degrees, mm) for ``robot``."""
+    names = _rename(lab, tuple(j.name for j in robot.joints))
+    return ("--rename", names, "--ignore", "t", "--degrees", "--length-unit", "mm", *more)
+
+
 @cache
 def scenarios() -> dict[str, Scenario]:
     """The five scenarios (seeded)."""
     out = {}
     ur5 = urdf2dh.load("ur5")
-    joints = tuple(j.name for j in ur5.joints)
-    actual = perturb(ur5, 21, 0.002, 0.001)
+    actual, noise = perturb(ur5, 21, 0.002, 0.001), (3e-5, 5e-5)
     lab = LabFile(
         tuple(f"A{k}" for k in range(1, 7)),
         orientation=("quat", ("QW", "QX", "QY", "QZ"), "wxyz"),
@@ -189,14 +194,13 @@ def scenarios() -> dict[str, Scenario]:
         "tracker",
         "ur5",
         actual,
-        synthesize(actual, 40, 3e-5, 5e-5, seed=22),
+        synthesize(actual, 40, *noise, seed=22),
         lab,
-        ("--rename", _rename(lab, joints), "--ignore", "t", "--degrees", "--length-unit", "mm"),
-        (3e-5, 5e-5),
+        _reading(lab, actual),
+        noise,
     )
     panda = urdf2dh.load("panda")
-    joints = tuple(j.name for j in panda.joints)
-    actual = perturb(panda, 23, 0.002, 0.001)
+    actual, noise = perturb(panda, 23, 0.002, 0.001), (5e-4, 1e-3)
     lab = LabFile(
         tuple(f"J{k}" for k in range(1, 8)),
         orientation=("euler", ("A", "B", "C"), "ZYX"),
@@ -206,16 +210,12 @@ def scenarios() -> dict[str, Scenario]:
         "camera",
         "panda",
         actual,
-        synthesize(actual, 50, 5e-4, 1e-3, seed=24),
+        synthesize(actual, 50, *noise, seed=24),
         lab,
-        (
-            "--rename", _rename(lab, joints), "--ignore", "t", "--degrees", "--length-unit",
-            "mm", "--euler", "ZYX",
-        ),
-        (5e-4, 1e-3),
-    )  # fmt: skip
-    puma = urdf2dh.load("puma560-actual")
-    joints = tuple(j.name for j in puma.joints)
+        _reading(lab, actual, "--euler", "ZYX"),
+        noise,
+    )
+    puma, noise = urdf2dh.load("puma560-actual"), (0.01, 1e-5)
     lab = LabFile(
         tuple(f"j{k}" for k in range(1, 7)),
         degrees=False,
@@ -228,13 +228,12 @@ def scenarios() -> dict[str, Scenario]:
         "helical",
         "puma560-nominal",
         puma,
-        synthesize(puma, 60, 0.01, 1e-5, seed=25),
+        synthesize(puma, 60, *noise, seed=25),
         lab,
         ("--helical", "all"),
-        (0.01, 1e-5),
+        noise,
     )
-    joints = tuple(j.name for j in ur5.joints)
-    actual = perturb(ur5, 26, 0.002, 0.001)
+    actual, noise = perturb(ur5, 26, 0.002, 0.001), (5e-5, 0.0)
     layout = marker_layout(ur5, 3, 27)
     lab = LabFile(
         tuple(f"q{k}" for k in range(1, 7)),
@@ -245,15 +244,14 @@ def scenarios() -> dict[str, Scenario]:
         "markers",
         "ur5",
         actual,
-        synthesize(actual, 40, 5e-5, 0.0, seed=28, layout=layout, pose=False),
+        synthesize(actual, 40, *noise, seed=28, layout=layout, pose=False),
         lab,
-        ("--rename", _rename(lab, joints), "--ignore", "t", "--degrees", "--length-unit", "mm"),
-        (5e-5, 0.0),
+        _reading(lab, actual),
+        noise,
         layout,
     )
     scara = urdf2dh.load("scara")
-    joints = tuple(j.name for j in scara.joints)
-    actual = perturb(scara, 29, 0.002, 0.001)
+    actual, noise = perturb(scara, 29, 0.002, 0.001), (5e-5, 2e-4)
     lab = LabFile(
         ("axis1", "axis2", "axis3", "axis4"),
         orientation=("euler", ("Rx", "Ry", "Rz"), "xyz"),
@@ -263,10 +261,10 @@ def scenarios() -> dict[str, Scenario]:
         "scara",
         "scara",
         actual,
-        synthesize(actual, 40, 5e-5, 2e-4, seed=30),
+        synthesize(actual, 40, *noise, seed=30),
         lab,
-        ("--rename", _rename(lab, joints), "--ignore", "t", "--degrees", "--length-unit", "mm"),
-        (5e-5, 2e-4),
+        _reading(lab, actual),
+        noise,
     )
     return out
 
