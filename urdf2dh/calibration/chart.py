@@ -198,9 +198,6 @@ class Chain:
         point[turning] = line_point(axis[turning], point[turning])
         return replace(self, axis=axis, point=point)
 
-    def with_kinds(self, kinds: tuple[str, ...]) -> Chain:
-        return replace(self, kinds=kinds)
-
 
 FRAME = "frame"  # poses: the tool frame is measured (module docstring)
 MARKERS = "markers"  # positions: points on the tool are

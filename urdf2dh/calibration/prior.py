@@ -271,13 +271,9 @@ class Regulariser:
         factor = np.linalg.cholesky(errors.covariance(dev))
         return cls(errors, dev, np.linalg.solve(factor, errors.project))
 
-    def rows(self, est: Estimate) -> tuple[Mat, Mat]:
-        """The prior's residuals ``(k,)`` and their Jacobian ``(k, p)`` by ``est``'s free
-        coordinates."""
-        return self.residuals(est), self.whiten @ self.errors.tangent(est)
-
     def residuals(self, est: Estimate) -> Mat:
-        """The prior's residuals alone (:meth:`rows`)."""
+        """The prior's residuals ``(k,)`` at ``est`` (their Jacobian: ``whiten`` times
+        :meth:`LinkErrors.evaluate`'s tangent, which the solver's linearisation carries)."""
         out: Mat = self.whiten @ self.errors.deviations(est)
         return out
 

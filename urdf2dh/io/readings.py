@@ -265,14 +265,6 @@ def _radians(value: float, unit: str) -> float:
     return math.radians(value) if unit == "deg" else value
 
 
-def with_joint_names(reading: Reading, names: tuple[str, ...]) -> Reading:
-    """The reading with its joint rows named ``names`` (the source's joints, in order)."""
-    renamed = list(reading.names)
-    for i, name in zip(reading.joint_rows, names, strict=False):
-        renamed[i] = name
-    return replace(reading, names=tuple(renamed))
-
-
 def read_source(content: Content, reading: SourceReading) -> Source:
     """A hand-written table as a SOURCE (the ``hand`` entry of
     :data:`~urdf2dh.io.sources.READERS`): its one reading, which its ``convention`` and
