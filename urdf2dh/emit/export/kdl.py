@@ -42,9 +42,9 @@ JOINT_TYPES = {"revolute": "RotZ", "prismatic": "TransZ"}
 def _frame(kind: str, p: dict[str, Any], numbers: Numbers) -> str:
     """``kdl.Frame.DH(a, alpha, d, theta)`` or ``DH_Craig1989``; absent parameters are 0."""
     a = numbers.lin(p.get("a", 0.0))
-    alpha = numbers.ang(p.get("alpha", 0.0))
+    alpha = numbers.pi_ang(p.get("alpha", 0.0))
     d = numbers.lin(p.get("d", 0.0))
-    theta = numbers.ang(p.get("theta", 0.0))
+    theta = numbers.pi_ang(p.get("theta", 0.0))
     return f"kdl.Frame.{kind}({a}, {alpha}, {d}, {theta})"
 
 
@@ -99,7 +99,15 @@ def render(table: Table, opts: ExportOptions) -> str:
     doc = header(table, "PyKDL Chain")
     doc.append(f"Joints in chain order: {', '.join(r.name for r in table.rows)}.")
     doc += renaming_notes(names.segments, names.joints)
-    out = [python_docstring(doc, block=True), "", "import PyKDL as kdl", "", ""]
+    out = [
+        python_docstring(doc, block=True),
+        "",
+        "from math import pi",
+        "",
+        "import PyKDL as kdl",
+        "",
+        "",
+    ]
     out.append("def build_chain() -> kdl.Chain:")
     out.append(
         "    "
