@@ -467,11 +467,12 @@ def test_matlab_and_kdl_write_exact_multiples_of_pi_as_pi(target, convention):
 
 def test_angles_off_a_multiple_of_pi_stay_numbers():
     """Only a multiple of pi/2 (up to the files' round-off) is written as ``pi``: a tilted twist
-    is a number, in every target that writes ``pi``."""
+    is a number with every digit it has, in every target that writes ``pi``."""
     from urdf2dh.emit.export.common import Numbers
     from urdf2dh.tolerances import DEFAULT
 
     numbers = Numbers(1.0, DEFAULT.written)
     assert numbers.pi_ang(math.pi / 2) == "pi/2" and numbers.pi_ang(-math.pi) == "pi"
-    assert numbers.pi_ang(math.pi / 2 + 1e-3) == "1.5717963267949"
-    assert numbers.pi_ang(0.3) == "0.3" and numbers.pi_ang(math.pi / 4) == "0.785398163397448"
+    assert numbers.pi_ang(math.pi / 2 + 4e-16) == "pi/2"  # round-off (DEFAULT.written: 8.9e-16)
+    for x in (math.pi / 2 + 1e-3, 0.3, math.pi / 4, 4.896650092486704e-12, -2.9):
+        assert float(numbers.pi_ang(x)) == x

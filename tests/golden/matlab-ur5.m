@@ -31,7 +31,7 @@ parent = body.Name;
 
 body = rigidBody("body2_offset");
 joint = rigidBodyJoint("body2_offset_fixed", "fixed");
-setFixedTransform(joint, [-1.0 -4.8930973788079e-12 0.0 0.0; 4.8930973788079e-12 -1.0 0.0 0.0; 0.0 0.0 1.0 0.0; 0.0 0.0 0.0 1.0]);
+setFixedTransform(joint, [-1.0 -4.89665009248671e-12 0.0 0.0; 4.89665009248671e-12 -1.0 0.0 0.0; 0.0 0.0 1.0 0.0; 0.0 0.0 0.0 1.0]);
 body.Joint = joint;
 addBody(robot, body, parent);
 parent = body.Name;
@@ -53,7 +53,7 @@ parent = body.Name;
 
 body = rigidBody("body4_offset");
 joint = rigidBodyJoint("body4_offset_fixed", "fixed");
-setFixedTransform(joint, [-1.0 -4.8930973788079e-12 0.0 0.0; 4.8930973788079e-12 -1.0 0.0 0.0; 0.0 0.0 1.0 0.0; 0.0 0.0 0.0 1.0]);
+setFixedTransform(joint, [-1.0 -4.89665009248671e-12 0.0 0.0; 4.89665009248671e-12 -1.0 0.0 0.0; 0.0 0.0 1.0 0.0; 0.0 0.0 0.0 1.0]);
 body.Joint = joint;
 addBody(robot, body, parent);
 parent = body.Name;
@@ -88,7 +88,7 @@ parent = body.Name;
 body = rigidBody("body6");
 joint = rigidBodyJoint("wrist_3_joint", "revolute");
 joint.PositionLimits = [-6.28318530718 6.28318530718];
-setFixedTransform(joint, [0.0 4.8966500924867e-12 0.0823 0], "dh");
+setFixedTransform(joint, [0.0 4.896650092486704e-12 0.0823 0], "dh");
 body.Joint = joint;
 addBody(robot, body, parent);
 parent = body.Name;
