@@ -17,6 +17,9 @@ Names: each joint keeps its own; the fixed segments carry the base and tip links
 joint's segment is named after the joint. The segment and fixed-joint names the script makes up
 keep clear of the robot's (:mod:`.names`: a suffix ``_2`` where the robot has the name, stated
 in the docstring), as a ``KDL::Tree`` built from the chain takes every segment name once.
+
+Angles are exact (:meth:`.Numbers.pi_ang`): a multiple of pi/2 as ``pi/2``, ``pi``, ... (the
+script imports ``pi`` from ``math``), any other with the digits that read back as it.
 """
 
 from __future__ import annotations

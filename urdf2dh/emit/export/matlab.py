@@ -21,6 +21,9 @@ names and each joint its own; the names the script makes up (bodies ``dh_base``,
 ``body<i>_offset``, their joints ``<body>_fixed``, the tip's joint ``<tip>_fixed``) keep clear
 of those (:mod:`.names`: a suffix ``_2`` where the robot has the name, stated in a comment), as
 ``addBody`` refuses a second body or joint of one name.
+
+D-H angles are exact (:meth:`.Numbers.pi_ang`): a multiple of pi/2 as ``pi/2``, ``pi``, ...
+(MATLAB's ``pi``), any other with the digits that read back as it.
 """
 
 from __future__ import annotations
