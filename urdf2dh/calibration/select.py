@@ -45,13 +45,13 @@ from numpy.typing import NDArray
 from ..model.poe import PoeModel
 from ..progress import progress
 from ..tolerances import RANK_RELATIVE
-from .chart import Estimate, absorbed, count
+from .chart import Estimate, count
 from .fit import Fit, check_equations, fit_before, joint_locations, level_start, solve_level
 from .identifiable import check_patterns, redundant
 from .levels import AUTO, BASE_TOOL, LEVELS
 from .measurements import Measurements
 from .prior import Deviations
-from .residuals import errors
+from .residuals import Data, errors
 from .solver import Linearisation, Problem
 from .start import FitOptions, has_prior, prior_of, to_data
 
@@ -174,12 +174,6 @@ def per_configuration(squared: Mat, index: NDArray[np.int64], count: int) -> Mat
     rows = np.bincount(index, minlength=count).astype(float)
     means: Mat = sums / np.maximum(rows, 1.0)[:, None]
     return means
-
-
-def _squared_errors(est: Estimate, m: Measurements, pose: bool, ids: list[int]) -> Mat:
-    """``(N, 1 or 2)``: each row's squared position error and, for poses, squared rotation."""
-    out: Mat = errors(absorbed(est), to_data(m, pose, ids)) ** 2
-    return out
 
 
 def left_out_errors(problem: Problem, lin: Linearisation, group: NDArray[np.int64]) -> Mat | None:
@@ -318,7 +312,7 @@ def cross_validate(
     richest = fits[judged[-1]] if judged else before
     weights = np.array([1.0 / richest.sigma_pos**2, 1.0 / richest.sigma_rot**2][: data.rows // 3])
     combined = {lv: per_config[lv] @ weights for lv in judged}
-    scores = [_score(level, fits, failures, per_config, fit, opts, ids) for level in levels]
+    scores = [_score(level, fits, failures, per_config, data, opts.pose) for level in levels]
     seed_used = None if folds is None or folds >= configurations else seed
     if not judged:
         selection = Selection(groups, seed_used, configurations, tuple(scores), None, None, "")
@@ -342,15 +336,13 @@ def _score(
     fits: dict[str, Fit],
     failures: dict[str, str],
     per_config: dict[str, Mat],
-    fit: Measurements,
-    opts: FitOptions,
-    ids: list[int],
+    data: Data,
+    pose: bool,
 ) -> Score:
     f = fits.get(level)
     fit_rms, parameters, iterations, prior = math.nan, 0, 0, None
     if f is not None:
-        squared = _squared_errors(f.solution.estimate, fit, opts.pose, ids)
-        fit_rms = math.sqrt(float(np.mean(squared[:, 0])))
+        fit_rms = math.sqrt(float(np.mean(errors(f.solution.estimate, data)[:, 0] ** 2)))
         parameters = count(f.solution.estimate)
         iterations = f.solution.iterations
         prior = None if f.prior is None else f.prior.deviations
@@ -361,7 +353,7 @@ def _score(
         )  # fmt: skip
     values = per_config[level]
     rms, se = _rms(values[:, 0])
-    rot = math.sqrt(float(np.mean(values[:, 1]))) if opts.pose else None
+    rot = math.sqrt(float(np.mean(values[:, 1]))) if pose else None
     return Score(level, parameters, fit_rms, rms, se, rot, iterations, prior)
 
 
