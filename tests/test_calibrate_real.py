@@ -20,9 +20,9 @@ from urdf2dh.calibration.fit import with_statistics
 from urdf2dh.calibration.measurements import Reading, read_measurements
 from urdf2dh.calibration.outliers import rejecting_helps, suspects
 from urdf2dh.calibration.problem import CalibrationProblem, Options, fit_options, holdout_split
+from urdf2dh.calibration.report import to_dict
 from urdf2dh.calibration.select import judge_levels, predicted_without
 from urdf2dh.calibration.start import to_data
-from urdf2dh.calibration.report import to_dict
 from urdf2dh.cli import main
 from urdf2dh.conventions import NAMES
 from urdf2dh.emit.formats import FORMATS, render
