@@ -98,13 +98,23 @@ def normal_basis(u: Mat) -> tuple[Mat, Mat]:
 
 
 def normal_bases(u: Mat) -> tuple[Mat, Mat]:
-    """:func:`normal_basis` of each row of ``u`` ``(n, 3)``: ``(n, 3)`` and ``(n, 3)``."""
-    k = np.argmin(np.abs(u), axis=1)
-    rows = np.arange(len(u))
-    e1 = -u[rows, k][:, None] * u
-    e1[rows, k] += 1.0
-    e1 /= np.linalg.norm(e1, axis=1, keepdims=True)
-    return e1, cross_rows(u, e1)
+    """:func:`normal_basis` of each row of ``u`` ``(n, 3)``: ``(n, 3)`` and ``(n, 3)``
+    (read-only: the bases of the last axes asked for are kept, the charts of one estimate ask
+    for them several times)."""
+    return _normal_bases(u.tobytes(), len(u))
+
+
+@lru_cache(maxsize=64)
+def _normal_bases(axes: bytes, n: int) -> tuple[Mat, Mat]:
+    u = np.frombuffer(axes, dtype=np.float64).reshape(n, 3)
+    flat = np.arange(n) * 3 + np.argmin(np.abs(u), axis=1)
+    e1 = u * -u.ravel()[flat, None]
+    e1.ravel()[flat] += 1.0
+    e1 /= np.sqrt(np.add.reduce(e1 * e1, axis=1, keepdims=True))
+    e2 = cross_rows(u, e1)
+    e1.setflags(write=False)
+    e2.setflags(write=False)
+    return e1, e2
 
 
 def line_point(u: Mat, p: Mat) -> Mat:
@@ -171,8 +181,8 @@ class Chain:
 
     @property
     def turning(self) -> NDArray[np.bool_]:
-        """``(n,)`` which joints turn (revolute and helical)."""
-        return np.array([k != "prismatic" for k in self.kinds], dtype=bool)
+        """``(n,)`` which joints turn (revolute and helical); read-only."""
+        return _turning(self.kinds)
 
     def joints(self) -> tuple[Joint, ...]:
         """The chain as :class:`~urdf2dh.model.poe.Joint` objects."""
@@ -197,6 +207,13 @@ class Chain:
         turning = self.turning
         point[turning] = line_point(axis[turning], point[turning])
         return replace(self, axis=axis, point=point)
+
+
+@lru_cache(maxsize=64)
+def _turning(kinds: tuple[str, ...]) -> NDArray[np.bool_]:
+    out = np.array([k != "prismatic" for k in kinds], dtype=bool)
+    out.setflags(write=False)
+    return out
 
 
 FRAME = "frame"  # poses: the tool frame is measured (module docstring)

@@ -203,7 +203,7 @@ def cross3(a: Mat, b: Mat) -> Mat:
 
 def cross_rows(a: Mat, b: Mat) -> Mat:
     """``a x b`` row by row for ``(n, 3)`` arrays (without numpy's ``cross`` axis handling)."""
-    out = np.empty(np.broadcast_shapes(a.shape, b.shape))
+    out = np.empty(a.shape if a.shape == b.shape else np.broadcast_shapes(a.shape, b.shape))
     out[..., 0] = a[..., 1] * b[..., 2] - a[..., 2] * b[..., 1]
     out[..., 1] = a[..., 2] * b[..., 0] - a[..., 0] * b[..., 2]
     out[..., 2] = a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
