@@ -25,9 +25,12 @@ Jacobian. A change of the coordinates moves the tool by a small space-frame twis
   frame moved by ``dc``: ``dx = R_(P_n) dc``.
 
 ``Ad([R, t]) [w, v] = [R w, R v + t x R w]`` (Wu 2019 eq. 4). Everything is evaluated for all
-measurements and all joints at once: ``N`` configurations as ``(N, ...)`` stacks, each joint's
-seven candidate columns (two turns, two shifts, pitch, offset, scale) as one ``(n, 6, 7)``
-block, of which the level's coordinates are then picked (:func:`_picks`).
+measurements at once, ``N`` configurations as ``(N, ...)`` stacks. The Jacobian's columns are
+the level's free twists (the base's, each joint's candidates, the tool's, of which
+:func:`_layout` picks the level's) under the adjoints of the frames ``P_0 .. P_n`` and ``T``;
+each adjoint is taken about the point the measurement saw (the translation ``t - x``), so that
+its ``v`` is that point's motion ``dv + dw x x`` at once, and the twists of each frame meet all
+its configurations' adjoints in one matrix product.
 """
 
 from __future__ import annotations
@@ -38,8 +41,9 @@ from functools import lru_cache
 import numpy as np
 from numpy.typing import NDArray
 
-from ..geometry.lie import cross_rows, left_jacobian_inverse, log_so3
+from ..geometry.lie import cross_rows, left_jacobian_inverse, log_so3, skew_batch
 from .chart import FRAME, Estimate, normal_bases, sizes, tool_screws
+from .levels import Level
 
 __all__ = [
     "Data",
@@ -109,18 +113,10 @@ class Data:
         return len(self.q)
 
 
-def _skews(u: Mat) -> Mat:
-    """``(n, 3) -> (n, 3, 3)``: ``[u]``."""
-    out = np.zeros((len(u), 9))
-    out[:, _SKEW_PLUS] = u
-    out[:, _SKEW_MINUS] = -u
-    return out.reshape(-1, 3, 3)
-
-
-_SKEW_PLUS = [7, 2, 3]  # where u_0, u_1, u_2 sit in the flattened [u]
-_SKEW_MINUS = [5, 6, 1]  # and where -u_0, -u_1, -u_2 do
 _NEXT = [1, 2, 0]
 _PREV = [2, 0, 1]
+_EYE4 = np.eye(4)
+_EYE6 = np.eye(6)
 
 
 def _exp_basis(est: Estimate) -> Mat:
@@ -132,10 +128,10 @@ def _exp_basis(est: Estimate) -> Mat:
     n = len(chain)
     turning = chain.turning
     point = chain.point * turning[:, None]
-    k = _skews(chain.axis)
+    k = skew_batch(chain.axis)
     kk = k @ k
     out = np.zeros((n, 4, 4, 4))
-    out[:, 0] = np.eye(4)
+    out[:, 0] = _EYE4
     out[:, 1, :3, :3] = k
     out[:, 1, :3, 3] = -(k @ point[:, :, None])[..., 0]
     out[:, 2, :3, :3] = kk
@@ -164,7 +160,7 @@ def _frames(est: Estimate, q: Mat) -> tuple[Mat, Mat, Mat]:
     coef[:, :, 3] = s.T
     e = np.matmul(coef, _exp_basis(est)).reshape(n, count, 4, 4)
     out = np.empty((n + 2, count, 4, 4))
-    out[0] = np.eye(4)
+    out[0] = _EYE4
     for i in range(n):
         if i:
             np.matmul(out[i], e[i], out=out[i + 1])
@@ -246,7 +242,6 @@ class _Layout:
     factor: NDArray[np.int64] | None
 
 
-@lru_cache(maxsize=256)
 def _layout(
     joint_slots: tuple[tuple[int, ...], ...],
     base: bool,
@@ -309,9 +304,17 @@ def _layout(
 
 
 def _layout_of(est: Estimate) -> _Layout:
-    level = est.level
+    free = None if est.free is None else est.free.tobytes()
+    markers = len(est.markers) if est.tool != FRAME else 0
+    return _level_layout(est.level, est.chain.kinds, est.keep_tool_axis, markers, free)
+
+
+@lru_cache(maxsize=256)
+def _level_layout(
+    level: Level, kinds: tuple[str, ...], keep_tool_axis: bool, markers: int, free: bytes | None
+) -> _Layout:
     joint_slots = []
-    for kind in est.chain.kinds:
+    for kind in kinds:
         slots: list[int] = []
         if level.lines:
             slots += [0, 1] if kind == "prismatic" else [0, 1, 2, 3]
@@ -322,10 +325,8 @@ def _layout_of(est: Estimate) -> _Layout:
         if level.scales:
             slots.append(6)
         joint_slots.append(tuple(slots))
-    tool = (0, 1) if est.keep_tool_axis else (0, 1, 2, 3, 4, 5)
-    markers = len(est.markers) if est.tool != FRAME else 0
-    free = None if est.free is None else est.free.tobytes()
-    return _layout(tuple(joint_slots), level.base, tool, est.keep_tool_axis, markers, free)
+    tool = (0, 1) if keep_tool_axis else (0, 1, 2, 3, 4, 5)
+    return _layout(tuple(joint_slots), level.base, tool, keep_tool_axis, markers, free)
 
 
 def _twists(est: Estimate) -> Mat:
@@ -338,7 +339,7 @@ def _twists(est: Estimate) -> Mat:
     chain = est.chain
     n = len(chain)
     out = np.zeros((6 + 7 * n + 7, 6))
-    out[:6] = np.eye(6)
+    out[:6] = _EYE6
     cand = out[6 : 6 + 7 * n].reshape(n, 7, 6)
     u, p = chain.axis, chain.point
     turning = chain.turning
@@ -356,7 +357,7 @@ def _twists(est: Estimate) -> Mat:
     if est.keep_tool_axis:
         tool[:2] = tool_screws(est).T
     else:
-        tool[:] = np.eye(6)
+        tool[:] = _EYE6
     return out
 
 

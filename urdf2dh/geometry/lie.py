@@ -38,10 +38,19 @@ _NEAR_PI = 1e-3  # within this of pi the rotation axis comes from the symmetric 
 def skew_batch(w: Mat) -> Mat:
     """``(..., 3) -> (..., 3, 3)``: the matrices ``[w]`` with ``[w] u = w x u``."""
     w = np.asarray(w, dtype=float)
-    out = np.zeros((*w.shape[:-1], 3, 3))
-    out[..., 0, 1], out[..., 0, 2] = -w[..., 2], w[..., 1]
-    out[..., 1, 0], out[..., 1, 2] = w[..., 2], -w[..., 0]
-    out[..., 2, 0], out[..., 2, 1] = -w[..., 1], w[..., 0]
+    out = np.zeros((*w.shape[:-1], 9))
+    out[..., _SKEW_PLUS] = w
+    out[..., _SKEW_MINUS] = -w
+    return out.reshape(*w.shape[:-1], 3, 3)
+
+
+_SKEW_PLUS = [7, 2, 3]  # where w_0, w_1, w_2 sit in the flattened [w]
+_SKEW_MINUS = [5, 6, 1]  # and where -w_0, -w_1, -w_2 do
+
+
+def _norms(w: Mat) -> Mat:
+    """``|w|`` along the last axis (numpy's ``norm`` without its dispatch)."""
+    out: Mat = np.sqrt(np.add.reduce(w * w, axis=-1))
     return out
 
 
@@ -66,7 +75,7 @@ def _coefficients(theta: Mat) -> tuple[Mat, Mat, Mat]:
 def exp_so3(w: Mat) -> Mat:
     """``(..., 3) -> (..., 3, 3)``: ``exp([w]) = I + a [w] + b [w]^2`` (Rodrigues)."""
     w = np.asarray(w, dtype=float)
-    theta = np.linalg.norm(w, axis=-1)
+    theta = _norms(w)
     a, b, _ = _coefficients(theta)
     k = skew_batch(w)
     return np.eye(3) + a[..., None, None] * k + b[..., None, None] * (k @ k)
@@ -76,7 +85,7 @@ def left_jacobian(w: Mat) -> Mat:
     """``(..., 3) -> (..., 3, 3)``: SO(3)'s left Jacobian ``I + b [w] + c [w]^2``; the
     translation of ``exp([w, v])`` is ``J(w) v``."""
     w = np.asarray(w, dtype=float)
-    theta = np.linalg.norm(w, axis=-1)
+    theta = _norms(w)
     _, b, c = _coefficients(theta)
     k = skew_batch(w)
     return np.eye(3) + b[..., None, None] * k + c[..., None, None] * (k @ k)
@@ -87,7 +96,7 @@ def left_jacobian_inverse(w: Mat) -> Mat:
     ``e = 1/t^2 - (1 + cos t) / (2 t sin t)`` (``1/12`` at 0). With ``R = exp([w])``, a left
     perturbation ``exp([d]) R`` has the rotation vector ``w + J(w)^-1 d`` to first order."""
     w = np.asarray(w, dtype=float)
-    theta = np.linalg.norm(w, axis=-1)
+    theta = _norms(w)
     small = theta < _SERIES
     t = np.where(small, 1.0, theta)
     t2 = theta * theta
@@ -100,11 +109,12 @@ def left_jacobian_inverse(w: Mat) -> Mat:
 def log_so3(r: Mat) -> Mat:
     """``(..., 3, 3) -> (..., 3)``: the rotation vector of ``R`` (angle in ``[0, pi]``)."""
     r = np.asarray(r, dtype=float)
-    s = 0.5 * np.stack(
-        [r[..., 2, 1] - r[..., 1, 2], r[..., 0, 2] - r[..., 2, 0], r[..., 1, 0] - r[..., 0, 1]],
-        axis=-1,
-    )  # sin(t) * axis
-    sin = np.linalg.norm(s, axis=-1)
+    s = np.empty(r.shape[:-1])  # sin(t) * axis
+    np.subtract(r[..., 2, 1], r[..., 1, 2], out=s[..., 0])
+    np.subtract(r[..., 0, 2], r[..., 2, 0], out=s[..., 1])
+    np.subtract(r[..., 1, 0], r[..., 0, 1], out=s[..., 2])
+    s *= 0.5
+    sin = _norms(s)
     cos = 0.5 * (np.trace(r, axis1=-2, axis2=-1) - 1.0)
     theta = np.arctan2(sin, cos)
     zero = sin == 0.0
