@@ -47,6 +47,7 @@ from .levels import Level
 
 __all__ = [
     "Data",
+    "Evaluation",
     "errors",
     "evaluate",
     "model_poses",
@@ -417,6 +418,25 @@ def _evaluate_into(
     res: Mat,
     jac: Mat | None,
 ) -> None:
+    state = _model(est, data, sigma_pos, sigma_rot, res)
+    if jac is not None:
+        _jacobian_into(est, data, state, sigma_pos, sigma_rot, jac)
+
+
+@dataclass(frozen=True, slots=True)
+class _State:
+    """What the Jacobian is made of: :func:`_frames`' frames and motions, the points seen
+    ``x`` and, for poses, the rotation residuals ``phi``."""
+
+    frames: Mat
+    moved: Mat
+    s: Mat
+    x: Mat
+    phi: Mat | None
+
+
+def _model(est: Estimate, data: Data, sigma_pos: float, sigma_rot: float, res: Mat) -> _State:
+    """The residuals into ``res`` ``(N, rows)``, and the state their Jacobian is made of."""
     frames, moved, s = _frames(est, data.q)
     tool = frames[-1]
     x = _points(est, tool, data.markers)
@@ -427,17 +447,24 @@ def _evaluate_into(
     if data.rotations is not None:
         phi = log_so3(np.matmul(tool[:, :3, :3], np.swapaxes(data.rotations, 1, 2)))
         res[:, 3:] = phi / sigma_rot
-    if jac is None or not jac.shape[2]:
+    return _State(frames, moved, s, x, phi)
+
+
+def _jacobian_into(
+    est: Estimate, data: Data, state: _State, sigma_pos: float, sigma_rot: float, jac: Mat
+) -> None:
+    """The Jacobian ``(N, rows, p)`` into ``jac`` from ``state`` (module docstring)."""
+    if not jac.shape[2]:
         return
     # the columns as space-frame twists moved to the point seen (the translation t - x):
     # Ad(P) [w, v] = [R w, R v + (t - x) x R w], whose v is the point's motion (dv + dw x x)
+    frames = state.frames
     lay = _layout_of(est)
     count = len(data)
     rot = frames[:, :, :3, :3]
-    lever = frames[:, :, :3, 3] - x
-    ad = np.empty((len(frames), count, 6, 6))
+    lever = frames[:, :, :3, 3] - state.x
+    ad = np.zeros((len(frames), count, 6, 6))
     ad[:, :, :3, :3] = rot
-    ad[:, :, :3, 3:] = 0.0
     ad[:, :, 3:, 3:] = rot
     ad[:, :, 3:, :3] = (
         lever[:, :, _NEXT, None] * rot[:, :, _PREV] - lever[:, :, _PREV, None] * rot[:, :, _NEXT]
@@ -449,11 +476,50 @@ def _evaluate_into(
     if len(lay.lines):
         cols[lay.lines] -= moves[lay.after_frame, :, :, lay.after_slot]
     if lay.factor is not None:
-        cols *= _factors(est, data, moved, s, lay.factor)[:, :, None]
+        cols *= _factors(est, data, state.moved, state.s, lay.factor)[:, :, None]
     jac[:, :3] = cols[:, :, 3:].transpose(1, 2, 0)
     if sigma_pos != 1.0:
         jac[:, :3] /= sigma_pos
-    if phi is not None:
-        np.matmul(left_jacobian_inverse(phi), cols[:, :, :3].transpose(1, 2, 0), out=jac[:, 3:])
+    if state.phi is not None:
+        rows = cols[:, :, :3].transpose(1, 2, 0)
+        np.matmul(left_jacobian_inverse(state.phi), rows, out=jac[:, 3:])
         if sigma_rot != 1.0:
             jac[:, 3:] /= sigma_rot
+
+
+@dataclass(frozen=True, slots=True)
+class Evaluation:
+    """The model of an estimate evaluated for measurements at unit noise levels: the residuals
+    at once, their Jacobian when asked, from the same frames (a step the solver refuses costs
+    no Jacobian).
+
+    Attributes
+    ----------
+    estimate, data
+        Where, and for what.
+    residuals
+        ``(N * rows,)`` (:func:`evaluate` at unit noise levels).
+    """
+
+    estimate: Estimate
+    data: Data
+    residuals: Mat
+    state: _State | None  # kept when the measurements fit in one chunk
+
+    @classmethod
+    def at(cls, est: Estimate, data: Data) -> Evaluation:
+        """The residuals of ``data`` at ``est``."""
+        if len(data) > CHUNK:
+            return cls(est, data, _evaluated(est, data, 1.0, 1.0, None), None)
+        res = np.empty((len(data), data.rows))
+        return cls(est, data, res.ravel(), _model(est, data, 1.0, 1.0, res))
+
+    def jacobian(self) -> Mat:
+        """``(N * rows, p)`` the residuals' Jacobian (:func:`evaluate` at unit noise levels)."""
+        est, data = self.estimate, self.data
+        jac = np.empty((len(data), data.rows, sum(sizes(est))))
+        if self.state is None:
+            _evaluated(est, data, 1.0, 1.0, jac)
+        else:
+            _jacobian_into(est, data, self.state, 1.0, 1.0, jac)
+        return jac.reshape(len(data) * data.rows, -1)
