@@ -20,6 +20,7 @@ __all__ = [
     "cross_columns",
     "cross_rows",
     "exp_so3",
+    "exp_so3_left_jacobian",
     "left_jacobian",
     "left_jacobian_inverse",
     "log_se3",
@@ -89,6 +90,19 @@ def left_jacobian(w: Mat) -> Mat:
     _, b, c = _coefficients(theta)
     k = skew_batch(w)
     return np.eye(3) + b[..., None, None] * k + c[..., None, None] * (k @ k)
+
+
+def exp_so3_left_jacobian(w: Mat) -> tuple[Mat, Mat]:
+    """:func:`exp_so3` and :func:`left_jacobian` of ``w`` at once (the same arithmetic, the
+    coefficients and ``[w]^2`` found once)."""
+    w = np.asarray(w, dtype=float)
+    theta = _norms(w)
+    a, b, c = _coefficients(theta)
+    k = skew_batch(w)
+    k2 = k @ k
+    eye = np.eye(3)
+    rot = eye + a[..., None, None] * k + b[..., None, None] * k2
+    return rot, eye + b[..., None, None] * k + c[..., None, None] * k2
 
 
 def left_jacobian_inverse(w: Mat) -> Mat:
