@@ -114,8 +114,8 @@ class Data:
         return len(self.q)
 
 
-_NEXT = [1, 2, 0]
-_PREV = [2, 0, 1]
+_NEXT = np.array([1, 2, 0])
+_PREV = np.array([2, 0, 1])
 _EYE4 = np.eye(4)
 _EYE6 = np.eye(6)
 
@@ -143,22 +143,22 @@ def _exp_basis(est: Estimate) -> Mat:
 
 def _frames(est: Estimate, q: Mat) -> tuple[Mat, Mat, Mat]:
     """``(n + 2, N, 4, 4)`` the frames ``P_0 = I, P_1, ..., P_n`` and the tool's ``T = P_n M``;
-    ``(N, n)`` each joint's ``q + o`` and its motion ``s (q + o)``.
+    ``(n, N)`` each joint's ``q + o`` and its motion ``s (q + o)``.
 
     Each joint's ``exp([xi] s)`` at every configuration is one product with
     :func:`_exp_basis` (``1 - cos t`` as ``2 sin^2(t/2)``); their running products one joint
     at a time."""
     chain = est.chain
     count, n = q.shape
-    moved = q + est.joint_offsets()
-    s = chain.scale * moved
-    angle = (s * chain.turning).T
+    moved = q.T + est.joint_offsets()[:, None]
     coef = np.empty((n, count, 4))
     coef[:, :, 0] = 1.0
-    coef[:, :, 1] = np.sin(angle)
+    s = np.multiply(moved, chain.scale[:, None], out=coef[:, :, 3])
+    angle = s * chain.turning[:, None]
+    np.sin(angle, out=coef[:, :, 1])
     half = np.sin(0.5 * angle)
-    coef[:, :, 2] = 2.0 * half * half
-    coef[:, :, 3] = s.T
+    np.multiply(half, half, out=coef[:, :, 2])
+    coef[:, :, 2] *= 2.0
     e = np.matmul(coef, _exp_basis(est)).reshape(n, count, 4, 4)
     out = np.empty((n + 2, count, 4, 4))
     out[0] = _EYE4
@@ -365,12 +365,12 @@ def _twists(est: Estimate) -> Mat:
 def _factors(est: Estimate, data: Data, moved: Mat, s: Mat, which: NDArray[np.int64]) -> Mat:
     """``(p, N)`` each column's factor per measurement: 1; a pitch's ``s (q + o)``; a scale's
     ``q + o``; for a marker's coordinates, whether the measurement saw that marker."""
-    count, n = moved.shape
+    n, count = moved.shape
     k = len(est.markers)
     out = np.empty((1 + 2 * n + k, count))
     out[0] = 1.0
-    out[1 : 1 + n] = s.T
-    out[1 + n : 1 + 2 * n] = moved.T
+    out[1 : 1 + n] = s
+    out[1 + n : 1 + 2 * n] = moved
     out[1 + 2 * n :] = data.markers == np.arange(k)[:, None]
     picked: Mat = out[which]
     return picked
