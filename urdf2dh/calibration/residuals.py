@@ -53,7 +53,6 @@ __all__ = [
     "model_poses",
     "modelled_points",
     "observed",
-    "prefix_products",
     "residuals",
     "rms",
 ]
@@ -169,11 +168,6 @@ def _frames(est: Estimate, q: Mat) -> tuple[Mat, Mat, Mat]:
             out[1] = e[0]
     np.matmul(out[n], est.home, out=out[n + 1])
     return out, moved, s
-
-
-def prefix_products(est: Estimate, q: Mat) -> list[Mat]:
-    """``[P_0 = I, P_1, ..., P_n]``, each ``(N, 4, 4)`` (joint offsets added to ``q``)."""
-    return list(_frames(est, q)[0][:-1])
 
 
 def model_poses(est: Estimate, q: Mat) -> Mat:

@@ -15,9 +15,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 __all__ = [
-    "ad_apply",
     "cross3",
-    "cross_columns",
     "cross_rows",
     "exp_so3",
     "exp_so3_left_jacobian",
@@ -152,25 +150,6 @@ def log_se3(t: Mat) -> Mat:
     w = log_so3(t[..., :3, :3])
     v = np.einsum("...ij,...j->...i", left_jacobian_inverse(w), t[..., :3, 3])
     return np.concatenate([w, v], axis=-1)
-
-
-def ad_apply(p: Mat, x: Mat) -> Mat:
-    """``Ad(P) X`` for a stack ``P (N, 4, 4)`` and twists ``X (6, k)``: ``(N, 6, k)``, with
-    ``Ad(P) [w, v] = [R w, R v + t x R w]`` (Wu 2019 eq. 4)."""
-    r, t = p[:, :3, :3], p[:, :3, 3, None]
-    out = np.empty((len(p), 6, x.shape[1]))
-    w = np.matmul(r, x[:3], out=out[:, :3])
-    v = np.matmul(r, x[3:], out=out[:, 3:])
-    v += cross_columns(t, w)
-    return out
-
-
-def cross_columns(a: Mat, b: Mat) -> Mat:
-    """``a x b`` along axis 1 of ``(N, 3, k)`` stacks (either may have ``k = 1``): numpy's
-    ``cross`` moves axes and costs ten times as much at these sizes."""
-    a0, a1, a2 = a[:, 0], a[:, 1], a[:, 2]
-    b0, b1, b2 = b[:, 0], b[:, 1], b[:, 2]
-    return np.stack([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0], axis=1)
 
 
 def rotation_of(quat: Mat) -> Mat:
