@@ -120,7 +120,7 @@ def _normal_bases(axes: bytes, n: int) -> tuple[Mat, Mat]:
 def line_point(u: Mat, p: Mat) -> Mat:
     """The foot of the perpendicular from the origin on the line through ``p`` along unit ``u``
     (rows of ``(n, 3)`` arrays, or one line)."""
-    foot: Mat = p - np.sum(p * u, axis=-1, keepdims=True) * u
+    foot: Mat = p - np.add.reduce(p * u, axis=-1, keepdims=True) * u
     return foot
 
 

@@ -43,8 +43,8 @@ def skew_batch(w: Mat) -> Mat:
     return out.reshape(*w.shape[:-1], 3, 3)
 
 
-_SKEW_PLUS = [7, 2, 3]  # where w_0, w_1, w_2 sit in the flattened [w]
-_SKEW_MINUS = [5, 6, 1]  # and where -w_0, -w_1, -w_2 do
+_SKEW_PLUS = np.array([7, 2, 3])  # where w_0, w_1, w_2 sit in the flattened [w]
+_SKEW_MINUS = np.array([5, 6, 1])  # and where -w_0, -w_1, -w_2 do
 
 
 def _norms(w: Mat) -> Mat:
