@@ -340,13 +340,14 @@ def _twists(est: Estimate) -> Mat:
     turning = chain.turning
     p = p * turning[:, None]
     e1, e2 = normal_bases(u)
-    cand[:, 0, :3], cand[:, 0, 3:] = e1, cross_rows(p, e1)
-    cand[:, 1, :3], cand[:, 1, 3:] = e2, cross_rows(p, e2)
+    cand[:, 0, :3], cand[:, 1, :3] = e1, e2
     cand[:, 2, 3:], cand[:, 3, 3:] = e1, e2
     cand[:, 4, 3:] = u
+    moments = cross_rows(p[:, None, :], cand[:, 2:5, 3:])  # p x e1, p x e2, p x u
+    cand[:, :2, 3:] = moments[:, :2]
     cand[:, 6, :3] = turning[:, None] * u
     lead = np.where(turning, chain.pitch, 1.0)
-    cand[:, 6, 3:] = turning[:, None] * cross_rows(p, u) + lead[:, None] * u
+    cand[:, 6, 3:] = moments[:, 2] + lead[:, None] * u  # p = 0 for sliding joints
     cand[:, 5] = cand[:, 6] * chain.scale[:, None]
     tool = out[6 + 7 * n : 6 + 7 * n + 6]
     if est.keep_tool_axis:
