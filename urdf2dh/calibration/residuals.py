@@ -222,7 +222,8 @@ class _Layout:
     """Where each free coordinate's Jacobian column comes from (module docstring).
 
     The frames are ``P_0 .. P_n`` and ``T`` (:func:`_frames`); each holds up to ``width``
-    twists, rows of :func:`_twists` (``place`` ``(n + 2, width)``, padded with its zero row).
+    twists, rows of :func:`_twists` (``place`` ``(n + 2, width)``, padded with its zero row;
+    read-only, as every array here).
     Column ``c`` is frame ``frame[c]``'s twist ``slot[c]`` under that frame's adjoint, minus,
     for a joint line's coordinates (``lines``), the same twist under the next frame's
     (``after_frame``, ``after_slot``), times the factor ``factor[c]`` of :func:`_factors`
@@ -237,23 +238,33 @@ class _Layout:
     factor: NDArray[np.int64] | None
 
 
-def _layout(
-    joint_slots: tuple[tuple[int, ...], ...],
-    base: bool,
-    tool: tuple[int, ...],
-    keep_tool_axis: bool,
-    markers: int,
-    free: bytes | None,
+def _layout(est: Estimate) -> _Layout:
+    """The :class:`_Layout` of ``est``'s level and free coordinates."""
+    free = None if est.free is None else est.free.tobytes()
+    markers = len(est.markers) if est.tool != FRAME else 0
+    return _level_layout(est.level, est.chain.kinds, est.keep_tool_axis, markers, free)
+
+
+@lru_cache(maxsize=256)
+def _level_layout(
+    level: Level, kinds: tuple[str, ...], keep_tool_axis: bool, markers: int, free: bytes | None
 ) -> _Layout:
-    """The :class:`_Layout` of a level: ``joint_slots`` each joint's candidate twists (of
-    :data:`SLOTS`), ``tool`` the tool's rows of :func:`_twists` (its twists, or its markers'
-    shifts, ``markers`` of them), ``free`` the level's free coordinates."""
-    n = len(joint_slots)
+    """:func:`_layout` of a level for joints of ``kinds``, the tool measured by ``markers``
+    markers (0: its frame) and ``free`` the level's free coordinates (``None``: all)."""
+    n = len(kinds)
     tool_row = 6 + 7 * n
-    zero = tool_row + 6
-    # each coordinate: (frame, twist row, factor, after frame or -1)
-    every = [(0, j, 0, -1) for j in range(6 if base else 0)]
-    for i, slots in enumerate(joint_slots):
+    # each coordinate: (frame, twist row of _twists, factor of _factors, after frame or -1)
+    every = [(0, j, 0, -1) for j in range(6 if level.base else 0)]
+    for i, kind in enumerate(kinds):
+        slots: list[int] = []  # of SLOTS
+        if level.lines:
+            slots += [0, 1] if kind == "prismatic" else [0, 1, 2, 3]
+            if kind == "helical":
+                slots.append(4)
+        if level.offsets:
+            slots.append(5)
+        if level.scales:
+            slots.append(6)
         for k in slots:
             factor = 1 + i if k == 4 else 1 + n + i if k == 6 else 0
             after = i + 1 if k < 4 and not (keep_tool_axis and i == n - 1) else -1
@@ -263,6 +274,7 @@ def _layout(
             (n, tool_row + 3 + a, 1 + 2 * n + m, -1) for m in range(markers) for a in range(3)
         ]
     else:
+        tool = range(2) if keep_tool_axis else range(6)
         every += [(n + 1, tool_row + j, 0, -1) for j in tool]
     if free is not None:
         mask = np.frombuffer(free, dtype=bool)
@@ -274,54 +286,27 @@ def _layout(
             held[frame].append(row)
         return held[frame].index(row)
 
-    frame = [c[0] for c in every]
     slot = [slot_of(c[0], c[1]) for c in every]
     lines = [k for k, c in enumerate(every) if c[3] >= 0]
     after_slot = [slot_of(every[k][3], every[k][1]) for k in lines]
     width = max((len(h) for h in held), default=0) or 1
-    place = np.full((n + 2, width), zero, dtype=np.int64)
-    for f, rows in enumerate(held):
-        place[f, : len(rows)] = rows
+    place = [rows + [tool_row + 6] * (width - len(rows)) for rows in held]  # the zero row
     factors = [c[2] for c in every]
 
     def ints(values: list[int]) -> NDArray[np.int64]:
-        return np.array(values, dtype=np.int64).reshape(-1)
+        out = np.array(values, dtype=np.int64).reshape(-1)
+        out.setflags(write=False)
+        return out
 
     return _Layout(
-        place,
-        ints(frame),
+        ints([row for rows in place for row in rows]).reshape(n + 2, width),
+        ints([c[0] for c in every]),
         ints(slot),
         ints(lines),
         ints([every[k][3] for k in lines]),
         ints(after_slot),
         ints(factors) if any(factors) else None,
     )
-
-
-def _layout_of(est: Estimate) -> _Layout:
-    free = None if est.free is None else est.free.tobytes()
-    markers = len(est.markers) if est.tool != FRAME else 0
-    return _level_layout(est.level, est.chain.kinds, est.keep_tool_axis, markers, free)
-
-
-@lru_cache(maxsize=256)
-def _level_layout(
-    level: Level, kinds: tuple[str, ...], keep_tool_axis: bool, markers: int, free: bytes | None
-) -> _Layout:
-    joint_slots = []
-    for kind in kinds:
-        slots: list[int] = []
-        if level.lines:
-            slots += [0, 1] if kind == "prismatic" else [0, 1, 2, 3]
-            if kind == "helical":
-                slots.append(4)
-        if level.offsets:
-            slots.append(5)
-        if level.scales:
-            slots.append(6)
-        joint_slots.append(tuple(slots))
-    tool = (0, 1) if keep_tool_axis else (0, 1, 2, 3, 4, 5)
-    return _layout(tuple(joint_slots), level.base, tool, keep_tool_axis, markers, free)
 
 
 def _twists(est: Estimate) -> Mat:
@@ -454,7 +439,7 @@ def _jacobian_into(
     # the columns as space-frame twists moved to the point seen (the translation t - x):
     # Ad(P) [w, v] = [R w, R v + (t - x) x R w], whose v is the point's motion (dv + dw x x)
     frames = state.frames
-    lay = _layout_of(est)
+    lay = _layout(est)
     count = len(data)
     rot = frames[:, :, :3, :3]
     lever = frames[:, :, :3, 3] - state.x
