@@ -92,6 +92,9 @@ class LabFile:
         Markers per configuration (position measurements), else ``None``.
     radian_joints
         The joint values in radians whatever ``degrees`` says (the angles follow it).
+    other_unit_joint
+        One joint's column in the other angle unit than its neighbours' (radians among
+        degrees, or degrees among radians).
     """
 
     joints: tuple[str, ...]
@@ -108,6 +111,7 @@ class LabFile:
     point_sign: int | None = None
     markers: int | None = None
     radian_joints: bool = False
+    other_unit_joint: int | None = None
 
 
 @dataclass(frozen=True)
@@ -294,7 +298,8 @@ def write(sc: Scenario, lab: LabFile, path: Path) -> None:
     if lab.time:
         columns["t"] = np.arange(len(m)) * 0.5
     for k, name in enumerate(lab.joints):
-        columns[name] = np.degrees(q[:, k]) if lab.degrees and not lab.radian_joints else q[:, k]
+        degrees = (lab.degrees and not lab.radian_joints) != (k == lab.other_unit_joint)
+        columns[name] = np.degrees(q[:, k]) if degrees else q[:, k]
     scale = units.factor(sc.truth.length_unit, lab.length)
     for k, name in enumerate(lab.points):
         columns[name] = points[:, k] * scale
@@ -467,6 +472,20 @@ def mistakes() -> list[Mistake]:
             "camera",
             lambda lab, a: (replace(lab, radian_joints=True), a),
             ("convert one of them in the file",),
+        ),
+        Mistake(
+            "angles",
+            "one joint column left in radians among degrees",
+            "tracker",
+            lambda lab, a: (replace(lab, other_unit_joint=2), a),
+            ("LAB:2, to degrees",),
+        ),
+        Mistake(
+            "angles",
+            "one joint column in degrees among radians",
+            "tracker",
+            lambda lab, a: (replace(lab, degrees=False, other_unit_joint=4), _drop(a, "--degrees")),
+            ("LAB:4, to radians",),
         ),
         Mistake(
             "angles",

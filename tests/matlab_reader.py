@@ -13,13 +13,16 @@ differently fails the test):
 * ``!`` at the start of a statement runs the rest of the line in the shell;
 * statements end at a line break (LF, CR) or at ``;`` / ``,`` outside brackets.
 
-Expressions are evaluated as far as our scripts need: numbers, unary minus, matrices
-``[1 2; 3 4]``, ``char([10 13])`` (UTF-16 code units), ``+`` of a string and a string or char
-vector (a string), ``[...]`` of char vectors (a char vector), names, ``a.b`` fields and calls.
+Expressions are evaluated as far as our scripts need: numbers, ``pi`` (MATLAB's function: the
+float64 nearest pi), unary minus (binding tighter than ``*`` and ``/``, as in MATLAB), ``*`` and
+``/`` of numbers, matrices ``[1 2; 3 4]`` (whose elements may be products: ``[0 -pi/2]``),
+``char([10 13])`` (UTF-16 code units), ``+`` of a string and a string or char vector (a string),
+``[...]`` of char vectors (a char vector), names, ``a.b`` fields and calls.
 """
 
 from __future__ import annotations
 
+import math
 import re
 from dataclasses import dataclass, field
 from typing import Any
@@ -219,10 +222,20 @@ class _Parser:
         return t
 
     def expression(self) -> Any:
-        value = self.unary()
+        value = self.term()
         while self.peek("+") or self.peek("-"):
             op = self.take().text
-            value = _plus(value, self.unary()) if op == "+" else _minus(value, self.unary())
+            value = _plus(value, self.term()) if op == "+" else _minus(value, self.term())
+        return value
+
+    def term(self) -> Any:
+        value = self.unary()
+        while self.peek("*") or self.peek("/"):
+            op = self.take().text
+            right = self.unary()
+            if not isinstance(value, float) or not isinstance(right, float):
+                raise MatlabSyntaxError(f"{value!r} {op} {right!r}")
+            value = value * right if op == "*" else value / right
         return value
 
     def unary(self) -> Any:
@@ -269,6 +282,8 @@ class _Parser:
             if name == "char":
                 return _char(args)
             return Call(name, tuple(args))
+        if name == "pi":
+            return math.pi
         return Ref(name)
 
     def matrix(self) -> Any:
@@ -281,7 +296,7 @@ class _Parser:
             if self.peek(","):
                 self.take()
                 continue
-            rows[-1].append(self.unary())  # inside brackets, whitespace separates elements
+            rows[-1].append(self.term())  # inside brackets, whitespace separates elements
         self.take("]")
         items = [x for row in rows for x in row]
         if items and all(isinstance(x, Chars) for x in items) and len(rows) == 1:

@@ -187,3 +187,39 @@ def test_the_columns_are_named_for_what_is_compared(tmp_path, capsys):
     assert main(["convert", "ur5", "-o", str(path)]) == 0
     capsys.readouterr()
     assert str(diff("ur5", str(path), "dh")).splitlines()[1].split()[2:4] == ["ur5", "ur5-id.json"]
+
+
+def test_base_and_tip_choose_the_chain_of_each_side_with_links(tmp_path, capsys):
+    """A table (or POE file) of a sub-chain against the robot it came from: ``--base``/``--tip``
+    choose that sub-chain in the robot's URDF and leave the single chain as it is, whichever
+    side each is on; with both sides trees, both take them."""
+    table = tmp_path / "arm.json"
+    chain = ["--base", "panda_link1", "--tip", "panda_link7"]
+    assert main(["convert", "panda", *chain, "--format", "json", "-o", str(table)]) == 0
+    capsys.readouterr()
+    for pair in (("panda", str(table)), (str(table), "panda")):
+        tree = run_json(capsys, *pair, *chain)
+        joints = {p["row"] for p in tree["parameters"]} - {"base", "tool"}
+        assert joints == {f"panda_joint{i}" for i in range(2, 8)}
+        assert not any(p["marked"] for p in tree["parameters"])
+        assert max(abs(p["change"]) for p in tree["parameters"]) < 1e-12
+    assert main(["diff", "panda", str(table)]) == 2  # without them: panda's whole chain
+    assert "has 7 joints and" in capsys.readouterr().err
+    tree = run_json(capsys, "fr3-mjcf", "fr3-mjcf", "--tip", "fr3_link5")  # both MJCF trees
+    assert len({p["row"] for p in tree["parameters"]} - {"base", "tool"}) == 5
+
+
+def test_base_and_tip_without_a_tree_of_links_are_refused(tmp_path, capsys):
+    """Neither side has links to choose from: one line naming both, exit 2, nothing written."""
+    table, out = tmp_path / "arm.json", tmp_path / "diff.txt"
+    assert main(["convert", "ur5", "--format", "json", "-o", str(table)]) == 0
+    capsys.readouterr()
+    for argv in (
+        [str(table), str(table), "--tip", "tool0"],
+        ["puma560-nominal", "puma560-actual", "--base", "j1"],
+    ):
+        assert main(["diff", *argv, "-o", str(out)]) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and "single chains" in err and "Traceback" not in err
+        assert ("arm.json" in err) or ("puma560-actual" in err)
+        assert not out.exists()

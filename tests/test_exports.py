@@ -402,3 +402,77 @@ def test_the_linuxcnc_header_names_the_unit_of_its_values():
         values[unit] = np.array([float(line.split()[-1]) for line in lines if "ALPHA" not in line])
     assert model.length_unit == "m" and np.abs(values["mm"]).max() > 100.0  # mm, not m
     assert np.allclose(values["mm"], 25.4 * values["inch"], rtol=1e-12, atol=1e-9)
+
+
+# --------------------------------------------------------------------------- exact multiples of pi
+
+EXACT = {"0.0": 0.0, "pi/2": math.pi / 2, "-pi/2": -math.pi / 2, "pi": math.pi, "-pi": -math.pi}
+
+
+def _kdl_angles(script: str) -> list[str]:
+    """Each ``Frame.DH``/``DH_Craig1989`` call's alpha and theta text, as the script writes them."""
+    calls = re.findall(r"Frame\.DH(?:_Craig1989)?\(([^()]*)\)", script)
+    return [text for args in calls for text in args.split(", ")[1::2]]
+
+
+def _matlab_angles(script: str, target: str) -> list[str]:
+    """A MATLAB script's D-H angles (alpha of ``setFixedTransform``'s ``[a alpha d theta]``;
+    ``'alpha'``, ``'offset'`` of a revolute ``Link``) as it writes them."""
+    if target == "matlab":
+        rows = re.findall(r'setFixedTransform\(joint, \[(\S+ \S+ \S+ \S+)\], "m?dh"\)', script)
+        return [row.split(" ")[1] for row in rows]
+    links = re.findall(r"'alpha', ([^,]+), 'offset', ([^,]+),", script)
+    return [text for link in links for text in link]
+
+
+@pytest.mark.parametrize("convention", ["dh", "mdh"])
+@pytest.mark.parametrize("target", ["matlab", "corke-matlab", "kdl"])
+def test_matlab_and_kdl_write_exact_multiples_of_pi_as_pi(target, convention):
+    """PUMA 560's right angles are written ``pi/2``, ``-pi/2``, ``pi`` (as the rtb target writes
+    them), and read back, as MATLAB and Python read them, as exactly the table's angles."""
+    from matlab_reader import Call, read_matlab
+
+    from urdf2dh import to_table
+    from urdf2dh.conventions.base import written_angle
+    from urdf2dh.tolerances import DEFAULT
+
+    model = load("puma560-nominal")
+    table = to_table(model, convention)
+    script = export(model, target, convention)
+    written = _kdl_angles(script) if target == "kdl" else _matlab_angles(script, target)
+    assert "pi/2" in written and set(written) <= set(EXACT), written
+    assert "1.5707963267949" not in script and "3.14159265358979" not in script
+    keys = ("alpha",) if target == "matlab" else ("alpha", "theta")
+    records = [r.params for r in table.rows]
+    records += [table.base, table.tool] if target == "kdl" else []
+    params = [p.scalars().get(k, 0.0) for p in records for k in keys]
+    exact = [a for a in (written_angle(p, DEFAULT.written) for p in params) if a != 0.0]
+    assert sorted(EXACT[w] for w in written if w != "0.0") == sorted(exact)
+    if target == "kdl":  # Python reads it: the chain's frames are the table's exactly
+        assert "from math import pi" in script
+        compile(script, "kdl.py", "exec")
+        return
+    statements = read_matlab(script).statements  # MATLAB reads it
+    if target == "matlab":  # theta = pi of joints 4 and 5 in fixed bodies: Rz(pi) exactly
+        fixed = [
+            s.value.args[1]
+            for s in statements
+            if isinstance(s.value, Call)
+            and s.value.name == "setFixedTransform"
+            and len(s.value.args) == 2
+        ]
+        turned = [m for m in fixed if m[0, 0] == -1.0]
+        assert len(turned) == 2 and all(m[0, 1] == 0.0 and m[1, 0] == 0.0 for m in turned)
+
+
+def test_angles_off_a_multiple_of_pi_stay_numbers():
+    """Only a multiple of pi/2 (up to the files' round-off) is written as ``pi``: a tilted twist
+    is a number with every digit it has, in every target that writes ``pi``."""
+    from urdf2dh.emit.export.common import Numbers
+    from urdf2dh.tolerances import DEFAULT
+
+    numbers = Numbers(1.0, DEFAULT.written)
+    assert numbers.pi_ang(math.pi / 2) == "pi/2" and numbers.pi_ang(-math.pi) == "pi"
+    assert numbers.pi_ang(math.pi / 2 + 4e-16) == "pi/2"  # round-off (DEFAULT.written: 8.9e-16)
+    for x in (math.pi / 2 + 1e-3, 0.3, math.pi / 4, 4.896650092486704e-12, -2.9):
+        assert float(numbers.pi_ang(x)) == x

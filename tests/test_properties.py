@@ -146,7 +146,10 @@ def _same_params(a, b, size, label):
             diff = np.abs(va - vb)
             if k in ("theta", "alpha", "beta"):
                 diff = np.abs(np.remainder(va - vb + math.pi, 2 * math.pi) - math.pi)
-            tol = 1e-9 * cond * (1.0 if k in ("theta", "alpha", "beta", "b") else size)
+            # a length is known relative to itself too: a d of thousands of sizes (the common
+            # normal of nearly parallel axes far away) to eps / sin(alpha) of its own value
+            length = max(size, float(np.abs(va).max()), float(np.abs(vb).max()))
+            tol = 1e-9 * cond * (1.0 if k in ("theta", "alpha", "beta", "b") else length)
             assert diff.max() <= tol, (label, k, va, vb, cond)
     assert [(r.kind, r.scale) for r in a.rows] == [(r.kind, r.scale) for r in b.rows]
 
@@ -190,10 +193,10 @@ def test_any_convention_to_any_other(model, first, second):
         _assert_close(model, via, q, f"{first}->{second}", declared=via)
 
 
-def _model(unit, joints, home):
+def _model(unit, joints, home, limits=(None, None)):
     return PoeModel(
         tuple(
-            Joint(n, k, np.array(u), None if p is None else np.array(p), h, s)
+            Joint(n, k, np.array(u), None if p is None else np.array(p), h, s, *limits)
             for n, k, u, p, h, s in joints
         ),
         np.array(home),
@@ -361,6 +364,127 @@ FOUND = {
             [0.0, 0.0, 0.0, 1.0],
         ],
     ),
+    # Table.to_poe(): the model of a table had the size of its own points (the table's frame
+    # origins), 0.00131 mm against the source's 0.00143 mm: converted again, 'j5' and the tool z,
+    # 1.31e-4 rad from parallel with the common normal 920 sizes away, were treated as parallel
+    # (tool theta 0 -> 0.203); it now keeps the table's size
+    "nearly parallel tool, mm": _model(
+        "mm",
+        [
+            (
+                "j1",
+                "revolute",
+                [0.0, 1.0, 0.0],
+                [0.00016097192790798, -0.00023205221542554156, 0.0007093992626607193],
+                0.0,
+                1.7,
+            ),
+            (
+                "j2",
+                "revolute",
+                [0.0, 1.0, 0.0],
+                [0.00016097192790798, 0.0003781772797388674, 0.0007093992626607193],
+                0.0,
+                1.7,
+            ),
+            (
+                "j3",
+                "revolute",
+                [0.0, 1.0, 0.0],
+                [0.00016097192790798, 0.0003781772797388674, 0.0007093992626607193],
+                0.0,
+                -1.0,
+            ),
+            (
+                "j4",
+                "revolute",
+                [0.0, 1.0, 0.0],
+                [-0.00083902807209202, 0.0003781772797388674, 0.0009376681871082562],
+                0.0,
+                0.5,
+            ),
+            (
+                "j5",
+                "revolute",
+                [0.0, 0.0, -1.0],
+                [-0.00083902807209202, 0.00037274592900567426, 0.001099754130161976],
+                0.0,
+                1.0,
+            ),
+        ],
+        [
+            [1.0, -1.3403646433183662e-41, 2.0449766076436545e-37, -6.206971582194986e-41],
+            [
+                -1.3403646433183662e-41,
+                0.9999999914079019,
+                0.0001310885049289111,
+                0.00019996021164145325,
+            ],
+            [
+                -2.0449766076436545e-37,
+                -0.0001310885049289111,
+                0.9999999914079019,
+                -0.0006070500932583019,
+            ],
+            [0.0, 0.0, 0.0, 1.0],
+        ],
+        (-2.0, 2.0),
+    ),
+    # the same on a km chain (1050 km against 989 km): the sign of a = 1e-6 km, a round-off
+    # decision relative to size, flipped (theta -pi/2 -> pi/2 on 'j3')
+    "a at round-off, km": _model(
+        "km",
+        [
+            (
+                "j1",
+                "revolute",
+                [0.0, 0.0, 1.0],
+                [-95.35470285371895, -3.696887799196068e-98, 0.0],
+                0.0,
+                1.7,
+            ),
+            (
+                "j2",
+                "revolute",
+                [0.0, 0.0, 1.0],
+                [-95.35470285371895, -3.696887799196068e-98, -714.0123151428073],
+                0.0,
+                -1.0,
+            ),
+            ("j3", "prismatic", [-0.0, -0.0, -1.0], None, 0.0, 1.0),
+            (
+                "j4",
+                "revolute",
+                [0.19866933079506122, 0.0, -0.9800665778412416],
+                [-95.35470285371895, 1.0000000000000002e-06, -714.0123151428073],
+                0.0,
+                1.0,
+            ),
+            (
+                "j5",
+                "revolute",
+                [-1.834833870884807e-211, -0.37846443920505735, -0.9256158318963659],
+                [-502.3130199195959, -5.860464477539063e-05, -917.547435459096],
+                0.0,
+                1.0,
+            ),
+            (
+                "j6",
+                "prismatic",
+                [0.8912073600614354, -0.17167000172092023, -0.41985575127830066],
+                None,
+                0.0,
+                1.0,
+            ),
+        ],
+        [
+            [0.9613727402885407, 0.028145408036407932, -0.27380703102105736, -171.58031528307814],
+            [0.028145408036407932, 0.979492099634992, 0.19950704939700514, -686.1865900249926],
+            [0.27380703102105736, -0.19950704939700514, 0.9408648399235326, -685.8547299140976],
+            [0.0, 0.0, 0.0, 1.0],
+        ],
+        (-2.0, 2.0),
+    ),
 }
 
 
@@ -375,3 +499,22 @@ def test_found_chains_are_exact_and_convert_again_to_the_same_table(name):
         assert [type(r.params) for r in again.rows] == [type(r.params) for r in table.rows]
         assert (type(again.base), type(again.tool)) == (type(table.base), type(table.tool))
         _same_params(table, again, model.size(), conv)
+
+
+def test_a_tables_poe_model_keeps_the_tables_size():
+    """``Table.to_poe()`` is sized as the table (its source): its own points (the frame origins)
+    give another size; a model made from it computes its own again; a bad size is refused."""
+    from dataclasses import replace
+
+    from urdf2dh import load
+
+    model = load("scara")
+    table = to_table(model, "dh")
+    poe = table.to_poe()
+    assert poe.size() == table.size == model.size()
+    assert abs(poe.own_size() / table.size - 0.964) < 1e-3  # its frame origins lie elsewhere
+    assert replace(poe).size() == poe.own_size()
+    assert to_table(poe, "dh").size == table.size
+    for bad in (0.0, -1.0, math.inf, math.nan):
+        with pytest.raises(ValueError, match=r"PoeModel\.sized: size"):
+            poe.sized(bad)

@@ -3,9 +3,9 @@
 % Lengths in mm unless stated, angles in radians.
 % check: FK against the source at 100 configurations: max position error 1.3e-13 mm, max rotation error 8.1e-16 rad
 L(1) = Link('revolute', 'd', 0.0, 'a', 0.0, 'alpha', 0.0, 'offset', 0.0, 'modified');  % j1
-L(2) = Link('revolute', 'd', 0.0, 'a', 0.0, 'alpha', 1.5707963267949, 'offset', 0.0, 'modified');  % j2
+L(2) = Link('revolute', 'd', 0.0, 'a', 0.0, 'alpha', pi/2, 'offset', 0.0, 'modified');  % j2
 L(3) = Link('revolute', 'd', -50.0, 'a', 100.0, 'alpha', 0.0, 'offset', 0.0, 'modified');  % j3
-L(4) = Link('revolute', 'd', 20.0, 'a', 150.0, 'alpha', 1.5707963267949, 'offset', 3.14159265358979, 'modified');  % j4
-L(5) = Link('revolute', 'd', 0.0, 'a', 0.0, 'alpha', 1.5707963267949, 'offset', 3.14159265358979, 'modified');  % j5
-L(6) = Link('revolute', 'd', 0.0, 'a', 0.0, 'alpha', 1.5707963267949, 'offset', 0.0, 'modified');  % j6
+L(4) = Link('revolute', 'd', 20.0, 'a', 150.0, 'alpha', pi/2, 'offset', pi, 'modified');  % j4
+L(5) = Link('revolute', 'd', 0.0, 'a', 0.0, 'alpha', pi/2, 'offset', pi, 'modified');  % j5
+L(6) = Link('revolute', 'd', 0.0, 'a', 0.0, 'alpha', pi/2, 'offset', 0.0, 'modified');  % j6
 robot = SerialLink(L, 'name', 'puma560-nominal', 'base', [1.0 0.0 0.0 0.0; 0.0 1.0 0.0 0.0; 0.0 0.0 1.0 0.0; 0.0 0.0 0.0 1.0], 'tool', [1.0 0.0 0.0 0.0; 0.0 -1.0 0.0 0.0; 0.0 0.0 -1.0 0.0; 0.0 0.0 0.0 1.0]);

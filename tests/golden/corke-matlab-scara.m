@@ -3,7 +3,7 @@
 % Lengths in m unless stated, angles in radians.
 % check: FK against the source at 100 configurations: max position error 3.1e-16 m, max rotation error 4.2e-16 rad
 L(1) = Link('revolute', 'd', 0.0, 'a', 0.35, 'alpha', 0.0, 'offset', 0.0, 'qlim', [-2.6 2.6], 'standard');  % joint1
-L(2) = Link('revolute', 'd', 0.0, 'a', 0.3, 'alpha', 3.14159265358979, 'offset', 0.0, 'qlim', [-2.5 2.5], 'standard');  % joint2
+L(2) = Link('revolute', 'd', 0.0, 'a', 0.3, 'alpha', pi, 'offset', 0.0, 'qlim', [-2.5 2.5], 'standard');  % joint2
 L(3) = Link('prismatic', 'theta', 0.0, 'a', 0.0, 'alpha', 0.0, 'offset', 0.0, 'qlim', [0.0 0.2], 'standard');  % joint3
 L(4) = Link('revolute', 'd', -0.33, 'a', 0.0, 'alpha', 0.0, 'offset', 0.0, 'standard');  % joint4
 robot = SerialLink(L, 'name', 'scara', 'base', [1.0 0.0 0.0 0.0; 0.0 1.0 0.0 0.0; 0.0 0.0 1.0 0.0; 0.0 0.0 0.0 1.0], 'tool', [1.0 0.0 0.0 0.0; 0.0 1.0 0.0 0.0; 0.0 0.0 1.0 0.0; 0.0 0.0 0.0 1.0]);

@@ -5,6 +5,8 @@ check: FK against the source at 100 configurations: max position error 5.2e-16 m
 Joints in chain order: panda_joint1, panda_joint2, panda_joint3, panda_joint4, panda_joint5, panda_joint6, panda_joint7.
 """
 
+from math import pi
+
 import PyKDL as kdl
 
 
@@ -12,12 +14,12 @@ def build_chain() -> kdl.Chain:
     """panda_link0 -> panda_link8 as a KDL chain of 7 joints."""
     chain = kdl.Chain()
     chain.addSegment(kdl.Segment('panda_link0', kdl.Joint('panda_link0', kdl.Joint.Fixed), kdl.Frame.DH(0.0, 0.0, 0.0, 0.0)))
-    chain.addSegment(kdl.Segment('panda_joint1', kdl.Joint('panda_joint1', kdl.Joint.RotZ), kdl.Frame.DH(0.0, 1.5707963267949, 0.333, 3.14159265358979)))
-    chain.addSegment(kdl.Segment('panda_joint2', kdl.Joint('panda_joint2', kdl.Joint.RotZ), kdl.Frame.DH(0.0, 1.5707963267949, 0.0, 3.14159265358979)))
-    chain.addSegment(kdl.Segment('panda_joint3', kdl.Joint('panda_joint3', kdl.Joint.RotZ), kdl.Frame.DH(0.0825, 1.5707963267949, 0.316, 0.0)))
-    chain.addSegment(kdl.Segment('panda_joint4', kdl.Joint('panda_joint4', kdl.Joint.RotZ), kdl.Frame.DH(0.0825, 1.5707963267949, 0.0, 3.14159265358979)))
-    chain.addSegment(kdl.Segment('panda_joint5', kdl.Joint('panda_joint5', kdl.Joint.RotZ), kdl.Frame.DH(0.0, 1.5707963267949, 0.384, 3.14159265358979)))
-    chain.addSegment(kdl.Segment('panda_joint6', kdl.Joint('panda_joint6', kdl.Joint.RotZ), kdl.Frame.DH(0.088, 1.5707963267949, 0.0, 0.0)))
+    chain.addSegment(kdl.Segment('panda_joint1', kdl.Joint('panda_joint1', kdl.Joint.RotZ), kdl.Frame.DH(0.0, pi/2, 0.333, pi)))
+    chain.addSegment(kdl.Segment('panda_joint2', kdl.Joint('panda_joint2', kdl.Joint.RotZ), kdl.Frame.DH(0.0, pi/2, 0.0, pi)))
+    chain.addSegment(kdl.Segment('panda_joint3', kdl.Joint('panda_joint3', kdl.Joint.RotZ), kdl.Frame.DH(0.0825, pi/2, 0.316, 0.0)))
+    chain.addSegment(kdl.Segment('panda_joint4', kdl.Joint('panda_joint4', kdl.Joint.RotZ), kdl.Frame.DH(0.0825, pi/2, 0.0, pi)))
+    chain.addSegment(kdl.Segment('panda_joint5', kdl.Joint('panda_joint5', kdl.Joint.RotZ), kdl.Frame.DH(0.0, pi/2, 0.384, pi)))
+    chain.addSegment(kdl.Segment('panda_joint6', kdl.Joint('panda_joint6', kdl.Joint.RotZ), kdl.Frame.DH(0.088, pi/2, 0.0, 0.0)))
     chain.addSegment(kdl.Segment('panda_joint7', kdl.Joint('panda_joint7', kdl.Joint.RotZ), kdl.Frame.DH(0.0, 0.0, 0.107, 0.0)))
     chain.addSegment(kdl.Segment('panda_link8', kdl.Joint('panda_link8', kdl.Joint.Fixed), kdl.Frame.DH(0.0, 0.0, 0.0, 0.0)))
     return chain

@@ -28,7 +28,7 @@ robot = DHRobot(
     ],
     name='ur5',
     base=SE3(),
-    tool=SE3.Rx(4.8966500924867e-12),
+    tool=SE3.Rx(4.896650092486704e-12),
 )
 
 SIZE = 0.8393931236807168  # m: the robot's size; solve() holds positions to tol x SIZE

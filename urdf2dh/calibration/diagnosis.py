@@ -1,29 +1,29 @@
 """The likely cause of a calibration the measurements contradict (:mod:`.plausible`): the reading
 of the file, or the joints' kind, that explains the measurements.
 
-**Another reading of the file.** Lengths in another unit, joint angles in degrees read as
-radians (or the reverse), a quaternion's components in another order or inverted, angles of
-another rotation sequence or unit, two joint or two position columns swapped, a joint or a
-position axis counted the other way round: each leaves residuals at the base-tool level (the
-nominal joints with base and tool fitted) that no measuring device leaves, where the file read
-the right way fits that level to about the nominal's accuracy. So the other readings of each
-aspect of the measurements (:func:`rereadings`) are tried on at most :data:`SAMPLE` of their
-configurations. They are ranked by the rigid fit of the nominal's tool points
-(:func:`.rigid.misfit`), the points alone and, for poses, with the tips of the tool's axes
-at the robot's size (so that orientations count); the best :data:`CONFIRMED` by each are fitted
-at the base-tool level and scored by their RMS position residual over the robot's size and,
-for poses, their RMS rotation residual (rad) (:func:`score`). A reading is named when the
-product of the factors by which the two fall reaches :data:`GAIN`, neither rising twofold
-(:func:`gain`), and, where it changes the length unit, when the measured points then spread
-as the nominal's tool points do. More are looked for from there, one per aspect of the file (a
-file with several mistakes), a reading chosen before being dropped again where that fits
-better. Two aspects are looked for first by what shows them apart from the others: the length
-unit by the spread of the measured points against the nominal's tool points (joint values
-misread still spread the tool over the workspace), and the orientations' reading, where a model
-was identified from the positions, by how well that model's rotations explain them (a base and
-a tool rotation fitted: :func:`rotation_misfit`; it shows where the nominal is too far from the
-robot for the base-tool level to). Each reading names the option that reads the file so (a
-:class:`~urdf2dh.errors.Remedy`), or says what to change in the file where no option does.
+**Another reading of the file.** Lengths in another unit, joint angles in degrees read as radians
+(or the reverse; all of them, or one joint's column among the others), a quaternion's components in
+another order or inverted, angles of another rotation sequence or unit, two joint or two position
+columns swapped, a joint or a position axis counted the other way round: each leaves residuals at
+the base-tool level (the nominal joints with base and tool fitted) that no measuring device leaves,
+where the file read the right way fits that level to about the nominal's accuracy. So the other
+readings of each aspect of the measurements (:func:`rereadings`) are tried on at most
+:data:`SAMPLE` of their configurations. They are ranked by the rigid fit of the nominal's tool
+points (:func:`.rigid.misfit`), the points alone and, for poses, with the tips of the tool's axes
+at the robot's size (so that orientations count); the best :data:`CONFIRMED` by each are fitted at
+the base-tool level and scored by their RMS position residual over the robot's size and, for poses,
+their RMS rotation residual (rad) (:func:`score`). A reading is named when the product of the
+factors by which the two fall reaches :data:`GAIN`, neither rising twofold (:func:`gain`), and,
+where it changes the length unit, when the measured points then spread as the nominal's tool points
+do. More are looked for from there, one per aspect of the file (a file with several mistakes), a
+reading chosen before being dropped again where that fits better. Two aspects are looked for first
+by what shows them apart from the others: the length unit by the spread of the measured points
+against the nominal's tool points (joint values misread still spread the tool over the workspace),
+and the orientations' reading, where a model was identified from the positions, by how well that
+model's rotations explain them (a base and a tool rotation fitted: :func:`rotation_misfit`; it
+shows where the nominal is too far from the robot for the base-tool level to). Each reading names
+the option that reads the file so (a :class:`~urdf2dh.errors.Remedy`), or says what to change in
+the file where no option does.
 
 **Helical joints.** Revolute joints that advance along their axes as they turn (the PUMA of
 Wu 2019) leave position residuals that rotations do not share; :func:`helical` identifies the
@@ -129,6 +129,7 @@ class Reread:
 _ASPECTS = {
     "length-unit": "lengths",
     "joint-degrees": "joint unit",
+    "joint-column-degrees": "joint unit",
     "quaternion-order": "orientations",
     "orientation-inverted": "orientations",
     "euler-sequence": "orientations",
@@ -188,18 +189,32 @@ def _joints_times(factor: float, columns: list[int]) -> Callable[[Measurements],
 
 
 def _degrees(nominal: PoeModel, read: AsRead) -> Iterator[Reread]:
+    """The joint values in the other angle unit: all of them (an option reads them so), or one
+    joint's column among the others read right (the file must change)."""
     turning = [k for k, j in enumerate(nominal.joints) if j.kind != "prismatic"]
     if not turning:
         return
     degrees = read.reading.degrees
     said = ("degrees", "radians") if not degrees else ("radians", "degrees")
+    factor = math.pi / 180.0 if not degrees else 180.0 / math.pi
     yield Reread(
         "joint-degrees",
         f"the joint values are in {said[0]}, not {said[1]}",
         Remedy("reading.degrees", "; read them with {}" if not degrees else
                "; read them without {}"),
-        _joints_times(math.pi / 180.0 if not degrees else 180.0 / math.pi, turning),
+        _joints_times(factor, turning),
     )  # fmt: skip
+    if len(turning) < 2:
+        return
+    names, columns = [j.name for j in nominal.joints], read.joint_columns
+    for i in turning:
+        yield Reread(
+            "joint-column-degrees",
+            f"joint {visible(names[i])} is in {said[0]} in the file while the other joints are "
+            f"in {said[1]} (convert its column, {visible(columns[i])}, to {said[1]})",
+            None,
+            _joints_times(factor, [i]),
+        )
 
 
 def _quaternions(value: Mat) -> Callable[[Measurements], Measurements]:

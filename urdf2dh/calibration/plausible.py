@@ -108,6 +108,7 @@ KINDS = {
     "worse-than-before": "new configurations predicted worse than by the nominal",
     "length-unit": "lengths in another unit",
     "joint-degrees": "joint values in degrees (or radians) read as the other",
+    "joint-column-degrees": "one joint's values in degrees (or radians) among the other unit",
     "angle-degrees": "orientation angles in degrees (or radians) read as the other",
     "quaternion-order": "quaternion components in another order",
     "orientation-inverted": "orientations inverted",

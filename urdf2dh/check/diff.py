@@ -419,7 +419,10 @@ def diff(
         Radians: consecutive axes this close to parallel in either model are named as
         ill-conditioned for D-H (default 5 deg).
     base, tip, ignore_mimic, xacro
-        How a SOURCE's chain is read.
+        How a SOURCE's chain is read: ``base`` and ``tip`` choose the chain of each SOURCE with
+        a tree of links (URDF, xacro, MJCF, a bundled robot made from one); a POE or table
+        file, or a model, is a single chain and is taken as it is (one of the two may be a
+        table of the chain chosen in the other).
 
     Returns
     -------
@@ -430,19 +433,32 @@ def diff(
     ------
     Urdf2DhError
         A SOURCE that cannot be read, tables whose joint counts differ, a table that failed its
-        own check.
+        own check; ``base`` or ``tip`` where neither side has a tree of links.
     TypeError, ValueError
         An argument of the wrong type or out of range.
     """
+    sides = [
+        given
+        if isinstance(given, PoeModel)
+        else open_source(check_source(given, f"diff: {what}"), tol, xacro=xacro)
+        for what, given in (("nominal", nominal), ("actual", actual))
+    ]
+    trees = [side for side in sides if not isinstance(side, PoeModel) and side.tree is not None]
+    if (base or tip) and not trees:
+        names = " and ".join(shown(s.name if isinstance(s, PoeModel) else s.display) for s in sides)
+        raise UsageError(
+            f"diff: base and tip links choose the chain of a source with a tree of links (URDF, "
+            f"xacro, MJCF); {names} are single chains already"
+        )
     models = []
-    for what, given in (("nominal", nominal), ("actual", actual)):
-        if isinstance(given, PoeModel):
-            models.append(given)
+    for side in sides:
+        if isinstance(side, PoeModel):
+            models.append(side)
             continue
-        source = open_source(check_source(given, f"diff: {what}"), tol, xacro=xacro)
-        model = source.model(base, tip, ignore_mimic)
+        # the chain base -> tip of a tree; a single chain (a POE or table file) as it is
+        model = side.model(base, tip, ignore_mimic) if side.tree is not None else side.model()
         # named as given: a bundled robot by its name, a file by its path
-        models.append(replace(model, name=source.name if source.bundled else source.display))
+        models.append(replace(model, name=side.name if side.bundled else side.display))
     nominal_model, actual_model = models
     if actual_model.length_unit != nominal_model.length_unit:
         actual_model = actual_model.scaled(

@@ -25,7 +25,11 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     kinds = f"{source_kinds()} file, or bundled robot name"
     p.add_argument("nominal", metavar="NOMINAL", help=kinds)
     p.add_argument("actual", metavar="ACTUAL", help=kinds)
-    options.add_chain_options(p)
+    options.add_chain_options(
+        p,
+        of=" of each source with a tree of links (URDF, xacro, MJCF); a POE or table file "
+        "is one chain",
+    )
     p.add_argument(
         "--convention",
         choices=NAMES,

@@ -134,10 +134,11 @@ def add_chain(p: argparse.ArgumentParser, several: bool = False) -> None:
     add_chain_options(p, several)
 
 
-def add_chain_options(p: argparse.ArgumentParser, several: bool = False) -> None:
+def add_chain_options(p: argparse.ArgumentParser, several: bool = False, of: str = "") -> None:
     """The chain options; ``several``: the command takes several chains of a tree (``--tip``
-    repeated, into ``args.tips``, or ``--all-tips``)."""
-    p.add_argument("--base", metavar="LINK", help="base link (default: the URDF root link)")
+    repeated, into ``args.tips``, or ``--all-tips``); ``of``: which of the command's sources
+    they apply to, where it reads several (words appended to both helps)."""
+    p.add_argument("--base", metavar="LINK", help=f"base link{of} (default: the URDF root link)")
     if several:
         tips = p.add_mutually_exclusive_group()
         tips.add_argument(
@@ -158,7 +159,7 @@ def add_chain_options(p: argparse.ArgumentParser, several: bool = False) -> None
         p.add_argument(
             "--tip",
             metavar="LINK",
-            help="tip link (default: the single deepest leaf below the base)",
+            help=f"tip link{of} (default: the single deepest leaf below the base)",
         )
     p.add_argument(
         "--ignore-mimic",

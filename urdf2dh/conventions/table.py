@@ -229,7 +229,9 @@ class Table:
 
     def to_poe(self) -> PoeModel:
         """The equivalent POE model: joint ``i`` moves about the z axis of the frame just before
-        ``Q_i``, and ``M`` is the home pose (Sumenkov §III-B; Wu 2019 §II)."""
+        ``Q_i``, and ``M`` is the home pose (Sumenkov §III-B; Wu 2019 §II). Its
+        :meth:`~urdf2dh.model.poe.PoeModel.size` is the table's (:meth:`PoeModel.sized`), so
+        that converting it again decides what the table's conversion decided."""
         poses = self.joint_frames()
         joints = tuple(
             Joint(r.name, r.kind, f[:3, 2].copy(), f[:3, 3].copy(), r.pitch, r.scale, r.lower,
@@ -237,7 +239,7 @@ class Table:
             for r, f in zip(self.rows, poses[:-1], strict=True)
         )  # fmt: skip
         return PoeModel(joints, poses[-1], self.robot, self.source, self.base_link,
-                        self.tip_link, self.length_unit)  # fmt: skip
+                        self.tip_link, self.length_unit).sized(self.size)  # fmt: skip
 
     def _written(self, m: Mat) -> list[list[float]]:
         """A transform's entries as written: round-off (``DEFAULT.written``; times ``size`` for

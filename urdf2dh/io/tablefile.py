@@ -149,7 +149,7 @@ def read_table(data: Any, display: str, tol: Tolerances = DEFAULT) -> Table:
         check,
         tuple(warnings),
     )
-    table = replace(table, size=table.to_poe().size())
+    table = replace(table, size=table.to_poe().own_size())  # a file does not state its size
     scale = max(1.0, float(np.abs(table.base_matrix[:3, 3]).max()))
     _matrix_agrees(sections["base"][1], table.base_matrix, f"{display}: base", scale)
     _matrix_agrees(sections["tool"][1], table.tool_matrix, f"{display}: tool", scale)

@@ -317,11 +317,37 @@ class PoeModel:
         ))  # fmt: skip
 
     def size(self) -> float:
-        """The robot's size, which errors are measured against (docs/commands/index.md, "Robot
-        size"): the extent at home plus the travel of the sliding joints (1 for a chain that is
-        all at the origin and cannot slide, within :data:`~urdf2dh.tolerances.SMALLEST_SIZE`)."""
-        e = self._once("size", lambda: self.extent() + self.travel())
+        """The robot's size, which errors and the conversions' tolerances are measured against
+        (docs/commands/index.md, "Robot size"): :meth:`own_size`, or the size the model was
+        given by :meth:`sized` (a table's POE model: the size of the table's source)."""
+        return self._once("size", self.own_size)
+
+    def own_size(self) -> float:
+        """The size of this model's geometry: the extent at home plus the travel of the sliding
+        joints (1 for a chain that is all at the origin and cannot slide, within
+        :data:`~urdf2dh.tolerances.SMALLEST_SIZE`)."""
+        e = self.extent() + self.travel()
         return e if e >= SMALLEST_SIZE else 1.0
+
+    def sized(self, size: float) -> PoeModel:
+        """The same model with :meth:`size` ``size``: the size of the robot it describes where
+        that is known apart from this model's geometry. :meth:`urdf2dh.Table.to_poe` gives its
+        model the table's size (its source's): the model's axis points are the table's frame
+        origins, elsewhere on the same axes than the source's, so :meth:`own_size` differs, and
+        a conversion of it would decide the tolerances relative to size otherwise than the
+        table's did. A model made from this one (``dataclasses.replace``, :meth:`scaled`)
+        computes its own size again.
+
+        Raises
+        ------
+        TypeError, ValueError
+            ``size`` not a positive finite number.
+        """
+        if not check_real(size, "PoeModel.sized: size") > 0.0:
+            raise ValueError(f"PoeModel.sized: size must be positive, not {size!r}")
+        out = replace(self)
+        out._derived["size"] = float(size)
+        return out
 
     def reach(self) -> float:
         """An upper bound on any point's distance from the base origin over all configurations:

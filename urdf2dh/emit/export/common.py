@@ -132,10 +132,17 @@ class Numbers:
         """An angle's text."""
         return num(self.angle(x))
 
+    def pi_angle(self, x: float) -> float:
+        """The angle :meth:`pi_ang` writes, to the last bit: a multiple of pi/2 (up to the
+        files' round-off) as float64 holds it, any other angle as the table holds it."""
+        return written_angle(x, self.written)
+
     def pi_ang(self, x: float) -> str:
-        """An angle's text with a multiple of pi/2 as ``pi/2``, ``pi``, ... (exact where the
-        reader defines ``pi``: Python with ``from math import pi``, ikdh's robot file)."""
-        return pi_text(written_angle(x, self.written)) or self.ang(x)
+        """An angle's text, exact: a multiple of pi/2 as ``pi/2``, ``pi``, ... (where the reader
+        defines ``pi``: Python with ``from math import pi``, MATLAB, ikdh's robot file), any
+        other angle with the digits that read back as it (:func:`num`)."""
+        value = self.pi_angle(x)
+        return pi_text(value) or num(value)
 
     def lin(self, x: float) -> str:
         """A length's text, in the target's unit."""

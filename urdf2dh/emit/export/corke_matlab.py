@@ -30,13 +30,13 @@ def _link(index: int, row: Row, convention: str, numbers: Numbers) -> str:
     p = floats(row.params)
     if row.kind == "revolute":
         args = ["'revolute'", f"'d', {numbers.lin(p['d'])}"]
-        offset = numbers.ang(p["theta"])
+        offset = numbers.pi_ang(p["theta"])
     else:
-        args = ["'prismatic'", f"'theta', {numbers.ang(p['theta'])}"]
+        args = ["'prismatic'", f"'theta', {numbers.pi_ang(p['theta'])}"]
         offset = numbers.lin(p["d"])
     args += [
         f"'a', {numbers.lin(p['a'])}",
-        f"'alpha', {numbers.ang(p['alpha'])}",
+        f"'alpha', {numbers.pi_ang(p['alpha'])}",
         f"'offset', {offset}",
     ]
     if row.lower is not None and row.upper is not None:

@@ -17,6 +17,9 @@ Names: each joint keeps its own; the fixed segments carry the base and tip links
 joint's segment is named after the joint. The segment and fixed-joint names the script makes up
 keep clear of the robot's (:mod:`.names`: a suffix ``_2`` where the robot has the name, stated
 in the docstring), as a ``KDL::Tree`` built from the chain takes every segment name once.
+
+Angles are exact (:meth:`.Numbers.pi_ang`): a multiple of pi/2 as ``pi/2``, ``pi``, ... (the
+script imports ``pi`` from ``math``), any other with the digits that read back as it.
 """
 
 from __future__ import annotations
@@ -42,9 +45,9 @@ JOINT_TYPES = {"revolute": "RotZ", "prismatic": "TransZ"}
 def _frame(kind: str, p: dict[str, Any], numbers: Numbers) -> str:
     """``kdl.Frame.DH(a, alpha, d, theta)`` or ``DH_Craig1989``; absent parameters are 0."""
     a = numbers.lin(p.get("a", 0.0))
-    alpha = numbers.ang(p.get("alpha", 0.0))
+    alpha = numbers.pi_ang(p.get("alpha", 0.0))
     d = numbers.lin(p.get("d", 0.0))
-    theta = numbers.ang(p.get("theta", 0.0))
+    theta = numbers.pi_ang(p.get("theta", 0.0))
     return f"kdl.Frame.{kind}({a}, {alpha}, {d}, {theta})"
 
 
@@ -99,7 +102,15 @@ def render(table: Table, opts: ExportOptions) -> str:
     doc = header(table, "PyKDL Chain")
     doc.append(f"Joints in chain order: {', '.join(r.name for r in table.rows)}.")
     doc += renaming_notes(names.segments, names.joints)
-    out = [python_docstring(doc, block=True), "", "import PyKDL as kdl", "", ""]
+    out = [
+        python_docstring(doc, block=True),
+        "",
+        "from math import pi",
+        "",
+        "import PyKDL as kdl",
+        "",
+        "",
+    ]
     out.append("def build_chain() -> kdl.Chain:")
     out.append(
         "    "

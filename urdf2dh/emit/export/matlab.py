@@ -21,6 +21,9 @@ names and each joint its own; the names the script makes up (bodies ``dh_base``,
 ``body<i>_offset``, their joints ``<body>_fixed``, the tip's joint ``<tip>_fixed``) keep clear
 of those (:mod:`.names`: a suffix ``_2`` where the robot has the name, stated in a comment), as
 ``addBody`` refuses a second body or joint of one name.
+
+D-H angles are exact (:meth:`.Numbers.pi_ang`): a multiple of pi/2 as ``pi/2``, ``pi``, ...
+(MATLAB's ``pi``), any other with the digits that read back as it.
 """
 
 from __future__ import annotations
@@ -58,7 +61,7 @@ def _offset(row: Row, numbers: Numbers) -> np.ndarray | None:
     p = floats(row.params)
     out = np.eye(4)
     if row.kind == "revolute":
-        theta = numbers.angle(p["theta"])
+        theta = numbers.pi_angle(p["theta"])  # pi exactly: Rz(pi) is [-1 0; 0 -1]
         if theta == 0.0:
             return None
         c, s = np.cos(theta), np.sin(theta)
@@ -73,7 +76,7 @@ def _offset(row: Row, numbers: Numbers) -> np.ndarray | None:
 
 def _joint_body(body: str, row: Row, convention: str, numbers: Numbers) -> list[str]:
     p = floats(row.params)
-    theta = "0" if row.kind == "revolute" else numbers.ang(p["theta"])
+    theta = "0" if row.kind == "revolute" else numbers.pi_ang(p["theta"])
     d = "0" if row.kind == "prismatic" else numbers.lin(p["d"])
     lines = [
         f"body = rigidBody({matlab_string(body)});",
@@ -84,9 +87,9 @@ def _joint_body(body: str, row: Row, convention: str, numbers: Numbers) -> list[
         lines.append(f"joint.PositionLimits = [{lim(row.lower)} {lim(row.upper)}];")
         if not row.lower <= 0.0 <= row.upper:  # the home position must lie within the limits
             lines.append(f"joint.HomePosition = {lim((row.lower + row.upper) / 2)};")
+    a, alpha = numbers.lin(p["a"]), numbers.pi_ang(p["alpha"])
     lines += [
-        f"setFixedTransform(joint, [{numbers.lin(p['a'])} {numbers.ang(p['alpha'])} {d} {theta}],"
-        f' "{convention}");',
+        f'setFixedTransform(joint, [{a} {alpha} {d} {theta}], "{convention}");',
         "body.Joint = joint;",
         "addBody(robot, body, parent);",
         "parent = body.Name;",
