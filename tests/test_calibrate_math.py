@@ -14,10 +14,13 @@ from urdf2dh import Joint, PoeModel, to_table
 from urdf2dh.calibration.chart import (
     Estimate,
     absorbed,
+    all_names,
     count,
     line_point,
     local_coordinates,
+    normal_basis,
     retract,
+    tool_screws,
 )
 from urdf2dh.calibration.levels import BASE_TOOL, FULL, GEOMETRY, OFFSETS
 from urdf2dh.calibration.residuals import Data, evaluate, model_poses, residuals
@@ -127,10 +130,9 @@ CASES = [
 ]
 
 
-@pytest.mark.parametrize("case", CASES)
-def test_analytic_jacobian_equals_finite_differences(case):
-    """Every level's Jacobian (joint lines, pitches, scales; base, offsets; tool and markers,
-    with some coordinates held fixed) against central differences of the residuals."""
+def _case(case: str) -> tuple[Estimate, Data, float, float]:
+    """An estimate (every level; joint lines, pitches, scales; base, offsets; tool and markers,
+    some coordinates held fixed) and measurements far from it (``J_l^-1`` matters)."""
     model = urdf2dh.load("stanford" if case in ("prismatic", "offsets") else "puma560-actual")
     rng = np.random.default_rng(4)
     q = model.sample(15, 5)
@@ -170,12 +172,112 @@ def test_analytic_jacobian_equals_finite_differences(case):
         poses = model_poses(est, q)
         turn = exp_so3(rng.normal(size=(15, 3)) * 0.2)  # residuals far from 0: J_l^-1 matters
         data = Data.poses(q, poses[:, :3, 3] + rng.normal(size=(15, 3)), poses[:, :3, :3] @ turn)
-    sp, sr = 0.5, 0.01
+    return est, data, 0.5, 0.01
+
+
+@pytest.mark.parametrize("case", CASES)
+def test_analytic_jacobian_equals_finite_differences(case):
+    """Every level's Jacobian against central differences of the residuals."""
+    est, data, sp, sr = _case(case)
     _, jac = evaluate(est, data, sp, sr)
     numeric = _numeric_jacobian(est, data, sp, sr)
     assert jac.shape == numeric.shape == (len(data) * data.rows, count(est))
     scale = np.abs(jac).max(axis=0)
     assert np.all(np.abs(jac - numeric).max(axis=0) <= 1e-6 * scale), np.abs(jac - numeric).max(0)
+
+
+def _adjoint(p: np.ndarray) -> np.ndarray:
+    r, t = p[:3, :3], p[:3, 3]
+    skew = np.cross(np.eye(3), t)  # [t]: row i is e_i x t
+    return np.block([[r, np.zeros((3, 3))], [skew @ r, r]])
+
+
+def _reference(est: Estimate, data: Data, sp: float, sr: float) -> tuple[np.ndarray, np.ndarray]:
+    """The residuals and Jacobian of residuals.py's module docstring, one configuration and one
+    coordinate at a time: products of :func:`twist_exp`, ``6 x 6`` adjoints."""
+    chain, n = est.chain, est.n
+    offsets = est.joint_offsets()
+    names = [name.split(".") for name in all_names(est)]
+    res, rows = [], []
+    for q, seen, k, measured in zip(
+        data.q,
+        data.points,
+        data.markers,
+        data.rotations if data.rotations is not None else [None] * len(data),
+        strict=True,
+    ):
+        frames, hats = [np.eye(4)], []
+        for i in range(n):
+            u, p = chain.axis[i], chain.point[i]
+            if chain.kinds[i] == "prismatic":
+                hat = np.concatenate([np.zeros(3), u])
+            else:
+                hat = np.concatenate([u, np.cross(p, u) + chain.pitch[i] * u])
+            hats.append(hat)
+            frames.append(frames[-1] @ twist_exp(hat * chain.scale[i] * (q[i] + offsets[i])))
+        tool = frames[-1] @ est.home
+        x = tool[:3, :3] @ est.markers[k] + tool[:3, 3]
+        phi = None if measured is None else log_so3(tool[:3, :3] @ measured.T)
+        res.append(np.concatenate([(x - seen) / sp, [] if phi is None else phi / sr]))
+        cols = []
+        for (who, what), free in zip(
+            names, est.free if est.free is not None else [True] * len(names), strict=True
+        ):
+            if not free:
+                continue
+            dx = None
+            if who == "base":
+                d = np.eye(6)[["rx", "ry", "rz", "x", "y", "z"].index(what)]
+            elif who == "tool" and est.keep_tool_axis:
+                d = _adjoint(tool) @ tool_screws(est)[:, ["turn", "slide"].index(what)]
+            elif who == "tool":
+                d = _adjoint(tool) @ np.eye(6)[["rx", "ry", "rz", "x", "y", "z"].index(what)]
+            elif who.startswith("marker"):
+                d = np.zeros(6)
+                shift = np.eye(3)["xyz".index(what)]
+                dx = frames[-1][:3, :3] @ shift if int(who[6:]) == k else np.zeros(3)
+            else:
+                i = chain.names.index(who)
+                u, p = chain.axis[i], chain.point[i]
+                before, after = _adjoint(frames[i]), _adjoint(frames[i + 1])
+                e1, e2 = normal_basis(u)
+                motion = q[i] + offsets[i]
+                if what in ("turn1", "turn2", "shift1", "shift2"):
+                    e = e1 if what.endswith("1") else e2
+                    if what.startswith("shift"):
+                        eta = np.concatenate([np.zeros(3), e])
+                    elif chain.kinds[i] == "prismatic":
+                        eta = np.concatenate([e, np.zeros(3)])
+                    else:
+                        eta = np.concatenate([e, np.cross(p, e)])
+                    last = est.keep_tool_axis and i == n - 1
+                    d = before @ eta - (0.0 if last else after @ eta)
+                elif what == "pitch":
+                    d = before @ np.concatenate([np.zeros(3), u]) * chain.scale[i] * motion
+                elif what == "offset":
+                    d = before @ hats[i] * chain.scale[i]
+                else:  # scale
+                    d = before @ hats[i] * motion
+            if dx is None:
+                dx = d[3:] + np.cross(d[:3], x)
+            rot = [] if phi is None else left_jacobian_inverse(phi) @ d[:3] / sr
+            cols.append(np.concatenate([dx / sp, rot]))
+        rows.append(np.array(cols).T.reshape(data.rows, -1))
+    return np.concatenate(res), np.concatenate(rows)
+
+
+@pytest.mark.parametrize("case", CASES)
+def test_residuals_and_jacobian_equal_a_plain_reference(case):
+    """The batched residuals and Jacobian (every level, pose and position measurements, fixed
+    coordinates) equal the module docstring's formulas evaluated one configuration and one
+    coordinate at a time, to round-off."""
+    est, data, sp, sr = _case(case)
+    r, jac = evaluate(est, data, sp, sr)
+    r_ref, jac_ref = _reference(est, data, sp, sr)
+    size = np.abs(data.points).max() / sp  # residuals are differences of positions of this size
+    assert np.abs(r - r_ref).max() <= 1e-13 * size
+    assert np.abs(jac - jac_ref).max() <= 1e-13 * np.abs(jac_ref).max()
+    assert np.array_equal(residuals(est, data, sp, sr), r)
 
 
 @pytest.mark.parametrize("robot", ["puma560-actual", "stanford"])

@@ -16,9 +16,13 @@ import yaml
 
 import urdf2dh
 from urdf2dh.calibration.calibration import calibrate
+from urdf2dh.calibration.fit import with_statistics
 from urdf2dh.calibration.measurements import Reading, read_measurements
-from urdf2dh.calibration.problem import holdout_split
+from urdf2dh.calibration.outliers import rejecting_helps, suspects
+from urdf2dh.calibration.problem import CalibrationProblem, Options, fit_options, holdout_split
 from urdf2dh.calibration.report import to_dict
+from urdf2dh.calibration.select import judge_levels, predicted_without
+from urdf2dh.calibration.start import to_data
 from urdf2dh.cli import main
 from urdf2dh.conventions import NAMES
 from urdf2dh.emit.formats import FORMATS, render
@@ -301,3 +305,30 @@ def test_the_ur10_report_names_what_the_camera_data_cannot_support(defaults):
         assert cal.convention == "hayati" and "not dh" in cal.convention_reason
     tree = to_dict(cal)
     assert yaml.safe_dump(tree["model"])
+
+
+def test_keeping_the_franka_suspects_is_predicted_as_fitting_again_decides():
+    """The Franka's two suspects are kept by a first-order prediction of the levels without
+    them (select.predicted_without: each level's fit moved by one Gauss-Newton step): the
+    levels fitted and judged again without them agree on the choice and on the left-out error
+    to 1%, and on the decision (outliers.rejecting_helps)."""
+    nominal, m = load("panda")
+    problem = CalibrationProblem.of(nominal, m, None, (None, None), None, 0.3, 0, None)
+    options = Options(fit_options(problem))
+    first = judge_levels(problem, options)
+    level = first.level
+    assert level is not None
+    data = to_data(problem.fit, True, problem.markers)
+    found = suspects(problem.fit, with_statistics(first.fits[level], data), True, problem.markers)
+    assert len(found) == 2
+    kept = np.setdiff1d(np.arange(len(problem.fit)), [s.row for s in found])
+    rest = problem.refitted(problem.fit_rows[kept])
+    index = rest.fit.configurations()[0]
+    predicted = predicted_without(first, kept, rest.fit, options.choice)
+    again = judge_levels(rest, options, first=False)
+    assert predicted.chosen == again.level == "full"
+    guess = rejecting_helps(kept, index, (first.selection, level), (predicted, "full"))
+    fitted = rejecting_helps(kept, index, (first.selection, level), (again.selection, "full"))
+    assert guess[0] is fitted[0] is False
+    assert guess[1] == fitted[1]  # the first pass's own figure
+    assert abs(guess[2] / fitted[2] - 1.0) < 0.01

@@ -60,7 +60,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import InputError
-from ..geometry.lie import cross3, cross_rows, exp_so3, left_jacobian, log_se3
+from ..geometry.lie import cross3, cross_rows, exp_so3_left_jacobian, left_jacobian, log_se3
 from ..geometry.se3 import twist_exp
 from ..model.identifiability import LINE_PARAMETERS
 from ..model.poe import Joint
@@ -98,19 +98,29 @@ def normal_basis(u: Mat) -> tuple[Mat, Mat]:
 
 
 def normal_bases(u: Mat) -> tuple[Mat, Mat]:
-    """:func:`normal_basis` of each row of ``u`` ``(n, 3)``: ``(n, 3)`` and ``(n, 3)``."""
-    k = np.argmin(np.abs(u), axis=1)
-    rows = np.arange(len(u))
-    e1 = -u[rows, k][:, None] * u
-    e1[rows, k] += 1.0
-    e1 /= np.linalg.norm(e1, axis=1, keepdims=True)
-    return e1, cross_rows(u, e1)
+    """:func:`normal_basis` of each row of ``u`` ``(n, 3)``: ``(n, 3)`` and ``(n, 3)``
+    (read-only: the bases of the last axes asked for are kept, the charts of one estimate ask
+    for them several times)."""
+    return _normal_bases(u.tobytes(), len(u))
+
+
+@lru_cache(maxsize=64)
+def _normal_bases(axes: bytes, n: int) -> tuple[Mat, Mat]:
+    u = np.frombuffer(axes, dtype=np.float64).reshape(n, 3)
+    flat = np.arange(n) * 3 + np.argmin(np.abs(u), axis=1)
+    e1 = u * -u.ravel()[flat, None]
+    e1.ravel()[flat] += 1.0
+    e1 /= np.sqrt(np.add.reduce(e1 * e1, axis=1, keepdims=True))
+    e2 = cross_rows(u, e1)
+    e1.setflags(write=False)
+    e2.setflags(write=False)
+    return e1, e2
 
 
 def line_point(u: Mat, p: Mat) -> Mat:
     """The foot of the perpendicular from the origin on the line through ``p`` along unit ``u``
     (rows of ``(n, 3)`` arrays, or one line)."""
-    foot: Mat = p - np.sum(p * u, axis=-1, keepdims=True) * u
+    foot: Mat = p - np.add.reduce(p * u, axis=-1, keepdims=True) * u
     return foot
 
 
@@ -171,8 +181,8 @@ class Chain:
 
     @property
     def turning(self) -> NDArray[np.bool_]:
-        """``(n,)`` which joints turn (revolute and helical)."""
-        return np.array([k != "prismatic" for k in self.kinds], dtype=bool)
+        """``(n,)`` which joints turn (revolute and helical); read-only."""
+        return _turning(self.kinds)
 
     def joints(self) -> tuple[Joint, ...]:
         """The chain as :class:`~urdf2dh.model.poe.Joint` objects."""
@@ -197,6 +207,13 @@ class Chain:
         turning = self.turning
         point[turning] = line_point(axis[turning], point[turning])
         return replace(self, axis=axis, point=point)
+
+
+@lru_cache(maxsize=64)
+def _turning(kinds: tuple[str, ...]) -> NDArray[np.bool_]:
+    out = np.array([k != "prismatic" for k in kinds], dtype=bool)
+    out.setflags(write=False)
+    return out
 
 
 FRAME = "frame"  # poses: the tool frame is measured (module docstring)
@@ -460,13 +477,13 @@ def retract(est: Estimate, delta: Mat) -> Estimate:
         x = _take(x_all, line_at)  # (n, 5)
         e1, e2 = normal_bases(chain.axis)
         rho = x[:, :1] * e1 + x[:, 1:2] * e2
-        rot = exp_so3(rho)  # (n, 3, 3)
+        rot, jac = exp_so3_left_jacobian(rho)  # (n, 3, 3) each
         axis = np.einsum("nij,nj->ni", rot, chain.axis)
-        axis /= np.linalg.norm(axis, axis=1, keepdims=True)
+        axis /= np.sqrt(np.add.reduce(axis * axis, axis=1, keepdims=True))
         turning = chain.turning
         tau = x[:, 2:3] * e1 + x[:, 3:4] * e2
         v = cross_rows(chain.point, rho) + tau
-        shift = np.einsum("nij,nj->ni", left_jacobian(rho), v)
+        shift = np.einsum("nij,nj->ni", jac, v)
         moved = np.einsum("nij,nj->ni", rot, chain.point) + shift
         point = chain.point.copy()
         point[turning] = line_point(axis[turning], moved[turning])
@@ -499,20 +516,29 @@ def line_coordinates(axis: Mat, point: Mat, other_axis: Mat, other_point: Mat) -
     """
     e1, e2 = normal_bases(axis)
     cross = cross_rows(axis, other_axis)
-    sin = np.linalg.norm(cross, axis=1)
-    angle = np.arctan2(sin, np.einsum("ij,ij->i", axis, other_axis))
+    sin = np.sqrt(np.add.reduce(cross * cross, axis=1))
+    angle = np.arctan2(sin, np.add.reduce(axis * other_axis, axis=1))
     ratio = np.divide(angle, sin, out=np.ones_like(sin), where=sin > 0.0)
     rho = cross * ratio[:, None]
     out = np.empty((len(axis), 4))
-    out[:, 0] = np.einsum("ij,ij->i", rho, e1)
-    out[:, 1] = np.einsum("ij,ij->i", rho, e2)
+    out[:, 0] = np.add.reduce(rho * e1, axis=1)
+    out[:, 1] = np.add.reduce(rho * e2, axis=1)
     # the columns J(rho) e1, J(rho) e2 and the gap, each with its part along u' removed
-    cols = np.einsum("nij,nkj->nik", left_jacobian(rho), np.stack([e1, e2], axis=1))
-    cols -= np.einsum("ni,nik->nk", other_axis, cols)[:, None, :] * other_axis[:, :, None]
+    basis = np.empty((len(axis), 3, 2))
+    basis[:, :, 0], basis[:, :, 1] = e1, e2
+    cols = np.matmul(left_jacobian(rho), basis)
+    cols -= np.matmul(other_axis[:, None, :], cols) * other_axis[:, :, None]
     gap = other_point - point
-    gap -= np.einsum("ni,ni->n", other_axis, gap)[:, None] * other_axis
-    normal = np.einsum("nik,nil->nkl", cols, cols)
-    out[:, 2:] = np.linalg.solve(normal, np.einsum("nik,ni->nk", cols, gap)[..., None])[..., 0]
+    gap -= np.add.reduce(other_axis * gap, axis=1)[:, None] * other_axis
+    # the normal equations' 2 x 2 system, by Cramer's rule
+    c1, c2 = cols[:, :, 0], cols[:, :, 1]
+    a, b, d = (np.add.reduce(x * y, axis=1) for x, y in ((c1, c1), (c1, c2), (c2, c2)))
+    g1, g2 = np.add.reduce(c1 * gap, axis=1), np.add.reduce(c2 * gap, axis=1)
+    det = a * d - b * b
+    if np.any(det == 0.0):  # as LAPACK's solve: a singular system is an error, NaN flows on
+        raise np.linalg.LinAlgError("Singular matrix")
+    out[:, 2] = (d * g1 - b * g2) / det
+    out[:, 3] = (a * g2 - b * g1) / det
     return out
 
 
@@ -567,19 +593,26 @@ def absorbed(est: Estimate) -> Estimate:
     """
     offsets = est.joint_offsets()
     chain = est.chain
-    axis, point = chain.axis.copy(), chain.point.copy()
-    c = np.eye(4)
-    turning = chain.turning
-    for i in range(est.n):
-        u, p = chain.axis[i], chain.point[i]
-        axis[i] = c[:3, :3] @ u
-        point[i] = c[:3, :3] @ p + c[:3, 3]
-        if turning[i]:
-            point[i] = line_point(axis[i], point[i])
-            twist = np.concatenate([u, cross3(p, u) + chain.pitch[i] * u])
-        else:
-            twist = np.concatenate([np.zeros(3), u])
-        c = c @ twist_exp(twist * chain.scale[i] * offsets[i])
+    n = len(chain)
+    turning = chain.turning[:, None]
+    u, p = chain.axis, chain.point
+    angular = np.where(turning, u, 0.0)
+    linear = np.where(turning, cross_rows(p, u) + chain.pitch[:, None] * u, u)
+    motion = (chain.scale * offsets)[:, None]
+    rot, jac = exp_so3_left_jacobian(angular * motion)
+    each = np.zeros((n, 4, 4))  # E_i
+    each[:, :3, :3] = rot
+    each[:, :3, 3] = np.einsum("nij,nj->ni", jac, linear * motion)
+    each[:, 3, 3] = 1.0
+    before = np.empty((n + 1, 4, 4))  # C_0 = I, C_1, ..., C_n
+    before[0] = np.eye(4)
+    for i in range(n):
+        np.matmul(before[i], each[i], out=before[i + 1])
+    axis = np.einsum("nij,nj->ni", before[:-1, :3, :3], u)
+    point = np.einsum("nij,nj->ni", before[:-1, :3, :3], p) + before[:-1, :3, 3]
+    turns = chain.turning
+    point[turns] = line_point(axis[turns], point[turns])
+    c = before[-1]
     return replace(
         est, chain=replace(chain, axis=axis, point=point), home=c @ est.home, offsets=None
     )

@@ -102,7 +102,12 @@ def identify(
     start, base_fit = before if before is not None else fit_before(nominal, fit, opts, ids)
     before_est = base_fit.solution.estimate
     data = to_data(fit, opts.pose, ids)
-    est0, carried, fixed = level_start(nominal, before_est, opts, ids)
+    # what the solved level did not move: the coordinates its others carry, or fixed by name
+    # (fixed ones among the carried are named fixed all the same)
+    solved_free = None if solved is None else solved.solution.estimate.free
+    est0, carried, fixed = level_start(
+        nominal, before_est, opts, ids, None if solved_free is None else ~solved_free
+    )
     if not has_prior(est0, opts):
         check_equations(count(est0), data, fit.source, opts.pose)
     if solved is not None:

@@ -18,7 +18,10 @@ again without them, and the other configurations, each left out in turn, are pre
 choice made without the suspects and by the one made with them; the suspects are rejected when
 the former's error is smaller by more than :data:`~urdf2dh.tolerances.OUTLIER_GAIN` standard
 errors of the paired per-configuration differences (a three-sigma test: measurements are not
-thrown away on weak evidence). Asked, they are always rejected or kept.
+thrown away on weak evidence). The levels without them are predicted to first order first
+(:func:`.select.predicted_without`: each level's fit moved by one Gauss-Newton step, its noise
+levels and prior kept); they are fitted again only when that predicts a gain, and the suspects
+are rejected only when the refit confirms it. Asked, they are always rejected or kept.
 """
 
 from __future__ import annotations
@@ -34,11 +37,12 @@ from .chart import count
 from .fit import Fit, with_statistics
 from .measurements import Measurements
 from .residuals import residuals
-from .select import Pass, Selection, judge_levels, per_configuration, within
+from .select import Pass, Selection, judge_levels, per_configuration, predicted_without, within
 from .start import to_data
 
 if TYPE_CHECKING:
     from .problem import Options
+    from .userunits import UserUnits
 
 __all__ = ["Outliers", "Suspect", "rejecting_helps", "settle", "suspects"]
 
@@ -170,25 +174,23 @@ def settle(first: Pass, level: str, options: Options) -> tuple[Pass, Outliers]:
             else "kept: without them too few measurements would be left to identify the level",
         )
     kept_rows = np.setdiff1d(rows, [s.row for s in found])
-    second = judge_levels(problem.refitted(kept_rows), options, first=False)
-    helps, with_rms, without_rms = rejecting_helps(
-        np.flatnonzero(np.isin(rows, kept_rows)),
-        second.fit.configurations()[0],
-        (first.selection, level),
-        (second.selection, second.level or ""),
-    )
-    figures = (
-        f"left-out RMS position {units.shown(without_rms):.3g} against "
-        f"{units.shown(with_rms):.3g} {units.length}"
-    )
-    if reject is None and not helps:
-        return first, Outliers(
-            tuple(found),
-            False,
-            "kept: the other configurations are predicted no better without them "
-            f"({figures}); a wrong measurement, or the model's error at an unusual "
-            "configuration",
+    kept = np.flatnonzero(np.isin(rows, kept_rows))
+    rest = problem.refitted(kept_rows)
+    index = rest.fit.configurations()[0]
+    if reject is None:  # predicted first: the levels are judged again only for a gain
+        predicted = predicted_without(first, kept, rest.fit, options.choice)
+        helps, with_rms, without_rms = rejecting_helps(
+            kept, index, (first.selection, level), (predicted, predicted.chosen or "")
         )
+        if not helps:
+            return first, _kept(found, _figures(with_rms, without_rms, units), "to first order")
+    second = judge_levels(rest, options, first=False)
+    helps, with_rms, without_rms = rejecting_helps(
+        kept, index, (first.selection, level), (second.selection, second.level or "")
+    )
+    figures = _figures(with_rms, without_rms, units)
+    if reject is None and not helps:
+        return first, _kept(found, figures, "fitted again")
     if not second.usable:
         return first, Outliers(tuple(found), False, "")
     why = (
@@ -197,3 +199,22 @@ def settle(first: Pass, level: str, options: Options) -> tuple[Pass, Outliers]:
         else f"without them the other configurations are predicted better ({figures})"
     )
     return second, Outliers(tuple(found), True, why)
+
+
+def _figures(with_rms: float, without_rms: float, units: UserUnits) -> str:
+    return (
+        f"left-out RMS position {units.shown(without_rms):.3g} against "
+        f"{units.shown(with_rms):.3g} {units.length}"
+    )
+
+
+def _kept(found: list[Suspect], figures: str, how: str) -> Outliers:
+    """The suspects kept: without them (the levels ``how``) the other configurations are
+    predicted no better."""
+    return Outliers(
+        tuple(found),
+        False,
+        f"kept: the other configurations are predicted no better without them ({figures}, "
+        f"the levels {how}); a wrong measurement, or the model's error at an unusual "
+        "configuration",
+    )

@@ -25,9 +25,12 @@ Jacobian. A change of the coordinates moves the tool by a small space-frame twis
   frame moved by ``dc``: ``dx = R_(P_n) dc``.
 
 ``Ad([R, t]) [w, v] = [R w, R v + t x R w]`` (Wu 2019 eq. 4). Everything is evaluated for all
-measurements and all joints at once: ``N`` configurations as ``(N, ...)`` stacks, each joint's
-seven candidate columns (two turns, two shifts, pitch, offset, scale) as one ``(n, 6, 7)``
-block, of which the level's coordinates are then picked (:func:`_picks`).
+measurements at once, ``N`` configurations as ``(N, ...)`` stacks. The Jacobian's columns are
+the level's free twists (the base's, each joint's candidates, the tool's, of which
+:func:`_layout` picks the level's) under the adjoints of the frames ``P_0 .. P_n`` and ``T``;
+each adjoint is taken about the point the measurement saw (the translation ``t - x``), so that
+its ``v`` is that point's motion ``dv + dw x x`` at once, and the twists of each frame meet all
+its configurations' adjoints in one matrix product.
 """
 
 from __future__ import annotations
@@ -38,17 +41,18 @@ from functools import lru_cache
 import numpy as np
 from numpy.typing import NDArray
 
-from ..geometry.lie import ad_apply, cross_columns, cross_rows, left_jacobian_inverse, log_so3
+from ..geometry.lie import cross_rows, left_jacobian_inverse, log_so3, skew_batch
 from .chart import FRAME, Estimate, normal_bases, sizes, tool_screws
+from .levels import Level
 
 __all__ = [
     "Data",
+    "Evaluation",
     "errors",
     "evaluate",
     "model_poses",
     "modelled_points",
     "observed",
-    "prefix_products",
     "residuals",
     "rms",
 ]
@@ -109,95 +113,82 @@ class Data:
         return len(self.q)
 
 
-@dataclass(frozen=True, slots=True)
-class _Joints:
-    """The joints of an estimate as arrays: directions, points, pitches, scales, offsets."""
-
-    axis: Mat  # (n, 3)
-    point: Mat  # (n, 3), zeros for sliding joints
-    turning: Mat  # (n,) 1 for revolute and helical joints, 0 for prismatic ones
-    lead: Mat  # (n,) translation per unit of s: the pitch, or 1 for prismatic joints
-    scale: Mat  # (n,)
-    offset: Mat  # (n,)
+_NEXT = np.array([1, 2, 0])
+_PREV = np.array([2, 0, 1])
+_EYE4 = np.eye(4)
+_EYE6 = np.eye(6)
 
 
-def _arrays(est: Estimate) -> _Joints:
+def _exp_basis(est: Estimate) -> Mat:
+    """``(n, 4, 16)``: each joint's ``exp([xi] s)`` (a ``4 x 4`` transform, flattened) is
+    ``c B`` with ``c = [1, sin t, 1 - cos t, s]`` and ``t = s`` for turning joints, ``0`` for
+    sliding ones (Rodrigues: ``R = I + sin t [u] + (1 - cos t) [u]^2`` and the translation
+    ``(I - R) p + h s u``, with ``h`` the lead: the pitch, or 1 for a sliding joint)."""
     chain = est.chain
-    turning = chain.turning.astype(float)
-    return _Joints(
-        chain.axis,
-        chain.point * turning[:, None],
-        turning,
-        np.where(turning > 0.0, chain.pitch, 1.0),
-        chain.scale,
-        est.joint_offsets(),
-    )
+    n = len(chain)
+    turning = chain.turning
+    point = chain.point * turning[:, None]
+    k = skew_batch(chain.axis)
+    kk = k @ k
+    out = np.zeros((n, 4, 4, 4))
+    out[:, 0] = _EYE4
+    out[:, 1, :3, :3] = k
+    out[:, 1, :3, 3] = -(k @ point[:, :, None])[..., 0]
+    out[:, 2, :3, :3] = kk
+    out[:, 2, :3, 3] = -(kk @ point[:, :, None])[..., 0]
+    out[:, 3, :3, 3] = np.where(turning, chain.pitch, 1.0)[:, None] * chain.axis
+    return out.reshape(n, 4, 16)
 
 
-def _skews(u: Mat) -> Mat:
-    """``(n, 3) -> (n, 3, 3)``: ``[u]``."""
-    out = np.zeros((len(u), 3, 3))
-    out[:, 0, 1], out[:, 0, 2] = -u[:, 2], u[:, 1]
-    out[:, 1, 0], out[:, 1, 2] = u[:, 2], -u[:, 0]
-    out[:, 2, 0], out[:, 2, 1] = -u[:, 1], u[:, 0]
-    return out
+def _frames(est: Estimate, q: Mat) -> tuple[Mat, Mat, Mat]:
+    """``(n + 2, N, 4, 4)`` the frames ``P_0 = I, P_1, ..., P_n`` and the tool's ``T = P_n M``;
+    ``(n, N)`` each joint's ``q + o`` and its motion ``s (q + o)``.
 
-
-def _prefix(js: _Joints, q: Mat) -> tuple[Mat, Mat]:
-    """Rotations ``(n + 1, N, 3, 3)`` and translations ``(n + 1, N, 3)`` of ``P_0 .. P_n``.
-
-    Each joint's ``exp([xi] s)`` by Rodrigues (``1 - cos = 2 sin^2(t/2)``), all at once, as
-    ``(N, n, 4, 4)`` transforms; their running products one joint at a time."""
-    s = js.scale * (q + js.offset)  # (N, n)
-    k = _skews(js.axis)
-    angle = s * js.turning
-    half = np.sin(0.5 * angle)
+    Each joint's ``exp([xi] s)`` at every configuration is one product with
+    :func:`_exp_basis` (``1 - cos t`` as ``2 sin^2(t/2)``); their running products one joint
+    at a time."""
+    chain = est.chain
     count, n = q.shape
-    e = np.zeros((count, n, 4, 4))
-    r = e[:, :, :3, :3]
-    r[:] = np.eye(3)
-    r += np.sin(angle)[:, :, None, None] * k
-    r += (2.0 * half * half)[:, :, None, None] * (k @ k)
-    e[:, :, :3, 3] = js.point - (r @ js.point[:, :, None])[..., 0]
-    e[:, :, :3, 3] += (js.lead * s)[:, :, None] * js.axis
-    e[:, :, 3, 3] = 1.0
-    out = np.empty((n + 1, count, 4, 4))
-    out[0] = np.eye(4)
+    moved = q.T + est.joint_offsets()[:, None]
+    coef = np.empty((n, count, 4))
+    coef[:, :, 0] = 1.0
+    s = np.multiply(moved, chain.scale[:, None], out=coef[:, :, 3])
+    angle = s * chain.turning[:, None]
+    np.sin(angle, out=coef[:, :, 1])
+    half = np.sin(0.5 * angle)
+    np.multiply(half, half, out=coef[:, :, 2])
+    coef[:, :, 2] *= 2.0
+    e = np.matmul(coef, _exp_basis(est)).reshape(n, count, 4, 4)
+    out = np.empty((n + 2, count, 4, 4))
+    out[0] = _EYE4
     for i in range(n):
-        np.matmul(out[i], e[:, i], out=out[i + 1])
-    return out[:, :, :3, :3], out[:, :, :3, 3]
-
-
-def prefix_products(est: Estimate, q: Mat) -> list[Mat]:
-    """``[P_0 = I, P_1, ..., P_n]``, each ``(N, 4, 4)`` (joint offsets added to ``q``)."""
-    rots, trans = _prefix(_arrays(est), q)
-    out = np.zeros((len(rots), len(q), 4, 4))
-    out[:, :, :3, :3] = rots
-    out[:, :, :3, 3] = trans
-    out[:, :, 3, 3] = 1.0
-    return list(out)
+        if i:
+            np.matmul(out[i], e[i], out=out[i + 1])
+        else:
+            out[1] = e[0]
+    np.matmul(out[n], est.home, out=out[n + 1])
+    return out, moved, s
 
 
 def model_poses(est: Estimate, q: Mat) -> Mat:
     """``(N, 4, 4)`` the tool poses ``T(q) = P_n(q) M``."""
-    return prefix_products(est, q)[-1] @ est.home
+    out: Mat = _frames(est, q)[0][-1]
+    return out
 
 
-def _tool(est: Estimate, rots: Mat, trans: Mat, markers: NDArray[np.int64]) -> tuple[Mat, Mat]:
-    """The tool's poses ``T = P_n M`` ``(N, 4, 4)`` from ``P_n`` (``rots``, ``trans``) and the
-    points ``(N, 3)`` the measurements saw, ``T c_k`` (``markers``: each one's ``k``)."""
-    tool = np.zeros((len(rots), 4, 4))
-    tool[:, :3, :3] = rots @ est.home[:3, :3]
-    tool[:, :3, 3] = rots @ est.home[:3, 3] + trans
-    tool[:, 3, 3] = 1.0
-    x: Mat = np.einsum("nij,nj->ni", tool[:, :3, :3], est.markers[markers]) + tool[:, :3, 3]
-    return tool, x
+def _points(est: Estimate, tool: Mat, markers: NDArray[np.int64]) -> Mat:
+    """``(N, 3)`` the points ``T c_k`` the measurements saw (``markers``: each one's ``k``) on
+    the tool's poses ``tool`` ``(N, 4, 4)``."""
+    if not np.any(est.markers):  # the tool's origin
+        return tool[:, :3, 3].copy()
+    seen = est.markers[markers][:, :, None]
+    out: Mat = np.matmul(tool[:, :3, :3], seen)[..., 0] + tool[:, :3, 3]
+    return out
 
 
 def modelled_points(est: Estimate, data: Data) -> Mat:
     """``(N, 3)`` the points of ``est``'s tool each measurement of ``data`` saw."""
-    rots, trans = _prefix(_arrays(est), data.q)
-    return _tool(est, rots[-1], trans[-1], data.markers)[1]
+    return _points(est, _frames(est, data.q)[0][-1], data.markers)
 
 
 def observed(est: Estimate, q: Mat) -> Data:
@@ -207,9 +198,9 @@ def observed(est: Estimate, q: Mat) -> Data:
     k = len(est.markers)
     qs = np.repeat(q, k, axis=0) if k > 1 else q
     rows = np.tile(np.arange(k, dtype=np.int64), len(q))
-    rots, trans = _prefix(_arrays(est), qs)
-    tool, points = _tool(est, rots[-1], trans[-1], rows)
-    return Data(qs, points, rows, tool[:, :3, :3] if est.tool == FRAME else None)
+    tool = _frames(est, qs)[0][-1]
+    points = _points(est, tool, rows)
+    return Data(qs, points, rows, tool[:, :3, :3].copy() if est.tool == FRAME else None)
 
 
 def rms(values: Mat) -> float:
@@ -221,34 +212,51 @@ def errors(est: Estimate, data: Data) -> Mat:
     """``(N, 1 or 2)`` each measurement's position error (the distance between the modelled and
     the measured point) and, for poses, its rotation error (the angle of ``R R_meas^T``): the
     one formula every residual statistic is made of (offsets absorbed or not alike)."""
-    rows = residuals(est, data, 1.0, 1.0).reshape(len(data), data.rows)
-    out: Mat = np.linalg.norm(rows[:, :3], axis=1, keepdims=True)
-    if data.rotations is not None:
-        out = np.hstack([out, np.linalg.norm(rows[:, 3:], axis=1, keepdims=True)])
+    rows = residuals(est, data, 1.0, 1.0).reshape(len(data), -1, 3)
+    out: Mat = np.sqrt(np.add.reduce(rows * rows, axis=2))
     return out
 
 
+@dataclass(frozen=True, slots=True)
+class _Layout:
+    """Where each free coordinate's Jacobian column comes from (module docstring).
+
+    The frames are ``P_0 .. P_n`` and ``T`` (:func:`_frames`); each holds up to ``width``
+    twists, rows of :func:`_twists` (``place`` ``(n + 2, width)``, padded with its zero row;
+    read-only, as every array here).
+    Column ``c`` is frame ``frame[c]``'s twist ``slot[c]`` under that frame's adjoint, minus,
+    for a joint line's coordinates (``lines``), the same twist under the next frame's
+    (``after_frame``, ``after_slot``), times the factor ``factor[c]`` of :func:`_factors`
+    (``None``: all 1)."""
+
+    place: NDArray[np.int64]
+    frame: NDArray[np.int64]
+    slot: NDArray[np.int64]
+    lines: NDArray[np.int64]
+    after_frame: NDArray[np.int64]
+    after_slot: NDArray[np.int64]
+    factor: NDArray[np.int64] | None
+
+
+def _layout(est: Estimate) -> _Layout:
+    """The :class:`_Layout` of ``est``'s level and free coordinates."""
+    free = None if est.free is None else est.free.tobytes()
+    markers = len(est.markers) if est.tool != FRAME else 0
+    return _level_layout(est.level, est.chain.kinds, est.keep_tool_axis, markers, free)
+
+
 @lru_cache(maxsize=256)
-def _picks_cached(
-    joint_slots: tuple[tuple[int, ...], ...], base: bool, free: bytes | None
-) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
-    flat = [i * len(SLOTS) + k for i, slots in enumerate(joint_slots) for k in slots]
-    every = [*([-1] * (6 if base else 0)), *flat]
-    chosen = np.array(every, dtype=np.int64)
-    if free is not None:
-        mask = np.frombuffer(free, dtype=bool)[: len(every)]
-        chosen = chosen[mask]
-    base_cols = np.flatnonzero(chosen < 0)
-    return base_cols, chosen[chosen >= 0]
-
-
-def _picks(est: Estimate) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
-    """The base's free columns (of its 6) and, for the joints, the free candidate columns
-    (``joint * 7 + slot``), in the level's order."""
-    level = est.level
-    joint_slots = []
-    for kind in est.chain.kinds:
-        slots: list[int] = []
+def _level_layout(
+    level: Level, kinds: tuple[str, ...], keep_tool_axis: bool, markers: int, free: bytes | None
+) -> _Layout:
+    """:func:`_layout` of a level for joints of ``kinds``, the tool measured by ``markers``
+    markers (0: its frame) and ``free`` the level's free coordinates (``None``: all)."""
+    n = len(kinds)
+    tool_row = 6 + 7 * n
+    # each coordinate: (frame, twist row of _twists, factor of _factors, after frame or -1)
+    every = [(0, j, 0, -1) for j in range(6 if level.base else 0)]
+    for i, kind in enumerate(kinds):
+        slots: list[int] = []  # of SLOTS
         if level.lines:
             slots += [0, 1] if kind == "prismatic" else [0, 1, 2, 3]
             if kind == "helical":
@@ -257,75 +265,95 @@ def _picks(est: Estimate) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
             slots.append(5)
         if level.scales:
             slots.append(6)
-        joint_slots.append(tuple(slots))
-    free = None if est.free is None else est.free.tobytes()
-    return _picks_cached(tuple(joint_slots), level.base, free)
-
-
-def _candidates(js: _Joints) -> Mat:
-    """``(n, 6, 7)`` each joint's candidate twists before the motion factors (module
-    docstring): turns ``[e, p x e]`` (``[e, 0]`` when sliding), shifts ``[0, e]``, the pitch's
-    ``[0, u]`` and the unit screw ``xi_hat`` for offset and scale."""
-    n = len(js.axis)
-    out = np.zeros((n, 6, 7))
-    u, p = js.axis, js.point
-    e1, e2 = normal_bases(u)
-    out[:, :3, 0], out[:, 3:, 0] = e1, cross_rows(p, e1)
-    out[:, :3, 1], out[:, 3:, 1] = e2, cross_rows(p, e2)
-    out[:, 3:, 2], out[:, 3:, 3] = e1, e2
-    out[:, 3:, 4] = u
-    out[:, :3, 5] = js.turning[:, None] * u
-    out[:, 3:, 5] = js.turning[:, None] * cross_rows(p, u) + js.lead[:, None] * u
-    out[:, :, 6] = out[:, :, 5]
-    return out
-
-
-def _ad(rots: Mat, trans: Mat, x: Mat) -> Mat:
-    """``Ad(P) X`` for ``P`` as ``rots (N, n, 3, 3)``, ``trans (N, n, 3)`` and ``X (n, 6, k)``:
-    ``(N, n, 6, k)``."""
-    out = np.empty((*rots.shape[:2], 6, x.shape[2]))
-    w = np.matmul(rots, x[:, :3], out=out[:, :, :3])
-    v = np.matmul(rots, x[:, 3:], out=out[:, :, 3:])
-    t = trans[..., None]
-    v[:, :, 0] += t[:, :, 1] * w[:, :, 2] - t[:, :, 2] * w[:, :, 1]
-    v[:, :, 1] += t[:, :, 2] * w[:, :, 0] - t[:, :, 0] * w[:, :, 2]
-    v[:, :, 2] += t[:, :, 0] * w[:, :, 1] - t[:, :, 1] * w[:, :, 0]
-    return out
-
-
-def _space_columns(est: Estimate, js: _Joints, q: Mat, rots: Mat, trans: Mat, tool: Mat) -> Mat:
-    """``(N, 6, p)`` the tool's space-frame twist per free coordinate (module docstring); the
-    marker coordinates of position estimates are left at zero (they move points, not the
-    tool)."""
-    count, n = q.shape
-    base_cols, joint_cols = _picks(est)
-    blocks = []
-    if len(base_cols):
-        blocks.append(np.broadcast_to(np.eye(6)[:, base_cols], (count, 6, len(base_cols))))
-    if len(joint_cols):
-        cand = _candidates(js)
-        before_r = np.swapaxes(rots[:-1], 0, 1)  # (N, n, 3, 3): P_(i-1)
-        before_t = np.swapaxes(trans[:-1], 0, 1)
-        cols = _ad(before_r, before_t, cand)  # (N, n, 6, 7)
-        if est.level.lines:
-            after = _ad(np.swapaxes(rots[1:], 0, 1), np.swapaxes(trans[1:], 0, 1), cand[:, :, :4])
-            if est.keep_tool_axis:
-                after[:, n - 1] = 0.0  # the tool moves with the last line
-            cols[:, :, :, :4] -= after
-        s = js.scale * (q + js.offset)  # (N, n)
-        cols[:, :, :, 4] *= s[:, :, None]
-        cols[:, :, :, 5] *= js.scale[None, :, None]
-        cols[:, :, :, 6] *= (q + js.offset)[:, :, None]
-        flat = np.swapaxes(cols, 1, 2).reshape(count, 6, n * len(SLOTS))
-        blocks.append(flat[:, :, joint_cols])
-    total = sizes(est, every=True)[-1]
-    tool_free = np.ones(total, dtype=bool) if est.free is None else est.free[-total:]
-    if est.tool == FRAME:
-        basis = tool_screws(est) if est.keep_tool_axis else np.eye(6)
-        blocks.append(ad_apply(tool, basis[:, tool_free]))
+        for k in slots:
+            factor = 1 + i if k == 4 else 1 + n + i if k == 6 else 0
+            after = i + 1 if k < 4 and not (keep_tool_axis and i == n - 1) else -1
+            every.append((i, 6 + 7 * i + k, factor, after))
+    if markers:  # a marker's home moved by dc in the device frame: dx = R_(P_n) dc
+        every += [
+            (n, tool_row + 3 + a, 1 + 2 * n + m, -1) for m in range(markers) for a in range(3)
+        ]
     else:
-        blocks.append(np.zeros((count, 6, int(np.sum(tool_free)))))
-    return np.concatenate(blocks, axis=2)
+        tool = range(2) if keep_tool_axis else range(6)
+        every += [(n + 1, tool_row + j, 0, -1) for j in tool]
+    if free is not None:
+        mask = np.frombuffer(free, dtype=bool)
+        every = [c for c, f in zip(every, mask, strict=True) if f]
+    held: list[list[int]] = [[] for _ in range(n + 2)]
+
+    def slot_of(frame: int, row: int) -> int:
+        if row not in held[frame]:
+            held[frame].append(row)
+        return held[frame].index(row)
+
+    slot = [slot_of(c[0], c[1]) for c in every]
+    lines = [k for k, c in enumerate(every) if c[3] >= 0]
+    after_slot = [slot_of(every[k][3], every[k][1]) for k in lines]
+    width = max((len(h) for h in held), default=0) or 1
+    place = [rows + [tool_row + 6] * (width - len(rows)) for rows in held]  # the zero row
+    factors = [c[2] for c in every]
+
+    def ints(values: list[int]) -> NDArray[np.int64]:
+        out = np.array(values, dtype=np.int64).reshape(-1)
+        out.setflags(write=False)
+        return out
+
+    return _Layout(
+        ints([row for rows in place for row in rows]).reshape(n + 2, width),
+        ints([c[0] for c in every]),
+        ints(slot),
+        ints(lines),
+        ints([every[k][3] for k in lines]),
+        ints(after_slot),
+        ints(factors) if any(factors) else None,
+    )
+
+
+def _twists(est: Estimate) -> Mat:
+    """``(6 + 7 n + 7, 6)`` the twists the Jacobian's columns are made of, before the motion
+    factors (module docstring): the base's six unit twists; each joint's seven candidates,
+    turns ``[e, p x e]`` (``[e, 0]`` when sliding), shifts ``[0, e]``, the pitch's ``[0, u]``,
+    the offset's ``s xi_hat`` and the scale's ``xi_hat``; the tool's six unit twists (or, with
+    ``keep_tool_axis``, its two screws :func:`.chart.tool_screws`; for markers, the three
+    ``[0, e_a]`` that shift a point); a zero row."""
+    chain = est.chain
+    n = len(chain)
+    out = np.zeros((6 + 7 * n + 7, 6))
+    out[:6] = _EYE6
+    cand = out[6 : 6 + 7 * n].reshape(n, 7, 6)
+    u, p = chain.axis, chain.point
+    turning = chain.turning
+    p = p * turning[:, None]
+    e1, e2 = normal_bases(u)
+    cand[:, 0, :3], cand[:, 1, :3] = e1, e2
+    cand[:, 2, 3:], cand[:, 3, 3:] = e1, e2
+    cand[:, 4, 3:] = u
+    moments = cross_rows(p[:, None, :], cand[:, 2:5, 3:])  # p x e1, p x e2, p x u
+    cand[:, :2, 3:] = moments[:, :2]
+    cand[:, 6, :3] = turning[:, None] * u
+    lead = np.where(turning, chain.pitch, 1.0)
+    cand[:, 6, 3:] = moments[:, 2] + lead[:, None] * u  # p = 0 for sliding joints
+    cand[:, 5] = cand[:, 6] * chain.scale[:, None]
+    tool = out[6 + 7 * n : 6 + 7 * n + 6]
+    if est.keep_tool_axis:
+        tool[:2] = tool_screws(est).T
+    else:
+        tool[:] = _EYE6
+    return out
+
+
+def _factors(est: Estimate, data: Data, moved: Mat, s: Mat, which: NDArray[np.int64]) -> Mat:
+    """``(p, N)`` each column's factor per measurement: 1; a pitch's ``s (q + o)``; a scale's
+    ``q + o``; for a marker's coordinates, whether the measurement saw that marker."""
+    n, count = moved.shape
+    k = len(est.markers)
+    out = np.empty((1 + 2 * n + k, count))
+    out[0] = 1.0
+    out[1 : 1 + n] = s
+    out[1 + n : 1 + 2 * n] = moved
+    out[1 + 2 * n :] = data.markers == np.arange(k)[:, None]
+    picked: Mat = out[which]
+    return picked
 
 
 CHUNK = 4096  # measurements evaluated at once: memory stays ~ rows x parameters, not 3 x that
@@ -351,53 +379,127 @@ def _evaluated(
     """The residuals ``(N * rows,)``, and the Jacobian into ``jac`` ``(N, rows, p)`` when
     given; :data:`CHUNK` measurements at a time."""
     res = np.empty((len(data), data.rows))
-    js = _arrays(est)
-    for start in range(0, len(data), CHUNK):
-        rows = slice(start, start + CHUNK)
-        _evaluate_into(
-            est,
-            js,
-            data.part(rows),
-            sigma_pos,
-            sigma_rot,
-            res[rows],
-            None if jac is None else jac[rows],
-        )
+    if len(data) <= CHUNK:
+        _evaluate_into(est, data, sigma_pos, sigma_rot, res, jac)
+    else:
+        for start in range(0, len(data), CHUNK):
+            rows = slice(start, start + CHUNK)
+            part = None if jac is None else jac[rows]
+            _evaluate_into(est, data.part(rows), sigma_pos, sigma_rot, res[rows], part)
     out: Mat = res.ravel()
     return out
 
 
 def _evaluate_into(
     est: Estimate,
-    js: _Joints,
     data: Data,
     sigma_pos: float,
     sigma_rot: float,
     res: Mat,
     jac: Mat | None,
 ) -> None:
-    rots, trans = _prefix(js, data.q)
-    last_r = rots[-1]
-    tool, x = _tool(est, last_r, trans[-1], data.markers)
-    res[:, :3] = (x - data.points) / sigma_pos
+    state = _model(est, data, sigma_pos, sigma_rot, res)
+    if jac is not None:
+        _jacobian_into(est, data, state, sigma_pos, sigma_rot, jac)
+
+
+@dataclass(frozen=True, slots=True)
+class _State:
+    """What the Jacobian is made of: :func:`_frames`' frames and motions, the points seen
+    ``x`` and, for poses, the rotation residuals ``phi``."""
+
+    frames: Mat
+    moved: Mat
+    s: Mat
+    x: Mat
+    phi: Mat | None
+
+
+def _model(est: Estimate, data: Data, sigma_pos: float, sigma_rot: float, res: Mat) -> _State:
+    """The residuals into ``res`` ``(N, rows)``, and the state their Jacobian is made of."""
+    frames, moved, s = _frames(est, data.q)
+    tool = frames[-1]
+    x = _points(est, tool, data.markers)
+    np.subtract(x, data.points, out=res[:, :3])
+    if sigma_pos != 1.0:
+        res[:, :3] /= sigma_pos
     phi = None
     if data.rotations is not None:
-        phi = log_so3(tool[:, :3, :3] @ np.swapaxes(data.rotations, 1, 2))
+        phi = log_so3(np.matmul(tool[:, :3, :3], np.swapaxes(data.rotations, 1, 2)))
         res[:, 3:] = phi / sigma_rot
-    if jac is None:
+    return _State(frames, moved, s, x, phi)
+
+
+def _jacobian_into(
+    est: Estimate, data: Data, state: _State, sigma_pos: float, sigma_rot: float, jac: Mat
+) -> None:
+    """The Jacobian ``(N, rows, p)`` into ``jac`` from ``state`` (module docstring)."""
+    if not jac.shape[2]:
         return
-    cols = _space_columns(est, js, data.q, rots, trans, tool)
-    jac[:, :3] = (cols[:, 3:] + cross_columns(cols[:, :3], x[:, :, None])) / sigma_pos
-    if phi is not None:
-        jac[:, 3:] = left_jacobian_inverse(phi) @ cols[:, :3] / sigma_rot
-    if est.tool == FRAME:
-        return
-    total = 3 * len(est.markers)
-    free = np.ones(total, dtype=bool) if est.free is None else est.free[-total:]
-    column = jac.shape[2] - int(np.sum(free))
-    for k in range(len(est.markers)):
-        rows = data.markers == k
-        for axis in range(3):
-            if free[3 * k + axis]:
-                jac[rows, :3, column] = last_r[rows, :, axis] / sigma_pos
-                column += 1
+    # the columns as space-frame twists moved to the point seen (the translation t - x):
+    # Ad(P) [w, v] = [R w, R v + (t - x) x R w], whose v is the point's motion (dv + dw x x)
+    frames = state.frames
+    lay = _layout(est)
+    count = len(data)
+    rot = frames[:, :, :3, :3]
+    lever = frames[:, :, :3, 3] - state.x
+    ad = np.zeros((len(frames), count, 6, 6))
+    ad[:, :, :3, :3] = rot
+    ad[:, :, 3:, 3:] = rot
+    ad[:, :, 3:, :3] = (
+        lever[:, :, _NEXT, None] * rot[:, :, _PREV] - lever[:, :, _PREV, None] * rot[:, :, _NEXT]
+    )
+    twists = _twists(est)[lay.place].transpose(0, 2, 1)  # (n + 2, 6, width)
+    moves = np.matmul(ad.reshape(len(frames), count * 6, 6), twists)
+    moves = moves.reshape(len(frames), count, 6, -1)
+    cols = moves[lay.frame, :, :, lay.slot]  # (p, N, 6)
+    if len(lay.lines):
+        cols[lay.lines] -= moves[lay.after_frame, :, :, lay.after_slot]
+    if lay.factor is not None:
+        cols *= _factors(est, data, state.moved, state.s, lay.factor)[:, :, None]
+    jac[:, :3] = cols[:, :, 3:].transpose(1, 2, 0)
+    if sigma_pos != 1.0:
+        jac[:, :3] /= sigma_pos
+    if state.phi is not None:
+        rows = cols[:, :, :3].transpose(1, 2, 0)
+        np.matmul(left_jacobian_inverse(state.phi), rows, out=jac[:, 3:])
+        if sigma_rot != 1.0:
+            jac[:, 3:] /= sigma_rot
+
+
+@dataclass(frozen=True, slots=True)
+class Evaluation:
+    """The model of an estimate evaluated for measurements at unit noise levels: the residuals
+    at once, their Jacobian when asked, from the same frames (a step the solver refuses costs
+    no Jacobian).
+
+    Attributes
+    ----------
+    estimate, data
+        Where, and for what.
+    residuals
+        ``(N * rows,)`` (:func:`evaluate` at unit noise levels).
+    """
+
+    estimate: Estimate
+    data: Data
+    residuals: Mat
+    state: _State | None  # kept when the measurements fit in one chunk
+
+    @classmethod
+    def at(cls, est: Estimate, data: Data) -> Evaluation:
+        """The residuals of ``data`` at ``est``."""
+        if len(data) > CHUNK:
+            return cls(est, data, _evaluated(est, data, 1.0, 1.0, None), None)
+        res = np.empty((len(data), data.rows))
+        return cls(est, data, res.ravel(), _model(est, data, 1.0, 1.0, res))
+
+    def jacobian(self) -> Mat:
+        """``(N * rows, p)`` the residuals' Jacobian (:func:`evaluate` at unit noise levels)."""
+        est, data = self.estimate, self.data
+        jac = np.empty((len(data), data.rows, sum(sizes(est))))
+        if self.state is None:
+            _evaluated(est, data, 1.0, 1.0, jac)
+        else:
+            _jacobian_into(est, data, self.state, 1.0, 1.0, jac)
+        return jac.reshape(len(data) * data.rows, -1)

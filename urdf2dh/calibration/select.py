@@ -45,18 +45,18 @@ from numpy.typing import NDArray
 from ..model.poe import PoeModel
 from ..progress import progress
 from ..tolerances import RANK_RELATIVE
-from .chart import Estimate, absorbed, count
+from .chart import Estimate, count
 from .fit import Fit, check_equations, fit_before, joint_locations, level_start, solve_level
 from .identifiable import check_patterns, redundant
 from .levels import AUTO, BASE_TOOL, LEVELS
 from .measurements import Measurements
 from .prior import Deviations
-from .residuals import errors
+from .residuals import Data, errors
 from .solver import Linearisation, Problem
 from .start import FitOptions, has_prior, prior_of, to_data
 
 if TYPE_CHECKING:
-    from .problem import CalibrationProblem, Options
+    from .problem import CalibrationProblem, LevelChoice, Options
 
 __all__ = [
     "Pass",
@@ -68,7 +68,9 @@ __all__ = [
     "left_out_errors",
     "level_fits",
     "per_configuration",
+    "predicted_without",
     "within",
+    "without_rows",
 ]
 
 Mat = NDArray[np.float64]
@@ -176,12 +178,6 @@ def per_configuration(squared: Mat, index: NDArray[np.int64], count: int) -> Mat
     return means
 
 
-def _squared_errors(est: Estimate, m: Measurements, pose: bool, ids: list[int]) -> Mat:
-    """``(N, 1 or 2)``: each row's squared position error and, for poses, squared rotation."""
-    out: Mat = errors(absorbed(est), to_data(m, pose, ids)) ** 2
-    return out
-
-
 def left_out_errors(problem: Problem, lin: Linearisation, group: NDArray[np.int64]) -> Mat | None:
     """``(N, 1 or 2)``: each measurement's squared position (and rotation) error when its group
     (``group[row]``, a configuration or a fold) is left out of the fit whose linearisation at
@@ -221,6 +217,71 @@ def left_out_errors(problem: Problem, lin: Linearisation, group: NDArray[np.int6
         rot = np.sum(each[:, 3:] ** 2, axis=1, keepdims=True) * problem.sigma_rot**2
         squared = np.hstack([squared, rot])
     return squared
+
+
+def without_rows(
+    problem: Problem, lin: Linearisation, keep: NDArray[np.int64]
+) -> tuple[Problem, Linearisation]:
+    """The fit whose linearisation at its solution is ``lin``, with only the measurements
+    ``keep`` (rows of ``problem.data``): moved by one Gauss-Newton step at ``lin`` with the same
+    noise levels and prior (the refit, exact for a linear model), as the problem and the
+    linearisation at the moved solution (the Jacobian ``lin``'s)."""
+    r, jac = problem.weighted(lin)
+    rows = lin.rows
+    kept = (keep[:, None] * rows + np.arange(rows)).ravel()
+    fitted = np.r_[kept, np.arange(problem.data_rows, len(r))]  # and the prior's rows
+    delta = -np.linalg.lstsq(jac[fitted], r[fitted], rcond=None)[0]
+    prior = None
+    if problem.prior is not None:
+        coordinates, tangent = (
+            problem.prior.errors.evaluate(lin.estimate) if lin.prior is None else lin.prior
+        )
+        prior = (coordinates + tangent @ delta, tangent)
+    d = problem.data
+    data = Data(
+        d.q[keep],
+        d.points[keep],
+        d.markers[keep],
+        None if d.rotations is None else d.rotations[keep],
+    )
+    moved = Linearisation(
+        lin.estimate, lin.residuals[kept] + lin.jacobian[kept] @ delta, lin.jacobian[kept], rows,
+        prior,
+    )  # fmt: skip
+    return Problem(data, problem.sigma_pos, problem.sigma_rot, problem.prior), moved
+
+
+def predicted_without(
+    first: Pass, keep: NDArray[np.int64], rest: Measurements, choice: LevelChoice
+) -> Selection:
+    """The levels of ``first`` judged as if only its fitted measurements ``keep`` had been fitted
+    (``rest``: those measurements), to first order: each level's fit moved by
+    :func:`without_rows`, its configurations (or folds of them, as ``choice`` says) left out in
+    turn and the level chosen as :func:`cross_validate` does. Its scores are not filled in:
+    only the left-out errors, the weights and the choice are. ``first``'s levels fitted again
+    without the other measurements (its noise levels and priors estimated again) may differ by
+    more than the step where these move the solution far."""
+    data = to_data(first.fit, first.options.pose, first.problem.markers)
+    index, configurations = rest.configurations()
+    group = fold_of_configurations(configurations, choice.folds, choice.seed)[index]
+    failures: dict[str, str] = {}
+    at = {
+        lv: without_rows(f.problem(data), f.solution.lin, keep)
+        for lv, f in first.fits.items()
+        if lv in first.selection.left_out
+    }
+    left_out, per_config = _left_out(at, group, index, configurations, failures)
+    judged = [lv for lv in first.selection.left_out if lv in per_config]
+    weights = first.selection.weights
+    groups = int(group.max(initial=-1)) + 1
+    if not judged:
+        return Selection(groups, choice.seed, configurations, (), None, None, "")
+    best, chosen = _choose(judged, per_config, weights, choice.rule)
+    chosen = choice.level if choice.level != AUTO else chosen
+    reason = "predicted to first order without the measurements left out"
+    return Selection(
+        groups, choice.seed, configurations, (), best, chosen, reason, left_out, weights
+    )
 
 
 def level_fits(
@@ -293,42 +354,21 @@ def cross_validate(
     ``best``. Returns the selection and every level's fit to all the measurements.
     """
     index, configurations = fit.configurations()
-    group_of = fold_of_configurations(configurations, folds, seed)
-    groups = int(group_of.max(initial=-1)) + 1
+    group = fold_of_configurations(configurations, folds, seed)[index]
     fits, failures = level_fits(nominal, fit, opts, ids, before, levels)
     data = to_data(fit, opts.pose, ids)
-    per_config: dict[str, Mat] = {}
-    left_out: dict[str, Mat] = {}
-    for level, f in fits.items():
-        if level in failures:
-            continue
-        if groups < 2:
-            failures[level] = "a single configuration cannot be left out"
-            continue
-        squared = left_out_errors(f.problem(data), f.solution.lin, group_of[index])
-        if squared is None:
-            failures[level] = (
-                "a configuration alone determines some of its parameters: without it "
-                "nothing predicts them"
-            )
-            continue
-        left_out[level] = squared
-        per_config[level] = per_configuration(squared, index, configurations)
+    at = {lv: (f.problem(data), f.solution.lin) for lv, f in fits.items() if lv not in failures}
+    left_out, per_config = _left_out(at, group, index, configurations, failures)
     judged = [lv for lv in levels if lv in per_config]
     richest = fits[judged[-1]] if judged else before
-    weights = np.array([1.0 / richest.sigma_pos**2, 1.0 / richest.sigma_rot**2][: data.rows // 3])
-    combined = {lv: per_config[lv] @ weights for lv in judged}
-    scores = [_score(level, fits, failures, per_config, fit, opts, ids) for level in levels]
+    weights = _weights(richest, data.rows)
+    scores = [_score(level, fits, failures, per_config, data, opts.pose) for level in levels]
     seed_used = None if folds is None or folds >= configurations else seed
+    groups = int(group.max(initial=-1)) + 1
     if not judged:
         selection = Selection(groups, seed_used, configurations, tuple(scores), None, None, "")
         return selection, fits
-    best = min(judged, key=lambda lv: float(np.mean(combined[lv])))
-    chosen = (
-        best
-        if rule == "best"
-        else next(lv for lv in judged if within(combined[lv], combined[best]))
-    )
+    best, chosen = _choose(judged, per_config, weights, rule)
     by_level = {s.level: s for s in scores}
     reason = _reason(by_level[chosen], by_level[best], opts.pose, seed_used is None)
     selection = Selection(
@@ -337,20 +377,66 @@ def cross_validate(
     return selection, fits
 
 
+def _left_out(
+    at: dict[str, tuple[Problem, Linearisation]],
+    group: NDArray[np.int64],
+    index: NDArray[np.int64],
+    configurations: int,
+    failures: dict[str, str],
+) -> tuple[dict[str, Mat], dict[str, Mat]]:
+    """Per level fitted (its problem and its linearisation at the solution, ``at``): each
+    measurement's left-out squared errors (:func:`left_out_errors`, its group ``group[row]``
+    left out) and each configuration's mean of them; why the others could not be judged goes
+    to ``failures``."""
+    left_out: dict[str, Mat] = {}
+    per_config: dict[str, Mat] = {}
+    groups = int(group.max(initial=-1)) + 1
+    for level, (problem, lin) in at.items():
+        if groups < 2:
+            failures[level] = "a single configuration cannot be left out"
+            continue
+        squared = left_out_errors(problem, lin, group)
+        if squared is None:
+            failures[level] = (
+                "a configuration alone determines some of its parameters: without it "
+                "nothing predicts them"
+            )
+            continue
+        left_out[level] = squared
+        per_config[level] = per_configuration(squared, index, configurations)
+    return left_out, per_config
+
+
+def _weights(richest: Fit, rows: int) -> Mat:
+    """How squared position and rotation errors add up: over the richest level's noise levels'
+    squares (module docstring)."""
+    return np.array([1.0 / richest.sigma_pos**2, 1.0 / richest.sigma_rot**2][: rows // 3])
+
+
+def _choose(
+    judged: list[str], per_config: dict[str, Mat], weights: Mat, rule: str
+) -> tuple[str, str]:
+    """The best level and the one ``rule`` chooses (module docstring), of ``judged`` (from the
+    simplest)."""
+    combined = {lv: per_config[lv] @ weights for lv in judged}
+    best = min(judged, key=lambda lv: float(np.mean(combined[lv])))
+    if rule == "best":
+        return best, best
+    return best, next(lv for lv in judged if within(combined[lv], combined[best]))
+
+
 def _score(
     level: str,
     fits: dict[str, Fit],
     failures: dict[str, str],
     per_config: dict[str, Mat],
-    fit: Measurements,
-    opts: FitOptions,
-    ids: list[int],
+    data: Data,
+    pose: bool,
 ) -> Score:
     f = fits.get(level)
     fit_rms, parameters, iterations, prior = math.nan, 0, 0, None
     if f is not None:
-        squared = _squared_errors(f.solution.estimate, fit, opts.pose, ids)
-        fit_rms = math.sqrt(float(np.mean(squared[:, 0])))
+        fit_rms = math.sqrt(float(np.mean(errors(f.solution.estimate, data)[:, 0] ** 2)))
         parameters = count(f.solution.estimate)
         iterations = f.solution.iterations
         prior = None if f.prior is None else f.prior.deviations
@@ -361,7 +447,7 @@ def _score(
         )  # fmt: skip
     values = per_config[level]
     rms, se = _rms(values[:, 0])
-    rot = math.sqrt(float(np.mean(values[:, 1]))) if opts.pose else None
+    rot = math.sqrt(float(np.mean(values[:, 1]))) if pose else None
     return Score(level, parameters, fit_rms, rms, se, rot, iterations, prior)
 
 

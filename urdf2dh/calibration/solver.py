@@ -22,8 +22,10 @@ tool point by more than ``CALIBRATION_STEP`` x size and no orientation by more t
 ``CALIBRATION_COST`` of it, or when the gradient vanishes (:mod:`urdf2dh.tolerances`). With a
 prior (:mod:`.prior`) its rows join the measurements' (a :class:`Problem`).
 
-The model is evaluated once per step tried, residuals and Jacobian together, with the weights
-left out (a :class:`Linearisation`): a step kept brings the next iteration's Jacobian with it,
+The model is evaluated once per step tried, with the weights left out: its residuals (and the
+prior's deviations) first, for the cost; the Jacobian (and the prior's tangent) from the same
+frames only when the step is kept (a :class:`Linearisation`), which brings the next iteration's
+Jacobian with it,
 and the solution's linearisation is what its statistics, the noise levels and the prior's
 deviations of greatest evidence (:mod:`.evidence`), and the configurations left out
 (:mod:`.select`) are computed from, under any weights, without evaluating the model again.
@@ -63,7 +65,7 @@ from ..tolerances import (
 )
 from .chart import Estimate, retract
 from .prior import LinkErrors, Regulariser
-from .residuals import Data, evaluate, residuals
+from .residuals import Data, Evaluation, evaluate, residuals
 
 __all__ = [
     "Linearisation",
@@ -177,13 +179,25 @@ class Problem:
 
     def cost(self, lin: Linearisation) -> float:
         """The weighted sum of squares at ``lin``."""
-        w = self.weights()
-        r = lin.residuals.reshape(-1, lin.rows) * w
+        deviations = None if self.prior is None else self._prior_part(self.prior, lin)[0]
+        return self._cost(lin.residuals, deviations)
+
+    def _cost(self, residuals: Mat, deviations: Mat | None) -> float:
+        """The weighted sum of squares of the measurements' ``residuals`` (unit noise levels)
+        and, with a prior, of its ``deviations``."""
+        r = residuals.reshape(-1, self.data.rows) * self.weights()
         total = float(np.sum(r * r))
-        if self.prior is not None:
-            rp = self.prior.whiten @ self._prior_part(self.prior, lin)[0]
+        if self.prior is not None and deviations is not None:
+            rp = self.prior.whiten @ deviations
             total += float(rp @ rp)
         return total
+
+    def trial(self, est: Estimate) -> _Trial:
+        """This problem's cost at ``est``; its linearisation there only when asked (the
+        solver's refused steps cost no Jacobian)."""
+        model = Evaluation.at(est, self.data)
+        deviations = None if self.prior is None else self.prior.errors.deviations(est)
+        return _Trial(model, deviations, self._cost(model.residuals, deviations))
 
     @staticmethod
     def _prior_part(prior: Regulariser, lin: Linearisation) -> tuple[Mat, Mat]:
@@ -203,6 +217,25 @@ class Problem:
 
     def with_noise(self, sigma_pos: float, sigma_rot: float) -> Problem:
         return Problem(self.data, sigma_pos, sigma_rot, self.prior)
+
+
+@dataclass(frozen=True, slots=True)
+class _Trial:
+    """A problem's cost at an estimate (:meth:`Problem.trial`)."""
+
+    model: Evaluation
+    deviations: Mat | None
+    cost: float
+
+    def linearisation(self, problem: Problem) -> Linearisation:
+        """The linearisation there (:meth:`Problem.linearise`), from the same evaluation."""
+        est = self.model.estimate
+        prior = None
+        if problem.prior is not None and self.deviations is not None:
+            prior = (self.deviations, problem.prior.errors.tangent(est))
+        return Linearisation(
+            est, self.model.residuals, self.model.jacobian(), problem.data.rows, prior
+        )
 
 
 @dataclass(frozen=True, slots=True)
@@ -260,10 +293,9 @@ def solve(
     cost = problem.cost(lin)
     if first is not None and len(first) and len(first) == lin.jacobian.shape[1]:
         moved = retract(est, first)
-        there = problem.linearise(moved)
-        cost_there = problem.cost(there)
-        if cost_there < cost:
-            est, lin, cost = moved, there, cost_there
+        tried = problem.trial(moved)
+        if tried.cost < cost:
+            est, lin, cost = moved, tried.linearisation(problem), tried.cost
     r, jac = problem.weighted(lin)
     lam = _DAMPING_START  # the columns have unit norm: diag(J_s^T J_s) = 1
     nu = 2.0
@@ -295,20 +327,19 @@ def solve(
             ):
                 # nothing left to gain above round-off: no point moves, or the cost is flat
                 new = retract(est, ds / norms)
-                there = problem.linearise(new)
-                cost_new = problem.cost(there)
-                if cost_new < cost:
-                    est, lin, cost = new, there, cost_new
+                tried = problem.trial(new)
+                if tried.cost < cost:
+                    est, lin, cost = new, tried.linearisation(problem), tried.cost
                 return Solution(est, it, True, math.sqrt(cost), lin)
             accel = _acceleration(est, problem, r, jac, norms, ds, damped)
             step = None if accel is None else ds + 0.5 * accel
             if step is not None:
                 new = retract(est, step / norms)
-                there = problem.linearise(new)
-                cost_new = problem.cost(there)
+                tried = problem.trial(new)
+                cost_new = tried.cost
             if step is not None and cost_new < cost and predicted > 0.0:
                 gain = (cost - cost_new) / predicted
-                est, lin, cost = new, there, cost_new
+                est, lin, cost = new, tried.linearisation(problem), cost_new
                 lam *= max(1.0 / 3.0, 1.0 - (2.0 * gain - 1.0) ** 3)
                 nu = 2.0
                 r, jac = problem.weighted(lin)

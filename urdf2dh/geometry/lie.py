@@ -15,11 +15,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 __all__ = [
-    "ad_apply",
     "cross3",
-    "cross_columns",
     "cross_rows",
     "exp_so3",
+    "exp_so3_left_jacobian",
     "left_jacobian",
     "left_jacobian_inverse",
     "log_se3",
@@ -38,10 +37,19 @@ _NEAR_PI = 1e-3  # within this of pi the rotation axis comes from the symmetric 
 def skew_batch(w: Mat) -> Mat:
     """``(..., 3) -> (..., 3, 3)``: the matrices ``[w]`` with ``[w] u = w x u``."""
     w = np.asarray(w, dtype=float)
-    out = np.zeros((*w.shape[:-1], 3, 3))
-    out[..., 0, 1], out[..., 0, 2] = -w[..., 2], w[..., 1]
-    out[..., 1, 0], out[..., 1, 2] = w[..., 2], -w[..., 0]
-    out[..., 2, 0], out[..., 2, 1] = -w[..., 1], w[..., 0]
+    out = np.zeros((*w.shape[:-1], 9))
+    out[..., _SKEW_PLUS] = w
+    out[..., _SKEW_MINUS] = -w
+    return out.reshape(*w.shape[:-1], 3, 3)
+
+
+_SKEW_PLUS = np.array([7, 2, 3])  # where w_0, w_1, w_2 sit in the flattened [w]
+_SKEW_MINUS = np.array([5, 6, 1])  # and where -w_0, -w_1, -w_2 do
+
+
+def _norms(w: Mat) -> Mat:
+    """``|w|`` along the last axis (numpy's ``norm`` without its dispatch)."""
+    out: Mat = np.sqrt(np.add.reduce(w * w, axis=-1))
     return out
 
 
@@ -66,7 +74,7 @@ def _coefficients(theta: Mat) -> tuple[Mat, Mat, Mat]:
 def exp_so3(w: Mat) -> Mat:
     """``(..., 3) -> (..., 3, 3)``: ``exp([w]) = I + a [w] + b [w]^2`` (Rodrigues)."""
     w = np.asarray(w, dtype=float)
-    theta = np.linalg.norm(w, axis=-1)
+    theta = _norms(w)
     a, b, _ = _coefficients(theta)
     k = skew_batch(w)
     return np.eye(3) + a[..., None, None] * k + b[..., None, None] * (k @ k)
@@ -76,10 +84,23 @@ def left_jacobian(w: Mat) -> Mat:
     """``(..., 3) -> (..., 3, 3)``: SO(3)'s left Jacobian ``I + b [w] + c [w]^2``; the
     translation of ``exp([w, v])`` is ``J(w) v``."""
     w = np.asarray(w, dtype=float)
-    theta = np.linalg.norm(w, axis=-1)
+    theta = _norms(w)
     _, b, c = _coefficients(theta)
     k = skew_batch(w)
     return np.eye(3) + b[..., None, None] * k + c[..., None, None] * (k @ k)
+
+
+def exp_so3_left_jacobian(w: Mat) -> tuple[Mat, Mat]:
+    """:func:`exp_so3` and :func:`left_jacobian` of ``w`` at once (the same arithmetic, the
+    coefficients and ``[w]^2`` found once)."""
+    w = np.asarray(w, dtype=float)
+    theta = _norms(w)
+    a, b, c = _coefficients(theta)
+    k = skew_batch(w)
+    k2 = k @ k
+    eye = np.eye(3)
+    rot = eye + a[..., None, None] * k + b[..., None, None] * k2
+    return rot, eye + b[..., None, None] * k + c[..., None, None] * k2
 
 
 def left_jacobian_inverse(w: Mat) -> Mat:
@@ -87,7 +108,7 @@ def left_jacobian_inverse(w: Mat) -> Mat:
     ``e = 1/t^2 - (1 + cos t) / (2 t sin t)`` (``1/12`` at 0). With ``R = exp([w])``, a left
     perturbation ``exp([d]) R`` has the rotation vector ``w + J(w)^-1 d`` to first order."""
     w = np.asarray(w, dtype=float)
-    theta = np.linalg.norm(w, axis=-1)
+    theta = _norms(w)
     small = theta < _SERIES
     t = np.where(small, 1.0, theta)
     t2 = theta * theta
@@ -100,11 +121,12 @@ def left_jacobian_inverse(w: Mat) -> Mat:
 def log_so3(r: Mat) -> Mat:
     """``(..., 3, 3) -> (..., 3)``: the rotation vector of ``R`` (angle in ``[0, pi]``)."""
     r = np.asarray(r, dtype=float)
-    s = 0.5 * np.stack(
-        [r[..., 2, 1] - r[..., 1, 2], r[..., 0, 2] - r[..., 2, 0], r[..., 1, 0] - r[..., 0, 1]],
-        axis=-1,
-    )  # sin(t) * axis
-    sin = np.linalg.norm(s, axis=-1)
+    s = np.empty(r.shape[:-1])  # sin(t) * axis
+    np.subtract(r[..., 2, 1], r[..., 1, 2], out=s[..., 0])
+    np.subtract(r[..., 0, 2], r[..., 2, 0], out=s[..., 1])
+    np.subtract(r[..., 1, 0], r[..., 0, 1], out=s[..., 2])
+    s *= 0.5
+    sin = _norms(s)
     cos = 0.5 * (np.trace(r, axis1=-2, axis2=-1) - 1.0)
     theta = np.arctan2(sin, cos)
     zero = sin == 0.0
@@ -128,25 +150,6 @@ def log_se3(t: Mat) -> Mat:
     w = log_so3(t[..., :3, :3])
     v = np.einsum("...ij,...j->...i", left_jacobian_inverse(w), t[..., :3, 3])
     return np.concatenate([w, v], axis=-1)
-
-
-def ad_apply(p: Mat, x: Mat) -> Mat:
-    """``Ad(P) X`` for a stack ``P (N, 4, 4)`` and twists ``X (6, k)``: ``(N, 6, k)``, with
-    ``Ad(P) [w, v] = [R w, R v + t x R w]`` (Wu 2019 eq. 4)."""
-    r, t = p[:, :3, :3], p[:, :3, 3, None]
-    out = np.empty((len(p), 6, x.shape[1]))
-    w = np.matmul(r, x[:3], out=out[:, :3])
-    v = np.matmul(r, x[3:], out=out[:, 3:])
-    v += cross_columns(t, w)
-    return out
-
-
-def cross_columns(a: Mat, b: Mat) -> Mat:
-    """``a x b`` along axis 1 of ``(N, 3, k)`` stacks (either may have ``k = 1``): numpy's
-    ``cross`` moves axes and costs ten times as much at these sizes."""
-    a0, a1, a2 = a[:, 0], a[:, 1], a[:, 2]
-    b0, b1, b2 = b[:, 0], b[:, 1], b[:, 2]
-    return np.stack([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0], axis=1)
 
 
 def rotation_of(quat: Mat) -> Mat:
@@ -203,7 +206,7 @@ def cross3(a: Mat, b: Mat) -> Mat:
 
 def cross_rows(a: Mat, b: Mat) -> Mat:
     """``a x b`` row by row for ``(n, 3)`` arrays (without numpy's ``cross`` axis handling)."""
-    out = np.empty(np.broadcast_shapes(a.shape, b.shape))
+    out = np.empty(a.shape if a.shape == b.shape else np.broadcast_shapes(a.shape, b.shape))
     out[..., 0] = a[..., 1] * b[..., 2] - a[..., 2] * b[..., 1]
     out[..., 1] = a[..., 2] * b[..., 0] - a[..., 0] * b[..., 2]
     out[..., 2] = a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
