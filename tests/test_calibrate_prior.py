@@ -112,9 +112,10 @@ def test_a_link_s_error_moves_every_later_joint_and_the_base_is_free(ur5):
     assert float(r @ r) > 2.0 * link
 
 
-def test_the_evidence_gradient_equals_finite_differences():
-    """The marginal likelihood's analytic gradient (noise levels and every group's deviation)
-    against central differences, on the UR10's real poses."""
+@pytest.fixture(scope="module")
+def ur10_full():
+    """The full level of the UR10's real poses linearised at its start, with its prior's link
+    errors: the evidence's linearisation and what it was made of."""
     from pathlib import Path
 
     data_dir = Path(__file__).resolve().parents[1] / "examples" / "calibration-data"
@@ -129,13 +130,45 @@ def test_the_evidence_gradient_equals_finite_differences():
     r0, jac = evaluate(start, data, 1.0, 1.0)
     assert jac is not None
     here = (errors, errors.tangent(start), errors.deviations(start), errors.parts(nominal.size()))
-    lin = linearised(r0, jac, data.rows, here)
-    theta = np.log(np.array([2e-3, 4e-3, 1e-3, 3e-3, 2e-4, 1e-3, 5e-3, 1e-3, 2e-3]))
-    assert len(theta) == 2 + len(lin.parts)
-    value, grad = _objective(theta, lin)
-    numeric = approx_fprime(theta, lambda t: _objective(t, lin)[0], 1e-6)
+    return linearised(r0, jac, data.rows, here), r0, jac
+
+
+_THETA = np.log(np.array([2e-3, 4e-3, 1e-3, 3e-3, 2e-4, 1e-3, 5e-3, 1e-3, 2e-3]))
+
+
+def test_the_evidence_gradient_equals_finite_differences(ur10_full):
+    """The marginal likelihood's analytic gradient (noise levels and every group's deviation)
+    against central differences, on the UR10's real poses."""
+    lin = ur10_full[0]
+    assert len(_THETA) == 2 + len(lin.parts)
+    value, grad = _objective(_THETA, lin)
+    numeric = approx_fprime(_THETA, lambda t: _objective(t, lin)[0], 1e-6)
     assert math.isfinite(value)
     assert np.allclose(grad, numeric, rtol=1e-4, atol=1e-4 * np.abs(grad).max())
+
+
+def test_the_evidence_equals_the_gaussian_marginal_likelihood(ur10_full):
+    """The objective against the restricted likelihood written out with dense matrices
+    (Harville 1974): the measurements and the prior's coordinates ``z = (r0, y0)`` with design
+    ``X = (J, G)`` and covariance ``V = diag(sigma_g^2 I, M)``, twice ``f`` being ``log det V +
+    log det X^T V^-1 X + z^T P z``, ``P = V^-1 - V^-1 X (X^T V^-1 X)^-1 X^T V^-1``; at
+    several noise levels and deviations, on the UR10's real poses."""
+    lin, r0, jac = ur10_full
+    positions = (np.arange(len(r0)) % 6) < 3
+    for scale in (0.3, 1.0, 4.0):
+        theta = _THETA + np.log(scale) * np.arange(len(_THETA)) / len(_THETA)
+        sigma2, tau2 = np.exp(2.0 * theta[:2]), np.exp(2.0 * theta[2:])
+        m = np.einsum("g,gij->ij", tau2, lin.parts)
+        v = np.zeros((len(r0) + len(m),) * 2)
+        v[: len(r0), : len(r0)] = np.diag(np.where(positions, sigma2[0], sigma2[1]))
+        v[len(r0) :, len(r0) :] = m
+        x = np.vstack([jac, lin.shape])
+        z = np.concatenate([r0, lin.offset])
+        v_inv = np.linalg.inv(v)
+        h = x.T @ v_inv @ x
+        p = v_inv - v_inv @ x @ np.linalg.solve(h, x.T @ v_inv)
+        dense = np.linalg.slogdet(v)[1] + np.linalg.slogdet(h)[1] + z @ p @ z
+        assert _objective(theta, lin)[0] == pytest.approx(0.5 * dense, rel=1e-9, abs=1e-6)
 
 
 def test_the_noise_levels_without_a_prior_are_where_the_evidence_is_greatest(ur5):

@@ -14,7 +14,8 @@ likelihood, the coordinates integrated out, is, up to a constant::
 
 (``n_g`` residuals of kind ``g``). It is minimised over the logarithms of the noise levels and
 of the deviations by L-BFGS-B (scipy) with its analytic gradient: at the minimising ``x`` the
-derivative of the first term is that of the objective alone, and ``d log det A = tr(A^-1 dA)``.
+derivative of the first term is that of the objective alone, and ``d log det A = tr(A^-1 dA)``
+(the traces read from the lower triangle of the inverse that LAPACK leaves, :func:`_traced`).
 The deviations that maximise the evidence are those the measurements support: where they pin the
 links down it is large and the prior hardly pulls; where they cannot tell a link's error from
 noise it is small and the link keeps the nominal's geometry. The caller re-linearises at the new
@@ -25,6 +26,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 from numpy.typing import NDArray
@@ -36,8 +38,9 @@ __all__ = ["Linearised", "maximise"]
 Mat = NDArray[np.float64]
 
 _LOWEST, _HIGHEST = 1e-9, 1.0  # the deviations searched, rad (and x the robot's size)
-_SETTLED = 1e-7  # L-BFGS-B stops when f changes by less than this x |f| (its ftol): far below
-# what moves a deviation by a per cent
+_SETTLED = 1e-7  # L-BFGS-B stops when f changes by less than this x |f| (its ftol); where the
+# evidence is flat in a deviation (a few 1e-4 of f over a factor of ten in it) it stops short of
+# the maximum there (where it stops then decides levels on real sets: TIAGo, TALOS)
 _COMPONENTS_ROUNDS = 100  # variance-component iterations at most (each ~halves the error)
 _COMPONENTS_SETTLED = 1e-6  # ... stopping when no noise level changes by more than this
 
@@ -49,21 +52,35 @@ class Linearised:
     Attributes
     ----------
     gram, cross, square, count
-        Per kind of residual (positions, then rotations): ``J_g^T J_g``, ``J_g^T r0_g``,
-        ``|r0_g|^2`` and ``n_g``, at unit noise.
+        Per kind of residual (positions, then rotations): ``J_g^T J_g`` ``(kinds, p, p)``,
+        ``J_g^T r0_g`` ``(kinds, p)``, ``|r0_g|^2`` and ``n_g`` ``(kinds,)``, at unit noise.
     shape, offset
         ``G`` ``(k, p)`` and ``y0`` ``(k,)``: the prior's projected coordinates.
     parts
         ``(groups, k, k)``: ``M_j`` of each group of errors, at unit deviation.
     """
 
-    gram: tuple[Mat, ...]
-    cross: tuple[Mat, ...]
-    square: tuple[float, ...]
-    count: tuple[int, ...]
+    gram: Mat
+    cross: Mat
+    square: Mat
+    count: Mat
     shape: Mat
     offset: Mat
     parts: Mat
+
+    @cached_property
+    def traced(self) -> tuple[Mat, Mat]:
+        """:func:`_traced` of ``gram`` and of ``parts``."""
+        return _traced(self.gram), _traced(self.parts)
+
+
+def _traced(a: Mat) -> Mat:
+    """``(n, m * m)``: each symmetric ``a[i]`` as ``2 tril(a[i]) - diag(a[i])``, flattened: its
+    product with the lower triangle of a symmetric ``B`` summed is ``tr(a[i] B)``, which is how
+    the inverses LAPACK leaves in one triangle (:func:`_inverse`) are traced."""
+    m = a.shape[1]
+    out: Mat = (a * (2.0 * np.tri(m) - np.eye(m))).reshape(len(a), m * m)
+    return out
 
 
 def linearised(
@@ -80,115 +97,97 @@ def linearised(
     res = residuals.reshape(-1, rows)
     jac = jacobian.reshape(len(res), rows, -1)
     kinds = [slice(0, 3)] + ([slice(3, 6)] if rows == 6 else [])
-    gram, cross, square, count = [], [], [], []
+    gram, cross, square = [], [], []
     for cols in kinds:
         j = jac[:, cols].reshape(-1, jac.shape[2])
         r = res[:, cols].ravel()
         gram.append(j.T @ j)
         cross.append(j.T @ r)
         square.append(float(r @ r))
-        count.append(len(r))
-    if prior is None:
-        p = jac.shape[2]
-        return Linearised(
-            tuple(gram), tuple(cross), tuple(square), tuple(count),
-            np.zeros((0, p)), np.zeros(0), np.zeros((0, 0, 0)),
-        )  # fmt: skip
-    errors, tangent, deviations, parts = prior
+    count = np.full(len(kinds), 3.0 * len(res))
+    p = jac.shape[2]
+    shape, offset, parts = np.zeros((0, p)), np.zeros(0), np.zeros((0, 0, 0))
+    if prior is not None:
+        errors, tangent, deviations, unit = prior
+        shape, offset, parts = errors.project @ tangent, errors.project @ deviations, np.array(unit)
     return Linearised(
-        tuple(gram),
-        tuple(cross),
-        tuple(square),
-        tuple(count),
-        errors.project @ tangent,
-        errors.project @ deviations,
-        np.array(parts),
+        np.array(gram), np.array(cross), np.array(square), count, shape, offset, parts
     )
 
 
 def _objective(theta: Mat, lin: Linearised) -> tuple[float, Mat]:
     """``f`` and its gradient by ``theta``: the log noise levels, then the log deviations of
-    the groups (module docstring). With ``u = M^-1 y(x)`` and ``P_j = M_j``, the gradient by
-    ``log t_j`` is ``t_j^2 sum(P_j * (M^-1 - M^-1 G H^-1 G^T M^-1 - u u^T))``. LAPACK's
-    Cholesky routines directly: the matrices are small and called for often."""
-    kinds = len(lin.gram)
-    sigma2 = np.exp(2.0 * theta[:kinds])
+    the groups (module docstring). With ``w_g = sigma_g^-2``, ``u = M^-1 y(x)`` and
+    ``K = M^-1 G``, the gradient by ``log sigma_g`` is ``n_g - w_g (|r_g(x)|^2 +
+    tr(H^-1 J_g^T J_g))`` and by ``log t_j`` it is ``t_j^2 tr(M_j (M^-1 - K H^-1 K^T -
+    u u^T))``, ``K H^-1 K^T = W^T W`` with ``W = L_H^-1 K^T``. LAPACK's Cholesky routines
+    directly: the matrices are small and called for often."""
+    kinds = len(lin.count)
+    weight = np.exp(-2.0 * theta[:kinds])
     if not len(lin.offset):
-        return _noise_only(sigma2, lin)
+        return _noise_only(weight, lin)
     tau2 = np.exp(2.0 * theta[kinds:])
-    lm = _factor(_prior_covariance(tau2, lin))
-    minv_g = _solve(lm, lin.shape)
-    gram = _weighted(lin.gram, sigma2)
-    h = ridged(_total(gram) + lin.shape.T @ minv_g)
-    b = _total(_weighted(lin.cross, sigma2))
-    b = b + minv_g.T @ lin.offset
-    lh = _factor(h)
-    x = -_solve(lh, b)
+    lm, k_mat, lh, x = _posterior(weight, tau2, lin)
     errors = _errors(lin, x)
     v = lin.offset + lin.shape @ x
     u = _solve(lm, v)
-    chi2 = sum(e / s for e, s in zip(errors, sigma2, strict=True)) + float(v @ u)
-    logdet = 2.0 * float(np.sum(np.log(np.diag(lh)))) + 2.0 * float(np.sum(np.log(np.diag(lm))))
-    noise = sum(n * math.log(s) for n, s in zip(lin.count, sigma2, strict=True))
+    chi2 = float(weight @ errors) + float(v @ u)
+    logdet = 2.0 * float(np.log(lh.diagonal()).sum() + np.log(lm.diagonal()).sum())
+    noise = 2.0 * float(lin.count @ theta[:kinds])
     value = 0.5 * (chi2 + logdet + noise)
-    h_inv = _inverse(lh)
-    spread = minv_g @ h_inv @ minv_g.T
-    rest = _inverse(lm) - spread - np.outer(u, u)
+    gram, parts = lin.traced
+    w_mat = _forward(lh, k_mat.T)
+    rest = _inverse(lm) - w_mat.T @ w_mat - np.outer(u, u)
     grad = np.empty(len(theta))
-    for g in range(kinds):
-        grad[g] = -errors[g] / sigma2[g] - float(np.sum(h_inv * gram[g])) + lin.count[g]
-    grad[kinds:] = tau2 * np.einsum("gij,ij->g", lin.parts, rest)
+    grad[:kinds] = lin.count - weight * (errors + gram @ _inverse(lh).ravel())
+    grad[kinds:] = tau2 * (parts @ rest.ravel())
     return value, grad
 
 
-def _noise_only(sigma2: Mat, lin: Linearised) -> tuple[float, Mat]:
-    """:func:`_objective` without a prior."""
-    gram, lh, x = _without_prior(lin, sigma2)
+def _noise_only(weight: Mat, lin: Linearised) -> tuple[float, Mat]:
+    """:func:`_objective` without a prior, at the weights ``sigma_g^-2``."""
+    lh, x = _without_prior(lin, weight)
     errors = _errors(lin, x)
-    chi2 = sum(e / s for e, s in zip(errors, sigma2, strict=True))
-    noise = sum(n * math.log(s) for n, s in zip(lin.count, sigma2, strict=True))
-    value = 0.5 * (chi2 + 2.0 * float(np.sum(np.log(np.diag(lh)))) + noise)
-    h_inv = _inverse(lh)
-    grad = np.array(
-        [
-            -e / s - float(np.sum(h_inv * g)) + n
-            for e, s, g, n in zip(errors, sigma2, gram, lin.count, strict=True)
-        ]
-    )
+    logdet = 2.0 * float(np.log(lh.diagonal()).sum())
+    value = 0.5 * (float(weight @ errors) + logdet - float(lin.count @ np.log(weight)))
+    grad = lin.count - weight * (errors + _traces(lin, lh))
     return value, grad
 
 
-def _weighted(terms: tuple[Mat, ...], sigma2: Mat) -> list[Mat]:
-    """Each kind's term over its noise variance."""
-    return [t / s for t, s in zip(terms, sigma2, strict=True)]
+def _posterior(weight: Mat, tau2: Mat, lin: Linearised) -> tuple[Mat, Mat, Mat, Mat]:
+    """At the weights ``sigma_g^-2`` and the deviations squared: the Cholesky factor of ``M``,
+    ``K = M^-1 G``, the Cholesky factor of ``H`` and the minimising ``x``."""
+    lm = _factor(ridged(_summed(tau2, lin.parts)))
+    k_mat = _solve(lm, lin.shape)
+    lh = _factor(ridged(_summed(weight, lin.gram) + lin.shape.T @ k_mat))
+    x = -_solve(lh, weight @ lin.cross + k_mat.T @ lin.offset)
+    return lm, k_mat, lh, x
 
 
-def _total(terms: list[Mat]) -> Mat:
-    """The sum of ``terms``, a new array."""
-    total: Mat = sum(terms, np.zeros_like(terms[0]))
-    return total
+def _summed(scales: Mat, terms: Mat) -> Mat:
+    """``sum_i scales[i] terms[i]`` ``(m, m)`` of the square ``terms`` ``(n, m, m)``."""
+    m = terms.shape[1]
+    out: Mat = (scales @ terms.reshape(len(terms), -1)).reshape(m, m)
+    return out
 
 
-def _prior_covariance(tau2: Mat, lin: Linearised) -> Mat:
-    """``M = sum_j t_j^2 M_j``, ridged."""
-    return ridged(np.einsum("g,gij->ij", tau2, lin.parts))
+def _without_prior(lin: Linearised, weight: Mat) -> tuple[Mat, Mat]:
+    """Without a prior, at the weights ``sigma_g^-2``: the Cholesky factor of ``H`` and the
+    minimising ``x``."""
+    lh = _factor(ridged(_summed(weight, lin.gram)))
+    return lh, -_solve(lh, weight @ lin.cross)
 
 
-def _without_prior(lin: Linearised, sigma2: Mat) -> tuple[list[Mat], Mat, Mat]:
-    """Without a prior, at the noise variances ``sigma2``: the weighted Gram matrices, the
-    Cholesky factor of ``H`` and the minimising ``x``."""
-    gram = _weighted(lin.gram, sigma2)
-    lh = _factor(ridged(_total(gram)))
-    x = -_solve(lh, _total(_weighted(lin.cross, sigma2)))
-    return gram, lh, x
+def _traces(lin: Linearised, lh: Mat) -> Mat:
+    """``tr(H^-1 J_g^T J_g)`` per kind from ``H``'s Cholesky factor."""
+    out: Mat = lin.traced[0] @ _inverse(lh).ravel()
+    return out
 
 
-def _errors(lin: Linearised, x: Mat) -> list[float]:
+def _errors(lin: Linearised, x: Mat) -> Mat:
     """Each kind's ``|r_g(x)|^2`` at unit noise."""
-    return [
-        sq + 2.0 * float(c @ x) + float(x @ g @ x)
-        for sq, c, g in zip(lin.square, lin.cross, lin.gram, strict=True)
-    ]
+    out: Mat = lin.square + (2.0 * lin.cross + lin.gram @ x) @ x
+    return out
 
 
 def _factor(a: Mat) -> Mat:
@@ -210,12 +209,20 @@ def _solve(factor: Mat, b: Mat) -> Mat:
     return out
 
 
+def _forward(factor: Mat, b: Mat) -> Mat:
+    """``L^-1 b`` from the lower Cholesky factor ``L``."""
+    from scipy.linalg.lapack import dtrtrs
+
+    out: Mat = dtrtrs(factor, b, lower=1)[0]
+    return out
+
+
 def _inverse(factor: Mat) -> Mat:
-    """``A^-1`` from the lower Cholesky factor of ``A``."""
+    """The lower triangle of ``A^-1`` from the lower Cholesky factor of ``A`` (the upper
+    triangle zero: :func:`_traced` reads the lower one)."""
     from scipy.linalg.lapack import dpotri
 
-    low = dpotri(factor, lower=1)[0]
-    out: Mat = np.tril(low) + np.tril(low, -1).T
+    out: Mat = dpotri(factor, lower=1)[0]
     return out
 
 
@@ -229,7 +236,7 @@ def maximise(
     prior, the noise levels alone: variance components (:func:`_components`)."""
     from scipy.optimize import minimize
 
-    kinds = len(lin.gram)
+    kinds = len(lin.count)
     if not len(lin.offset):
         levels = _components(lin, noise, floors)
         theta = np.log(np.array(levels))
@@ -262,13 +269,11 @@ def _components(
     fixed = np.array([f == v for f, v in zip(floors, noise, strict=True)])
     low = np.array(floors, dtype=float)
     for _ in range(_COMPONENTS_ROUNDS):
-        gram, lh, x = _without_prior(lin, levels**2)
-        h_inv = _inverse(lh)
-        new = levels.copy()
-        for g, (error, n) in enumerate(zip(_errors(lin, x), lin.count, strict=True)):
-            redundancy = n - float(np.sum(h_inv * gram[g]))
-            if redundancy > 0.0 and error > 0.0:
-                new[g] = math.sqrt(error / redundancy)
+        weight = levels**-2
+        lh, x = _without_prior(lin, weight)
+        error, redundancy = _errors(lin, x), lin.count - weight * _traces(lin, lh)
+        found = (redundancy > 0.0) & (error > 0.0)
+        new = np.sqrt(np.divide(error, redundancy, out=levels**2, where=found))
         new = np.where(fixed, levels, np.maximum(new, low))
         settled = bool(np.all(np.abs(new / levels - 1.0) <= _COMPONENTS_SETTLED))
         levels = new
@@ -279,12 +284,8 @@ def _components(
 
 def _step(theta: Mat, lin: Linearised) -> Mat:
     """The minimising ``x`` of the linearised objective at ``theta``."""
-    kinds = len(lin.gram)
-    sigma2 = np.exp(2.0 * theta[:kinds])
-    h = _total(_weighted(lin.gram, sigma2))
-    b = _total(_weighted(lin.cross, sigma2))
-    if len(lin.offset):
-        minv_g = _solve(_factor(_prior_covariance(np.exp(2.0 * theta[kinds:]), lin)), lin.shape)
-        h = h + lin.shape.T @ minv_g
-        b = b + minv_g.T @ lin.offset
-    return -_solve(_factor(ridged(h)), b)
+    kinds = len(lin.count)
+    weight = np.exp(-2.0 * theta[:kinds])
+    if not len(lin.offset):
+        return _without_prior(lin, weight)[1]
+    return _posterior(weight, np.exp(2.0 * theta[kinds:]), lin)[3]

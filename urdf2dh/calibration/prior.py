@@ -74,7 +74,8 @@ _STEP = 1e-7  # central differences of the line coordinates (smooth: ~1e-14 accu
 def ridged(a: Mat) -> Mat:
     """``a`` (a new matrix, changed in place) with :data:`~urdf2dh.tolerances.CHOLESKY_RIDGE`
     times its mean diagonal added to its diagonal: what a Cholesky factor is taken of."""
-    a[np.diag_indices_from(a)] += CHOLESKY_RIDGE * float(np.trace(a)) / max(len(a), 1)
+    diagonal = np.einsum("ii->i", a)  # a writeable view
+    diagonal += CHOLESKY_RIDGE * float(diagonal.sum()) / max(len(a), 1)
     return a
 
 
