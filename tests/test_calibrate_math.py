@@ -11,6 +11,7 @@ import pytest
 
 import urdf2dh
 from urdf2dh import Joint, PoeModel, to_table
+from urdf2dh.calibration import residuals as residuals_module
 from urdf2dh.calibration.chart import (
     Estimate,
     absorbed,
@@ -23,7 +24,7 @@ from urdf2dh.calibration.chart import (
     tool_screws,
 )
 from urdf2dh.calibration.levels import BASE_TOOL, FULL, GEOMETRY, OFFSETS
-from urdf2dh.calibration.residuals import Data, evaluate, model_poses, residuals
+from urdf2dh.calibration.residuals import Data, Evaluation, evaluate, model_poses, residuals
 from urdf2dh.geometry.lie import (
     exp_so3,
     left_jacobian,
@@ -278,6 +279,23 @@ def test_residuals_and_jacobian_equal_a_plain_reference(case):
     assert np.abs(r - r_ref).max() <= 1e-13 * size
     assert np.abs(jac - jac_ref).max() <= 1e-13 * np.abs(jac_ref).max()
     assert np.array_equal(residuals(est, data, sp, sr), r)
+
+
+@pytest.mark.parametrize("case", ["position", "some-fixed"])
+def test_measurements_beyond_one_chunk_evaluate_as_one(case, monkeypatch):
+    """Beyond :data:`~urdf2dh.calibration.residuals.CHUNK` measurements the model is evaluated a
+    chunk at a time, and a solver's evaluation makes its Jacobian in the same pass: the
+    residuals and Jacobian are those of one pass over all of them, bit for bit."""
+    est, data, sp, sr = _case(case)
+    r, jac = evaluate(est, data, 1.0, 1.0)
+    monkeypatch.setattr(residuals_module, "CHUNK", 4)  # 15 measurements: four chunks
+    chunked = Evaluation.at(est, data)
+    assert chunked.jac is not None and chunked.state is None
+    assert np.array_equal(chunked.residuals, r) and np.array_equal(chunked.jacobian(), jac)
+    r_w, jac_w = evaluate(est, data, sp, sr)  # weighted, chunked
+    monkeypatch.setattr(residuals_module, "CHUNK", 1024)
+    one = evaluate(est, data, sp, sr)
+    assert np.array_equal(one[0], r_w) and np.array_equal(one[1], jac_w)
 
 
 @pytest.mark.parametrize("robot", ["puma560-actual", "stanford"])

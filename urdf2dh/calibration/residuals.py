@@ -356,7 +356,9 @@ def _factors(est: Estimate, data: Data, moved: Mat, s: Mat, which: NDArray[np.in
     return picked
 
 
-CHUNK = 4096  # measurements evaluated at once: memory stays ~ rows x parameters, not 3 x that
+CHUNK = (
+    1024  # measurements evaluated at once: memory stays ~ rows x parameters, and each pass in cache
+)
 
 
 def evaluate(est: Estimate, data: Data, sigma_pos: float, sigma_rot: float) -> tuple[Mat, Mat]:
@@ -485,21 +487,26 @@ class Evaluation:
     data: Data
     residuals: Mat
     state: _State | None  # kept when the measurements fit in one chunk
+    jac: Mat | None = None  # ... else the Jacobian made in the same pass: (N, rows, p)
 
     @classmethod
     def at(cls, est: Estimate, data: Data) -> Evaluation:
-        """The residuals of ``data`` at ``est``."""
+        """The residuals of ``data`` at ``est`` (beyond one chunk, and the Jacobian: the frames
+        are not kept, and making them twice would cost more than a Jacobian not asked for)."""
         if len(data) > CHUNK:
-            return cls(est, data, _evaluated(est, data, 1.0, 1.0, None), None)
+            jac = np.empty((len(data), data.rows, sum(sizes(est))))
+            return cls(est, data, _evaluated(est, data, 1.0, 1.0, jac), None, jac)
         res = np.empty((len(data), data.rows))
         return cls(est, data, res.ravel(), _model(est, data, 1.0, 1.0, res))
 
     def jacobian(self) -> Mat:
         """``(N * rows, p)`` the residuals' Jacobian (:func:`evaluate` at unit noise levels)."""
         est, data = self.estimate, self.data
-        jac = np.empty((len(data), data.rows, sum(sizes(est))))
-        if self.state is None:
-            _evaluated(est, data, 1.0, 1.0, jac)
-        else:
-            _jacobian_into(est, data, self.state, 1.0, 1.0, jac)
+        jac = self.jac
+        if jac is None:
+            jac = np.empty((len(data), data.rows, sum(sizes(est))))
+            if self.state is None:
+                _evaluated(est, data, 1.0, 1.0, jac)
+            else:
+                _jacobian_into(est, data, self.state, 1.0, 1.0, jac)
         return jac.reshape(len(data) * data.rows, -1)
