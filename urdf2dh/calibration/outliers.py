@@ -177,10 +177,11 @@ def settle(first: Pass, level: str, options: Options) -> tuple[Pass, Outliers]:
     kept = np.flatnonzero(np.isin(rows, kept_rows))
     rest = problem.refitted(kept_rows)
     index = rest.fit.configurations()[0]
-    if reject is None:  # predicted first: the levels are judged again only for a gain
-        predicted = predicted_without(first, kept, rest.fit, options.choice)
+    predicted = None if reject else predicted_without(first, kept, rest.fit, options.choice)
+    if predicted is not None and predicted.chosen in predicted.left_out:
+        # predicted first: the levels are fitted again only for a gain
         helps, with_rms, without_rms = rejecting_helps(
-            kept, index, (first.selection, level), (predicted, predicted.chosen or "")
+            kept, index, (first.selection, level), (predicted, predicted.chosen)
         )
         if not helps:
             return first, _kept(found, _figures(with_rms, without_rms, units), "to first order")
