@@ -95,8 +95,8 @@ class Data:
         """Pose measurements: tool origins and orientations."""
         return cls(q, points, np.zeros(len(q), dtype=np.int64), rotations)
 
-    def part(self, rows: slice) -> Data:
-        """The measurements in ``rows``."""
+    def part(self, rows: slice | NDArray[np.int64]) -> Data:
+        """The measurements in ``rows`` (a slice, or their indices)."""
         return Data(
             self.q[rows],
             self.points[rows],
@@ -356,9 +356,8 @@ def _factors(est: Estimate, data: Data, moved: Mat, s: Mat, which: NDArray[np.in
     return picked
 
 
-CHUNK = (
-    1024  # measurements evaluated at once: memory stays ~ rows x parameters, and each pass in cache
-)
+# measurements evaluated at once: memory stays ~ rows x parameters, and each pass in cache
+CHUNK = 1024
 
 
 def evaluate(est: Estimate, data: Data, sigma_pos: float, sigma_rot: float) -> tuple[Mat, Mat]:
@@ -486,8 +485,7 @@ class Evaluation:
     estimate: Estimate
     data: Data
     residuals: Mat
-    state: _State | None  # kept when the measurements fit in one chunk
-    jac: Mat | None = None  # ... else the Jacobian made in the same pass: (N, rows, p)
+    made: _State | Mat  # the frames (one chunk), or the Jacobian made with the residuals
 
     @classmethod
     def at(cls, est: Estimate, data: Data) -> Evaluation:
@@ -495,18 +493,14 @@ class Evaluation:
         are not kept, and making them twice would cost more than a Jacobian not asked for)."""
         if len(data) > CHUNK:
             jac = np.empty((len(data), data.rows, sum(sizes(est))))
-            return cls(est, data, _evaluated(est, data, 1.0, 1.0, jac), None, jac)
+            return cls(est, data, _evaluated(est, data, 1.0, 1.0, jac), jac)
         res = np.empty((len(data), data.rows))
         return cls(est, data, res.ravel(), _model(est, data, 1.0, 1.0, res))
 
     def jacobian(self) -> Mat:
         """``(N * rows, p)`` the residuals' Jacobian (:func:`evaluate` at unit noise levels)."""
-        est, data = self.estimate, self.data
-        jac = self.jac
-        if jac is None:
-            jac = np.empty((len(data), data.rows, sum(sizes(est))))
-            if self.state is None:
-                _evaluated(est, data, 1.0, 1.0, jac)
-            else:
-                _jacobian_into(est, data, self.state, 1.0, 1.0, jac)
+        est, data, jac = self.estimate, self.data, self.made
+        if isinstance(jac, _State):
+            state, jac = jac, np.empty((len(data), data.rows, sum(sizes(est))))
+            _jacobian_into(est, data, state, 1.0, 1.0, jac)
         return jac.reshape(len(data) * data.rows, -1)

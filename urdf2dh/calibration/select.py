@@ -233,21 +233,13 @@ def without_rows(
     delta = -np.linalg.lstsq(jac[fitted], r[fitted], rcond=None)[0]
     prior = None
     if problem.prior is not None:
-        coordinates, tangent = (
-            problem.prior.errors.evaluate(lin.estimate) if lin.prior is None else lin.prior
-        )
+        coordinates, tangent = Problem.prior_part(problem.prior, lin)
         prior = (coordinates + tangent @ delta, tangent)
-    d = problem.data
-    data = Data(
-        d.q[keep],
-        d.points[keep],
-        d.markers[keep],
-        None if d.rotations is None else d.rotations[keep],
-    )
     moved = Linearisation(
         lin.estimate, lin.residuals[kept] + lin.jacobian[kept] @ delta, lin.jacobian[kept], rows,
         prior,
     )  # fmt: skip
+    data = problem.data.part(keep)
     return Problem(data, problem.sigma_pos, problem.sigma_rot, problem.prior), moved
 
 
@@ -274,14 +266,13 @@ def predicted_without(
     judged = [lv for lv in first.selection.left_out if lv in per_config]
     weights = first.selection.weights
     groups = int(group.max(initial=-1)) + 1
+    seed = _seed_used(choice.folds, choice.seed, configurations)
     if not judged:
-        return Selection(groups, choice.seed, configurations, (), None, None, "")
+        return Selection(groups, seed, configurations, (), None, None, "")
     best, chosen = _choose(judged, per_config, weights, choice.rule)
     chosen = choice.level if choice.level != AUTO else chosen
     reason = "predicted to first order without the measurements left out"
-    return Selection(
-        groups, choice.seed, configurations, (), best, chosen, reason, left_out, weights
-    )
+    return Selection(groups, seed, configurations, (), best, chosen, reason, left_out, weights)
 
 
 def level_fits(
@@ -363,7 +354,7 @@ def cross_validate(
     richest = fits[judged[-1]] if judged else before
     weights = _weights(richest, data.rows)
     scores = [_score(level, fits, failures, per_config, data, opts.pose) for level in levels]
-    seed_used = None if folds is None or folds >= configurations else seed
+    seed_used = _seed_used(folds, seed, configurations)
     groups = int(group.max(initial=-1)) + 1
     if not judged:
         selection = Selection(groups, seed_used, configurations, tuple(scores), None, None, "")
@@ -375,6 +366,12 @@ def cross_validate(
         groups, seed_used, configurations, tuple(scores), best, chosen, reason, left_out, weights
     )
     return selection, fits
+
+
+def _seed_used(folds: int | None, seed: int, configurations: int) -> int | None:
+    """The seed of the folds, ``None`` where each configuration is left out alone
+    (:func:`fold_of_configurations`)."""
+    return None if folds is None or folds >= configurations else seed
 
 
 def _left_out(

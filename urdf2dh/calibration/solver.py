@@ -25,10 +25,10 @@ prior (:mod:`.prior`) its rows join the measurements' (a :class:`Problem`).
 The model is evaluated once per step tried, with the weights left out: its residuals (and the
 prior's deviations) first, for the cost; the Jacobian (and the prior's tangent) from the same
 frames only when the step is kept (a :class:`Linearisation`), which brings the next iteration's
-Jacobian with it,
-and the solution's linearisation is what its statistics, the noise levels and the prior's
-deviations of greatest evidence (:mod:`.evidence`), and the configurations left out
-(:mod:`.select`) are computed from, under any weights, without evaluating the model again.
+Jacobian with it (beyond one chunk of measurements, :data:`.residuals.CHUNK`, the Jacobian is
+made with the residuals). The solution's linearisation is what its statistics, the noise levels
+and the prior's deviations of greatest evidence (:mod:`.evidence`), and the configurations left
+out (:mod:`.select`) are computed from, under any weights, without evaluating the model again.
 Products with the tall Jacobian go through BLAS on one thread (:func:`one_thread`: on a shared
 two-core machine, OpenBLAS's threads waking for small matrices made the whole solve four to ten
 times slower).
@@ -173,13 +173,13 @@ class Problem:
         )
         if self.prior is None:
             return r, jac
-        deviations, tangent = self._prior_part(self.prior, lin)
+        deviations, tangent = self.prior_part(self.prior, lin)
         whiten = self.prior.whiten
         return np.concatenate([r, whiten @ deviations]), np.vstack([jac, whiten @ tangent])
 
     def cost(self, lin: Linearisation) -> float:
         """The weighted sum of squares at ``lin``."""
-        deviations = None if self.prior is None else self._prior_part(self.prior, lin)[0]
+        deviations = None if self.prior is None else self.prior_part(self.prior, lin)[0]
         return self._cost(lin.residuals, deviations)
 
     def _cost(self, residuals: Mat, deviations: Mat | None) -> float:
@@ -200,7 +200,7 @@ class Problem:
         return _Trial(model, deviations, self._cost(model.residuals, deviations))
 
     @staticmethod
-    def _prior_part(prior: Regulariser, lin: Linearisation) -> tuple[Mat, Mat]:
+    def prior_part(prior: Regulariser, lin: Linearisation) -> tuple[Mat, Mat]:
         """The prior's coordinates and tangent at ``lin`` (found there when it has none)."""
         return prior.errors.evaluate(lin.estimate) if lin.prior is None else lin.prior
 
