@@ -545,7 +545,7 @@ def line_coordinates(axis: Mat, point: Mat, other_axis: Mat, other_point: Mat) -
     a, b, d = (np.add.reduce(x * y, axis=1) for x, y in ((c1, c1), (c1, c2), (c2, c2)))
     g1, g2 = np.add.reduce(c1 * gap, axis=1), np.add.reduce(c2 * gap, axis=1)
     det = a * d - b * b
-    if np.any(det == 0.0):  # as LAPACK's solve: a singular system is an error, NaN flows on
+    if (det == 0.0).any():  # as LAPACK's solve: a singular system is an error, NaN flows on
         raise np.linalg.LinAlgError("Singular matrix")
     out[:, 2] = (d * g1 - b * g2) / det
     out[:, 3] = (a * g2 - b * g1) / det

@@ -179,7 +179,7 @@ def model_poses(est: Estimate, q: Mat) -> Mat:
 def _points(est: Estimate, tool: Mat, markers: NDArray[np.int64]) -> Mat:
     """``(N, 3)`` the points ``T c_k`` the measurements saw (``markers``: each one's ``k``) on
     the tool's poses ``tool`` ``(N, 4, 4)``."""
-    if not np.any(est.markers):  # the tool's origin
+    if not est.markers.any():  # the tool's origin
         return tool[:, :3, 3].copy()
     seen = est.markers[markers][:, :, None]
     out: Mat = np.matmul(tool[:, :3, :3], seen)[..., 0] + tool[:, :3, 3]
@@ -328,7 +328,7 @@ def _twists(est: Estimate) -> Mat:
     cand[:, 0, :3], cand[:, 1, :3] = e1, e2
     cand[:, 2, 3:], cand[:, 3, 3:] = e1, e2
     cand[:, 4, 3:] = u
-    moments = cross_rows(p[:, None, :], cand[:, 2:5, 3:])  # p x e1, p x e2, p x u
+    moments = cross_rows(np.repeat(p[:, None, :], 3, axis=1), cand[:, 2:5, 3:])  # p x e1, e2, u
     cand[:, :2, 3:] = moments[:, :2]
     cand[:, 6, :3] = turning[:, None] * u
     lead = np.where(turning, chain.pitch, 1.0)

@@ -301,7 +301,7 @@ def solve(
     nu = 2.0
     m = problem.data_rows
     for it in range(1, max_iterations + 1):
-        if not (math.isfinite(cost) and np.all(np.isfinite(jac))):  # beyond float's range
+        if not (math.isfinite(cost) and np.isfinite(jac).all()):  # beyond float's range
             return Solution(est, it - 1, False, math.sqrt(cost), lin)
         norms = _norms(jac)
         gram = (jac.T @ jac) / np.outer(norms, norms)
@@ -311,7 +311,8 @@ def solve(
         if done is not None:
             done(it)
         while True:
-            damped = gram + lam * np.eye(len(gram))
+            damped = gram.copy()
+            np.einsum("ii->i", damped)[:] += lam  # + lam I
             ds = _solved(damped, -grad)
             if ds is None:  # no step at this damping: damp more
                 lam *= nu
@@ -357,7 +358,7 @@ def _solved(a: Mat, b: Mat) -> Mat | None:
         x = np.asarray(np.linalg.solve(a, b), dtype=np.float64)
     except np.linalg.LinAlgError:
         return None
-    return x if np.all(np.isfinite(x)) else None
+    return x if np.isfinite(x).all() else None
 
 
 def _acceleration(
@@ -387,7 +388,7 @@ def statistics(lin: Linearisation, problem: Problem, exact: bool = True) -> Stat
     """
     r, jac = problem.weighted(lin)
     m, p = jac.shape
-    if not (np.all(np.isfinite(r)) and np.all(np.isfinite(jac))):  # beyond float's range
+    if not (np.isfinite(r).all() and np.isfinite(jac).all()):  # beyond float's range
         return _undetermined(r, p)
     if p == 0:  # nothing identified
         factor = float(r @ r) / m if m else math.nan
