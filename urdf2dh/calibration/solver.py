@@ -266,14 +266,9 @@ class Statistics:
 def _step_size(change: Mat, data: Data, sigma_pos: float, sigma_rot: float) -> tuple[float, float]:
     """Largest tool-point and orientation change (physical units) of a weighted change of the
     measurements' residuals."""
-    rows = change.reshape(len(data), data.rows)
-    pos = float(np.linalg.norm(rows[:, :3], axis=1).max(initial=0.0)) * sigma_pos
-    rot = (
-        float(np.linalg.norm(rows[:, 3:], axis=1).max(initial=0.0)) * sigma_rot
-        if data.rows == 6
-        else 0.0
-    )
-    return pos, rot
+    squares = np.add.reduce(np.square(change.reshape(len(data), -1, 3)), axis=2)
+    largest = np.sqrt(squares.max(axis=0, initial=0.0))  # position, then rotation
+    return float(largest[0]) * sigma_pos, float(largest[1]) * sigma_rot if data.rows == 6 else 0.0
 
 
 def solve(
@@ -373,8 +368,8 @@ def _acceleration(
     accel = _solved(damped, -(jac.T @ curvature) / norms)
     if accel is None:
         return None
-    speed = float(np.linalg.norm(ds))
-    if speed > 0.0 and 2.0 * float(np.linalg.norm(accel)) > _ACCELERATION_LIMIT * speed:
+    speed = math.sqrt(float(ds @ ds))
+    if speed > 0.0 and 2.0 * math.sqrt(float(accel @ accel)) > _ACCELERATION_LIMIT * speed:
         return None
     return accel
 

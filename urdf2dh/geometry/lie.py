@@ -183,15 +183,21 @@ def log_se3(t: Mat) -> Mat:
 
 def rotation_of(quat: Mat) -> Mat:
     """``(..., 4) -> (..., 3, 3)``: the rotation of unit quaternions ``[x, y, z, w]``."""
-    x, y, z, w = np.moveaxis(np.asarray(quat, dtype=float), -1, 0)
-    return np.stack(
-        [
-            np.stack([1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)], -1),
-            np.stack([2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)], -1),
-            np.stack([2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)], -1),
-        ],
-        -2,
-    )
+    quat = np.asarray(quat, dtype=float)
+    x, y, z, w = np.moveaxis(quat, -1, 0)
+    xx, yy, zz, xy, xz, yz = x * x, y * y, z * z, x * y, x * z, y * z
+    xw, yw, zw = x * w, y * w, z * w
+    out = np.empty((*quat.shape[:-1], 3, 3))
+    out[..., 0, 0] = 1 - 2 * (yy + zz)
+    out[..., 0, 1] = 2 * (xy - zw)
+    out[..., 0, 2] = 2 * (xz + yw)
+    out[..., 1, 0] = 2 * (xy + zw)
+    out[..., 1, 1] = 1 - 2 * (xx + zz)
+    out[..., 1, 2] = 2 * (yz - xw)
+    out[..., 2, 0] = 2 * (xz - yw)
+    out[..., 2, 1] = 2 * (yz + xw)
+    out[..., 2, 2] = 1 - 2 * (xx + yy)
+    return out
 
 
 def quaternion_of(r: Mat) -> Mat:
