@@ -132,14 +132,18 @@ def left_jacobian_inverse(w: Mat) -> Mat:
     w = np.asarray(w, dtype=float)
     theta = _norms(w)
     small = theta < _SERIES
-    t = np.where(small, 1.0, theta)
 
     def series() -> Mat:
         t2 = theta * theta
         out: Mat = 1.0 / 12.0 + t2 / 720.0 + t2 * t2 / 30240.0 + t2 * t2 * t2 / 1209600.0
         return out
 
-    e = _either(small, series, lambda: 1.0 / (t * t) - (1.0 + np.cos(t)) / (2.0 * t * np.sin(t)))
+    def closed() -> Mat:
+        t = np.where(small, 1.0, theta)
+        out: Mat = 1.0 / (t * t) - (1.0 + np.cos(t)) / (2.0 * t * np.sin(t))
+        return out
+
+    e = _either(small, series, closed)
     k = skew_batch(w)
     return _EYE3 - 0.5 * k + e[..., None, None] * (k @ k)
 
