@@ -320,9 +320,23 @@ class Estimate:
         """The same model, identified at ``level`` (offsets absorbed by the lines when the new
         level has no offsets of its own)."""
         est = self
-        if not level.offsets and self.offsets is not None and np.any(self.offsets):
+        if not level.offsets and self.offsets is not None and self.offsets.any():
             est = absorbed(self)
-        return replace(est, level=level, free=free)
+        return Estimate(
+            est.chain, est.home, est.markers, est.tool, level, est.keep_tool_axis, est.offsets,
+            est.base, free,
+        )  # fmt: skip
+
+    def with_parts(
+        self, chain: Chain, home: Mat, markers: Mat, offsets: Mat | None, base: Mat | None
+    ) -> Estimate:
+        """The same level, tool and free coordinates with the joints ``chain``, the tool at
+        ``home``, ``markers``, ``offsets`` and the ``base`` motion (one constructor call, not
+        :func:`dataclasses.replace`'s field by field copy: the solver makes one a step)."""
+        return Estimate(
+            chain, home, markers, self.tool, self.level, self.keep_tool_axis, offsets, base,
+            self.free,
+        )  # fmt: skip
 
 
 def _joint_size(kind: str, level: Level) -> int:
@@ -492,7 +506,7 @@ def retract(est: Estimate, delta: Mat) -> Estimate:
         v = cross_rows(chain.point, rho) + tau
         shift = np.einsum("nij,nj->ni", jac, v)
         point = np.einsum("nij,nj->ni", rot, chain.point) + shift
-        if chain.turning[-1]:
+        if est.keep_tool_axis:  # the tool moves with the last line
             last_motion = np.eye(4)
             last_motion[:3, :3] = rot[-1]
             last_motion[:3, 3] = shift[-1]
@@ -510,9 +524,7 @@ def retract(est: Estimate, delta: Mat) -> Estimate:
             home = home @ twist_exp(x_all[k : k + 6])
     else:  # device-frame moves of the markers' home positions
         markers = markers + x_all[k:].reshape(-1, 3) @ home[:3, :3]
-    return Estimate(
-        chain, home, markers, est.tool, level, est.keep_tool_axis, offsets, base, est.free
-    )
+    return est.with_parts(chain, home, markers, offsets, base)
 
 
 def line_coordinates(axis: Mat, point: Mat, other_axis: Mat, other_point: Mat) -> Mat:
@@ -620,4 +632,6 @@ def absorbed(est: Estimate) -> Estimate:
         np.matmul(before[i], each[i], out=before[i + 1])
     axis = np.einsum("nij,nj->ni", before[:-1, :3, :3], u)
     point = np.einsum("nij,nj->ni", before[:-1, :3, :3], p) + before[:-1, :3, 3]
-    return replace(est, chain=chain.placed(axis, point), home=before[-1] @ est.home, offsets=None)
+    return est.with_parts(
+        chain.placed(axis, point), before[-1] @ est.home, est.markers, None, est.base
+    )
