@@ -241,7 +241,7 @@ class LinkErrors:
         steps = (u + _SIGNS * (_STEP * du)).reshape(-1, 3)  # forward then backward
         points = (point + _SIGNS * (_STEP * dp)).reshape(-1, 3)
         both = line_coordinates(at.axes, at.points, steps, points).reshape(2, -1)
-        change = (both[0] - both[1]) / (2.0 * _STEP)  # (slot moved, joint, coordinate)
+        change = (both[0] - both[1]) / (2.0 * _STEP)  # flat (slot moved, joint, coordinate)
         out[at.moved] = change[at.moved_from]
         return out
 
@@ -287,6 +287,7 @@ class _Where:
 
     @classmethod
     def of(cls, errors: LinkErrors) -> _Where:
+        """The places of ``errors``' coordinates (:attr:`LinkErrors.slots`)."""
         joint, slot = errors.slots[:, 0], errors.slots[:, 1]
         chain = errors.reference.chain
         n = len(chain)
