@@ -299,7 +299,7 @@ def solve(
         if not (math.isfinite(cost) and np.isfinite(jac).all()):  # beyond float's range
             return Solution(est, it - 1, False, math.sqrt(cost), lin)
         norms = _norms(jac)
-        gram = (jac.T @ jac) / np.outer(norms, norms)
+        gram = (jac.T @ jac) / (norms[:, None] * norms)
         grad = (jac.T @ r) / norms
         if np.abs(grad).max(initial=0.0) <= CALIBRATION_GRADIENT * math.sqrt(cost):
             return Solution(est, it - 1, True, math.sqrt(cost), lin)
