@@ -153,20 +153,48 @@ def adjoint(t: Mat) -> Mat:
 
 
 def twist_exp(xi: NDArray[np.float64], q: float = 1.0) -> Mat:
-    """``exp([xi] q)`` for a twist ``xi = [w, v]`` of any scale (Wu 2019 eq. 2)."""
-    w = np.asarray(xi[:3], dtype=float) * q
-    v = np.asarray(xi[3:], dtype=float) * q
-    theta = float(np.linalg.norm(w))
-    out = np.eye(4)
+    """``exp([xi] q)`` for a twist ``xi = [w, v]`` of any scale (Wu 2019 eq. 2): with
+    ``t = |w|`` and ``k = [w / t]``, ``R = I + sin t k + (1 - cos t) k^2`` and the translation
+    ``(I t + (1 - cos t) k + (t - sin t) k^2) v / t`` (``v`` when ``t = 0``), in plain floats
+    (one pose: numpy's per-call cost would be most of it)."""
+    w0, w1, w2, v0, v1, v2 = (x * q for x in np.asarray(xi, dtype=float)[:6].tolist())
+    theta = math.sqrt(w0 * w0 + w1 * w1 + w2 * w2)
     if theta == 0.0:
-        out[:3, 3] = v
-        return out
-    k = skew(w / theta)
-    k2 = k @ k
-    out[:3, :3] = np.eye(3) + math.sin(theta) * k + (1.0 - math.cos(theta)) * k2
-    g = np.eye(3) * theta + (1.0 - math.cos(theta)) * k + (theta - math.sin(theta)) * k2
-    out[:3, 3] = g @ (v / theta)
-    return out
+        return np.array([[1.0, 0, 0, v0], [0, 1.0, 0, v1], [0, 0, 1.0, v2], [0, 0, 0, 1.0]])
+    a0, a1, a2 = w0 / theta, w1 / theta, w2 / theta
+    sin, vers = math.sin(theta), 1.0 - math.cos(theta)
+    # k^2 = a a^T - I (a unit)
+    k00, k11, k22 = -(a1 * a1 + a2 * a2), -(a0 * a0 + a2 * a2), -(a0 * a0 + a1 * a1)
+    k01, k02, k12 = a0 * a1, a0 * a2, a1 * a2
+    rest = theta - sin
+    b0, b1, b2 = v0 / theta, v1 / theta, v2 / theta
+    g00, g11, g22 = theta + rest * k00, theta + rest * k11, theta + rest * k22
+    g01, g10 = -vers * a2 + rest * k01, vers * a2 + rest * k01
+    g02, g20 = vers * a1 + rest * k02, -vers * a1 + rest * k02
+    g12, g21 = -vers * a0 + rest * k12, vers * a0 + rest * k12
+    return np.array(
+        [
+            [
+                1.0 + vers * k00,
+                -sin * a2 + vers * k01,
+                sin * a1 + vers * k02,
+                g00 * b0 + g01 * b1 + g02 * b2,
+            ],
+            [
+                sin * a2 + vers * k01,
+                1.0 + vers * k11,
+                -sin * a0 + vers * k12,
+                g10 * b0 + g11 * b1 + g12 * b2,
+            ],
+            [
+                -sin * a1 + vers * k02,
+                sin * a0 + vers * k12,
+                1.0 + vers * k22,
+                g20 * b0 + g21 * b1 + g22 * b2,
+            ],
+            [0.0, 0.0, 0.0, 1.0],
+        ]
+    )
 
 
 def pose_errors(a: NDArray[np.float64], b: NDArray[np.float64]) -> tuple[float, float]:
