@@ -10,9 +10,12 @@ only ``tra.compose_matrix``.
 :data:`urdf` is therefore a private instance of yourdfpy's ``urdf.py``, executed from its installed
 file by the standard import machinery under this module's name (``urdf2dh.io.urdf._yourdfpy.urdf``),
 in which ``trimesh`` is a package object (``urdf2dh.io.urdf._yourdfpy.trimesh``) whose ``__path__``
-is trimesh's directory but whose ``__init__`` never runs, so that ``trimesh.transformations`` (and
-the small modules it imports: ``typed``, ``util``, ``iteration``) load from trimesh's own files
-under this private name. The mapping is made by the private module's own ``__builtins__`` (its
+is trimesh's directory but whose ``__init__`` never runs, so that ``trimesh.transformations`` loads
+from trimesh's own file under this private name. The two modules it imports, ``typed`` (type names
+for annotations) and ``util`` (``diagonal_dot`` and ``random_generator``, for quaternions and random
+rotations, which the element parsers never compute), are placeholder modules here (:data:`STUBBED`):
+the real ones import ``numpy.random``, ``zipfile``, ``uuid`` and more, a fifth of a conversion's
+start-up. The mapping is made by the private module's own ``__builtins__`` (its
 ``__import__`` sends ``trimesh`` and ``trimesh.<sub>`` here and every other name to the ordinary
 import), so nothing else in the process is touched: ``sys.modules`` gains entries under this
 module's name only, no finder or hook is installed, and a library user who imports ``trimesh`` or
@@ -28,10 +31,11 @@ set aside:
 * parsing the elements with code of our own: yourdfpy is the loader.
 
 Names of trimesh's package that yourdfpy's module body mentions in annotations
-(``trimesh.Trimesh``, ``trimesh.Scene``) are :class:`NotLoaded` placeholders here, which refuse
-any use: only the mesh functions of yourdfpy read them, and urdf2dh calls none. Where the private
-instance cannot be made (another layout of yourdfpy or trimesh), :data:`urdf` is the real
-``yourdfpy.urdf``, imported as usual: slower, the same parsers.
+(``trimesh.Trimesh``, ``trimesh.Scene``), and those ``transformations`` takes from ``typed`` and
+``util``, are :class:`NotLoaded` placeholders here, which refuse any use (annotations may join them
+with ``|``): only the mesh and random-rotation functions read them, and urdf2dh calls none.
+Where the private instance cannot be made (another layout of yourdfpy or trimesh), :data:`urdf`
+is the real ``yourdfpy.urdf``, imported as usual: slower, the same parsers.
 """
 
 from __future__ import annotations
@@ -45,7 +49,10 @@ import types
 from pathlib import Path
 from typing import Any
 
-__all__ = ["NotLoaded", "urdf"]
+__all__ = ["STUBBED", "NotLoaded", "urdf"]
+
+#: trimesh's modules that the private package holds as placeholders (:class:`NotLoaded` names).
+STUBBED = ("typed", "util")
 
 
 class NotLoaded:
@@ -68,6 +75,11 @@ class NotLoaded:
     def __call__(self, *args: Any, **kwargs: Any) -> Any:
         raise self._refuse()
 
+    def __or__(self, other: object) -> NotLoaded:  # an annotation's ``Number | None``
+        return self
+
+    __ror__ = __or__
+
     def __repr__(self) -> str:
         return f"<trimesh.{self._name}, not loaded>"
 
@@ -88,6 +100,11 @@ def _trimesh_package() -> types.ModuleType:
     package = importlib.util.module_from_spec(spec)
     vars(package)["__getattr__"] = NotLoaded  # PEP 562: the package's names that are not loaded
     sys.modules[name] = package
+    for sub in STUBBED:
+        stub = types.ModuleType(f"{name}.{sub}")
+        vars(stub)["__getattr__"] = lambda attr, sub=sub: NotLoaded(f"{sub}.{attr}")
+        sys.modules[stub.__name__] = stub
+        setattr(package, sub, stub)
     return package
 
 
