@@ -8,11 +8,14 @@ from __future__ import annotations
 import json
 import subprocess
 import sys
+from dataclasses import replace
 from pathlib import Path
 
 import pytest
 import yaml
+from hypothesis import given
 from jsonschema import Draft202012Validator
+from test_properties import SETTINGS, _same_params, chains
 
 import urdf2dh
 from urdf2dh import CONVENTIONS, schemas
@@ -164,3 +167,18 @@ def test_the_schemas_take_a_positive_size_or_none(fmt):
         assert not validator.is_valid(tree | {"size": bad}), bad
     del tree["size"]
     assert validator.is_valid(tree)
+
+
+@SETTINGS
+@given(chains())
+def test_a_table_read_back_from_its_file_converts_again_to_itself(model):
+    """The idempotence of tests/test_properties.py through the table file: convention -> table
+    file -> POE -> the same convention gives the same table, the size kept (a km chain's file is
+    labelled m: the table file knows no km)."""
+    for conv in CONVENTIONS:
+        table = urdf2dh.to_table(model, conv)
+        labelled = replace(table, length_unit="m") if table.length_unit == "km" else table
+        written = read_table(json.loads(render(labelled, "json")), "table.json")
+        assert written.size == table.size, f"{conv}: the table file's size"
+        again = urdf2dh.to_table(written.to_poe(), conv)
+        _same_params(table, again, model.size(), f"{conv} (file)")
