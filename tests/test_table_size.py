@@ -66,16 +66,28 @@ def test_a_written_table_reads_back_with_its_robots_size(tmp_path, robot):
 
 
 def test_commands_reading_the_file_measure_against_the_robots_size(tmp_path, capsys):
-    """``info`` of a PUMA's D-H table file prints the PUMA's size (264 mm, where the table's own
-    frame origins reach 577 mm), as ``info`` of the robot does."""
+    """``info``, ``verify`` and ``diff`` of a PUMA's D-H table file measure against the PUMA's
+    size (264 mm, where the table's own frame origins reach 577 mm), as they do of the robot;
+    a model renamed or scaled keeps it (``diff`` names its sides and brings them to one unit)."""
     out = tmp_path / "puma.yaml"
     assert main(["convert", "puma560-actual", "-o", str(out)]) == 0
     capsys.readouterr()
-    sizes = []
+    said = []
     for source in ("puma560-actual", str(out)):
         assert main(["info", source]) == 0
-        sizes += [line for line in capsys.readouterr().out.splitlines() if "size:" in line]
-    assert len(sizes) == 2 and sizes[0] == sizes[1] and "264.279 mm" in sizes[0], sizes
+        text = capsys.readouterr().out
+        assert main(["verify", source, "--samples", "50"]) == 0
+        text += capsys.readouterr().out
+        said.append([line.split("size")[1] for line in text.splitlines() if "size" in line])
+        assert main(["diff", source, "puma560-nominal", "--format", "json"]) == 0
+        said[-1].append(json.loads(capsys.readouterr().out)["size"])
+    assert said[0] == said[1] and said[0][-1] == urdf2dh.load("puma560-actual").size(), said
+    assert len(said[0]) == 3 and "264.3 mm" in said[0][1], said
+    model = urdf2dh.load(str(out))
+    assert model.named("puma").size() == model.size() != model.own_size()
+    assert model.scaled(1e-3, "m").size() == 1e-3 * model.size()
+    own = urdf2dh.load("puma560-actual")  # a size of its own points: computed again
+    assert own.scaled(1e-3, "m").size() == own.scaled(1e-3, "m").own_size()
 
 
 @pytest.mark.parametrize("fmt", FORMATS)
