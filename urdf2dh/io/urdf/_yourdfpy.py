@@ -15,7 +15,11 @@ from trimesh's own file under this private name. The two modules it imports, ``t
 for annotations) and ``util`` (``diagonal_dot`` and ``random_generator``, for quaternions and random
 rotations, which the element parsers never compute), are placeholder modules here (:data:`STUBBED`):
 the real ones import ``numpy.random``, ``zipfile``, ``uuid`` and more, a fifth of a conversion's
-start-up. The mapping is made by the private module's own ``__builtins__`` (its
+start-up. Two modules yourdfpy's module imports and its element parsers never use, ``logging``
+and ``six``, are imported when first used (:data:`DEFERRED`, :class:`Deferred`): its module-level
+``logging.getLogger(__name__)`` gives a :class:`Deferred` logger, which imports ``logging`` and
+hands each call to the real logger of that name, so a message yourdfpy logs reaches the same
+logger and handlers as before. The mapping is made by the private module's own ``__builtins__`` (its
 ``__import__`` sends ``trimesh`` and ``trimesh.<sub>`` here and every other name to the ordinary
 import), so nothing else in the process is touched: ``sys.modules`` gains entries under this
 module's name only, no finder or hook is installed, and a library user who imports ``trimesh`` or
@@ -49,10 +53,12 @@ import types
 from pathlib import Path
 from typing import Any
 
-__all__ = ["STUBBED", "NotLoaded", "urdf"]
+__all__ = ["DEFERRED", "STUBBED", "Deferred", "NotLoaded", "urdf"]
 
 #: trimesh's modules that the private package holds as placeholders (:class:`NotLoaded` names).
 STUBBED = ("typed", "util")
+#: Modules yourdfpy's module imports that are imported when it first uses them (:class:`Deferred`).
+DEFERRED = ("logging", "six")
 
 
 class NotLoaded:
@@ -82,6 +88,34 @@ class NotLoaded:
 
     def __repr__(self) -> str:
         return f"<trimesh.{self._name}, not loaded>"
+
+
+class Deferred:
+    """A module of :data:`DEFERRED` not imported yet, in the private copy: the module is imported
+    when one of its names is first read. With ``logger``, the logger ``logging.getLogger(logger)``
+    that ``logging`` is imported for on its first use (``getLogger`` itself imports nothing)."""
+
+    def __init__(self, module: str, logger: str | None = None) -> None:
+        self._module = module
+        self._logger = logger
+
+    def getLogger(self, name: str | None = None) -> Any:
+        """``logging.getLogger(name)``, deferred (or, once ``logging`` is imported, at once)."""
+        if "logging" in sys.modules:
+            return sys.modules["logging"].getLogger(name)
+        return Deferred("logging", name)
+
+    def __getattr__(self, name: str) -> Any:
+        if name.startswith("__"):
+            raise AttributeError(name)
+        module = importlib.import_module(self._module)
+        if self._module == "logging" and self._logger is not None:
+            return getattr(module.getLogger(self._logger), name)
+        return getattr(module, name)
+
+    def __repr__(self) -> str:
+        what = f"logger {self._logger!r}" if self._logger is not None else self._module
+        return f"<{what}, imported on first use>"
 
 
 def _directory(package: str) -> str:
@@ -121,6 +155,8 @@ def _yourdfpy_module(package: types.ModuleType) -> types.ModuleType:
         if level == 0 and name.split(".")[0] == "trimesh":
             module = importlib.import_module(package.__name__ + name[len("trimesh") :])
             return module if fromlist else package
+        if level == 0 and name in DEFERRED and not fromlist and name not in sys.modules:
+            return Deferred(name)
         return builtins.__import__(name, globals, locals, fromlist, level)
 
     name = f"{__name__}.urdf"
