@@ -194,6 +194,7 @@ def _kind(a: Any) -> str:
 
 
 _FIELDS: dict[type, tuple[tuple[str, Any], ...]] = {}
+_NAMES: dict[type, frozenset[str]] = {}
 
 
 def _fields(kind: type) -> tuple[tuple[str, Any], ...]:
@@ -204,6 +205,7 @@ def _fields(kind: type) -> tuple[tuple[str, Any], ...]:
             if f.default_factory is not dataclasses.MISSING:
                 raise TypeError(f"{kind.__name__}.{f.name}: a default factory is not supported")
         known = _FIELDS[kind] = tuple((f.name, f.default) for f in dataclasses.fields(kind))
+        _NAMES[kind] = frozenset(name for name, _ in known)
     return known
 
 
@@ -229,11 +231,11 @@ def unchecked_replace(value: T, **changes: Any) -> T:
     ``value`` is checked already and ``changes`` are checked values in canonical form
     (:func:`unchecked`)."""
     kind = type(value)
-    out: T = object.__new__(kind)
     names = _fields(kind)
+    if not _NAMES[kind].issuperset(changes):
+        unknown = sorted(set(changes) - _NAMES[kind])
+        raise TypeError(f"{kind.__name__} has no field {', '.join(unknown)}")
+    out: T = object.__new__(kind)
     for name, _ in names:
         object.__setattr__(out, name, changes[name] if name in changes else getattr(value, name))
-    if len(changes) > sum(name in changes for name, _ in names):
-        unknown = sorted(set(changes) - {name for name, _ in names})
-        raise TypeError(f"{kind.__name__} has no field {', '.join(unknown)}")
     return out
