@@ -33,6 +33,10 @@ def _types(table: Table) -> list[object]:
     out: list[object] = [type(getattr(table, f.name)) for f in fields(Table)]
     for r in table.rows:
         out += [type(getattr(r, f.name)) for f in fields(Row)]
+    for params in (table.base, *(r.params for r in table.rows), table.tool):
+        for value in params.values().values():  # floats, and tuples of floats
+            out += [type(value), *(type(x) for x in value)] if isinstance(value, tuple) else [
+                type(value)]  # fmt: skip
     return out
 
 
@@ -41,6 +45,9 @@ def _types(table: Table) -> list[object]:
 def test_an_internal_table_is_what_the_constructors_make(robot, conv):
     table = to_table(load(robot), conv)
     again = _checked_copy(table)
+    records = (table.base, *(r.params for r in table.rows), table.tool)
+    # each record as its constructor makes it of the same values
+    assert all(type(p)(**p.values()) == p for p in records)
     assert again == table
     assert _types(again) == _types(table)
 
