@@ -124,3 +124,18 @@ def test_r_of_b_matches_sumenkov_eq4_away_from_the_singularity():
         assert np.allclose(np.array(r_rows(b)), eq4, atol=1e-15)
         v = matrix_of(v_frame(b, [0.1, -0.2, 0.3], 0.4))
         assert np.allclose(v[:3, 2], b)
+
+
+def test_twist_exp_equals_the_matrix_exponential_at_every_scale():
+    """se3.twist_exp (plain floats) against scipy's expm of the 4x4 twist matrix, from pure
+    translations and angles near round-off to several turns."""
+    from scipy.linalg import expm
+
+    for scale in (0.0, 1e-12, 1e-7, 1e-3, 0.3, 1.0, 7.0):
+        for _ in range(10):
+            w, v = RNG.normal(size=3) * scale, RNG.normal(size=3)
+            q = RNG.uniform(-2.0, 2.0)
+            matrix = np.zeros((4, 4))
+            matrix[:3, :3] = se3.skew(w * q)
+            matrix[:3, 3] = v * q
+            assert np.allclose(se3.twist_exp(np.r_[w, v], q), expm(matrix), atol=1e-13, rtol=0)

@@ -204,9 +204,17 @@ class Chain:
         """Every line moved by the rigid motion ``g``."""
         axis = self.axis @ g[:3, :3].T
         point = self.point @ g[:3, :3].T + g[:3, 3]
-        turning = self.turning
-        point[turning] = line_point(axis[turning], point[turning])
-        return replace(self, axis=axis, point=point)
+        return self.placed(axis, point)
+
+    def placed(self, axis: Mat, point: Mat, pitch: Mat | None = None) -> Chain:
+        """The same joints along ``axis`` through ``point`` (turning joints' points taken to
+        the feet of the perpendiculars), with ``pitch`` when given."""
+        point = np.where(self.turning[:, None], line_point(axis, point), point)
+        pitch = self.pitch if pitch is None else pitch
+        return Chain(
+            self.names, self.kinds, axis, point, pitch, self.scale, self.located, self.lower,
+            self.upper,
+        )  # fmt: skip
 
 
 @lru_cache(maxsize=64)
@@ -312,9 +320,23 @@ class Estimate:
         """The same model, identified at ``level`` (offsets absorbed by the lines when the new
         level has no offsets of its own)."""
         est = self
-        if not level.offsets and self.offsets is not None and np.any(self.offsets):
+        if not level.offsets and self.offsets is not None and self.offsets.any():
             est = absorbed(self)
-        return replace(est, level=level, free=free)
+        return Estimate(
+            est.chain, est.home, est.markers, est.tool, level, est.keep_tool_axis, est.offsets,
+            est.base, free,
+        )  # fmt: skip
+
+    def with_parts(
+        self, chain: Chain, home: Mat, markers: Mat, offsets: Mat | None, base: Mat | None
+    ) -> Estimate:
+        """The same level, tool and free coordinates with the joints ``chain``, the tool at
+        ``home``, ``markers``, ``offsets`` and the ``base`` motion (one constructor call, not
+        :func:`dataclasses.replace`'s field by field copy: the solver makes one a step)."""
+        return Estimate(
+            chain, home, markers, self.tool, self.level, self.keep_tool_axis, offsets, base,
+            self.free,
+        )  # fmt: skip
 
 
 def _joint_size(kind: str, level: Level) -> int:
@@ -406,18 +428,17 @@ def tool_screws(est: Estimate) -> Mat:
     """``(6, 2)``: with ``keep_tool_axis`` (a tool frame), the last line's screws (turn about
     it, slide along it) in the tool's body frame: ``Ad(M^-1) [u, p x u]`` and
     ``Ad(M^-1) [0, u]``."""
-    u, p = est.chain.axis[-1], est.chain.point[-1]
+    return _screws(est.chain, est.home)
+
+
+def _screws(chain: Chain, home: Mat) -> Mat:
+    """:func:`tool_screws` of the last line of ``chain`` with the tool at ``home``."""
+    u, p = chain.axis[-1], chain.point[-1]
     twists = np.array([np.concatenate([u, cross3(p, u)]), np.concatenate([np.zeros(3), u])]).T
-    r, t = est.home[:3, :3], est.home[:3, 3]
+    r, t = home[:3, :3], home[:3, 3]
     w = r.T @ twists[:3]
     v = r.T @ (twists[3:] - np.cross(t[:, None], twists[:3], axis=0))
     return np.vstack([w, v])
-
-
-def _moved_all(est: Estimate, g: Mat) -> Estimate:
-    """Everything of ``est`` moved by the rigid motion ``g`` (a base motion; the markers move
-    with the tool frame)."""
-    return replace(est, chain=est.chain.moved(g), home=g @ est.home, base=g @ est.base_motion())
 
 
 def joint_columns(est: Estimate) -> tuple[NDArray[np.int64], ...]:
@@ -462,17 +483,18 @@ def retract(est: Estimate, delta: Mat) -> Estimate:
     """The estimate moved by the free coordinates ``delta`` (``(count,)``), re-centred."""
     x_all = expand(est, delta)
     level = est.level
-    if level.base:
-        est = _moved_all(est, twist_exp(x_all[:6]))
-    chain = est.chain
+    chain, home, base = est.chain, est.home, est.base
+    if level.base:  # everything moves: the lines, the tool frame (and the markers with it)
+        g = twist_exp(x_all[:6])
+        chain, home, base = chain.moved(g), g @ home, g @ est.base_motion()
+    before = chain  # the lines as the base left them
     line_at, offset_at, scale_at = joint_columns(est)
-    changes: dict[str, object] = {}
     if level.scales:
-        changes["scale"] = chain.scale + _take(x_all, scale_at)
+        chain = replace(chain, scale=chain.scale + _take(x_all, scale_at))
     offsets = est.offsets
     if level.offsets:
         offsets = est.joint_offsets() + _take(x_all, offset_at)
-    last_motion = np.eye(4)
+    last_motion = None
     if level.lines:
         x = _take(x_all, line_at)  # (n, 5)
         e1, e2 = normal_bases(chain.axis)
@@ -480,29 +502,29 @@ def retract(est: Estimate, delta: Mat) -> Estimate:
         rot, jac = exp_so3_left_jacobian(rho)  # (n, 3, 3) each
         axis = np.einsum("nij,nj->ni", rot, chain.axis)
         axis /= np.sqrt(np.add.reduce(axis * axis, axis=1, keepdims=True))
-        turning = chain.turning
         tau = x[:, 2:3] * e1 + x[:, 3:4] * e2
         v = cross_rows(chain.point, rho) + tau
         shift = np.einsum("nij,nj->ni", jac, v)
-        moved = np.einsum("nij,nj->ni", rot, chain.point) + shift
-        point = chain.point.copy()
-        point[turning] = line_point(axis[turning], moved[turning])
-        changes |= {"axis": axis, "point": point, "pitch": chain.pitch + x[:, 4]}
-        if turning[-1]:
+        point = np.einsum("nij,nj->ni", rot, chain.point) + shift
+        if est.keep_tool_axis:  # the tool moves with the last line
             last_motion = np.eye(4)
             last_motion[:3, :3] = rot[-1]
             last_motion[:3, 3] = shift[-1]
-    new_chain = replace(chain, **changes) if changes else chain  # type: ignore[arg-type]
+        # a sliding joint's point stays (its turn moves the direction alone)
+        point = np.where(chain.turning[:, None], point, chain.point)
+        chain = chain.placed(axis, point, chain.pitch + x[:, 4])
     k = sum(sizes(est, every=True)[:-1])
+    markers = est.markers
     if est.tool == FRAME:
         if est.keep_tool_axis:
-            zeta = tool_screws(est) @ x_all[k : k + 2]
-            home = last_motion @ est.home @ twist_exp(zeta)
+            zeta = _screws(before, home) @ x_all[k : k + 2]
+            moved = home if last_motion is None else last_motion @ home
+            home = moved @ twist_exp(zeta)
         else:
-            home = est.home @ twist_exp(x_all[k : k + 6])
-        return replace(est, chain=new_chain, home=home, offsets=offsets)
-    markers = est.markers + x_all[k:].reshape(-1, 3) @ est.home[:3, :3]  # device-frame moves
-    return replace(est, chain=new_chain, markers=markers, offsets=offsets)
+            home = home @ twist_exp(x_all[k : k + 6])
+    else:  # device-frame moves of the markers' home positions
+        markers = markers + x_all[k:].reshape(-1, 3) @ home[:3, :3]
+    return est.with_parts(chain, home, markers, offsets, base)
 
 
 def line_coordinates(axis: Mat, point: Mat, other_axis: Mat, other_point: Mat) -> Mat:
@@ -535,7 +557,7 @@ def line_coordinates(axis: Mat, point: Mat, other_axis: Mat, other_point: Mat) -
     a, b, d = (np.add.reduce(x * y, axis=1) for x, y in ((c1, c1), (c1, c2), (c2, c2)))
     g1, g2 = np.add.reduce(c1 * gap, axis=1), np.add.reduce(c2 * gap, axis=1)
     det = a * d - b * b
-    if np.any(det == 0.0):  # as LAPACK's solve: a singular system is an error, NaN flows on
+    if (det == 0.0).any():  # as LAPACK's solve: a singular system is an error, NaN flows on
         raise np.linalg.LinAlgError("Singular matrix")
     out[:, 2] = (d * g1 - b * g2) / det
     out[:, 3] = (a * g2 - b * g1) / det
@@ -610,9 +632,6 @@ def absorbed(est: Estimate) -> Estimate:
         np.matmul(before[i], each[i], out=before[i + 1])
     axis = np.einsum("nij,nj->ni", before[:-1, :3, :3], u)
     point = np.einsum("nij,nj->ni", before[:-1, :3, :3], p) + before[:-1, :3, 3]
-    turns = chain.turning
-    point[turns] = line_point(axis[turns], point[turns])
-    c = before[-1]
-    return replace(
-        est, chain=replace(chain, axis=axis, point=point), home=c @ est.home, offsets=None
+    return est.with_parts(
+        chain.placed(axis, point), before[-1] @ est.home, est.markers, None, est.base
     )

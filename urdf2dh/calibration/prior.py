@@ -41,6 +41,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 from numpy.typing import NDArray
@@ -199,22 +200,19 @@ class LinkErrors:
     def deviations(self, est: Estimate) -> Mat:
         """``(m,)`` the coordinates of ``est`` seen from the reference (:func:`.chart.
         local_coordinates` at the prior's coordinates, lines all at once)."""
-        ref = self.reference
-        out = np.zeros(len(self.coords))
-        joint, slot = self.slots[:, 0], self.slots[:, 1]
-        line = slot < 4
-        if np.any(line):
+        ref, at = self.reference, self._where
+        out = np.empty(len(self.coords))
+        if len(at.line_rows):
             lines = line_coordinates(
                 ref.chain.axis, ref.chain.point, est.chain.axis, est.chain.point
             )
-            out[line] = lines[joint[line], slot[line]]
-        for s, here, there in (
-            (4, est.chain.pitch, ref.chain.pitch),
-            (5, est.joint_offsets(), ref.joint_offsets()),
-            (6, est.chain.scale, ref.chain.scale),
+            out[at.line_rows] = lines.ravel()[at.line_from]
+        for rows, joints, here, there in (
+            (*at.pitch, est.chain.pitch, ref.chain.pitch),
+            (*at.offset, est.joint_offsets(), ref.joint_offsets()),
+            (*at.scale, est.chain.scale, ref.chain.scale),
         ):
-            rows = slot == s
-            out[rows] = here[joint[rows]] - there[joint[rows]]
+            out[rows] = here[joints] - there[joints]
         return out
 
     def evaluate(self, est: Estimate) -> tuple[Mat, Mat]:
@@ -227,35 +225,100 @@ class LinkErrors:
         directions at ``est`` (:func:`.chart.retract`: a turn about ``e1`` moves the axis by
         ``e1 x u`` and the foot point by ``-(p . (e1 x u)) u``; a shift moves the point along
         ``e1``), all lines at once, each line's coordinates depending on that line alone."""
-        p = sum(sizes(est))
-        out = np.zeros((len(self.coords), p))
-        joint, slot = self.slots[:, 0], self.slots[:, 1]
-        rows = np.arange(len(self.coords))
-        plain = slot >= 4
-        out[rows[plain], self.at[plain]] = 1.0
-        line = ~plain
-        if not np.any(line):
+        at = self._where
+        out = np.zeros((len(self.coords), sum(sizes(est))))
+        out[at.plain] = 1.0
+        if not len(at.line_rows):
             return out
-        ref, u, point = self.reference, est.chain.axis, est.chain.point
+        u, point = est.chain.axis, est.chain.point
         e1, e2 = normal_bases(u)
-        lift1 = np.einsum("ij,ij->i", point, e2)[:, None] * u
-        lift2 = -np.einsum("ij,ij->i", point, e1)[:, None] * u
-        zero = np.zeros_like(u)
-        column = np.full((len(u), 4), -1, dtype=np.int64)  # (joint, slot) -> free position
-        column[joint[line], slot[line]] = self.at[line]
-        du = np.stack([-e2, e1, zero, zero])  # (4, n, 3): each slot's move of every line
-        dp = np.stack([lift1, lift2, e1, e2])
-        n = len(u)
-        steps = np.concatenate([u + _STEP * du, u - _STEP * du]).reshape(-1, 3)
-        points = np.concatenate([point + _STEP * dp, point - _STEP * dp]).reshape(-1, 3)
-        axis0 = np.tile(ref.chain.axis, (8, 1))
-        point0 = np.tile(ref.chain.point, (8, 1))
-        both = line_coordinates(axis0, point0, steps, points).reshape(2, 4, n, 4)
-        change = (both[0] - both[1]) / (2.0 * _STEP)  # (slot moved, joint, coordinate)
+        du = np.zeros((4, *u.shape))  # each slot's move of every line
+        du[0], du[1] = -e2, e1
+        dp = np.empty((4, *u.shape))
+        dp[0] = np.einsum("ij,ij->i", point, e2)[:, None] * u
+        dp[1] = -np.einsum("ij,ij->i", point, e1)[:, None] * u
+        dp[2], dp[3] = e1, e2
+        steps = (u + _SIGNS * (_STEP * du)).reshape(-1, 3)  # forward then backward
+        points = (point + _SIGNS * (_STEP * dp)).reshape(-1, 3)
+        both = line_coordinates(at.axes, at.points, steps, points).reshape(2, -1)
+        change = (both[0] - both[1]) / (2.0 * _STEP)  # flat (slot moved, joint, coordinate)
+        out[at.moved] = change[at.moved_from]
+        return out
+
+    @cached_property
+    def _where(self) -> _Where:
+        return _Where.of(self)
+
+
+_SIGNS = np.array([1.0, -1.0]).reshape(2, 1, 1, 1)  # the central differences' two sides
+
+
+@dataclass(frozen=True, slots=True)
+class _Where:
+    """Where :meth:`LinkErrors.deviations` and :meth:`LinkErrors.tangent` read and write, found
+    once per :class:`LinkErrors` (indices; ``(rows, joints)`` pairs).
+
+    Attributes
+    ----------
+    line_rows, line_from
+        The line coordinates' rows, and their places in the flattened ``(n, 4)`` of
+        :func:`.chart.line_coordinates`.
+    pitch, offset, scale
+        The other coordinates' rows and their joints.
+    plain
+        The tangent's entries that are 1 (rows, free positions).
+    moved, moved_from
+        The tangent's line entries (rows, free positions), and their places in the flattened
+        central differences ``(slot moved, joint, coordinate)``.
+    axes, points
+        The reference's lines, once per slot and side of the differences ``(8 n, 3)``.
+    """
+
+    line_rows: NDArray[np.int64]
+    line_from: NDArray[np.int64]
+    pitch: tuple[NDArray[np.int64], NDArray[np.int64]]
+    offset: tuple[NDArray[np.int64], NDArray[np.int64]]
+    scale: tuple[NDArray[np.int64], NDArray[np.int64]]
+    plain: tuple[NDArray[np.int64], NDArray[np.int64]]
+    moved: tuple[NDArray[np.int64], NDArray[np.int64]]
+    moved_from: NDArray[np.int64]
+    axes: Mat
+    points: Mat
+
+    @classmethod
+    def of(cls, errors: LinkErrors) -> _Where:
+        """The places of ``errors``' coordinates (:attr:`LinkErrors.slots`)."""
+        joint, slot = errors.slots[:, 0], errors.slots[:, 1]
+        chain = errors.reference.chain
+        n = len(chain)
+        rows = np.arange(len(joint))
+        line = slot < 4
+        column = np.full((n, 4), -1, dtype=np.int64)  # (joint, slot) -> free position
+        column[joint[line], slot[line]] = errors.at[line]
+        parts = []
         for s in range(4):
             mine = line & (column[joint, s] >= 0)  # rows whose joint has this coordinate
-            out[rows[mine], column[joint[mine], s]] = change[s, joint[mine], slot[mine]]
-        return out
+            parts.append(
+                (rows[mine], column[joint[mine], s], (s * n + joint[mine]) * 4 + slot[mine])
+            )
+        moved = tuple(np.concatenate([p[k] for p in parts]) for k in range(3))
+
+        def rows_of(kind: int) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
+            return rows[slot == kind], joint[slot == kind]
+
+        plain = slot >= 4
+        return cls(
+            rows[line],
+            joint[line] * 4 + slot[line],
+            rows_of(4),
+            rows_of(5),
+            rows_of(6),
+            (rows[plain], errors.at[plain]),
+            (moved[0], moved[1]),
+            moved[2],
+            np.tile(chain.axis, (8, 1)),
+            np.tile(chain.point, (8, 1)),
+        )
 
 
 @dataclass(frozen=True)

@@ -179,7 +179,7 @@ def model_poses(est: Estimate, q: Mat) -> Mat:
 def _points(est: Estimate, tool: Mat, markers: NDArray[np.int64]) -> Mat:
     """``(N, 3)`` the points ``T c_k`` the measurements saw (``markers``: each one's ``k``) on
     the tool's poses ``tool`` ``(N, 4, 4)``."""
-    if not np.any(est.markers):  # the tool's origin
+    if not est.markers.any():  # the tool's origin
         return tool[:, :3, 3].copy()
     seen = est.markers[markers][:, :, None]
     out: Mat = np.matmul(tool[:, :3, :3], seen)[..., 0] + tool[:, :3, 3]
@@ -221,14 +221,16 @@ def errors(est: Estimate, data: Data) -> Mat:
 class _Layout:
     """Where each free coordinate's Jacobian column comes from (module docstring).
 
-    The frames are ``P_0 .. P_n`` and ``T`` (:func:`_frames`); each holds up to ``width``
-    twists, rows of :func:`_twists` (``place`` ``(n + 2, width)``, padded with its zero row;
-    read-only, as every array here).
-    Column ``c`` is frame ``frame[c]``'s twist ``slot[c]`` under that frame's adjoint, minus,
+    The frames are ``P_0 .. P_n`` and ``T`` (:func:`_frames`); those of them the columns use,
+    ``used`` (``None``: all), hold up to ``width`` twists each, rows of :func:`_twists`
+    (``place`` ``(len(used), width)``, padded with its zero row; read-only, as every array
+    here).
+    Column ``c`` is used frame ``frame[c]``'s twist ``slot[c]`` under that frame's adjoint, minus,
     for a joint line's coordinates (``lines``), the same twist under the next frame's
     (``after_frame``, ``after_slot``), times the factor ``factor[c]`` of :func:`_factors`
     (``None``: all 1)."""
 
+    used: NDArray[np.int64] | None
     place: NDArray[np.int64]
     frame: NDArray[np.int64]
     slot: NDArray[np.int64]
@@ -289,8 +291,10 @@ def _level_layout(
     slot = [slot_of(c[0], c[1]) for c in every]
     lines = [k for k, c in enumerate(every) if c[3] >= 0]
     after_slot = [slot_of(every[k][3], every[k][1]) for k in lines]
-    width = max((len(h) for h in held), default=0) or 1
-    place = [rows + [tool_row + 6] * (width - len(rows)) for rows in held]  # the zero row
+    used = [f for f, rows in enumerate(held) if rows] or [0]
+    at = {f: k for k, f in enumerate(used)}
+    width = max(len(h) for h in held) or 1
+    place = [held[f] + [tool_row + 6] * (width - len(held[f])) for f in used]  # the zero row
     factors = [c[2] for c in every]
 
     def ints(values: list[int]) -> NDArray[np.int64]:
@@ -299,11 +303,12 @@ def _level_layout(
         return out
 
     return _Layout(
-        ints([row for rows in place for row in rows]).reshape(n + 2, width),
-        ints([c[0] for c in every]),
+        None if len(used) == n + 2 else ints(used),
+        ints([row for rows in place for row in rows]).reshape(len(used), width),
+        ints([at[c[0]] for c in every]),
         ints(slot),
         ints(lines),
-        ints([every[k][3] for k in lines]),
+        ints([at[every[k][3]] for k in lines]),
         ints(after_slot),
         ints(factors) if any(factors) else None,
     )
@@ -328,7 +333,7 @@ def _twists(est: Estimate) -> Mat:
     cand[:, 0, :3], cand[:, 1, :3] = e1, e2
     cand[:, 2, 3:], cand[:, 3, 3:] = e1, e2
     cand[:, 4, 3:] = u
-    moments = cross_rows(p[:, None, :], cand[:, 2:5, 3:])  # p x e1, p x e2, p x u
+    moments = cross_rows(np.repeat(p[:, None, :], 3, axis=1), cand[:, 2:5, 3:])  # p x e1, e2, u
     cand[:, :2, 3:] = moments[:, :2]
     cand[:, 6, :3] = turning[:, None] * u
     lead = np.where(turning, chain.pitch, 1.0)
@@ -439,8 +444,8 @@ def _jacobian_into(
         return
     # the columns as space-frame twists moved to the point seen (the translation t - x):
     # Ad(P) [w, v] = [R w, R v + (t - x) x R w], whose v is the point's motion (dv + dw x x)
-    frames = state.frames
     lay = _layout(est)
+    frames = state.frames if lay.used is None else state.frames[lay.used]
     count = len(data)
     rot = frames[:, :, :3, :3]
     lever = frames[:, :, :3, 3] - state.x

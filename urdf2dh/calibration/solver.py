@@ -266,14 +266,9 @@ class Statistics:
 def _step_size(change: Mat, data: Data, sigma_pos: float, sigma_rot: float) -> tuple[float, float]:
     """Largest tool-point and orientation change (physical units) of a weighted change of the
     measurements' residuals."""
-    rows = change.reshape(len(data), data.rows)
-    pos = float(np.linalg.norm(rows[:, :3], axis=1).max(initial=0.0)) * sigma_pos
-    rot = (
-        float(np.linalg.norm(rows[:, 3:], axis=1).max(initial=0.0)) * sigma_rot
-        if data.rows == 6
-        else 0.0
-    )
-    return pos, rot
+    squares = np.add.reduce(np.square(change.reshape(len(data), -1, 3)), axis=2)
+    largest = np.sqrt(squares.max(axis=0, initial=0.0))  # position, then rotation
+    return float(largest[0]) * sigma_pos, float(largest[1]) * sigma_rot if data.rows == 6 else 0.0
 
 
 def solve(
@@ -301,17 +296,18 @@ def solve(
     nu = 2.0
     m = problem.data_rows
     for it in range(1, max_iterations + 1):
-        if not (math.isfinite(cost) and np.all(np.isfinite(jac))):  # beyond float's range
+        if not (math.isfinite(cost) and np.isfinite(jac).all()):  # beyond float's range
             return Solution(est, it - 1, False, math.sqrt(cost), lin)
         norms = _norms(jac)
-        gram = (jac.T @ jac) / np.outer(norms, norms)
+        gram = (jac.T @ jac) / (norms[:, None] * norms)
         grad = (jac.T @ r) / norms
         if np.abs(grad).max(initial=0.0) <= CALIBRATION_GRADIENT * math.sqrt(cost):
             return Solution(est, it - 1, True, math.sqrt(cost), lin)
         if done is not None:
             done(it)
         while True:
-            damped = gram + lam * np.eye(len(gram))
+            damped = gram.copy()
+            np.einsum("ii->i", damped)[:] += lam  # + lam I
             ds = _solved(damped, -grad)
             if ds is None:  # no step at this damping: damp more
                 lam *= nu
@@ -357,7 +353,7 @@ def _solved(a: Mat, b: Mat) -> Mat | None:
         x = np.asarray(np.linalg.solve(a, b), dtype=np.float64)
     except np.linalg.LinAlgError:
         return None
-    return x if np.all(np.isfinite(x)) else None
+    return x if np.isfinite(x).all() else None
 
 
 def _acceleration(
@@ -372,8 +368,8 @@ def _acceleration(
     accel = _solved(damped, -(jac.T @ curvature) / norms)
     if accel is None:
         return None
-    speed = float(np.linalg.norm(ds))
-    if speed > 0.0 and 2.0 * float(np.linalg.norm(accel)) > _ACCELERATION_LIMIT * speed:
+    speed = math.sqrt(float(ds @ ds))
+    if speed > 0.0 and 2.0 * math.sqrt(float(accel @ accel)) > _ACCELERATION_LIMIT * speed:
         return None
     return accel
 
@@ -387,7 +383,7 @@ def statistics(lin: Linearisation, problem: Problem, exact: bool = True) -> Stat
     """
     r, jac = problem.weighted(lin)
     m, p = jac.shape
-    if not (np.all(np.isfinite(r)) and np.all(np.isfinite(jac))):  # beyond float's range
+    if not (np.isfinite(r).all() and np.isfinite(jac).all()):  # beyond float's range
         return _undetermined(r, p)
     if p == 0:  # nothing identified
         factor = float(r @ r) / m if m else math.nan

@@ -11,6 +11,8 @@ skew part, with the symmetric part near pi (Murray, Li & Sastry 1994, §2.2).
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
 from numpy.typing import NDArray
 
@@ -30,6 +32,8 @@ __all__ = [
 
 Mat = NDArray[np.float64]
 
+_EYE3 = np.eye(3)
+_EYE3.setflags(write=False)
 _SERIES = 0.1  # below this angle (rad) the coefficients that cancel are taken from their series
 _NEAR_PI = 1e-3  # within this of pi the rotation axis comes from the symmetric part of R
 
@@ -61,14 +65,33 @@ def _coefficients(theta: Mat) -> tuple[Mat, Mat, Mat]:
     costs at most one unit of 1e-16 once multiplied by the ``t^2`` of ``[w]^2``).
     """
     zero = theta == 0.0
-    t = np.where(zero, 1.0, theta)
-    t2 = theta * theta
-    a = np.where(zero, 1.0, np.sin(t) / t)
+    some_zero = bool(zero.any())
+    t = np.where(zero, 1.0, theta) if some_zero else theta
+    sin = np.sin(t)
+    a = sin / t
     half = np.sin(0.5 * t) / t
-    b = np.where(zero, 0.5, 2.0 * half * half)
-    series = 1.0 / 6.0 - t2 / 120.0 + t2 * t2 / 5040.0 - t2 * t2 * t2 / 362880.0
-    c = np.where(theta < _SERIES, series, (t - np.sin(t)) / (t * t * t))
+    b = 2.0 * half * half
+    if some_zero:
+        a, b = np.where(zero, 1.0, a), np.where(zero, 0.5, b)
+
+    def series() -> Mat:
+        t2 = theta * theta
+        out: Mat = 1.0 / 6.0 - t2 / 120.0 + t2 * t2 / 5040.0 - t2 * t2 * t2 / 362880.0
+        return out
+
+    c = _either(theta < _SERIES, series, lambda: (t - sin) / (t * t * t))
     return a, b, c
+
+
+def _either(near: NDArray[np.bool_], series: Callable[[], Mat], closed: Callable[[], Mat]) -> Mat:
+    """``np.where(near, series(), closed())``, each formula evaluated only when some entry takes
+    it (the closed forms are taken away from ``near`` entries, the series near them)."""
+    if near.all():
+        return series()
+    if not near.any():
+        return closed()
+    out: Mat = np.where(near, series(), closed())
+    return out
 
 
 def exp_so3(w: Mat) -> Mat:
@@ -77,7 +100,7 @@ def exp_so3(w: Mat) -> Mat:
     theta = _norms(w)
     a, b, _ = _coefficients(theta)
     k = skew_batch(w)
-    return np.eye(3) + a[..., None, None] * k + b[..., None, None] * (k @ k)
+    return _EYE3 + a[..., None, None] * k + b[..., None, None] * (k @ k)
 
 
 def left_jacobian(w: Mat) -> Mat:
@@ -87,7 +110,7 @@ def left_jacobian(w: Mat) -> Mat:
     theta = _norms(w)
     _, b, c = _coefficients(theta)
     k = skew_batch(w)
-    return np.eye(3) + b[..., None, None] * k + c[..., None, None] * (k @ k)
+    return _EYE3 + b[..., None, None] * k + c[..., None, None] * (k @ k)
 
 
 def exp_so3_left_jacobian(w: Mat) -> tuple[Mat, Mat]:
@@ -98,9 +121,8 @@ def exp_so3_left_jacobian(w: Mat) -> tuple[Mat, Mat]:
     a, b, c = _coefficients(theta)
     k = skew_batch(w)
     k2 = k @ k
-    eye = np.eye(3)
-    rot = eye + a[..., None, None] * k + b[..., None, None] * k2
-    return rot, eye + b[..., None, None] * k + c[..., None, None] * k2
+    rot = _EYE3 + a[..., None, None] * k + b[..., None, None] * k2
+    return rot, _EYE3 + b[..., None, None] * k + c[..., None, None] * k2
 
 
 def left_jacobian_inverse(w: Mat) -> Mat:
@@ -110,12 +132,20 @@ def left_jacobian_inverse(w: Mat) -> Mat:
     w = np.asarray(w, dtype=float)
     theta = _norms(w)
     small = theta < _SERIES
-    t = np.where(small, 1.0, theta)
-    t2 = theta * theta
-    series = 1.0 / 12.0 + t2 / 720.0 + t2 * t2 / 30240.0 + t2 * t2 * t2 / 1209600.0
-    e = np.where(small, series, 1.0 / (t * t) - (1.0 + np.cos(t)) / (2.0 * t * np.sin(t)))
+
+    def series() -> Mat:
+        t2 = theta * theta
+        out: Mat = 1.0 / 12.0 + t2 / 720.0 + t2 * t2 / 30240.0 + t2 * t2 * t2 / 1209600.0
+        return out
+
+    def closed() -> Mat:
+        t = np.where(small, 1.0, theta)
+        out: Mat = 1.0 / (t * t) - (1.0 + np.cos(t)) / (2.0 * t * np.sin(t))
+        return out
+
+    e = _either(small, series, closed)
     k = skew_batch(w)
-    return np.eye(3) - 0.5 * k + e[..., None, None] * (k @ k)
+    return _EYE3 - 0.5 * k + e[..., None, None] * (k @ k)
 
 
 def log_so3(r: Mat) -> Mat:
@@ -127,13 +157,16 @@ def log_so3(r: Mat) -> Mat:
     np.subtract(r[..., 1, 0], r[..., 0, 1], out=s[..., 2])
     s *= 0.5
     sin = _norms(s)
-    cos = 0.5 * (np.trace(r, axis1=-2, axis2=-1) - 1.0)
+    cos = 0.5 * (r[..., 0, 0] + r[..., 1, 1] + r[..., 2, 2] - 1.0)
     theta = np.arctan2(sin, cos)
     zero = sin == 0.0
-    factor = np.where(zero, 1.0, theta / np.where(zero, 1.0, sin))
+    if zero.any():
+        factor = np.where(zero, 1.0, theta / np.where(zero, 1.0, sin))
+    else:
+        factor = theta / sin
     out = factor[..., None] * s
     near_pi = np.pi - theta < _NEAR_PI
-    if np.any(near_pi):  # sin t is tiny there: take the axis from R + R^T = 2 (I + (1-c) a a^T)
+    if near_pi.any():  # sin t is tiny there: take the axis from R + R^T = 2 (I + (1-c) a a^T)
         rp = r[near_pi]
         sym = 0.5 * (rp + np.swapaxes(rp, -1, -2)) - cos[near_pi][:, None, None] * np.eye(3)
         col = np.argmax(np.diagonal(sym, axis1=-2, axis2=-1), axis=-1)
@@ -154,15 +187,21 @@ def log_se3(t: Mat) -> Mat:
 
 def rotation_of(quat: Mat) -> Mat:
     """``(..., 4) -> (..., 3, 3)``: the rotation of unit quaternions ``[x, y, z, w]``."""
-    x, y, z, w = np.moveaxis(np.asarray(quat, dtype=float), -1, 0)
-    return np.stack(
-        [
-            np.stack([1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)], -1),
-            np.stack([2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)], -1),
-            np.stack([2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)], -1),
-        ],
-        -2,
-    )
+    quat = np.asarray(quat, dtype=float)
+    x, y, z, w = np.moveaxis(quat, -1, 0)
+    xx, yy, zz, xy, xz, yz = x * x, y * y, z * z, x * y, x * z, y * z
+    xw, yw, zw = x * w, y * w, z * w
+    out = np.empty((*quat.shape[:-1], 3, 3))
+    out[..., 0, 0] = 1 - 2 * (yy + zz)
+    out[..., 0, 1] = 2 * (xy - zw)
+    out[..., 0, 2] = 2 * (xz + yw)
+    out[..., 1, 0] = 2 * (xy + zw)
+    out[..., 1, 1] = 1 - 2 * (xx + zz)
+    out[..., 1, 2] = 2 * (yz - xw)
+    out[..., 2, 0] = 2 * (xz - yw)
+    out[..., 2, 1] = 2 * (yz + xw)
+    out[..., 2, 2] = 1 - 2 * (xx + yy)
+    return out
 
 
 def quaternion_of(r: Mat) -> Mat:

@@ -153,20 +153,39 @@ def adjoint(t: Mat) -> Mat:
 
 
 def twist_exp(xi: NDArray[np.float64], q: float = 1.0) -> Mat:
-    """``exp([xi] q)`` for a twist ``xi = [w, v]`` of any scale (Wu 2019 eq. 2)."""
-    w = np.asarray(xi[:3], dtype=float) * q
-    v = np.asarray(xi[3:], dtype=float) * q
-    theta = float(np.linalg.norm(w))
-    out = np.eye(4)
-    if theta == 0.0:
-        out[:3, 3] = v
-        return out
-    k = skew(w / theta)
-    k2 = k @ k
-    out[:3, :3] = np.eye(3) + math.sin(theta) * k + (1.0 - math.cos(theta)) * k2
-    g = np.eye(3) * theta + (1.0 - math.cos(theta)) * k + (theta - math.sin(theta)) * k2
-    out[:3, 3] = g @ (v / theta)
-    return out
+    """``exp([xi] q)`` for a twist ``xi = [w, v]`` of any scale (Wu 2019 eq. 2): with
+    ``t = |w|``, ``R = I + a [w] + b [w]^2`` and the translation ``(I + b [w] + c [w]^2) v``,
+    ``a = sin t / t``, ``b = (1 - cos t) / t^2`` (as ``2 sin^2(t/2) / t^2``) and
+    ``c = (t - sin t) / t^3`` (its series below 0.1 rad, where it cancels), in plain floats
+    (one pose: numpy's per-call cost would be most of it)."""
+    w0, w1, w2, v0, v1, v2 = (x * q for x in np.asarray(xi, dtype=float)[:6].tolist())
+    t2 = w0 * w0 + w1 * w1 + w2 * w2
+    t = math.sqrt(t2)
+    if t == 0.0:
+        a, b = 1.0, 0.5
+    else:
+        half = math.sin(0.5 * t) / t
+        a, b = math.sin(t) / t, 2.0 * half * half
+    if t < _SERIES:
+        c = 1.0 / 6.0 - t2 / 120.0 + t2 * t2 / 5040.0 - t2 * t2 * t2 / 362880.0
+    else:
+        c = (t - math.sin(t)) / (t2 * t)
+    # [w]^2 = w w^T - t^2 I; [w] v = w x v
+    k00, k11, k22 = -(w1 * w1 + w2 * w2), -(w0 * w0 + w2 * w2), -(w0 * w0 + w1 * w1)
+    k01, k02, k12 = w0 * w1, w0 * w2, w1 * w2
+    c0, c1, c2 = w1 * v2 - w2 * v1, w2 * v0 - w0 * v2, w0 * v1 - w1 * v0  # w x v
+    cc0, cc1, cc2 = w1 * c2 - w2 * c1, w2 * c0 - w0 * c2, w0 * c1 - w1 * c0  # w x (w x v)
+    return np.array(
+        [
+            [1.0 + b * k00, -a * w2 + b * k01, a * w1 + b * k02, v0 + b * c0 + c * cc0],
+            [a * w2 + b * k01, 1.0 + b * k11, -a * w0 + b * k12, v1 + b * c1 + c * cc1],
+            [-a * w1 + b * k02, a * w0 + b * k12, 1.0 + b * k22, v2 + b * c2 + c * cc2],
+            [0.0, 0.0, 0.0, 1.0],
+        ]
+    )
+
+
+_SERIES = 0.1  # below this angle (rad) (t - sin t) / t^3 is taken from its series
 
 
 def pose_errors(a: NDArray[np.float64], b: NDArray[np.float64]) -> tuple[float, float]:
