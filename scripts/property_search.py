@@ -3,6 +3,8 @@ them derandomized, 120 examples each): how many examples fail, out of how many.
 
     PYTHONPATH=. python scripts/property_search.py idempotent --examples 4000 --seeds 0,1,2,3,4
 
+(``file-idempotent``: the same through the table file, tests/test_table_size.py.)
+
 Each example is checked as the test checks it, and a failure is counted and the search goes on
 (no shrinking), so the count is a failure rate. The failing chains are printed as the test's
 assertion reports them. Hypothesis draws some constants from the modules imported, so the
@@ -27,18 +29,29 @@ import test_properties as props  # noqa: E402
 
 from urdf2dh import CONVENTIONS  # noqa: E402
 
+
+def _file_round_trip() -> Any:
+    """tests/test_table_size.py's idempotence through the table file, imported only when asked
+    for: its imports (the file readers, jsonschema) change the examples the others draw."""
+    import test_table_size
+
+    return test_table_size.test_a_table_read_back_from_its_file_converts_again_to_itself
+
+
 PAIR = (st.sampled_from(CONVENTIONS), st.sampled_from(CONVENTIONS))
-PROPERTIES: dict[str, tuple[Any, tuple[Any, ...]]] = {
-    "every-convention": (props.test_every_convention_moves_like_the_poe_model, ()),
-    "idempotent": (props.test_convention_to_poe_to_convention_is_idempotent, ()),
-    "any-to-other": (props.test_any_convention_to_any_other, PAIR),
+# name -> (the test, given on use; the strategies drawn beside the chain)
+PROPERTIES: dict[str, tuple[Callable[[], Any], tuple[Any, ...]]] = {
+    "every-convention": (lambda: props.test_every_convention_moves_like_the_poe_model, ()),
+    "idempotent": (lambda: props.test_convention_to_poe_to_convention_is_idempotent, ()),
+    "any-to-other": (lambda: props.test_any_convention_to_any_other, PAIR),
+    "file-idempotent": (_file_round_trip, ()),
 }
 
 
 def search(name: str, examples: int, seeds: list[int]) -> tuple[int, list[str]]:
     """The examples run and each failure's assertion, over ``seeds``."""
     test, extra = PROPERTIES[name]
-    inner: Callable[..., None] = test.hypothesis.inner_test
+    inner: Callable[..., None] = test().hypothesis.inner_test
     count, failures = 0, []
 
     def check(*args: Any) -> None:

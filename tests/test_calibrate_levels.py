@@ -8,6 +8,7 @@ from __future__ import annotations
 import json
 import math
 import re
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -356,3 +357,41 @@ def test_plan_writes_configurations_that_measure_reads(tmp_path, capsys):
     code = main(["measure", "ur5", "--configurations", str(out), "-o", str(meas)])
     assert code == 0, capsys.readouterr().err
     assert len(meas.read_text().splitlines()) == 13
+
+
+def test_left_out_errors_are_the_refits_and_refuse_a_configuration_that_alone_sees_a_parameter():
+    """On a linear problem, at the fit's solution, the grouped deleted residuals equal refits
+    without each configuration; a parameter only one configuration's rows see makes the level
+    unjudgeable (``None``), the same parameter seen by two configurations does not."""
+    from urdf2dh.calibration.residuals import Data
+    from urdf2dh.calibration.select import left_out_errors
+    from urdf2dh.calibration.solver import Linearisation, Problem
+
+    rng = np.random.default_rng(11)
+    configurations, rows = 6, 3
+    data = Data(
+        np.zeros((configurations, 1)),
+        np.zeros((configurations, 3)),
+        np.zeros(configurations, dtype=np.int64),
+    )
+    problem = Problem(data, 0.5, 1.0)
+    group = np.arange(configurations)
+    jac = rng.normal(size=(configurations * rows, 3))
+    res = rng.normal(size=configurations * rows)
+    res -= jac @ np.linalg.lstsq(jac, res, rcond=None)[0]  # at the fit's solution
+    lin = Linearisation(Estimate.__new__(Estimate), res, jac, rows)
+    squared = left_out_errors(problem, lin, group)
+    assert squared is not None
+    for c in range(configurations):
+        mine = slice(c * rows, (c + 1) * rows)
+        others = np.ones(len(res), dtype=bool)
+        others[mine] = False
+        x = np.linalg.lstsq(jac[others], -res[others], rcond=None)[0]
+        refit = res[mine] + jac[mine] @ x
+        assert squared[c, 0] == pytest.approx(float(refit @ refit), rel=1e-10)
+    seen_once = jac.copy()
+    seen_once[rows:, 2] = 0.0  # only configuration 0 sees the third parameter
+    assert left_out_errors(problem, replace(lin, jacobian=seen_once), group) is None
+    seen_twice = jac.copy()
+    seen_twice[2 * rows :, 2] = 0.0  # configurations 0 and 1 see it
+    assert left_out_errors(problem, replace(lin, jacobian=seen_twice), group) is not None

@@ -206,7 +206,9 @@ def left_out_errors(problem: Problem, lin: Linearisation, group: NDArray[np.int6
     padded_u = np.vstack([u, np.zeros((1, u.shape[1]))])[index]  # (groups, width, rank)
     padded_r = np.append(r[:m], 0.0)[index]
     system = np.eye(width) - np.einsum("gik,gjk->gij", padded_u, padded_u)
-    if np.any(np.linalg.eigvalsh(system)[:, 0] <= RANK_RELATIVE):
+    try:  # every group's I - H_cc has its eigenvalues above RANK_RELATIVE: a factor exists
+        np.linalg.cholesky(system - RANK_RELATIVE * np.eye(width))
+    except np.linalg.LinAlgError:
         return None
     deleted = np.linalg.solve(system, padded_r[..., None])[..., 0]
     out = np.zeros((m + 1,))

@@ -25,7 +25,7 @@ from __future__ import annotations
 import math
 import os
 from collections.abc import Callable
-from dataclasses import asdict, dataclass, replace
+from dataclasses import asdict, dataclass
 from typing import Any
 
 import numpy as np
@@ -465,7 +465,7 @@ def diff(
         # the chain base -> tip of a tree; a single chain (a POE or table file) as it is
         model = side.model(base, tip, ignore_mimic) if side.tree is not None else side.model()
         # named as given: a bundled robot by its name, a file by its path
-        models.append(replace(model, name=side.name if side.bundled else side.display))
+        models.append(model.named(side.name if side.bundled else side.display))
     nominal_model, actual_model = models
     if actual_model.length_unit != nominal_model.length_unit:
         actual_model = actual_model.scaled(

@@ -307,6 +307,7 @@ class Table:
             "base_link": self.base_link,
             "tip_link": self.tip_link,
             "units": {"length": self.length_unit, "angle": "rad"},
+            "size": float(self.size),
             "base": {"params": self.base.to_dict(), "matrix": self._written(self.base_matrix)},
             "joints": joints,
             "tool": {"params": self.tool.to_dict(), "matrix": self._written(self.tool_matrix)},

@@ -1,5 +1,5 @@
 """The values of POE and table files: a number as a finite float, a name as a non-empty string, a
-3-vector, a mimic relation, a chain's joint count; otherwise a one-line
+3-vector, a mimic relation, a chain's joint count, the robot's size; otherwise a one-line
 :class:`~urdf2dh.errors.InputError` (or the subclass the reader passes) naming the field and
 saying what was expected and what came.
 
@@ -19,7 +19,7 @@ from typing import Any
 from ..errors import InputError, shown
 from ..model.mimic import Followed, Mimic
 from ..numerals import why_not
-from ..tolerances import JOINTS, LARGEST_NUMBER
+from ..tolerances import JOINTS, LARGEST_NUMBER, SMALLEST_SIZE
 
 __all__ = [
     "JointBound",
@@ -29,6 +29,7 @@ __all__ = [
     "check_number",
     "check_vector",
     "read_mimic",
+    "read_size",
     "yaml11_note",
 ]
 
@@ -147,6 +148,23 @@ def read_mimic(raw: Any, where: str, error: type[InputError] = InputError) -> Mi
         check_number(raw.get("multiplier", 1.0), f"{where}: mimic multiplier", error),
         check_number(raw.get("offset", 0.0), f"{where}: mimic offset", error),
     )
+
+
+def read_size(
+    data: dict[str, Any], where: str, unit: str, error: type[InputError] = InputError
+) -> float | None:
+    """A file's ``size``: the robot's size in the file's length unit ``unit``
+    (:meth:`~urdf2dh.model.poe.PoeModel.size`), a finite number of at least
+    :data:`~urdf2dh.tolerances.SMALLEST_SIZE`; ``None`` where the file does not state it."""
+    if "size" not in data:
+        return None
+    size = check_number(data["size"], f"{where}: size", error)
+    if not size >= SMALLEST_SIZE:
+        raise error(
+            f"{where}: size must be positive (the robot's size in {unit}, at least "
+            f"{SMALLEST_SIZE:.2g}), not {size:g}"
+        )
+    return size
 
 
 def check_joint_count(count: int, where: str, error: type[InputError] = InputError) -> None:

@@ -15,7 +15,9 @@ frame at home.
 
 Twists need not be normalised (Wu 2019 §II): ``|w|`` is the joint's scale and ``w.v/|w|^2`` its
 pitch; ``w = 0`` makes a prismatic joint of scale ``|v|``. ``type`` is optional and must agree
-with the twist. ``limits`` (optional, an extension) bounds ``q``.
+with the twist. ``limits`` (optional, an extension) bounds ``q``. ``size`` (optional) is the
+robot's size in ``length_unit`` (:meth:`~urdf2dh.model.poe.PoeModel.sized`); without it the model
+takes the size of its own points.
 """
 
 from __future__ import annotations
@@ -33,7 +35,14 @@ from ..geometry import se3
 from ..model.poe import KINDS, PoeModel, joint_from_twist
 from ..schemas import POE_FILE
 from ..tolerances import DEFAULT, JOINT_SCALES, Tolerances
-from .fields import check_joint_count, check_leaders, check_name, check_number, read_mimic
+from .fields import (
+    check_joint_count,
+    check_leaders,
+    check_name,
+    check_number,
+    read_mimic,
+    read_size,
+)
 from .sources import Content, Reading, Source
 
 __all__ = ["check_matrix", "poe_to_dict", "read_poe", "read_source"]
@@ -95,6 +104,7 @@ def read_poe(data: Any, display: str, tol: Tolerances = DEFAULT) -> PoeModel:
     if not isinstance(unit, str) or not unit:
         raise InputError(f"{display}: length_unit must be a name such as m or mm")
     _known_unit(unit, f"{display}: length_unit")
+    size = read_size(data, display, unit)
     raw = data.get("joints")
     if not isinstance(raw, list):
         raise InputError(f"{display}: 'joints' must be a list")
@@ -151,7 +161,8 @@ def read_poe(data: Any, display: str, tol: Tolerances = DEFAULT) -> PoeModel:
         if note:
             warnings.append(note)
     name = display if data.get("name") is None else check_name(data["name"], f"{display}: name")
-    return PoeModel(tuple(joints), home, str(name), display, "base", "tool", unit, tuple(warnings))
+    model = PoeModel(tuple(joints), home, str(name), display, "base", "tool", unit, tuple(warnings))
+    return model if size is None else model.sized(size)
 
 
 def read_source(content: Content, reading: Reading) -> Source:
@@ -163,7 +174,8 @@ def read_source(content: Content, reading: Reading) -> Source:
 
 
 def poe_to_dict(model: PoeModel) -> dict[str, Any]:
-    """A POE model file tree for ``model`` (tool as a matrix; limits where known)."""
+    """A POE model file tree for ``model`` (tool as a matrix; limits where known; its
+    :meth:`~urdf2dh.model.poe.PoeModel.size`, which a table's model takes from its source)."""
     joints = []
     for j in model.joints:
         xi = j.twist()
@@ -183,6 +195,7 @@ def poe_to_dict(model: PoeModel) -> dict[str, Any]:
         "schema": POE_FILE,
         "name": model.name,
         "length_unit": model.length_unit,
+        "size": model.size(),
         "joints": joints,
         "tool": {"matrix": [[float(x) for x in row] for row in model.home]},
     }

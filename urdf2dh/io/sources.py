@@ -206,9 +206,7 @@ class Content:
     def chain_source(self, kind: str, model: PoeModel) -> Source:
         """The :class:`Source` of a file that holds one chain, ``model``: named as a bundled
         robot is, else as the model names itself, else as the file."""
-        from dataclasses import replace
-
-        model = replace(model, name=self.name(model.name or self.path.stem))
+        model = model.named(self.name(model.name or self.path.stem))
         return Source(kind, self.display, model.name, poe=model, bundled=self.bundled)
 
 

@@ -3,7 +3,10 @@
 
 A table file is a valid SOURCE: its rows are turned into a POE model (:meth:`Table.to_poe`), so
 any convention converts to any other. Every field is checked and a mismatch between ``params``
-and the ``matrix`` written beside them is an error, never silently preferred one way.
+and the ``matrix`` written beside them is an error, never silently preferred one way. The
+table's size is the file's ``size`` (its source's, which the conversion measured its tolerances
+against); a file without one (older, or written by hand) takes the size of its POE model's own
+points (:meth:`~urdf2dh.model.poe.PoeModel.own_size`).
 """
 
 from __future__ import annotations
@@ -23,7 +26,14 @@ from ..model.poe import KINDS
 from ..schemas import TABLE_FILE_NAMES
 from ..tolerances import DEFAULT, Tolerances
 from ..units import metres_per
-from .fields import check_joint_count, check_leaders, check_number, check_vector, read_mimic
+from .fields import (
+    check_joint_count,
+    check_leaders,
+    check_number,
+    check_vector,
+    read_mimic,
+    read_size,
+)
 from .sources import Content, Reading, Source
 
 __all__ = ["read_source", "read_table"]
@@ -78,6 +88,7 @@ def read_table(data: Any, display: str, tol: Tolerances = DEFAULT) -> Table:
         metres_per(length_unit)
     except InputError as e:
         raise TableFileError(f"{display}: units.length: {e}") from None
+    size = read_size(data, display, length_unit, TableFileError)
     joints = data.get("joints")
     if not isinstance(joints, list):
         raise TableFileError(f"{display}: 'joints' must be a list")
@@ -140,7 +151,7 @@ def read_table(data: Any, display: str, tol: Tolerances = DEFAULT) -> Table:
         sections["base"][0],
         tuple(rows),
         sections["tool"][0],
-        1.0,
+        1.0 if size is None else size,
         _text(data, "robot", "", display),
         _text(data, "source", display, display),
         _text(data, "base_link", "", display),
@@ -149,7 +160,8 @@ def read_table(data: Any, display: str, tol: Tolerances = DEFAULT) -> Table:
         check,
         tuple(warnings),
     )
-    table = replace(table, size=table.to_poe().own_size())  # a file does not state its size
+    if size is None:  # a file without its robot's size: the size of the table's own points
+        table = replace(table, size=table.to_poe().own_size())
     scale = max(1.0, float(np.abs(table.base_matrix[:3, 3]).max()))
     _matrix_agrees(sections["base"][1], table.base_matrix, f"{display}: base", scale)
     _matrix_agrees(sections["tool"][1], table.tool_matrix, f"{display}: tool", scale)

@@ -335,8 +335,8 @@ class PoeModel:
         model the table's size (its source's): the model's axis points are the table's frame
         origins, elsewhere on the same axes than the source's, so :meth:`own_size` differs, and
         a conversion of it would decide the tolerances relative to size otherwise than the
-        table's did. A model made from this one (``dataclasses.replace``, :meth:`scaled`)
-        computes its own size again.
+        table's did. :meth:`named` keeps the size and :meth:`scaled` scales it; a model made
+        from this one otherwise (``dataclasses.replace``) computes its own size again.
 
         Raises
         ------
@@ -347,6 +347,20 @@ class PoeModel:
             raise ValueError(f"PoeModel.sized: size must be positive, not {size!r}")
         out = replace(self)
         out._derived["size"] = float(size)
+        return out
+
+    def named(self, name: str) -> PoeModel:
+        """The same model called ``name``: what depends on its geometry (:meth:`size`, given
+        by :meth:`sized` or not) kept.
+
+        Raises
+        ------
+        TypeError
+            ``name`` not a string.
+        """
+        check_instance(name, str, "PoeModel.named: name")
+        out = replace(self, name=name)
+        out._derived.update(self._derived)
         return out
 
     def reach(self) -> float:
@@ -445,7 +459,8 @@ class PoeModel:
 
     def scaled(self, factor: float, unit: str) -> PoeModel:
         """The same chain with lengths multiplied by ``factor`` and called ``unit`` (points,
-        tip position, helix pitch; prismatic joints move ``factor`` times as far per ``q``)."""
+        tip position, helix pitch, a size given by :meth:`sized`; prismatic joints move
+        ``factor`` times as far per ``q``)."""
         if not check_real(factor, "PoeModel.scaled: factor") > 0.0:
             raise ValueError(f"PoeModel.scaled: factor must be positive, not {factor!r}")
         check_instance(unit, str, "PoeModel.scaled: unit")
@@ -460,7 +475,9 @@ class PoeModel:
         )
         home = self.home.copy()
         home[:3, 3] *= factor
-        return replace(self, joints=joints, home=home, length_unit=unit)
+        out = replace(self, joints=joints, home=home, length_unit=unit)
+        given = self.size() != self.own_size()  # by :meth:`sized`: it scales with the lengths
+        return out.sized(factor * self.size()) if given else out
 
 
 def joint_from_twist(
