@@ -333,15 +333,15 @@ def test_a_table_failing_its_self_check_fails_the_run(capsys, tree, tmp_path, mo
     from urdf2dh.conventions import choice, convert
     from urdf2dh.errors import ConversionError
 
-    real = convert.to_table
+    real = convert.checked  # the conversion and self-check behind to_table and choose
 
     def failing(model, *args, **kwargs):
         if model.tip_link == "right_tip":
             raise ConversionError("self-check failed (forced)")
         return real(model, *args, **kwargs)
 
-    monkeypatch.setattr(convert, "to_table", failing)
-    monkeypatch.setattr(choice, "to_table", failing)  # convert's table without --convention
+    monkeypatch.setattr(convert, "checked", failing)
+    monkeypatch.setattr(choice, "checked", failing)  # convert's table without --convention
     code, out, err = run(capsys, "convert", tree, "--all-tips", "-o", f"{tmp_path / 'out'}/")
     assert (code, out) == (1, "")
     assert "tip 'right_tip': self-check failed" in one_line_error(err)

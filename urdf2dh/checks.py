@@ -8,15 +8,19 @@ back as canonical float64 arrays; a batch is checked with one vectorised
 ``np.isfinite(...).all()``.
 
 Everything past these checks trusts its arguments' types. (The values of files are checked by
-their readers, :mod:`urdf2dh.io.fields`.)
+their readers, :mod:`urdf2dh.io.fields`.) Internal code that makes a value type out of values
+checked already (a table's rows out of a checked model's joints, a table with its self-check
+filled in) makes it with :func:`unchecked` or :func:`unchecked_replace`, which skip the
+constructor's checks; a value a user constructs is always checked.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import numbers
 import os
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, TypeVar
 
 from .errors import shown
 from .tolerances import MAX_SAMPLES, MAX_SEED
@@ -24,6 +28,8 @@ from .tolerances import MAX_SAMPLES, MAX_SEED
 if TYPE_CHECKING:
     import numpy as np
     from numpy.typing import NDArray
+
+T = TypeVar("T")
 
 __all__ = [
     "check_array",
@@ -36,6 +42,8 @@ __all__ = [
     "check_real",
     "check_seed",
     "check_source",
+    "unchecked",
+    "unchecked_replace",
 ]
 
 
@@ -183,3 +191,51 @@ def _kind(a: Any) -> str:
     return {"b": "booleans", "U": "strings", "S": "bytes", "c": "complex numbers"}.get(
         a.dtype.kind, "objects such as None"
     )
+
+
+_FIELDS: dict[type, tuple[tuple[str, Any], ...]] = {}
+_NAMES: dict[type, frozenset[str]] = {}
+
+
+def _fields(kind: type) -> tuple[tuple[str, Any], ...]:
+    """A dataclass's fields in order, each with its default (``dataclasses.MISSING``: none)."""
+    known = _FIELDS.get(kind)
+    if known is None:
+        for f in dataclasses.fields(kind):
+            if f.default_factory is not dataclasses.MISSING:
+                raise TypeError(f"{kind.__name__}.{f.name}: a default factory is not supported")
+        known = _FIELDS[kind] = tuple((f.name, f.default) for f in dataclasses.fields(kind))
+        _NAMES[kind] = frozenset(name for name, _ in known)
+    return known
+
+
+def unchecked(kind: type[T], *values: Any) -> T:
+    """``kind(*values)`` (a frozen dataclass; fields left out take their defaults) without its
+    ``__post_init__`` checks: only for values that have passed those checks already, in the
+    canonical form the checks give (floats as ``float``, sequences as tuples)."""
+    out: T = object.__new__(kind)
+    names = _fields(kind)
+    if len(values) > len(names):
+        raise TypeError(f"{kind.__name__} takes {len(names)} fields, not {len(values)}")
+    for (name, _), value in zip(
+        names, (*values, *(d for _, d in names[len(values) :])), strict=True
+    ):
+        if value is dataclasses.MISSING:
+            raise TypeError(f"{kind.__name__}: field {name} is missing")
+        object.__setattr__(out, name, value)
+    return out
+
+
+def unchecked_replace(value: T, **changes: Any) -> T:
+    """``dataclasses.replace(value, **changes)`` without the constructor's checks: only where
+    ``value`` is checked already and ``changes`` are checked values in canonical form
+    (:func:`unchecked`)."""
+    kind = type(value)
+    names = _fields(kind)
+    if not _NAMES[kind].issuperset(changes):
+        unknown = sorted(set(changes) - _NAMES[kind])
+        raise TypeError(f"{kind.__name__} has no field {', '.join(unknown)}")
+    out: T = object.__new__(kind)
+    for name, _ in names:
+        object.__setattr__(out, name, changes[name] if name in changes else getattr(value, name))
+    return out

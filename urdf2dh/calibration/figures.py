@@ -39,10 +39,10 @@ from .identify import Identified
 from .levels import LOWER
 from .measurements import Measurements
 from .outliers import Outliers
-from .residuals import errors, evaluate, rms
+from .residuals import Data, errors, evaluate, rms
 from .result import Calibration, Comparison, Counts, Held, Noise, Parameter, Residuals
 from .select import Pass, Score, Selection
-from .start import FitOptions, to_data
+from .start import to_data
 from .userunits import UserUnits
 
 if TYPE_CHECKING:
@@ -117,11 +117,6 @@ def in_words(est: Estimate) -> str:
     return ", ".join(parts)
 
 
-def _errors(est: Estimate, m: Measurements, pose: bool, ids: list[int]) -> Mat:
-    """``(N, 1 or 2)`` each row's position error and, for poses, rotation error."""
-    return errors(absorbed(est), to_data(m, pose, ids))
-
-
 def _residuals(each: Mat) -> Residuals:
     pos = each[:, 0]
     out = Residuals(len(each), rms(pos), float(pos.max()))
@@ -142,14 +137,15 @@ def _comparison(
     before: Estimate,
     after: Estimate,
     m: Measurements,
+    data: Data,
     pose: bool,
-    ids: list[int],
     user: UserUnits,
     index: NDArray[np.int64] | None = None,
 ) -> Comparison:
-    """Before and after on ``m``, in the user's unit; ``index``: each row's configuration number
-    in the file (by default ``m``'s own)."""
-    b, a = _errors(before, m, pose, ids), _errors(after, m, pose, ids)
+    """Before and after (each with its offsets :func:`absorbed`, made once for every set) on
+    ``m`` (``data``: its :func:`~.start.to_data`), in the user's unit; ``index``: each row's
+    configuration number in the file (by default ``m``'s own)."""
+    b, a = errors(before, data), errors(after, data)  # (N, 1 or 2): position, rotation errors
     b[:, 0], a[:, 0] = user.shown_array(b[:, 0]), user.shown_array(a[:, 0])
     if index is None:
         index = m.configurations()[0]
@@ -185,31 +181,31 @@ def _unit(name: str, kind: str, length: str) -> str:
     return "rad" if leaf.startswith(("turn", "r")) else length
 
 
-def _reach(est: Estimate, m: Measurements, pose: bool, ids: list[int], size: float) -> Mat:
-    """Per coordinate, the largest displacement of a measured tool point (rotations at the
-    robot's size) per unit of it."""
-    data = to_data(m, pose, ids)
-    _, jac = evaluate(absorbed(est) if est.offsets is None else est, data, 1.0, 1.0 / size)
+def _reach(est: Estimate, now: Estimate, data: Data, size: float) -> Mat:
+    """Per coordinate of ``est``, the largest displacement of a measured tool point (rotations
+    at the robot's size) per unit of it, over ``data``; ``now``: ``est`` with its offsets
+    :func:`absorbed`."""
+    _, jac = evaluate(now if est.offsets is None else est, data, 1.0, 1.0 / size)
     rows = jac.reshape(len(data), data.rows, -1)
     return np.sqrt(np.sum(rows**2, axis=1)).max(axis=0) if len(data) else np.zeros(rows.shape[2])
 
 
 def _parameters(
     result: Identified,
-    fit: Measurements,
-    opts: FitOptions,
-    ids: list[int],
+    now: Estimate,
+    fit: Data,
     still: dict[str, str],
     user: UserUnits,
 ) -> tuple[list[Parameter], list[str], list[str]]:
     """The parameters with their values, changes and flags (lengths in the user's unit); the
-    poorly identified ones' names; the undetermined ones' names. ``still``: the joints that
+    poorly identified ones' names; the undetermined ones' names. ``now``: the estimate with its
+    offsets :func:`absorbed`; ``fit``: the fitted measurements; ``still``: the joints that
     barely moved, with their span."""
     est = result.estimate
     start = result.before.with_level(est.level, est.free)
     changes = local_coordinates(start, est)
     size = result.device_model.size()
-    reach = _reach(est, fit, opts.pose, ids, size)
+    reach = _reach(est, now, fit, size)
     kinds = dict(zip(est.chain.names, est.chain.kinds, strict=True))
     index = {n: i for i, n in enumerate(est.chain.names)}
     unit = user.length
@@ -265,12 +261,14 @@ def _noise_explains(
 ) -> tuple[bool, float]:
     """Whether noise explains ``other_rms`` against ``fit_rms`` (module docstring), and the
     largest ratio of RMS it explains."""
-    from scipy.stats import f
+    # the F distribution's quantile function itself (what scipy.stats.f.ppf evaluates, without
+    # its argument handling, 20 times the cost)
+    from scipy.special import fdtri
 
     if m <= p or fit_rms == 0.0 or other_rows == 0:
         return True, math.inf
     inflation = (1.0 + p / m) / (1.0 - p / m)
-    bound = float(f.ppf(CONFIDENCE, 3 * other_rows, max(m - p, 1)))
+    bound = float(fdtri(3 * other_rows, max(m - p, 1), CONFIDENCE))
     limit = math.sqrt(inflation * bound)
     return other_rms <= limit * fit_rms, limit
 
@@ -375,16 +373,18 @@ def assemble(chosen: Pass, result: Identified, outliers: Outliers, options: Opti
     unit = user.length
     pose = opts.pose
     before_est, after_est = before.solution.estimate, result.estimate
+    was, now = absorbed(before_est), absorbed(after_est)
     index = m.configurations()[0]
-    comparisons = [_comparison("fit", before_est, after_est, fit, pose, ids, user, index[fit_rows])]
+    fit_data = to_data(fit, pose, ids)  # for the comparison and the parameters' reach
+    comparisons = [_comparison("fit", was, now, fit, fit_data, pose, user, index[fit_rows])]
     if len(held):
+        held_data = to_data(held, pose, ids)
         comparisons.append(
-            _comparison("held_out", before_est, after_est, held, pose, ids, user, index[held_rows])
+            _comparison("held_out", was, now, held, held_data, pose, user, index[held_rows])
         )
     if validation is not None:
-        comparisons.append(
-            _comparison("validation", before_est, after_est, validation, pose, ids, user)
-        )
+        data = to_data(validation, pose, ids)
+        comparisons.append(_comparison("validation", was, now, validation, data, pose, user))
     selection = _selection(selection, user)
     found = tuple(replace(s, position=user.shown(s.position)) for s in found)
     still = barely_moved(fit.q, before_est, size)
@@ -399,7 +399,7 @@ def assemble(chosen: Pass, result: Identified, outliers: Outliers, options: Opti
         for j in nominal.joints
         if j.name in still
     }
-    parameters, poor, lost = _parameters(result, fit, opts, ids, spans_text, user)
+    parameters, poor, lost = _parameters(result, now, fit_data, spans_text, user)
     held_list = [Held(n, "the level's other parameters carry it") for n in result.carried]
     held_list += [Held(n, "fixed as asked") for n in result.fixed]
     warnings = list(result.notes)

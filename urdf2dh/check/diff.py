@@ -224,26 +224,33 @@ def form_changes(
     return out
 
 
-def _lines(model: PoeModel) -> list[tuple[str, np.ndarray]]:
-    return (
-        [("base z", np.array([0.0, 0.0, 1.0]))]
-        + [(j.name, j.axis) for j in model.joints]
-        + [("tool z", model.home[:3, 2])]
+def _lines(model: PoeModel) -> tuple[list[str], np.ndarray]:
+    """The chain's lines in order, base z, the joint axes, tool z: their names and their
+    directions ``(n + 2, 3)``."""
+    names = ["base z", *(j.name for j in model.joints), "tool z"]
+    axes = [(0.0, 0.0, 1.0), *(j.axis for j in model.joints), model.home[:3, 2]]
+    return names, np.array(axes, dtype=float)
+
+
+def _apart(axes: np.ndarray) -> np.ndarray:
+    """Each pair of consecutive directions' angle from (anti-)parallel ``(n + 1,)``, all pairs
+    at once: ``atan2(|u x v|, |u . v|)``."""
+    u, v = axes[:-1], axes[1:]
+    out: np.ndarray = np.arctan2(
+        np.linalg.norm(np.cross(u, v), axis=1), np.abs((u * v).sum(axis=1))
     )
+    return out
 
 
 def ill_conditioned(nominal: PoeModel, actual: PoeModel, within: float) -> list[IllPair]:
     """Consecutive lines within ``within`` rad of (anti-)parallel in either model."""
-    out = []
-    la, lb = _lines(nominal), _lines(actual)
-    for k in range(len(la) - 1):
-        angles = []
-        for lines in (la, lb):
-            u, v = lines[k][1], lines[k + 1][1]
-            angles.append(math.atan2(float(np.linalg.norm(np.cross(u, v))), abs(float(u @ v))))
-        if min(angles) <= within:
-            out.append(IllPair(la[k][0], la[k + 1][0], angles[0], angles[1]))
-    return out
+    names, axes = _lines(nominal)
+    first, second = _apart(axes).tolist(), _apart(_lines(actual)[1]).tolist()
+    return [
+        IllPair(names[k], names[k + 1], a, b)
+        for k, (a, b) in enumerate(zip(first, second, strict=True))
+        if min(a, b) <= within
+    ]
 
 
 def default_length_threshold(unit: str) -> float:

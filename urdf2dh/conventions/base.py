@@ -20,6 +20,7 @@ import math
 from dataclasses import dataclass, field, fields
 from typing import TYPE_CHECKING, Any, ClassVar, Literal, Protocol
 
+from ..checks import unchecked
 from ..geometry.frames import Frame, wrap_angle
 from ..geometry.normals import Judgement
 
@@ -132,7 +133,8 @@ class Params:
             else:
                 x, y, z = (_snap(c, (0.0,), length) for c in value)
                 values[name] = (x, y, z)
-        return type(self)(**values)
+        # every value a float or a tuple of floats already, as the constructor makes them
+        return unchecked(type(self), *values.values())
 
     def frame(self) -> Frame:
         """The record's transform (base and tool records; rows: see :meth:`around_joint`)."""

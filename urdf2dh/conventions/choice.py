@@ -21,13 +21,15 @@ A convention asked for by name is written as asked.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
+from ..checks import unchecked_replace
 from ..errors import visible
-from .convert import build_table, deviation_bound, to_table
+from .convert import Sources, build_table, check_arguments, checked, deviation_bound
 
 if TYPE_CHECKING:
+    from ..geometry.normals import Judgement
     from ..model.poe import PoeModel
     from ..tolerances import Tolerances
     from .table import Table
@@ -64,6 +66,13 @@ def objection(
     docstring); tables of conventions other than ``dh`` and ``mdh`` have none."""
     if table.convention not in D_H:
         return None
+    return _far(table, tol) or _unasked(
+        model, table, build_table(model, table.convention, tol, style)[1].judgements, tol
+    )
+
+
+def _far(table: Table, tol: Tolerances) -> Objection | None:
+    """A row of the D-H ``table`` beyond ``far_factor`` x the robot's size, or ``None``."""
     name, unit, size = table.convention, table.length_unit, table.size
     far = tol.far_factor * size
     for row in table.rows:
@@ -74,10 +83,16 @@ def objection(
                     f"({key}), {abs(value) / size:.3g} times the robot's size",
                     True,
                 )
-    _, result = build_table(model, name, tol, style)
-    unasked = tuple(
-        j for j in result.judgements if j.kind == "parallel" and j.angle > tol.parallel_angle
-    )
+    return None
+
+
+def _unasked(
+    model: PoeModel, table: Table, judgements: tuple[Judgement, ...], tol: Tolerances
+) -> Objection | None:
+    """Axes beyond ``--parallel-angle`` from parallel treated as parallel all the same by the
+    conversion to the D-H ``table`` (its ``judgements``), or ``None``."""
+    name, unit, size = table.convention, table.length_unit, table.size
+    unasked = tuple(j for j in judgements if j.kind == "parallel" and j.angle > tol.parallel_angle)
     pos, rot = deviation_bound(unasked, model.reach() + model.travel())
     if unasked and (pos > tol.report * size or rot > tol.report):
         j = max(unasked, key=lambda j: j.angle)
@@ -108,8 +123,14 @@ def choose(
     ConversionError, UsageError
         As :func:`~urdf2dh.conventions.convert.to_table` does.
     """
-    table = to_table(model, convention, tol, samples=samples, style=style)
-    problem = objection(model, table, tol, style)
+    check_arguments(model, convention, tol, samples, 0, style)
+    # the model's self-check poses, made once for both tables; the D-H table's judgements,
+    # made once for its check and for the objection
+    sources: Sources = {}
+    table, result = checked(model, convention, tol, samples, 0, style, sources)
+    problem = None
+    if table.convention in D_H:
+        problem = _far(table, tol) or _unasked(model, table, result.judgements, tol)
     if problem is None:
         return Choice(table, None, None)
     if fallback is None:
@@ -119,11 +140,12 @@ def choose(
             f"{problem.reason}; written in {convention} all the same: the reader takes D-H "
             "tables only, and this one is exact"
         )
-        return Choice(replace(table, warnings=(reason, *table.warnings)), problem, reason)
-    chosen = to_table(model, fallback, tol, samples=samples, style="wu")
+        return Choice(unchecked_replace(table, warnings=(reason, *table.warnings)), problem, reason)
+    chosen, _ = checked(model, fallback, tol, samples, 0, "wu", sources)
     reason = (
         f"written in {fallback}, not {convention}: {problem.reason}; {fallback} is exact and "
         f"every length stays within the geometry's own distances (--convention {convention} "
         f"writes {convention} all the same)"
     )
-    return Choice(replace(chosen, warnings=(reason, *chosen.warnings)), problem, reason)
+    # a checked table with one more warning (text made here)
+    return Choice(unchecked_replace(chosen, warnings=(reason, *chosen.warnings)), problem, reason)

@@ -11,7 +11,10 @@ from __future__ import annotations
 import math
 from dataclasses import replace
 
-from ..checks import check_count, check_instance, check_seed
+import numpy as np
+from numpy.typing import NDArray
+
+from ..checks import check_count, check_instance, check_seed, unchecked, unchecked_replace
 from ..errors import ConversionError, UsageError, choices, near, shown
 from ..geometry.normals import Judgement
 from ..geometry.se3 import pose_errors
@@ -27,6 +30,7 @@ __all__ = [
     "JUDGED_SAMPLES",
     "build_table",
     "check_arguments",
+    "checked",
     "deviation_bound",
     "rounding_bound",
     "self_check",
@@ -40,6 +44,11 @@ __all__ = [
 # introduces a deviation, the check measures how large it is: there it looks at 1000.
 DEFAULT_SAMPLES = 100
 JUDGED_SAMPLES = 1000
+
+Mat = NDArray[np.float64]
+Sources = dict[tuple[int, int], tuple[Mat, Mat]]
+"""A model's self-check configurations by ``(samples, seed)``: its row positions ``(N, n)`` and
+its poses there ``(N, 4, 4)``, kept by a caller that checks several tables of one model."""
 
 
 def build_table(
@@ -63,12 +72,15 @@ def build_table(
         takers = [c.name for c in REGISTRY.values() if style in c.styles]
         raise UsageError(f"style {style} applies to {', '.join(takers)} tables, not {conv.name}")
     result = conv.from_poe(model, tol, style)
+    # the rows and the table are made of the model's checked joints and fields and of the
+    # convention's own records: the constructors' checks would find nothing new
     rows = tuple(
-        Row(j.name, j.kind, p, j.pitch, j.scale * sign, j.lower, j.upper, j.mimic)
+        unchecked(Row, j.name, j.kind, p, j.pitch, float(j.scale * sign), j.lower, j.upper,
+                  j.mimic)
         for j, p, sign in zip(model.joints, result.rows, result.signs, strict=True)
-    )
-    table = Table(
-        conv.name, result.base, rows, result.tool, model.size(), model.name, model.source,
+    )  # fmt: skip
+    table = unchecked(
+        Table, conv.name, result.base, rows, result.tool, model.size(), model.name, model.source,
         model.base_link, model.tip_link, model.length_unit,
     )  # fmt: skip
     return table, result
@@ -76,21 +88,36 @@ def build_table(
 
 def written(table: Table, angle: float, length: float) -> Table:
     """The table as its files write it (:meth:`~urdf2dh.conventions.base.Params.written`)."""
-    return replace(
+    # the same checked table with records of the same types in place of its records
+    return unchecked_replace(
         table,
         base=table.base.written(angle, length),
-        rows=tuple(replace(r, params=r.params.written(angle, length)) for r in table.rows),
+        rows=tuple(
+            unchecked_replace(r, params=r.params.written(angle, length)) for r in table.rows
+        ),
         tool=table.tool.written(angle, length),
     )
 
 
 def self_check(
-    model: PoeModel, table: Table, samples: int = DEFAULT_SAMPLES, seed: int = 0
+    model: PoeModel,
+    table: Table,
+    samples: int = DEFAULT_SAMPLES,
+    seed: int = 0,
+    sources: Sources | None = None,
 ) -> Check:
     """The table's FK against the model's at ``samples`` seeded configurations (both by the
-    reference FK, :func:`urdf2dh.model.fk.chains_fk`)."""
-    q = model.sample(samples, seed)
-    ours, source = chains_fk([table.link_form(), model.link_form()], model.positions(q))
+    reference FK, :func:`urdf2dh.model.fk.chains_fk`). ``sources`` keeps the model's
+    configurations and poses for the next table of the same model checked at them."""
+    known = sources.get((samples, seed)) if sources is not None else None
+    if known is None:
+        positions = model.positions(model.sample(samples, seed))
+        ours, source = chains_fk([table.link_form(), model.link_form()], positions)
+        if sources is not None:
+            sources[samples, seed] = positions, source
+    else:
+        positions, source = known
+        ours = chains_fk([table.link_form()], positions)[0]
     return Check(samples, *pose_errors(ours, source))
 
 
@@ -194,6 +221,22 @@ def to_table(
         of range (``samples`` from 1 to :data:`~urdf2dh.checks.MAX_SAMPLES`).
     """
     check_arguments(model, convention, tol, samples, seed, style)
+    return checked(model, convention, tol, samples, seed, style)[0]
+
+
+def checked(
+    model: PoeModel,
+    convention: str,
+    tol: Tolerances,
+    samples: int | None,
+    seed: int,
+    style: Style,
+    sources: Sources | None = None,
+) -> tuple[Table, Conversion]:
+    """:func:`to_table` of arguments checked already (:func:`check_arguments`), with what the
+    convention made of the model (its judgements; :func:`build_table`). ``sources``: the
+    model's self-check poses, kept for the next table of the same model (:func:`self_check`).
+    """
     table, result = build_table(model, convention, tol, style)
     size, reach, unit = model.size(), model.reach() + model.travel(), model.length_unit
     table = written(table, tol.written, tol.written * size)
@@ -228,7 +271,7 @@ def to_table(
         declared_pos += rounding
     if samples is None:
         samples = JUDGED_SAMPLES if snapped else DEFAULT_SAMPLES
-    check = self_check(model, table, samples, seed)
+    check = self_check(model, table, samples, seed, sources)
     allowed_pos = tol.check_position * size + declared_pos
     allowed_rot = tol.check_rotation + declared_rot
     worst = (
@@ -260,4 +303,5 @@ def to_table(
             f"{allowed_rot:.3g} rad); the table is not written"
             + ("" if math.isfinite(check.max_position_error) else " (non-finite result)")
         )
-    return replace(table, check=check, warnings=tuple(warnings))
+    # the table checked, with the Check made here and the warnings as text
+    return unchecked_replace(table, check=check, warnings=tuple(warnings)), result

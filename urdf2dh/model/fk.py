@@ -137,13 +137,19 @@ def _block(links: Mat, motions: Mat, per_joint: Mat, turns: Turns, work: Mat) ->
     ``(n, m)``, each joint's positions side by side), computed in ``work`` ``(2, >= 12 m)``;
     and the other half of ``work``, free."""
     m = per_joint.shape[1]
-    f, other = (w[: 12 * m].reshape(3, m, 4) for w in work)
-    f[...] = links[0, :3, None, :]
+    # each half of work as the poses' rows (3, m, 4), as one matrix (3 m, 4) and as the rows'
+    # x + i y (3, m), made once for every joint
+    halves = [
+        (rows, rows.reshape(-1, 4), rows.view(np.complex128)[:, :, 0])
+        for rows in (w[: 12 * m].reshape(3, m, 4) for w in work)
+    ]
+    halves[0][0][...] = links[0, :3, None, :]
     for i, (rotation, translation) in enumerate(motions.tolist()):
+        f, flat, xy = halves[i % 2]
         if rotation:  # each row's x + i y, times e^{-i a}
-            f.view(np.complex128)[:, :, 0] *= _turn(i, rotation, per_joint, turns)
+            xy *= _turn(i, rotation, per_joint, turns)
         if translation:
             f[:, :, 3] += translation * per_joint[i] * f[:, :, 2]
-        np.matmul(f.reshape(-1, 4), links[i + 1], out=other.reshape(-1, 4))
-        f, other = other, f
-    return f, other
+        np.matmul(flat, links[i + 1], out=halves[(i + 1) % 2][1])
+    last = len(motions) % 2
+    return halves[last][0], halves[1 - last][0]
