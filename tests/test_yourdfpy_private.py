@@ -125,3 +125,14 @@ def test_logging_and_six_are_imported_when_yourdfpy_uses_them():
     assert "LOADED []" in lines
     assert "NAME urdf2dh.io.urdf._yourdfpy.urdf" in lines
     assert proc.stderr.strip() == "yourdfpy says 42"  # logging's last-resort handler
+
+
+def test_placeholder_modules_answer_tools_that_walk_sys_modules():
+    # pytest's and hypothesis's plugins read every module's __file__ (a str or absent)
+    private = [m for name, m in list(sys.modules.items()) if name.startswith(_yourdfpy.__name__)]
+    assert {m.__name__.rsplit(".", 1)[1] for m in private} >= {"trimesh", *_yourdfpy.STUBBED}
+    for module in private:
+        for dunder in ("__file__", "__path__", "__wrapped__", "__all__"):
+            value = getattr(module, dunder, None)
+            assert not isinstance(value, _yourdfpy.NotLoaded), (module.__name__, dunder)
+    assert isinstance(_yourdfpy.urdf.tra.diagonal_dot, _yourdfpy.NotLoaded)

@@ -50,6 +50,7 @@ import importlib.machinery
 import importlib.util
 import sys
 import types
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -126,17 +127,29 @@ def _directory(package: str) -> str:
     return str(next(iter(spec.submodule_search_locations)))
 
 
+def _not_loaded(prefix: str) -> Callable[[str], NotLoaded]:
+    """A placeholder module's ``__getattr__`` (PEP 562): a :class:`NotLoaded` for each name, but
+    none for dunder names (``__file__``, ...), which tools that walk ``sys.modules`` read."""
+
+    def names(name: str) -> NotLoaded:
+        if name.startswith("__"):
+            raise AttributeError(name)
+        return NotLoaded(prefix + name)
+
+    return names
+
+
 def _trimesh_package() -> types.ModuleType:
     """A package over trimesh's directory whose ``__init__`` is not run."""
     name = f"{__name__}.trimesh"
     spec = importlib.machinery.ModuleSpec(name, None, is_package=True)
     spec.submodule_search_locations = [_directory("trimesh")]
     package = importlib.util.module_from_spec(spec)
-    vars(package)["__getattr__"] = NotLoaded  # PEP 562: the package's names that are not loaded
+    vars(package)["__getattr__"] = _not_loaded("")  # PEP 562: the names that are not loaded
     sys.modules[name] = package
     for sub in STUBBED:
         stub = types.ModuleType(f"{name}.{sub}")
-        vars(stub)["__getattr__"] = lambda attr, sub=sub: NotLoaded(f"{sub}.{attr}")
+        vars(stub)["__getattr__"] = _not_loaded(f"{sub}.")
         sys.modules[stub.__name__] = stub
         setattr(package, sub, stub)
     return package
