@@ -2,6 +2,7 @@
 
     python benchmarks/run.py            # the full run (a few minutes)
     python benchmarks/run.py --quick    # CI's run: fewer repeats and sizes (under a minute)
+    python benchmarks/run.py --startup  # only the whole commands' start-up, against Pinocchio's
 
 Every figure is printed beside its Pinocchio counterpart with the ratio ours / Pinocchio's, and
 the goal it is held to. Goals are reported, never asserted: speed is measured, not tested. Times
@@ -429,6 +430,9 @@ def match_run(repeat: int) -> list[Figure]:
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="CI's short run")
+    parser.add_argument(
+        "--startup", action="store_true", help="only the whole commands' start-up (new processes)"
+    )
     args = parser.parse_args(argv)
     quick = args.quick
     compileall.compile_dir(ROOT / "urdf2dh", quiet=1)  # the bytecode `pip install` writes
@@ -441,6 +445,9 @@ def main(argv: list[str] | None = None) -> int:
         f", Pinocchio {pin.__version__}, yourdfpy {yourdfpy.__version__}, numpy "
         f"{np.__version__}; {os.cpu_count()} CPUs; load average {os.getloadavg()[0]:.2f}"
     )
+    if args.startup:
+        print_table("Whole command and start-up (new processes)", whole_command(3 if quick else 7))
+        return 0
     figures = engine(repeat=20 if quick else 200)
     print_table("Engine (one process)", figures)
     rows = whole_command(runs=3 if quick else 7)

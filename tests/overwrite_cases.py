@@ -26,6 +26,7 @@ import io
 import os
 import random
 import shutil
+import tempfile
 from collections.abc import Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -269,7 +270,7 @@ def _fault(kind: str) -> Iterator[None]:
 
             mp.setattr(files.os, "replace", replace)
         elif kind == "stage":
-            real_mkstemp, made = files.tempfile.mkstemp, []
+            real_mkstemp, made = tempfile.mkstemp, []
 
             def mkstemp(*args: object, **kwargs: object) -> tuple[int, str]:
                 made.append(1)
@@ -277,7 +278,7 @@ def _fault(kind: str) -> Iterator[None]:
                     raise OSError(13, "Permission denied")
                 return real_mkstemp(*args, **kwargs)  # type: ignore[arg-type]
 
-            mp.setattr(files.tempfile, "mkstemp", mkstemp)
+            mp.setattr(tempfile, "mkstemp", mkstemp)
         yield
 
 

@@ -8,6 +8,7 @@ from __future__ import annotations
 import hashlib
 import os
 import shutil
+import tempfile
 from pathlib import Path
 
 import pytest
@@ -205,7 +206,7 @@ def test_a_report_that_cannot_be_written_is_refused_before_the_fit(inputs, capsy
 
 
 def test_measure_writes_both_files_or_neither(inputs, capsys, monkeypatch):
-    real, made = files.tempfile.mkstemp, []
+    real, made = tempfile.mkstemp, []
 
     def mkstemp(*args, **kwargs):
         made.append(kwargs.get("prefix"))
@@ -213,7 +214,7 @@ def test_measure_writes_both_files_or_neither(inputs, capsys, monkeypatch):
             raise OSError(13, "Permission denied")
         return real(*args, **kwargs)
 
-    monkeypatch.setattr(files.tempfile, "mkstemp", mkstemp)
+    monkeypatch.setattr(tempfile, "mkstemp", mkstemp)
     argv = ["measure", "arm.urdf", "--configs", "5", "--markers", "2"]
     assert main([*argv, "-o", "m.csv", "--marker-layout", "lay.csv"]) == 2
     assert f"lay.csv: cannot write in directory '{inputs}' (Permission denied)" in (
@@ -221,7 +222,7 @@ def test_measure_writes_both_files_or_neither(inputs, capsys, monkeypatch):
     )
     assert not (inputs / "m.csv").exists() and not (inputs / "lay.csv").exists()
     assert [p.name for p in inputs.iterdir() if p.name.startswith(".")] == []
-    monkeypatch.setattr(files.tempfile, "mkstemp", real)
+    monkeypatch.setattr(tempfile, "mkstemp", real)
     assert main([*argv, "-o", "m.csv", "--marker-layout", "lay.csv"]) == 0
     assert (inputs / "m.csv").read_text().startswith("joint1,")
     assert (inputs / "lay.csv").read_text().startswith("marker,x,y,z")

@@ -26,7 +26,7 @@ sys.path.insert(0, {root!r})
 
 class Interrupt:  # Ctrl-C while yourdfpy's element parsers load (trimesh's transformations)
     def find_spec(self, name, path=None, target=None):
-        if name.endswith("trimesh.util"):
+        if name.endswith("trimesh.transformations"):
             sys.meta_path.remove(self)
             os.kill(os.getpid(), signal.{signal})
         return None

@@ -70,3 +70,15 @@ def test_verify_does_import_pinocchio():
     code, heavy = imported("verify", "ur5", "--samples", "10")
     assert code == 0 and "pinocchio" in heavy
     assert set(heavy).isdisjoint(set(NOT_FOR_CONVERT) - {"pinocchio"}), heavy
+
+
+def test_the_program_runs_without_the_cyclic_collector_and_main_leaves_it_alone():
+    code = (
+        "import atexit, gc, sys\nfrom urdf2dh.cli.run import console, main\n"
+        "assert main(['robots']) == 0 and gc.isenabled()\n"
+        "atexit.register(lambda: print('COLLECTOR', gc.isenabled()))\n"
+        "sys.argv = ['urdf2dh', 'convert', 'ur5']\nconsole()"
+    )
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.splitlines()[-1] == "COLLECTOR False"

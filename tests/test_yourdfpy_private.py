@@ -98,3 +98,41 @@ def test_a_library_user_gets_the_real_trimesh_and_yourdfpy(first):
         assert out == "OK []"  # urdf2dh itself put no trimesh module in sys.modules
     else:
         assert out.startswith("OK ['trimesh'")
+
+
+# A conversion imports neither logging nor six, which yourdfpy's module imports; yourdfpy's logger
+# (module level: `_logger = logging.getLogger(__name__)`) logs through the real one when used.
+DEFERRED = """
+import sys
+from urdf2dh.cli import main
+assert main(["convert", "ur5"]) == 0
+loaded = ("logging", "six", "zipfile", "numpy.random")
+print("LOADED", sorted(m for m in loaded if m in sys.modules))
+from urdf2dh.io.urdf._yourdfpy import urdf
+assert urdf.six.string_types == (str,)
+urdf._logger.warning("yourdfpy says %s", 42)
+import logging
+assert urdf._logger.getEffectiveLevel() == logging.getLogger(urdf.__name__).getEffectiveLevel()
+print("NAME", urdf._logger.name)
+"""
+
+
+def test_logging_and_six_are_imported_when_yourdfpy_uses_them():
+    proc = subprocess.run([sys.executable, "-c", DEFERRED], capture_output=True, text=True,
+                          timeout=120)  # fmt: skip
+    assert proc.returncode == 0, proc.stderr
+    lines = proc.stdout.splitlines()
+    assert "LOADED []" in lines
+    assert "NAME urdf2dh.io.urdf._yourdfpy.urdf" in lines
+    assert proc.stderr.strip() == "yourdfpy says 42"  # logging's last-resort handler
+
+
+def test_placeholder_modules_answer_tools_that_walk_sys_modules():
+    # pytest's and hypothesis's plugins read every module's __file__ (a str or absent)
+    private = [m for name, m in list(sys.modules.items()) if name.startswith(_yourdfpy.__name__)]
+    assert {m.__name__.rsplit(".", 1)[1] for m in private} >= {"trimesh", *_yourdfpy.STUBBED}
+    for module in private:
+        for dunder in ("__file__", "__path__", "__wrapped__", "__all__"):
+            value = getattr(module, dunder, None)
+            assert not isinstance(value, _yourdfpy.NotLoaded), (module.__name__, dunder)
+    assert isinstance(_yourdfpy.urdf.tra.diagonal_dot, _yourdfpy.NotLoaded)

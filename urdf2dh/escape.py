@@ -43,7 +43,6 @@ text of Python's ``repr`` without the quotes, so it stays on one line, shows wha
 
 from __future__ import annotations
 
-import html
 import re
 from collections.abc import Iterable, Sequence
 
@@ -242,6 +241,8 @@ def html_text(text: str) -> str:
     control characters) with ``& < > " '`` as character references, so no name opens a tag,
     an entity or ends an attribute. plotly draws its titles, labels and hover text as HTML
     (a few tags and the entities), so a figure's text is written with it too."""
+    import html  # plots only
+
     return html.escape(visible(text), quote=True)
 
 

@@ -8,8 +8,6 @@ import sys
 from pathlib import Path
 from typing import Any
 
-from ..calibration.levels import AUTO
-from ..calibration.levels import NAMES as LEVELS
 from ..errors import InputError, UsageError, choices, shown
 from ..io.files import check_outputs, write_outputs
 from . import options
@@ -22,6 +20,8 @@ EXAMPLE = "urdf2dh calibrate puma560-nominal m.csv --helical all --format json -
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
+    from ..calibration.levels import AUTO
+    from ..calibration.levels import NAMES as LEVELS
     from ..conventions import NAMES, STYLES
     from ..emit.formats import FORMATS
     from ..io.sources import source_kinds

@@ -26,7 +26,6 @@ The rules:
 
 from __future__ import annotations
 
-import json
 import os
 from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
@@ -245,6 +244,8 @@ def join_tables(tables: Sequence[Table], fmt: str) -> str:
 
     check_stdout_format(fmt)
     if fmt == "json":
+        import json
+
         return json.dumps({t.tip_link: t.to_dict() for t in tables}, indent=2) + "\n"
     if fmt == "yaml":
         return "".join(f"---\n{render(t, fmt)}" for t in tables)

@@ -5,7 +5,6 @@ from __future__ import annotations
 import argparse
 import sys
 
-from ..calibration.levels import FULL, NAMES
 from ..io.files import check_outputs, write_outputs
 from . import options
 
@@ -17,6 +16,8 @@ EXAMPLE = "urdf2dh plan ur5 --configs 15 -o plan.csv"
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
+    from ..calibration.levels import FULL, NAMES
+
     options.add_chain(p)
     p.add_argument(
         "--configs",

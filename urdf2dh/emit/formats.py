@@ -14,7 +14,6 @@ characters) and Markdown escapes its markup too.
 
 from __future__ import annotations
 
-import json
 from typing import TYPE_CHECKING
 
 from ..conventions.grid import flat_columns, markdown, records, text
@@ -87,6 +86,8 @@ def render(table: Table, fmt: str) -> str:
     )
     check_instance(fmt, str, "render: fmt")
     if fmt == "json":
+        import json
+
         return json.dumps(table.to_dict(), indent=2) + "\n"
     if fmt == "yaml":
         import yaml

@@ -41,12 +41,9 @@ import contextlib
 import errno
 import io
 import os
-import secrets
 import select
-import shutil
 import stat
 import sys
-import tempfile
 from collections.abc import Iterable, Iterator, Mapping, Sequence
 from contextvars import ContextVar
 from dataclasses import dataclass
@@ -400,6 +397,8 @@ def _umask() -> int:
 def _stage(plan: _Plan, raw: bytes) -> Path:
     """Write ``raw`` to a new temporary file beside the plan's target, with the owner, group and
     permissions the target will have; its path."""
+    import tempfile  # only a run that writes a file needs it
+
     try:
         fd, name = tempfile.mkstemp(prefix=f".{plan.target.name}.", dir=plan.target.parent)
     except OSError as e:
@@ -483,7 +482,7 @@ def _keep(target: Path) -> Path | None:
     """A hard link to ``target`` beside it, to put it back from; ``None`` where the file system
     makes none."""
     for _ in range(8):
-        backup = target.with_name(f".{target.name}.{secrets.token_hex(6)}.old")
+        backup = target.with_name(f".{target.name}.{os.urandom(6).hex()}.old")
         try:
             os.link(target, backup)
             return backup
@@ -524,6 +523,9 @@ def write_directory(files: Mapping[str, str | bytes], output: str) -> None:
     parent = directory.absolute().parent
     if not parent.is_dir():
         raise InputError(f"{output}: directory '{parent}' does not exist")
+    import shutil
+    import tempfile
+
     tmp: Path | None = None
     try:
         with interrupts.held():  # the temporary directory is noted as soon as it exists

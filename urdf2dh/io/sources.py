@@ -58,13 +58,13 @@ from ..tolerances import DEFAULT, Tolerances
 from .catalog import REFERENCES, ROBOTS, Bundled, lookup, robot_path
 from .encodings import check_text, first_character, xml_root
 from .files import SOURCE_ROLE, read_file
-from .xacro import XacroOptions
 
 if TYPE_CHECKING:
     from ..model.poe import PoeModel
     from .fields import JointBound
     from .mjcf import MjcfElements
     from .urdf import UrdfTree
+    from .xacro import XacroOptions
 
 __all__ = [
     "READERS",
@@ -379,6 +379,8 @@ def open_source(
     on a URDF's joints, refused as soon as they are counted (before the tree is built).
     """
     if package_paths:
+        from .xacro import XacroOptions
+
         xacro = replace(xacro or XacroOptions(), packages={
             **(xacro.packages if xacro else {}), **package_paths})  # fmt: skip
     reading = Reading(tol, xacro, bound)

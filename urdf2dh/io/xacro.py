@@ -26,7 +26,6 @@ them.
 from __future__ import annotations
 
 import importlib.machinery
-import json
 import math
 import os
 import sys
@@ -38,7 +37,6 @@ from typing import TYPE_CHECKING
 from ..errors import InputError, Remedy
 from ..tolerances import FILE_BYTES
 from .files import note_input
-from .xacro_child import OUT_OF_MEMORY
 
 if TYPE_CHECKING:
     from .child import Finished
@@ -140,7 +138,10 @@ def _environment() -> dict[str, str]:
 def expand(path: Path, display: str, options: XacroOptions | None = None) -> bytes:
     """The URDF text of the xacro file ``path``, expanded in a confined child process within the
     time and memory of ``options`` (see the module docstring)."""
+    import json
+
     from . import child
+    from .xacro_child import OUT_OF_MEMORY
 
     options = options or XacroOptions()
     dirs = module_dirs(display)
@@ -200,6 +201,8 @@ def child_argv() -> list[str]:
 def job(path: Path, options: XacroOptions, module_dirs: list[str]) -> bytes:
     """The expansion process's job (its standard input): expand ``path`` with ``options``,
     importing xacro and yaml from ``module_dirs``, as this process's child."""
+    import json
+
     return json.dumps({
         "path": str(path),
         "packages": dict(options.packages),

@@ -35,6 +35,7 @@ from ..escape import markdown_table, markdown_text, text_table
 from ..geometry import frames, se3
 from ..tolerances import JOINT_POSITIONS, RIGID_INPUT, SMALLEST_SIZE
 from ..units import DECIMALS, fixed
+from . import _draw
 from ._fastfk import chain_fk
 from .mimic import Mimic, actuated, row_positions
 
@@ -397,8 +398,7 @@ class PoeModel:
                 f"(at most {JOINT_POSITIONS // max(self.dof, 1):,} configurations of this chain)"
             )
         lim = self.limits()
-        rng = np.random.default_rng(seed)
-        return rng.uniform(lim[:, 0], lim[:, 1], size=(count, self.dof))
+        return _draw.uniform(lim[:, 0], lim[:, 1], count, seed)
 
     def _limits(self) -> NDArray[np.float64]:
         drivers = [self.joints[i] for i in actuated(self.joints)]

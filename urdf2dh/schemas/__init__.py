@@ -14,8 +14,6 @@ accept that name and the one the same format carried before the schemas were pub
 
 from __future__ import annotations
 
-import json
-from importlib import resources
 from typing import Any
 
 __all__ = [
@@ -53,6 +51,9 @@ def load(name: str) -> dict[str, Any]:
     """
     if name not in names():
         raise ValueError(f"no schema named {name!r}; urdf2dh ships {', '.join(names())}")
+    import json  # here, not with the module: a conversion names the schemas without reading them
+    from importlib import resources
+
     text = resources.files(__name__).joinpath(name.rsplit("/", 1)[1]).read_text("utf-8")
     schema: dict[str, Any] = json.loads(text)
     return schema
