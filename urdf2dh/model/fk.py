@@ -23,7 +23,7 @@ has its sines and cosines computed once.
 
 The self-check, ``verify`` and the tests use this module as it is; the public batch FK
 (``Table.fk_batch``, ``PoeModel.fk_batch``) runs it with sines from a table for large batches
-(:mod:`urdf2dh.model._fastfk`, the one fast path).
+(:mod:`urdf2dh.model._fastfk`, the FK fast path).
 """
 
 from __future__ import annotations
