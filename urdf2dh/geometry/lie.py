@@ -11,12 +11,15 @@ skew part, with the symmetric part near pi (Murray, Li & Sastry 1994, §2.2).
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
+from typing import TypeVar
 
 import numpy as np
 from numpy.typing import NDArray
 
 __all__ = [
+    "coefficients",
     "cross3",
     "cross_rows",
     "exp_so3",
@@ -31,6 +34,7 @@ __all__ = [
 ]
 
 Mat = NDArray[np.float64]
+T = TypeVar("T", float, Mat)
 
 _EYE3 = np.eye(3)
 _EYE3.setflags(write=False)
@@ -73,14 +77,28 @@ def _coefficients(theta: Mat) -> tuple[Mat, Mat, Mat]:
     b = 2.0 * half * half
     if some_zero:
         a, b = np.where(zero, 1.0, a), np.where(zero, 0.5, b)
-
-    def series() -> Mat:
-        t2 = theta * theta
-        out: Mat = 1.0 / 6.0 - t2 / 120.0 + t2 * t2 / 5040.0 - t2 * t2 * t2 / 362880.0
-        return out
-
-    c = _either(theta < _SERIES, series, lambda: (t - sin) / (t * t * t))
+    c = _either(
+        theta < _SERIES, lambda: _third_series(theta * theta), lambda: (t - sin) / (t * t * t)
+    )
     return a, b, c
+
+
+def coefficients(t2: float) -> tuple[float, float, float]:
+    """:func:`_coefficients` of one angle ``t`` given as ``t^2``, in plain floats (one pose:
+    numpy's per-call cost would be most of it)."""
+    t = math.sqrt(t2)
+    if t == 0.0:
+        a, b = 1.0, 0.5
+    else:
+        half = math.sin(0.5 * t) / t
+        a, b = math.sin(t) / t, 2.0 * half * half
+    c = _third_series(t2) if t < _SERIES else (t - math.sin(t)) / (t2 * t)
+    return a, b, c
+
+
+def _third_series(t2: T) -> T:
+    """``(t - sin t) / t^3`` near 0, from ``t^2``: its series to ``t^6``."""
+    return 1.0 / 6.0 - t2 / 120.0 + t2 * t2 / 5040.0 - t2 * t2 * t2 / 362880.0
 
 
 def _either(near: NDArray[np.bool_], series: Callable[[], Mat], closed: Callable[[], Mat]) -> Mat:

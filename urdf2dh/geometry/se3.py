@@ -20,6 +20,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .frames import Frame, dh_frame
+from .lie import coefficients
 
 __all__ = [
     "adjoint",
@@ -156,20 +157,10 @@ def twist_exp(xi: NDArray[np.float64], q: float = 1.0) -> Mat:
     """``exp([xi] q)`` for a twist ``xi = [w, v]`` of any scale (Wu 2019 eq. 2): with
     ``t = |w|``, ``R = I + a [w] + b [w]^2`` and the translation ``(I + b [w] + c [w]^2) v``,
     ``a = sin t / t``, ``b = (1 - cos t) / t^2`` (as ``2 sin^2(t/2) / t^2``) and
-    ``c = (t - sin t) / t^3`` (its series below 0.1 rad, where it cancels), in plain floats
-    (one pose: numpy's per-call cost would be most of it)."""
+    ``c = (t - sin t) / t^3`` (:func:`.lie.coefficients`: plain floats, the series where it
+    cancels)."""
     w0, w1, w2, v0, v1, v2 = (x * q for x in np.asarray(xi, dtype=float)[:6].tolist())
-    t2 = w0 * w0 + w1 * w1 + w2 * w2
-    t = math.sqrt(t2)
-    if t == 0.0:
-        a, b = 1.0, 0.5
-    else:
-        half = math.sin(0.5 * t) / t
-        a, b = math.sin(t) / t, 2.0 * half * half
-    if t < _SERIES:
-        c = 1.0 / 6.0 - t2 / 120.0 + t2 * t2 / 5040.0 - t2 * t2 * t2 / 362880.0
-    else:
-        c = (t - math.sin(t)) / (t2 * t)
+    a, b, c = coefficients(w0 * w0 + w1 * w1 + w2 * w2)
     # [w]^2 = w w^T - t^2 I; [w] v = w x v
     k00, k11, k22 = -(w1 * w1 + w2 * w2), -(w0 * w0 + w2 * w2), -(w0 * w0 + w1 * w1)
     k01, k02, k12 = w0 * w1, w0 * w2, w1 * w2
@@ -183,9 +174,6 @@ def twist_exp(xi: NDArray[np.float64], q: float = 1.0) -> Mat:
             [0.0, 0.0, 0.0, 1.0],
         ]
     )
-
-
-_SERIES = 0.1  # below this angle (rad) (t - sin t) / t^3 is taken from its series
 
 
 def pose_errors(a: NDArray[np.float64], b: NDArray[np.float64]) -> tuple[float, float]:
