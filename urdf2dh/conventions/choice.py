@@ -60,14 +60,25 @@ class Choice:
 
 
 def objection(
-    model: PoeModel, table: Table, tol: Tolerances, style: str = "wu"
+    model: PoeModel,
+    table: Table,
+    tol: Tolerances,
+    style: str = "wu",
+    judgements: tuple[Judgement, ...] | None = None,
 ) -> Objection | None:
     """Why ``table`` (of ``model``, in ``style``) is not the table to write, or ``None`` (module
-    docstring); tables of conventions other than ``dh`` and ``mdh`` have none."""
+    docstring); tables of conventions other than ``dh`` and ``mdh`` have none. ``judgements``:
+    those of the conversion that made ``table``, when the caller has them (else it is made
+    again, where the rows alone raise no objection)."""
     if table.convention not in D_H:
         return None
     return _far(table, tol) or _unasked(
-        model, table, build_table(model, table.convention, tol, style)[1].judgements, tol
+        model,
+        table,
+        judgements
+        if judgements is not None
+        else build_table(model, table.convention, tol, style)[1].judgements,
+        tol,
     )
 
 
@@ -128,9 +139,7 @@ def choose(
     # made once for its check and for the objection
     sources: Sources = {}
     table, result = checked(model, convention, tol, samples, 0, style, sources)
-    problem = None
-    if table.convention in D_H:
-        problem = _far(table, tol) or _unasked(model, table, result.judgements, tol)
+    problem = objection(model, table, tol, style, result.judgements)
     if problem is None:
         return Choice(table, None, None)
     if fallback is None:
