@@ -53,7 +53,7 @@ which coordinates of the level are identified; :func:`count`, :func:`names` and
 from __future__ import annotations
 
 import itertools
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
@@ -206,10 +206,20 @@ class Chain:
         point = self.point @ g[:3, :3].T + g[:3, 3]
         return self.placed(axis, point)
 
+    def scaled(self, scale: Mat) -> Chain:
+        """The same joints with the scales ``scale``."""
+        return Chain(
+            self.names, self.kinds, self.axis, self.point, self.pitch, scale, self.located,
+            self.lower, self.upper,
+        )  # fmt: skip
+
     def placed(self, axis: Mat, point: Mat, pitch: Mat | None = None) -> Chain:
         """The same joints along ``axis`` through ``point`` (turning joints' points taken to
         the feet of the perpendiculars), with ``pitch`` when given."""
-        point = np.where(self.turning[:, None], line_point(axis, point), point)
+        if "prismatic" in self.kinds:
+            point = np.where(self.turning[:, None], line_point(axis, point), point)
+        else:
+            point = line_point(axis, point)
         pitch = self.pitch if pitch is None else pitch
         return Chain(
             self.names, self.kinds, axis, point, pitch, self.scale, self.located, self.lower,
@@ -473,12 +483,6 @@ def _columns_of(level: Level, kinds: tuple[str, ...]) -> tuple[NDArray[np.int64]
     return line, offset, scale
 
 
-def _take(x: Mat, index: NDArray[np.int64]) -> Mat:
-    """``x[index]`` with 0 where ``index`` is -1."""
-    padded = np.append(x, 0.0)
-    return padded[index]
-
-
 def retract(est: Estimate, delta: Mat) -> Estimate:
     """The estimate moved by the free coordinates ``delta`` (``(count,)``), re-centred."""
     x_all = expand(est, delta)
@@ -489,29 +493,30 @@ def retract(est: Estimate, delta: Mat) -> Estimate:
         chain, home, base = chain.moved(g), g @ home, g @ est.base_motion()
     before = chain  # the lines as the base left them
     line_at, offset_at, scale_at = joint_columns(est)
+    padded = np.append(x_all, 0.0)  # indexed by joint_columns' -1: 0
     if level.scales:
-        chain = replace(chain, scale=chain.scale + _take(x_all, scale_at))
+        chain = chain.scaled(chain.scale + padded[scale_at])
     offsets = est.offsets
     if level.offsets:
-        offsets = est.joint_offsets() + _take(x_all, offset_at)
+        offsets = est.joint_offsets() + padded[offset_at]
     last_motion = None
     if level.lines:
-        x = _take(x_all, line_at)  # (n, 5)
+        x = padded[line_at]  # (n, 5)
         e1, e2 = normal_bases(chain.axis)
         rho = x[:, :1] * e1 + x[:, 1:2] * e2
         rot, jac = exp_so3_left_jacobian(rho)  # (n, 3, 3) each
-        axis = np.einsum("nij,nj->ni", rot, chain.axis)
-        axis /= np.sqrt(np.add.reduce(axis * axis, axis=1, keepdims=True))
+        turned = np.einsum("nij,nkj->kni", rot, np.stack([chain.axis, chain.point], axis=1))
+        axis = turned[0] / np.sqrt(np.add.reduce(turned[0] * turned[0], axis=1, keepdims=True))
         tau = x[:, 2:3] * e1 + x[:, 3:4] * e2
         v = cross_rows(chain.point, rho) + tau
         shift = np.einsum("nij,nj->ni", jac, v)
-        point = np.einsum("nij,nj->ni", rot, chain.point) + shift
+        point = turned[1] + shift
         if est.keep_tool_axis:  # the tool moves with the last line
             last_motion = np.eye(4)
             last_motion[:3, :3] = rot[-1]
             last_motion[:3, 3] = shift[-1]
-        # a sliding joint's point stays (its turn moves the direction alone)
-        point = np.where(chain.turning[:, None], point, chain.point)
+        if "prismatic" in chain.kinds:  # a sliding joint's point stays (its turn moves the
+            point = np.where(chain.turning[:, None], point, chain.point)  # direction alone)
         chain = chain.placed(axis, point, chain.pitch + x[:, 4])
     k = sum(sizes(est, every=True)[:-1])
     markers = est.markers
