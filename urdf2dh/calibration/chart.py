@@ -532,6 +532,9 @@ def retract(est: Estimate, delta: Mat) -> Estimate:
     return est.with_parts(chain, home, markers, offsets, base)
 
 
+_FIRST, _SECOND = np.array([0, 0, 1]), np.array([0, 1, 1])  # the products c1 c1, c1 c2, c2 c2
+
+
 def line_coordinates(axis: Mat, point: Mat, other_axis: Mat, other_point: Mat) -> Mat:
     """``(n, 4)``: each line chart's coordinates (turn1, turn2, shift1, shift2) from the line
     ``(axis[i], point[i])`` to ``(other_axis[i], other_point[i])``, all lines at once (the turns
@@ -548,19 +551,17 @@ def line_coordinates(axis: Mat, point: Mat, other_axis: Mat, other_point: Mat) -
     ratio = np.divide(angle, sin, out=np.ones_like(sin), where=sin > 0.0)
     rho = cross * ratio[:, None]
     out = np.empty((len(axis), 4))
-    out[:, 0] = np.add.reduce(rho * e1, axis=1)
-    out[:, 1] = np.add.reduce(rho * e2, axis=1)
-    # the columns J(rho) e1, J(rho) e2 and the gap, each with its part along u' removed
     basis = np.empty((len(axis), 3, 2))
     basis[:, :, 0], basis[:, :, 1] = e1, e2
+    out[:, :2] = np.add.reduce(rho[:, :, None] * basis, axis=1)
+    # the columns J(rho) e1, J(rho) e2 and the gap, each with its part along u' removed
     cols = np.matmul(left_jacobian(rho), basis)
     cols -= np.matmul(other_axis[:, None, :], cols) * other_axis[:, :, None]
     gap = other_point - point
     gap -= np.add.reduce(other_axis * gap, axis=1)[:, None] * other_axis
     # the normal equations' 2 x 2 system, by Cramer's rule
-    c1, c2 = cols[:, :, 0], cols[:, :, 1]
-    a, b, d = (np.add.reduce(x * y, axis=1) for x, y in ((c1, c1), (c1, c2), (c2, c2)))
-    g1, g2 = np.add.reduce(c1 * gap, axis=1), np.add.reduce(c2 * gap, axis=1)
+    a, b, d = np.add.reduce(cols[:, :, _FIRST] * cols[:, :, _SECOND], axis=1).T
+    g1, g2 = np.add.reduce(cols * gap[:, :, None], axis=1).T
     det = a * d - b * b
     if (det == 0.0).any():  # as LAPACK's solve: a singular system is an error, NaN flows on
         raise np.linalg.LinAlgError("Singular matrix")

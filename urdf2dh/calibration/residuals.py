@@ -157,22 +157,22 @@ def _frames(est: Estimate, q: Mat) -> tuple[Mat, Mat, Mat]:
     chain = est.chain
     count, n = q.shape
     moved = q.T if est.offsets is None else q.T + est.offsets[:, None]
-    coef = np.empty((n, count, 4))
-    coef[:, :, 0] = 1.0
-    s = np.multiply(moved, chain.scale[:, None], out=coef[:, :, 3])
+    coef = np.empty((n, 4, count))  # rows 1, sin t, 1 - cos t, s
+    coef[:, 0] = 1.0
+    s = np.multiply(moved, chain.scale[:, None], out=coef[:, 3])
     angle = s * chain.turning[:, None] if "prismatic" in chain.kinds else s
-    np.sin(angle, out=coef[:, :, 1])
+    np.sin(angle, out=coef[:, 1])
     half = np.sin(0.5 * angle)
-    np.multiply(half, half, out=coef[:, :, 2])
-    coef[:, :, 2] *= 2.0
-    e = np.matmul(coef, _exp_basis(est)).reshape(n, count, 4, 4)
+    np.multiply(half, half, out=coef[:, 2])
+    coef[:, 2] *= 2.0
+    e = np.matmul(coef.transpose(0, 2, 1), _exp_basis(est)).reshape(n, count, 4, 4)
     out = np.empty((n + 2, count, 4, 4))
     out[0] = _EYE4
     if n:
         out[1] = e[0]
     for i in range(1, n):
         np.matmul(out[i], e[i], out=out[i + 1])
-    np.matmul(out[n], est.home, out=out[n + 1])
+    np.matmul(out[n].reshape(-1, 4), est.home, out=out[n + 1].reshape(-1, 4))  # one product
     return out, moved, s
 
 
