@@ -505,12 +505,12 @@ def retract(est: Estimate, delta: Mat) -> Estimate:
         e1, e2 = normal_bases(chain.axis)
         rho = x[:, :1] * e1 + x[:, 1:2] * e2
         rot, jac = exp_so3_left_jacobian(rho)  # (n, 3, 3) each
-        turned = np.einsum("nij,nkj->kni", rot, np.stack([chain.axis, chain.point], axis=1))
-        axis = turned[0] / np.sqrt(np.add.reduce(turned[0] * turned[0], axis=1, keepdims=True))
+        axis = np.einsum("nij,nj->ni", rot, chain.axis)
+        axis /= np.sqrt(np.add.reduce(axis * axis, axis=1, keepdims=True))
         tau = x[:, 2:3] * e1 + x[:, 3:4] * e2
         v = cross_rows(chain.point, rho) + tau
         shift = np.einsum("nij,nj->ni", jac, v)
-        point = turned[1] + shift
+        point = np.einsum("nij,nj->ni", rot, chain.point) + shift
         if est.keep_tool_axis:  # the tool moves with the last line
             last_motion = np.eye(4)
             last_motion[:3, :3] = rot[-1]
