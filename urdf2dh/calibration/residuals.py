@@ -35,7 +35,6 @@ its configurations' adjoints in one matrix product.
 
 from __future__ import annotations
 
-import threading
 from dataclasses import dataclass
 from functools import lru_cache
 
@@ -452,7 +451,7 @@ def _jacobian_into(
     lay = _layout(est)
     frames = state.frames if lay.used is None else state.frames[lay.used]
     used, count = frames.shape[:2]
-    ad = _scratch(0, used * count * 36).reshape(used, count, 6, 6)
+    ad = np.empty((used, count, 6, 6))
     rot = frames[:, :, :3, :3]
     ad[:, :, :3, :3] = rot
     ad[:, :, :3, 3:] = 0.0
@@ -465,13 +464,13 @@ def _jacobian_into(
     cross -= lever[_PREV, None] * rows[_NEXT]
     ad[:, :, 3:, :3] = cross.transpose(2, 3, 0, 1)
     twists = _twists(est)[lay.place].transpose(0, 2, 1)  # (used, 6, width)
-    width = twists.shape[2]
-    moves = _scratch(1, used * count * 6 * width).reshape(used, count * 6, width)
-    np.matmul(ad.reshape(used, count * 6, 6), twists, out=moves)
+    moves = np.matmul(ad.reshape(used, count * 6, 6), twists)
+    del ad  # (the arrays here are large: each freed as soon as done with)
     # (N, 6, used, width): a (frame, slot) pair per column gives (N, 6, p), the Jacobian's order
     by_point = moves.reshape(used, count, 6, -1).transpose(1, 2, 0, 3)
     cols = by_point[:, :, lay.frame, lay.slot]
     cols -= by_point[:, :, lay.after_frame, lay.after_slot]
+    del moves, by_point
     if lay.factor is not None:
         cols *= _factors(est, data, state.moved, state.s, lay.factor).T[:, None, :]
     if sigma_pos != 1.0:
@@ -482,21 +481,6 @@ def _jacobian_into(
         np.matmul(left_jacobian_inverse(state.phi), cols[:, :3], out=jac[:, 3:])
         if sigma_rot != 1.0:
             jac[:, 3:] /= sigma_rot
-
-
-_SPACE = threading.local()
-
-
-def _scratch(which: int, size: int) -> Mat:
-    """The calling thread's scratch space number ``which`` (0 or 1), ``size`` entries of it:
-    the Jacobian's two largest intermediates, made once and overwritten at each call (fresh
-    arrays of this size would cost more in page faults than the products)."""
-    spaces: list[Mat] | None = getattr(_SPACE, "spaces", None)
-    if spaces is None:
-        spaces = _SPACE.spaces = [np.empty(0), np.empty(0)]
-    if spaces[which].size < size:
-        spaces[which] = np.empty(size)
-    return spaces[which][:size]
 
 
 @dataclass(frozen=True, slots=True)
