@@ -128,6 +128,7 @@ def solve_level(
     locations: Mat | None = None,
     deviations: Deviations | None = None,
     stats: bool = True,
+    prior: tuple[LinkErrors | None, Deviations | None] | None = None,
 ) -> Fit:
     """Solve ``est``'s level on ``data``, weighting as ``opts`` says (module docstring, step 3).
 
@@ -135,7 +136,9 @@ def solve_level(
     ``reference`` is the prior's centre and ``locations`` ``(n, 3)`` the joints' locations in
     the device frame (:func:`joint_locations`), for a level with a prior; ``deviations``,
     where their estimate starts (a simpler level's: nested levels continue from there);
-    ``stats``: whether to compute the solution's statistics (:func:`with_statistics`)."""
+    ``stats``: whether to compute the solution's statistics (:func:`with_statistics`);
+    ``prior``: :func:`.start.prior_of` of ``est``, ``reference`` and ``locations``, when the
+    caller found it already."""
     notes: list[str] = []
     given = opts.noise_pos is not None
     sp, sr = (
@@ -143,12 +146,12 @@ def solve_level(
         if given
         else (noise if noise is not None else (1.0, 1.0 / size))
     )
-    errors, stated = prior_of(est, opts, reference, locations)
+    errors, stated = prior_of(est, opts, reference, locations) if prior is None else prior
     if errors is not None and stated is None:
         fit = _solve_with_evidence(est, data, opts, size, errors, (sp, sr), deviations, notes)
         return with_statistics(fit, data) if stats else fit
-    prior = None if errors is None or stated is None else Regulariser.of(errors, stated)
-    problem = Problem(data, sp, sr, prior)
+    rows = None if errors is None or stated is None else Regulariser.of(errors, stated)
+    problem = Problem(data, sp, sr, rows)
     floors = (NOISE_FLOOR * size, NOISE_FLOOR)
     if count(est) == 0:
         lin = problem.linearise(est)
@@ -159,7 +162,7 @@ def solve_level(
     step = np.zeros(0)
     while not given and sol.converged and count(est) and rounds < _WEIGHT_ROUNDS:
         rounds += 1
-        if prior is None and opts.pose:  # only their ratio matters: that of greatest evidence
+        if rows is None and opts.pose:  # only their ratio matters: that of greatest evidence
             lin = sol.lin
             found, _, step = maximise(
                 linearised(lin.residuals, lin.jacobian, data.rows), (sp, sr), np.zeros(0), floors
@@ -170,7 +173,7 @@ def solve_level(
             at = statistics(sol.lin, problem, exact=False)
             new_sp, new_sr = _components(data, at, sp, sr)
             new_sp, new_sr = bounded_noise(new_sp, new_sr if opts.pose else sr, size)
-            settled = prior is None or (
+            settled = rows is None or (
                 max(abs(new_sp / sp - 1.0), abs(new_sr / sr - 1.0)) <= _WEIGHT_SETTLED
             )
         sp, sr = new_sp, new_sr
@@ -179,7 +182,7 @@ def solve_level(
             break
         again = solve(sol.estimate, problem, size, opts.max_iterations, lin=sol.lin, first=step)
         sol = replace(again, iterations=sol.iterations + again.iterations)
-    fit = Fit(sol, None, sp, sr, tuple(notes), prior)
+    fit = Fit(sol, None, sp, sr, tuple(notes), rows)
     return with_statistics(fit, data) if stats else fit
 
 

@@ -316,8 +316,9 @@ def level_fits(
             )
             continue
         fits[level] = solve_level(
-            start, data, lopts, size, reference, noise, locations, deviations, stats=False
-        )
+            start, data, lopts, size, noise=noise, deviations=deviations, stats=False,
+            prior=(errors, stated),
+        )  # fmt: skip
         if fits[level].solution.converged:
             previous = fits[level].solution.estimate
             noise = (fits[level].sigma_pos, fits[level].sigma_rot)
