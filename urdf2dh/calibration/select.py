@@ -47,7 +47,7 @@ from ..progress import progress
 from ..tolerances import RANK_RELATIVE
 from .chart import Estimate, count
 from .fit import Fit, check_equations, fit_before, joint_locations, level_start, solve_level
-from .identifiable import check_patterns, redundant
+from .identifiable import carried_at_levels, check_patterns
 from .levels import AUTO, BASE_TOOL, LEVELS
 from .measurements import Measurements
 from .prior import Deviations
@@ -284,10 +284,15 @@ def level_fits(
     ids: list[int],
     before: Fit,
     levels: tuple[str, ...],
+    structures: dict[str, NDArray[np.bool_]] | None = None,
 ) -> tuple[dict[str, Fit], dict[str, str]]:
     """Each level fitted to all of ``fit`` (from ``before``, the base-tool fit, each from the
-    simpler one's solution), and why the levels that could not be fitted were not."""
+    simpler one's solution), and why the levels that could not be fitted were not.
+    ``structures``: each level's coordinates the others carry (:func:`.identifiable.redundant`),
+    when found already."""
     size = nominal.size()
+    if structures is None:
+        structures = _structures(nominal, before, _fitted(levels, opts))
     data = to_data(fit, opts.pose, ids)
     fits: dict[str, Fit] = {}
     failures: dict[str, str] = {}
@@ -300,9 +305,7 @@ def level_fits(
             fits[level] = before
             continue
         lopts = replace(opts, level=level)
-        structure = redundant(
-            before.solution.estimate.with_level(LEVELS[level]), nominal.limits(), size
-        )
+        structure = structures[level]
         reference, _, _ = level_start(nominal, before.solution.estimate, lopts, ids, structure)
         start = (
             reference
@@ -330,6 +333,23 @@ def level_fits(
     return fits, failures
 
 
+def _fitted(levels: tuple[str, ...], opts: FitOptions) -> tuple[str, ...]:
+    """The levels :func:`level_fits` fits (the base-tool level's fit is the one before, unless
+    parameters are fixed by name)."""
+    return tuple(lv for lv in levels if lv != BASE_TOOL.name or opts.fixed_patterns)
+
+
+def _structures(
+    nominal: PoeModel, before: Fit, levels: tuple[str, ...]
+) -> dict[str, NDArray[np.bool_]]:
+    """Each of ``levels``' coordinates that the others carry, at the base-tool solution
+    ``before`` (:func:`.identifiable.carried_at_levels`)."""
+    est = before.solution.estimate
+    return carried_at_levels(
+        est, tuple(LEVELS[lv] for lv in levels), nominal.limits(), nominal.size()
+    )
+
+
 def cross_validate(
     nominal: PoeModel,
     fit: Measurements,
@@ -340,16 +360,18 @@ def cross_validate(
     folds: int | None = None,
     seed: int = 0,
     rule: str = "simplest",
+    structures: dict[str, NDArray[np.bool_]] | None = None,
 ) -> tuple[Selection, dict[str, Fit]]:
     """Judge ``levels`` on ``fit`` by leaving out configurations (or ``folds`` seeded folds of
     them) and choose one (module docstring).
 
     ``before`` is the base-tool level's fit to all of ``fit``; ``rule`` is ``simplest`` or
-    ``best``. Returns the selection and every level's fit to all the measurements.
+    ``best``; ``structures`` as :func:`level_fits` takes them. Returns the selection and every
+    level's fit to all the measurements.
     """
     index, configurations = fit.configurations()
     group = fold_of_configurations(configurations, folds, seed)[index]
-    fits, failures = level_fits(nominal, fit, opts, ids, before, levels)
+    fits, failures = level_fits(nominal, fit, opts, ids, before, levels, structures)
     data = to_data(fit, opts.pose, ids)
     at = {lv: (f.problem(data), f.solution.lin) for lv, f in fits.items() if lv not in failures}
     left_out, per_config = _left_out(at, group, index, configurations, failures)
@@ -540,20 +562,25 @@ def judge_levels(problem: CalibrationProblem, options: Options, first: bool = Tr
         return Pass(
             problem, opts, start, before, Selection(0, None, 0, (), None, None, ""), {}, None
         )
+    checked = levels if first and opts.fixed else (choice.level,) if first else ()
+    structures = _structures(
+        nominal, before, tuple(lv for lv in levels if lv in _fitted(levels, opts) + checked)
+    )
+    at = before.solution.estimate
     if first and choice.level != AUTO:  # fewer equations than its parameters: say so now
-        est, _, _ = level_start(
-            nominal, before.solution.estimate, replace(opts, level=choice.level), ids
-        )
+        lopts = replace(opts, level=choice.level)
+        est, _, _ = level_start(nominal, at, lopts, ids, structures[choice.level])
         if not has_prior(est, opts):
             check_equations(count(est), to_data(fit, opts.pose, ids), fit.source, opts.pose)
     if first and opts.fixed:
         probes = [
-            level_start(nominal, before.solution.estimate, replace(opts, level=lv), ids)[0]
+            level_start(nominal, at, replace(opts, level=lv), ids, structures[lv])[0]
             for lv in levels
         ]
         check_patterns(opts.fixed, probes, ids)
     selection, fits = cross_validate(
-        nominal, fit, opts, ids, before, levels, choice.folds, choice.seed, choice.rule
-    )
+        nominal, fit, opts, ids, before, levels, choice.folds, choice.seed, choice.rule,
+        structures,
+    )  # fmt: skip
     level = choice.level if choice.level != AUTO else selection.chosen
     return Pass(problem, opts, start, before, selection, fits, level)

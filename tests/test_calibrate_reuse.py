@@ -1,0 +1,52 @@
+"""Work shared between the levels of one calibration gives what each level's own gives."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import urdf2dh
+from urdf2dh.calibration.chart import Estimate, line_point
+from urdf2dh.calibration.identifiable import carried_at_levels, redundant
+from urdf2dh.calibration.levels import BASE_TOOL, LEVELS
+from urdf2dh.model.poe import Joint
+
+
+def _estimate(robot: str, markers: bool, helical: bool, keep_tool_axis: bool) -> Estimate:
+    model = urdf2dh.load(robot)
+    joints = tuple(
+        Joint(
+            j.name,
+            "helical" if helical and j.kind == "revolute" else j.kind,
+            j.axis,
+            None if j.point is None or j.kind == "prismatic" else line_point(j.axis, j.point),
+            j.pitch,
+            j.scale,
+        )
+        for j in model.joints
+    )
+    if markers:
+        points = np.array([[0.2, 0.06, -0.01], [0.26, 0.03, 0.005]]) * model.size()
+        return Estimate.of(joints, model.home.copy(), points, level=BASE_TOOL)
+    return Estimate.of(joints, model.home.copy(), level=BASE_TOOL, keep_tool_axis=keep_tool_axis)
+
+
+@pytest.mark.parametrize(
+    ("robot", "markers", "helical", "keep_tool_axis"),
+    [
+        ("ur5", False, False, False),
+        ("puma560-actual", False, True, True),
+        ("stanford", True, False, False),
+        ("panda", False, False, False),
+    ],
+)
+def test_carried_at_every_level_at_once_is_each_levels_own(robot, markers, helical, keep_tool_axis):
+    est = _estimate(robot, markers, helical, keep_tool_axis)
+    model = urdf2dh.load(robot)
+    limits, size = model.limits(), model.size()
+    together = carried_at_levels(est, tuple(LEVELS.values()), limits, size)
+    assert list(together) == ["full", "geometry", "offsets", "base-tool"]
+    for name, level in LEVELS.items():
+        alone = redundant(est.with_level(level), limits, size)
+        np.testing.assert_array_equal(together[name], alone)
+    assert together["offsets"].any()  # the first offset and the base's turn: a pair to find
