@@ -258,10 +258,16 @@ def _solve_with_evidence(
 
 
 def fit_before(
-    nominal: PoeModel, fit: Measurements, opts: FitOptions, ids: list[int]
+    nominal: PoeModel,
+    fit: Measurements,
+    opts: FitOptions,
+    ids: list[int],
+    placed: Mat | None = None,
 ) -> tuple[Estimate, Fit]:
-    """The start (the nominal placed by the rigid fit) and the ``base-tool`` level's fit."""
-    start = start_estimate(nominal, placement(nominal, fit, opts, ids), opts, ids)
+    """The start (the nominal placed by the rigid fit, ``placed`` when the caller has it:
+    :func:`.start.placement`) and the ``base-tool`` level's fit."""
+    g = placement(nominal, fit, opts, ids) if placed is None else placed
+    start = start_estimate(nominal, g, opts, ids)
     data = to_data(fit, opts.pose, ids)
     check_equations(count(start), data, fit.source, opts.pose)
     base_opts = replace(opts, prior=NONE)
@@ -269,19 +275,23 @@ def fit_before(
 
 
 def joint_locations(
-    nominal: PoeModel, fit: Measurements, opts: FitOptions, ids: list[int], before: Estimate
+    nominal: PoeModel,
+    fit: Measurements,
+    opts: FitOptions,
+    ids: list[int],
+    before: Estimate,
+    placed: Mat | None = None,
 ) -> Mat:
     """``(n, 3)`` each joint's location in the device frame: the nominal's joint points (the
-    joint origins of a URDF; a point of the line where none is given) as the rigid fit and the
-    base-and-tool fit placed them."""
-    g = before.base_motion() @ placement(nominal, fit, opts, ids)
-    chain = start_estimate(nominal, np.eye(4), opts, ids).chain
-    points = np.array(
-        [
-            j.point if j.point is not None else c
-            for j, c in zip(nominal.joints, chain.point, strict=True)
-        ]
-    )
+    joint origins of a URDF; a point of the line where none is given) as the rigid fit
+    (``placed``, when the caller has it: :func:`.start.placement`) and the base-and-tool fit
+    placed them."""
+    g = before.base_motion() @ (placement(nominal, fit, opts, ids) if placed is None else placed)
+    given = [j.point for j in nominal.joints]
+    if any(p is None for p in given):
+        line = start_estimate(nominal, np.eye(4), opts, ids).chain.point
+        given = [c if p is None else p for p, c in zip(given, line, strict=True)]
+    points = np.array(given)
     return points @ g[:3, :3].T + g[:3, 3]
 
 

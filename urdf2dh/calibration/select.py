@@ -53,7 +53,7 @@ from .measurements import Measurements
 from .prior import Deviations
 from .residuals import Data, errors
 from .solver import Linearisation, Problem
-from .start import FitOptions, has_prior, prior_of, to_data
+from .start import FitOptions, has_prior, placement, prior_of, to_data
 
 if TYPE_CHECKING:
     from .problem import CalibrationProblem, LevelChoice, Options
@@ -62,6 +62,7 @@ __all__ = [
     "Pass",
     "Score",
     "Selection",
+    "Shared",
     "cross_validate",
     "fold_of_configurations",
     "judge_levels",
@@ -284,19 +285,18 @@ def level_fits(
     ids: list[int],
     before: Fit,
     levels: tuple[str, ...],
-    structures: dict[str, NDArray[np.bool_]] | None = None,
+    shared: Shared | None = None,
 ) -> tuple[dict[str, Fit], dict[str, str]]:
     """Each level fitted to all of ``fit`` (from ``before``, the base-tool fit, each from the
     simpler one's solution), and why the levels that could not be fitted were not.
-    ``structures``: each level's coordinates the others carry (:func:`.identifiable.redundant`),
-    when found already."""
+    ``shared``: what the levels read, when found already (:class:`Shared`)."""
     size = nominal.size()
-    if structures is None:
-        structures = _structures(nominal, before, _fitted(levels, opts))
+    if shared is None:
+        shared = Shared.of(nominal, fit, opts, ids, before, _fitted(levels, opts))
+    structures, locations = shared.structures, shared.locations
     data = to_data(fit, opts.pose, ids)
     fits: dict[str, Fit] = {}
     failures: dict[str, str] = {}
-    locations = joint_locations(nominal, fit, opts, ids, before.solution.estimate)
     previous = before.solution.estimate  # each level starts from the simpler one's solution
     noise = (before.sigma_pos, before.sigma_rot)
     deviations: Deviations | None = None  # ... and its prior's estimate from the simpler one's
@@ -339,15 +339,40 @@ def _fitted(levels: tuple[str, ...], opts: FitOptions) -> tuple[str, ...]:
     return tuple(lv for lv in levels if lv != BASE_TOOL.name or opts.fixed_patterns)
 
 
-def _structures(
-    nominal: PoeModel, before: Fit, levels: tuple[str, ...]
-) -> dict[str, NDArray[np.bool_]]:
-    """Each of ``levels``' coordinates that the others carry, at the base-tool solution
-    ``before`` (:func:`.identifiable.carried_at_levels`)."""
-    est = before.solution.estimate
-    return carried_at_levels(
-        est, tuple(LEVELS[lv] for lv in levels), nominal.limits(), nominal.size()
-    )
+@dataclass(frozen=True, slots=True)
+class Shared:
+    """What every level fitted from one base-tool fit reads, found once.
+
+    Attributes
+    ----------
+    structures
+        Each level's coordinates that the others carry (:func:`.identifiable.redundant`), by
+        name.
+    locations
+        ``(n, 3)`` the joints' locations in the device frame (:func:`.fit.joint_locations`).
+    """
+
+    structures: dict[str, NDArray[np.bool_]]
+    locations: Mat
+
+    @classmethod
+    def of(
+        cls,
+        nominal: PoeModel,
+        fit: Measurements,
+        opts: FitOptions,
+        ids: list[int],
+        before: Fit,
+        levels: tuple[str, ...],
+        placed: Mat | None = None,
+    ) -> Shared:
+        """For ``levels``, fitted from ``before`` to ``fit``; ``placed``: the rigid fit
+        (:func:`.start.placement`), when the caller has it."""
+        est = before.solution.estimate
+        structures = carried_at_levels(
+            est, tuple(LEVELS[lv] for lv in levels), nominal.limits(), nominal.size()
+        )
+        return cls(structures, joint_locations(nominal, fit, opts, ids, est, placed))
 
 
 def cross_validate(
@@ -360,18 +385,18 @@ def cross_validate(
     folds: int | None = None,
     seed: int = 0,
     rule: str = "simplest",
-    structures: dict[str, NDArray[np.bool_]] | None = None,
+    shared: Shared | None = None,
 ) -> tuple[Selection, dict[str, Fit]]:
     """Judge ``levels`` on ``fit`` by leaving out configurations (or ``folds`` seeded folds of
     them) and choose one (module docstring).
 
     ``before`` is the base-tool level's fit to all of ``fit``; ``rule`` is ``simplest`` or
-    ``best``; ``structures`` as :func:`level_fits` takes them. Returns the selection and every
+    ``best``; ``shared`` as :func:`level_fits` takes it. Returns the selection and every
     level's fit to all the measurements.
     """
     index, configurations = fit.configurations()
     group = fold_of_configurations(configurations, folds, seed)[index]
-    fits, failures = level_fits(nominal, fit, opts, ids, before, levels, structures)
+    fits, failures = level_fits(nominal, fit, opts, ids, before, levels, shared)
     data = to_data(fit, opts.pose, ids)
     at = {lv: (f.problem(data), f.solution.lin) for lv, f in fits.items() if lv not in failures}
     left_out, per_config = _left_out(at, group, index, configurations, failures)
@@ -557,15 +582,16 @@ def judge_levels(problem: CalibrationProblem, options: Options, first: bool = Tr
     choice, opts = options.choice, options.fitting
     nominal, fit, ids = problem.nominal, problem.fit, problem.markers
     levels = choice.levels(opts.keep_scale)
-    start, before = fit_before(nominal, fit, opts, ids)
+    placed = placement(nominal, fit, opts, ids)
+    start, before = fit_before(nominal, fit, opts, ids, placed)
     if first and not before.solution.converged:
         return Pass(
             problem, opts, start, before, Selection(0, None, 0, (), None, None, ""), {}, None
         )
     checked = levels if first and opts.fixed else (choice.level,) if first else ()
-    structures = _structures(
-        nominal, before, tuple(lv for lv in levels if lv in _fitted(levels, opts) + checked)
-    )
+    found = tuple(lv for lv in levels if lv in _fitted(levels, opts) + checked)
+    shared = Shared.of(nominal, fit, opts, ids, before, found, placed)
+    structures = shared.structures
     at = before.solution.estimate
     if first and choice.level != AUTO:  # fewer equations than its parameters: say so now
         lopts = replace(opts, level=choice.level)
@@ -580,7 +606,7 @@ def judge_levels(problem: CalibrationProblem, options: Options, first: bool = Tr
         check_patterns(opts.fixed, probes, ids)
     selection, fits = cross_validate(
         nominal, fit, opts, ids, before, levels, choice.folds, choice.seed, choice.rule,
-        structures,
+        shared,
     )  # fmt: skip
     level = choice.level if choice.level != AUTO else selection.chosen
     return Pass(problem, opts, start, before, selection, fits, level)
