@@ -9,6 +9,9 @@ import urdf2dh
 from urdf2dh.calibration.chart import Estimate, line_point
 from urdf2dh.calibration.identifiable import carried_at_levels, redundant
 from urdf2dh.calibration.levels import BASE_TOOL, LEVELS
+from urdf2dh.calibration.residuals import Data, errors, observed
+from urdf2dh.calibration.solver import Linearisation
+from urdf2dh.geometry.lie import exp_so3
 from urdf2dh.model.poe import Joint
 
 
@@ -50,3 +53,25 @@ def test_carried_at_every_level_at_once_is_each_levels_own(robot, markers, helic
         alone = redundant(est.with_level(level), limits, size)
         np.testing.assert_array_equal(together[name], alone)
     assert together["offsets"].any()  # the first offset and the base's turn: a pair to find
+
+
+@pytest.mark.parametrize("markers", [False, True])
+def test_a_linearisations_errors_are_the_residuals_errors(markers):
+    """The fit's errors read off its linearisation are :func:`.residuals.errors`, bit for bit."""
+    robot = "stanford" if markers else "ur5"
+    model = urdf2dh.load(robot)
+    est = _estimate(robot, markers, False, False).with_level(LEVELS["geometry"])
+    rng = np.random.default_rng(7)
+    q = model.sample(12, 3)
+    seen = observed(est, q)
+    data = Data(
+        seen.q,
+        seen.points + rng.normal(size=seen.points.shape) * 1e-3 * model.size(),
+        seen.markers,
+        None
+        if seen.rotations is None
+        else seen.rotations @ exp_so3(rng.normal(size=(12, 3)) * 0.01),
+    )
+    lin = Linearisation.at(est, data)
+    assert np.array_equal(lin.errors(), errors(est, data))
+    assert lin.errors().shape == (len(data), 1 if markers else 2)

@@ -51,7 +51,6 @@ from .identifiable import carried_at_levels, check_patterns
 from .levels import AUTO, BASE_TOOL, LEVELS
 from .measurements import Measurements
 from .prior import Deviations
-from .residuals import Data, errors
 from .solver import Linearisation, Problem
 from .start import FitOptions, has_prior, placement, prior_of, to_data
 
@@ -403,7 +402,7 @@ def cross_validate(
     judged = [lv for lv in levels if lv in per_config]
     richest = fits[judged[-1]] if judged else before
     weights = _weights(richest, data.rows)
-    scores = [_score(level, fits, failures, per_config, data, opts.pose) for level in levels]
+    scores = [_score(level, fits, failures, per_config, opts.pose) for level in levels]
     seed_used = _seed_used(folds, seed, configurations)
     groups = int(group.max(initial=-1)) + 1
     if not judged:
@@ -477,13 +476,12 @@ def _score(
     fits: dict[str, Fit],
     failures: dict[str, str],
     per_config: dict[str, Mat],
-    data: Data,
     pose: bool,
 ) -> Score:
     f = fits.get(level)
     fit_rms, parameters, iterations, prior = math.nan, 0, 0, None
     if f is not None:
-        fit_rms = math.sqrt(float(np.mean(errors(f.solution.estimate, data)[:, 0] ** 2)))
+        fit_rms = math.sqrt(float(np.mean(f.solution.lin.errors()[:, 0] ** 2)))
         parameters = count(f.solution.estimate)
         iterations = f.solution.iterations
         prior = None if f.prior is None else f.prior.deviations

@@ -133,6 +133,13 @@ class Linearisation:
         r, jac = evaluate(est, data, 1.0, 1.0)
         return cls(est, r, jac, data.rows, None if errors is None else errors.evaluate(est))
 
+    def errors(self) -> Mat:
+        """``(N, 1 or 2)``: :func:`.residuals.errors` at the estimate, of these residuals (the
+        same formula: the norm of each measurement's position and rotation residuals)."""
+        rows = self.residuals.reshape(-1, self.rows // 3, 3)
+        out: Mat = np.sqrt(np.add.reduce(rows * rows, axis=2))
+        return out
+
 
 @dataclass(frozen=True, slots=True)
 class Problem:
