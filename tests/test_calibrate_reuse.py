@@ -9,6 +9,7 @@ import urdf2dh
 from urdf2dh.calibration.chart import Estimate, line_point
 from urdf2dh.calibration.identifiable import carried_at_levels, redundant
 from urdf2dh.calibration.levels import BASE_TOOL, LEVELS
+from urdf2dh.calibration.measurements import Measurements
 from urdf2dh.calibration.residuals import Data, errors, observed
 from urdf2dh.calibration.solver import Linearisation
 from urdf2dh.geometry.lie import exp_so3
@@ -75,3 +76,24 @@ def test_a_linearisations_errors_are_the_residuals_errors(markers):
     lin = Linearisation.at(est, data)
     assert np.array_equal(lin.errors(), errors(est, data))
     assert lin.errors().shape == (len(data), 1 if markers else 2)
+
+
+def test_configurations_number_the_distinct_rows_in_file_order():
+    """:meth:`.Measurements.configurations` against numpy's unique rows: equal rows (``0.0``
+    and ``-0.0`` too) one configuration, each NaN row its own, numbered by their first row."""
+    rng = np.random.default_rng(11)
+    for n, k in ((1, 3), (16, 6), (80, 7), (300, 2)):
+        rows = rng.integers(-2, 3, size=(max(1, n // 3), k)).astype(float)
+        q = rows[rng.integers(0, len(rows), n)]
+        if n > 2:
+            q[1] = -q[0]  # -0.0 where q[0] is 0.0: equal rows
+            q[1][q[0] != 0.0] = q[0][q[0] != 0.0]
+            q[2, 0] = np.nan
+        m = Measurements(tuple(f"j{i}" for i in range(k)), q, np.zeros((n, 3)))
+        index, count = m.configurations()
+        _, first, inverse = np.unique(q, axis=0, return_index=True, return_inverse=True)
+        numbered = np.empty(len(first), dtype=np.int64)
+        numbered[np.argsort(first, kind="stable")] = np.arange(len(first))
+        assert count == len(first)
+        np.testing.assert_array_equal(index, numbered[inverse.ravel()])
+        assert index[0] == 0 and np.all(np.diff(np.maximum.accumulate(index)) <= 1)
