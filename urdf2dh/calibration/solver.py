@@ -50,7 +50,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import lru_cache
 from typing import Any
 
@@ -159,16 +159,21 @@ class Problem:
     sigma_pos: float
     sigma_rot: float
     prior: Regulariser | None = None
+    _weights: Mat = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        w = np.full(self.data.rows, 1.0 / self.sigma_pos)
+        w[3:] = 1.0 / self.sigma_rot
+        w.setflags(write=False)
+        object.__setattr__(self, "_weights", w)
 
     def linearise(self, est: Estimate) -> Linearisation:
         """The linearisation at ``est`` of what this problem weighs."""
         return Linearisation.at(est, self.data, None if self.prior is None else self.prior.errors)
 
     def weights(self) -> Mat:
-        """``(rows,)`` each residual row's weight: ``1 / sigma`` of its kind."""
-        w = np.full(self.data.rows, 1.0 / self.sigma_pos)
-        w[3:] = 1.0 / self.sigma_rot
-        return w
+        """``(rows,)`` each residual row's weight: ``1 / sigma`` of its kind (read-only)."""
+        return self._weights
 
     def weighted(self, lin: Linearisation) -> tuple[Mat, Mat]:
         """The residuals (the measurements', then the prior's) and their Jacobian at ``lin``,
