@@ -265,13 +265,14 @@ def fit_before(
     placed: Mat | None = None,
 ) -> tuple[Estimate, Fit]:
     """The start (the nominal placed by the rigid fit, ``placed`` when the caller has it:
-    :func:`.start.placement`) and the ``base-tool`` level's fit."""
+    :func:`.start.placement`) and the ``base-tool`` level's fit (its statistics not computed:
+    :func:`with_statistics`)."""
     g = placement(nominal, fit, opts, ids) if placed is None else placed
     start = start_estimate(nominal, g, opts, ids)
     data = to_data(fit, opts.pose, ids)
     check_equations(count(start), data, fit.source, opts.pose)
     base_opts = replace(opts, prior=NONE)
-    return start, solve_level(start, data, base_opts, nominal.size())
+    return start, solve_level(start, data, base_opts, nominal.size(), stats=False)
 
 
 def joint_locations(
