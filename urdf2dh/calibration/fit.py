@@ -37,7 +37,7 @@ from numpy.typing import NDArray
 from ..errors import InputError
 from ..model.poe import PoeModel
 from ..tolerances import NOISE_FLOOR
-from .chart import Estimate, count, names
+from .chart import Estimate, all_names, count
 from .evidence import linearised, maximise
 from .identifiable import free_coordinates
 from .levels import LEVELS
@@ -322,6 +322,6 @@ def level_start(
     free, carried = free_coordinates(
         est, opts.fixed_patterns, nominal.limits(), nominal.size(), ids, structure
     )
-    every = names(est, ids)
+    every = all_names(est, ids)  # est.free is None: every coordinate's
     fixed = [n for n, f in zip(every, free, strict=True) if not f and n not in carried]
     return replace(est, free=free), carried, fixed

@@ -46,7 +46,11 @@ def fixed_by_name(
 ) -> NDArray[np.bool_]:
     """The level's coordinates that ``patterns`` (names or shell-style patterns such as
     ``*.scale``, ``arm_7_joint.*``) fix."""
-    names = all_names(est, marker_ids)
+    return _named(all_names(est, marker_ids), patterns)
+
+
+def _named(names: list[str], patterns: tuple[str, ...]) -> NDArray[np.bool_]:
+    """Which of ``names`` ``patterns`` match."""
     return np.array([any(fnmatch.fnmatchcase(n, p) for p in patterns) for n in names], dtype=bool)
 
 
@@ -143,10 +147,10 @@ def free_coordinates(
     """The level's free coordinates: not fixed by ``patterns``, not carried by the others
     (``carried``, when the caller found them already for this level and chain). Also the names
     of the coordinates the others carry."""
-    fixed = fixed_by_name(est, patterns, marker_ids)
+    names = all_names(est, marker_ids)
+    fixed = _named(names, patterns)
     if carried is None:
         carried = redundant(est, limits, size)
-    names = all_names(est, marker_ids)
     return ~(fixed | carried), [
         n for n, c, f in zip(names, carried, fixed, strict=True) if c and not f
     ]

@@ -306,10 +306,12 @@ def level_fits(
         lopts = replace(opts, level=level)
         structure = structures[level]
         reference, _, _ = level_start(nominal, before.solution.estimate, lopts, ids, structure)
+        # the simpler level's solution with the same free coordinates (they depend on the
+        # level, the chain's kinds and the names fixed, not on where it starts)
         start = (
             reference
             if previous is before.solution.estimate
-            else level_start(nominal, previous, lopts, ids, structure)[0]
+            else previous.with_level(LEVELS[level], reference.free)
         )
         errors, stated = prior_of(start, lopts, reference, locations)
         if errors is None and count(start) > len(data) * data.rows:
