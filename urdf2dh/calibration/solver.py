@@ -179,15 +179,18 @@ class Problem:
         """The residuals (the measurements', then the prior's) and their Jacobian at ``lin``,
         weighed."""
         w = self.weights()
-        r = (lin.residuals.reshape(-1, lin.rows) * w).ravel()
-        jac = (lin.jacobian.reshape(-1, lin.rows, lin.jacobian.shape[1]) * w[:, None]).reshape(
-            lin.jacobian.shape
+        m, p = lin.jacobian.shape
+        k = 0 if self.prior is None else len(self.prior.whiten)  # the prior's rows, below
+        r, jac = np.empty(m + k), np.empty((m + k, p))
+        np.multiply(lin.residuals.reshape(-1, lin.rows), w, out=r[:m].reshape(-1, lin.rows))
+        np.multiply(
+            lin.jacobian.reshape(-1, lin.rows, p), w[:, None], out=jac[:m].reshape(-1, lin.rows, p)
         )
-        if self.prior is None:
-            return r, jac
-        deviations, tangent = self.prior_part(self.prior, lin)
-        whiten = self.prior.whiten
-        return np.concatenate([r, whiten @ deviations]), np.vstack([jac, whiten @ tangent])
+        if self.prior is not None:
+            deviations, tangent = self.prior_part(self.prior, lin)
+            np.matmul(self.prior.whiten, deviations, out=r[m:])
+            np.matmul(self.prior.whiten, tangent, out=jac[m:])
+        return r, jac
 
     def cost(self, lin: Linearisation) -> float:
         """The weighted sum of squares at ``lin``."""
