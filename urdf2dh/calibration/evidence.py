@@ -26,7 +26,8 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from functools import cached_property
+from functools import cache, cached_property
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -38,9 +39,11 @@ __all__ = ["Linearised", "maximise"]
 Mat = NDArray[np.float64]
 
 _LOWEST, _HIGHEST = 1e-9, 1.0  # the deviations searched, rad (and x the robot's size)
-_SETTLED = 1e-7  # L-BFGS-B stops when f changes by less than this x |f| (its ftol); where the
+_SETTLED = 1e-7  # L-BFGS-B stops when f changes by less than this x |f| (minimize's ftol,
+# fmin_l_bfgs_b's factr times the machine epsilon, _EPSILON: a power of two); where the
 # evidence is flat in a deviation (a few 1e-4 of f over a factor of ten in it) it stops short of
 # the maximum there (where it stops then decides levels on real sets: TIAGo, TALOS)
+_EPSILON = float(np.finfo(float).eps)
 _COMPONENTS_ROUNDS = 100  # variance-component iterations at most (each ~halves the error)
 _COMPONENTS_SETTLED = 1e-6  # ... stopping when no noise level changes by more than this
 
@@ -117,11 +120,18 @@ def linearised(
 
 def _objective(theta: Mat, lin: Linearised) -> tuple[float, Mat]:
     """``f`` and its gradient by ``theta``: the log noise levels, then the log deviations of
-    the groups (module docstring). With ``w_g = sigma_g^-2``, ``u = M^-1 y(x)`` and
-    ``K = M^-1 G``, the gradient by ``log sigma_g`` is ``n_g - w_g (|r_g(x)|^2 +
-    tr(H^-1 J_g^T J_g))`` and by ``log t_j`` it is ``t_j^2 tr(M_j (M^-1 - K H^-1 K^T -
-    u u^T))``, ``K H^-1 K^T = W^T W`` with ``W = L_H^-1 K^T``. LAPACK's Cholesky routines
-    directly: the matrices are small and called for often."""
+    the groups (module docstring; :func:`_evaluated`)."""
+    value, grad, _ = _evaluated(theta, lin)
+    return value, grad
+
+
+def _evaluated(theta: Mat, lin: Linearised) -> tuple[float, Mat, Mat]:
+    """:func:`_objective` and the minimising ``x``, from one factorisation of ``M`` and one
+    of ``H``. With ``w_g = sigma_g^-2``, ``u = M^-1 y(x)`` and ``K = M^-1 G``, the gradient
+    by ``log sigma_g`` is ``n_g - w_g (|r_g(x)|^2 + tr(H^-1 J_g^T J_g))`` and by ``log t_j``
+    it is ``t_j^2 tr(M_j (M^-1 - K H^-1 K^T - u u^T))``, ``K H^-1 K^T = W^T W`` with ``W =
+    L_H^-1 K^T``. LAPACK's Cholesky routines directly: the matrices are small and called for
+    often."""
     kinds = len(lin.count)
     weight = np.exp(-2.0 * theta[:kinds])
     if not len(lin.offset):
@@ -137,21 +147,21 @@ def _objective(theta: Mat, lin: Linearised) -> tuple[float, Mat]:
     value = 0.5 * (chi2 + logdet + noise)
     gram, parts = lin.traced
     w_mat = _forward(lh, k_mat.T)
-    rest = _inverse(lm) - w_mat.T @ w_mat - np.outer(u, u)
+    rest = _inverse(lm) - w_mat.T @ w_mat - u[:, None] * u
     grad = np.empty(len(theta))
     grad[:kinds] = lin.count - weight * (errors + gram @ _inverse(lh).ravel())
     grad[kinds:] = tau2 * (parts @ rest.ravel())
-    return value, grad
+    return value, grad, x
 
 
-def _noise_only(weight: Mat, lin: Linearised) -> tuple[float, Mat]:
-    """:func:`_objective` without a prior, at the weights ``sigma_g^-2``."""
+def _noise_only(weight: Mat, lin: Linearised) -> tuple[float, Mat, Mat]:
+    """:func:`_evaluated` without a prior, at the weights ``sigma_g^-2``."""
     lh, x = _without_prior(lin, weight)
     errors = _errors(lin, x)
     logdet = 2.0 * float(np.log(lh.diagonal()).sum())
     value = 0.5 * (float(weight @ errors) + logdet - float(lin.count @ np.log(weight)))
     grad = lin.count - weight * (errors + _traces(lin, lh))
-    return value, grad
+    return value, grad, x
 
 
 def _posterior(weight: Mat, tau2: Mat, lin: Linearised) -> tuple[Mat, Mat, Mat, Mat]:
@@ -190,11 +200,17 @@ def _errors(lin: Linearised, x: Mat) -> Mat:
     return out
 
 
+@cache
+def _lapack() -> Any:
+    """scipy's LAPACK wrappers, imported on first use."""
+    from scipy.linalg import lapack
+
+    return lapack
+
+
 def _factor(a: Mat) -> Mat:
     """The lower Cholesky factor of the symmetric positive definite ``a``."""
-    from scipy.linalg.lapack import dpotrf
-
-    factor, info = dpotrf(a, lower=1, clean=1)
+    factor, info = _lapack().dpotrf(a, lower=1, clean=1)
     if info:
         raise np.linalg.LinAlgError("not positive definite")
     out: Mat = factor
@@ -203,27 +219,53 @@ def _factor(a: Mat) -> Mat:
 
 def _solve(factor: Mat, b: Mat) -> Mat:
     """``A^-1 b`` from the lower Cholesky factor of ``A``."""
-    from scipy.linalg.lapack import dpotrs
-
-    out: Mat = dpotrs(factor, b, lower=1)[0]
+    out: Mat = _lapack().dpotrs(factor, b, lower=1)[0]
     return out
 
 
 def _forward(factor: Mat, b: Mat) -> Mat:
     """``L^-1 b`` from the lower Cholesky factor ``L``."""
-    from scipy.linalg.lapack import dtrtrs
-
-    out: Mat = dtrtrs(factor, b, lower=1)[0]
+    out: Mat = _lapack().dtrtrs(factor, b, lower=1)[0]
     return out
 
 
 def _inverse(factor: Mat) -> Mat:
     """The lower triangle of ``A^-1`` from the lower Cholesky factor of ``A`` (the upper
     triangle zero: :func:`_traced` reads the lower one)."""
-    from scipy.linalg.lapack import dpotri
-
-    out: Mat = dpotri(factor, lower=1)[0]
+    out: Mat = _lapack().dpotri(factor, lower=1)[0]
     return out
+
+
+class _Search:
+    """:func:`_evaluated` for L-BFGS-B, which asks for the value and then the gradient at each
+    point: one evaluation serves both, and the minimising ``x`` of the last point is kept for
+    the step from the search's end."""
+
+    __slots__ = ("_at", "_grad", "_lin", "_x")
+
+    def __init__(self, lin: Linearised) -> None:
+        self._lin = lin
+        self._at = b""
+        self._grad = self._x = np.zeros(0)
+
+    def _evaluate(self, theta: Mat) -> float:
+        value, self._grad, self._x = _evaluated(theta, self._lin)
+        self._at = theta.tobytes()
+        return value
+
+    def value(self, theta: Mat) -> float:
+        return self._evaluate(theta)
+
+    def gradient(self, theta: Mat) -> Mat:
+        if theta.tobytes() != self._at:
+            self._evaluate(theta)
+        return self._grad
+
+    def step(self, theta: Mat) -> Mat:
+        """The minimising ``x`` at ``theta``."""
+        if theta.tobytes() != self._at:
+            self._evaluate(theta)
+        return self._x
 
 
 def maximise(
@@ -234,27 +276,24 @@ def maximise(
     where a floor is the level itself: given noise); and the linearised model's solution with
     them (a Gauss-Newton step from the linearisation point: where the solve starts). Without a
     prior, the noise levels alone: variance components (:func:`_components`)."""
-    from scipy.optimize import minimize
+    from scipy.optimize import fmin_l_bfgs_b
 
     kinds = len(lin.count)
     if not len(lin.offset):
         levels = _components(lin, noise, floors)
         theta = np.log(np.array(levels))
-        return levels, np.zeros(0), _step(theta, lin)
+        weight = np.exp(-2.0 * theta)
+        return levels, np.zeros(0), _without_prior(lin, weight)[1]
     theta0 = np.log(np.array([*noise, *np.clip(deviations, _LOWEST, _HIGHEST)], dtype=float))
     bounds = [
         (math.log(f), math.log(f) if f == level else None)
         for f, level in zip(floors, noise, strict=True)
     ] + [(math.log(_LOWEST), math.log(_HIGHEST))] * len(deviations)
-    result = minimize(
-        _objective, theta0, args=(lin,), jac=True, method="L-BFGS-B", bounds=bounds,
-        options={"ftol": _SETTLED},
-    )  # fmt: skip
-    return (
-        tuple(np.exp(result.x[:kinds]).tolist()),
-        np.exp(result.x[kinds:]),
-        _step(result.x, lin),
-    )
+    search = _Search(lin)
+    found = fmin_l_bfgs_b(
+        search.value, theta0, search.gradient, bounds=bounds, factr=_SETTLED / _EPSILON
+    )[0]
+    return tuple(np.exp(found[:kinds]).tolist()), np.exp(found[kinds:]), search.step(found)
 
 
 def _components(
@@ -280,12 +319,3 @@ def _components(
         if settled:
             break
     return tuple(levels.tolist())
-
-
-def _step(theta: Mat, lin: Linearised) -> Mat:
-    """The minimising ``x`` of the linearised objective at ``theta``."""
-    kinds = len(lin.count)
-    weight = np.exp(-2.0 * theta[:kinds])
-    if not len(lin.offset):
-        return _without_prior(lin, weight)[1]
-    return _posterior(weight, np.exp(2.0 * theta[kinds:]), lin)[3]
