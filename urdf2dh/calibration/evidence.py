@@ -285,15 +285,26 @@ def maximise(
         weight = np.exp(-2.0 * theta)
         return levels, np.zeros(0), _without_prior(lin, weight)[1]
     theta0 = np.log(np.array([*noise, *np.clip(deviations, _LOWEST, _HIGHEST)], dtype=float))
-    bounds = [
-        (math.log(f), math.log(f) if f == level else None)
-        for f, level in zip(floors, noise, strict=True)
-    ] + [(math.log(_LOWEST), math.log(_HIGHEST))] * len(deviations)
     search = _Search(lin)
     found = fmin_l_bfgs_b(
-        search.value, theta0, search.gradient, bounds=bounds, factr=_SETTLED / _EPSILON
+        search.value,
+        theta0,
+        search.gradient,
+        bounds=_bounds(noise, floors, len(deviations)),
+        factr=_SETTLED / _EPSILON,
     )[0]
     return tuple(np.exp(found[:kinds]).tolist()), np.exp(found[kinds:]), search.step(found)
+
+
+def _bounds(
+    noise: tuple[float, ...], floors: tuple[float, ...], groups: int
+) -> list[tuple[float, float | None]]:
+    """L-BFGS-B's bounds on ``theta``: each log noise level above its floor's (fixed where the
+    floor is the level itself), each log deviation within the deviations searched."""
+    return [
+        (math.log(f), math.log(f) if f == level else None)
+        for f, level in zip(floors, noise, strict=True)
+    ] + [(math.log(_LOWEST), math.log(_HIGHEST))] * groups
 
 
 def _components(
