@@ -316,17 +316,20 @@ def _components(
     than :data:`_COMPONENTS_SETTLED`; each kept above its floor (fixed where the floor is the
     level itself: given noise)."""
     levels = np.array(noise, dtype=float)
-    fixed = np.array([f == v for f, v in zip(floors, noise, strict=True)])
-    low = np.array(floors, dtype=float)
+    given = [f == v for f, v in zip(floors, noise, strict=True)]
     for _ in range(_COMPONENTS_ROUNDS):
         weight = levels**-2
         lh, x = _without_prior(lin, weight)
-        error, redundancy = _errors(lin, x), lin.count - weight * _traces(lin, lh)
-        found = (redundancy > 0.0) & (error > 0.0)
-        new = np.sqrt(np.divide(error, redundancy, out=levels**2, where=found))
-        new = np.where(fixed, levels, np.maximum(new, low))
-        settled = bool(np.all(np.abs(new / levels - 1.0) <= _COMPONENTS_SETTLED))
-        levels = new
-        if settled:
+        error = _errors(lin, x).tolist()
+        redundancy = (lin.count - weight * _traces(lin, lh)).tolist()
+        old = levels.tolist()
+        new = [
+            level
+            if fixed
+            else max(math.sqrt(e / r if r > 0.0 and e > 0.0 else level * level), floor)
+            for level, fixed, floor, e, r in zip(old, given, floors, error, redundancy, strict=True)
+        ]
+        levels = np.array(new)
+        if all(abs(n / o - 1.0) <= _COMPONENTS_SETTLED for n, o in zip(new, old, strict=True)):
             break
     return tuple(levels.tolist())
