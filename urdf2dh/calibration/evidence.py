@@ -72,6 +72,17 @@ class Linearised:
     parts: Mat
 
     @cached_property
+    def doubling(self) -> Mat:
+        """``-2`` per noise level, then ``2`` per group: ``exp(doubling * theta)`` are the
+        weights ``sigma_g^-2``, then the deviations squared."""
+        return np.repeat([-2.0, 2.0], [len(self.count), len(self.parts)])
+
+    @cached_property
+    def hoisted(self) -> tuple[Mat, Mat]:
+        """``shape`` in Fortran order (as LAPACK takes it), and ``2 cross``."""
+        return np.asfortranarray(self.shape), 2.0 * self.cross
+
+    @cached_property
     def traced(self) -> tuple[Mat, Mat]:
         """:func:`_traced` of ``gram`` and of ``parts``."""
         return _traced(self.gram), _traced(self.parts)
@@ -133,10 +144,10 @@ def _evaluated(theta: Mat, lin: Linearised) -> tuple[float, Mat, Mat]:
     L_H^-1 K^T``. LAPACK's Cholesky routines directly: the matrices are small and called for
     often."""
     kinds = len(lin.count)
-    weight = np.exp(-2.0 * theta[:kinds])
     if not len(lin.offset):
-        return _noise_only(weight, lin)
-    tau2 = np.exp(2.0 * theta[kinds:])
+        return _noise_only(np.exp(-2.0 * theta), lin)
+    scales = np.exp(lin.doubling * theta)
+    weight, tau2 = scales[:kinds], scales[kinds:]
     lm, k_mat, lh, x = _posterior(weight, tau2, lin)
     errors = _errors(lin, x)
     v = lin.offset + lin.shape @ x
@@ -148,10 +159,8 @@ def _evaluated(theta: Mat, lin: Linearised) -> tuple[float, Mat, Mat]:
     gram, parts = lin.traced
     w_mat = _forward(lh, k_mat.T)
     rest = _inverse(lm) - w_mat.T @ w_mat - u[:, None] * u
-    grad = np.empty(len(theta))
-    grad[:kinds] = lin.count - weight * (errors + gram @ _inverse(lh).ravel())
-    grad[kinds:] = tau2 * (parts @ rest.ravel())
-    return value, grad, x
+    by_noise = lin.count - weight * (errors + gram @ _inverse(lh).ravel())
+    return value, np.concatenate((by_noise, tau2 * (parts @ rest.ravel()))), x
 
 
 def _noise_only(weight: Mat, lin: Linearised) -> tuple[float, Mat, Mat]:
@@ -168,7 +177,7 @@ def _posterior(weight: Mat, tau2: Mat, lin: Linearised) -> tuple[Mat, Mat, Mat, 
     """At the weights ``sigma_g^-2`` and the deviations squared: the Cholesky factor of ``M``,
     ``K = M^-1 G``, the Cholesky factor of ``H`` and the minimising ``x``."""
     lm = _factor(ridged(_summed(tau2, lin.parts)))
-    k_mat = _solve(lm, lin.shape)
+    k_mat = _solve(lm, lin.hoisted[0])
     lh = _factor(ridged(_summed(weight, lin.gram) + lin.shape.T @ k_mat))
     x = -_solve(lh, weight @ lin.cross + k_mat.T @ lin.offset)
     return lm, k_mat, lh, x
@@ -196,7 +205,7 @@ def _traces(lin: Linearised, lh: Mat) -> Mat:
 
 def _errors(lin: Linearised, x: Mat) -> Mat:
     """Each kind's ``|r_g(x)|^2`` at unit noise."""
-    out: Mat = lin.square + (2.0 * lin.cross + lin.gram @ x) @ x
+    out: Mat = lin.square + (lin.hoisted[1] + lin.gram @ x) @ x
     return out
 
 
