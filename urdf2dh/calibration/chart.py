@@ -53,7 +53,7 @@ which coordinates of the level are identified; :func:`count`, :func:`names` and
 from __future__ import annotations
 
 import itertools
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
@@ -206,10 +206,20 @@ class Chain:
         point = self.point @ g[:3, :3].T + g[:3, 3]
         return self.placed(axis, point)
 
+    def scaled(self, scale: Mat) -> Chain:
+        """The same joints with the scales ``scale``."""
+        return Chain(
+            self.names, self.kinds, self.axis, self.point, self.pitch, scale, self.located,
+            self.lower, self.upper,
+        )  # fmt: skip
+
     def placed(self, axis: Mat, point: Mat, pitch: Mat | None = None) -> Chain:
         """The same joints along ``axis`` through ``point`` (turning joints' points taken to
         the feet of the perpendiculars), with ``pitch`` when given."""
-        point = np.where(self.turning[:, None], line_point(axis, point), point)
+        if "prismatic" in self.kinds:
+            point = np.where(self.turning[:, None], line_point(axis, point), point)
+        else:
+            point = line_point(axis, point)
         pitch = self.pitch if pitch is None else pitch
         return Chain(
             self.names, self.kinds, axis, point, pitch, self.scale, self.located, self.lower,
@@ -473,12 +483,6 @@ def _columns_of(level: Level, kinds: tuple[str, ...]) -> tuple[NDArray[np.int64]
     return line, offset, scale
 
 
-def _take(x: Mat, index: NDArray[np.int64]) -> Mat:
-    """``x[index]`` with 0 where ``index`` is -1."""
-    padded = np.append(x, 0.0)
-    return padded[index]
-
-
 def retract(est: Estimate, delta: Mat) -> Estimate:
     """The estimate moved by the free coordinates ``delta`` (``(count,)``), re-centred."""
     x_all = expand(est, delta)
@@ -489,14 +493,15 @@ def retract(est: Estimate, delta: Mat) -> Estimate:
         chain, home, base = chain.moved(g), g @ home, g @ est.base_motion()
     before = chain  # the lines as the base left them
     line_at, offset_at, scale_at = joint_columns(est)
+    padded = np.append(x_all, 0.0)  # indexed by joint_columns' -1: 0
     if level.scales:
-        chain = replace(chain, scale=chain.scale + _take(x_all, scale_at))
+        chain = chain.scaled(chain.scale + padded[scale_at])
     offsets = est.offsets
     if level.offsets:
-        offsets = est.joint_offsets() + _take(x_all, offset_at)
+        offsets = est.joint_offsets() + padded[offset_at]
     last_motion = None
     if level.lines:
-        x = _take(x_all, line_at)  # (n, 5)
+        x = padded[line_at]  # (n, 5)
         e1, e2 = normal_bases(chain.axis)
         rho = x[:, :1] * e1 + x[:, 1:2] * e2
         rot, jac = exp_so3_left_jacobian(rho)  # (n, 3, 3) each
@@ -510,8 +515,8 @@ def retract(est: Estimate, delta: Mat) -> Estimate:
             last_motion = np.eye(4)
             last_motion[:3, :3] = rot[-1]
             last_motion[:3, 3] = shift[-1]
-        # a sliding joint's point stays (its turn moves the direction alone)
-        point = np.where(chain.turning[:, None], point, chain.point)
+        if "prismatic" in chain.kinds:  # a sliding joint's point stays (its turn moves the
+            point = np.where(chain.turning[:, None], point, chain.point)  # direction alone)
         chain = chain.placed(axis, point, chain.pitch + x[:, 4])
     k = sum(sizes(est, every=True)[:-1])
     markers = est.markers
@@ -525,6 +530,9 @@ def retract(est: Estimate, delta: Mat) -> Estimate:
     else:  # device-frame moves of the markers' home positions
         markers = markers + x_all[k:].reshape(-1, 3) @ home[:3, :3]
     return est.with_parts(chain, home, markers, offsets, base)
+
+
+_FIRST, _SECOND = np.array([0, 0, 1]), np.array([0, 1, 1])  # the products c1 c1, c1 c2, c2 c2
 
 
 def line_coordinates(axis: Mat, point: Mat, other_axis: Mat, other_point: Mat) -> Mat:
@@ -543,19 +551,17 @@ def line_coordinates(axis: Mat, point: Mat, other_axis: Mat, other_point: Mat) -
     ratio = np.divide(angle, sin, out=np.ones_like(sin), where=sin > 0.0)
     rho = cross * ratio[:, None]
     out = np.empty((len(axis), 4))
-    out[:, 0] = np.add.reduce(rho * e1, axis=1)
-    out[:, 1] = np.add.reduce(rho * e2, axis=1)
-    # the columns J(rho) e1, J(rho) e2 and the gap, each with its part along u' removed
     basis = np.empty((len(axis), 3, 2))
     basis[:, :, 0], basis[:, :, 1] = e1, e2
+    out[:, :2] = np.add.reduce(rho[:, :, None] * basis, axis=1)
+    # the columns J(rho) e1, J(rho) e2 and the gap, each with its part along u' removed
     cols = np.matmul(left_jacobian(rho), basis)
     cols -= np.matmul(other_axis[:, None, :], cols) * other_axis[:, :, None]
     gap = other_point - point
     gap -= np.add.reduce(other_axis * gap, axis=1)[:, None] * other_axis
     # the normal equations' 2 x 2 system, by Cramer's rule
-    c1, c2 = cols[:, :, 0], cols[:, :, 1]
-    a, b, d = (np.add.reduce(x * y, axis=1) for x, y in ((c1, c1), (c1, c2), (c2, c2)))
-    g1, g2 = np.add.reduce(c1 * gap, axis=1), np.add.reduce(c2 * gap, axis=1)
+    a, b, d = np.add.reduce(cols[:, :, _FIRST] * cols[:, :, _SECOND], axis=1).T
+    g1, g2 = np.add.reduce(cols * gap[:, :, None], axis=1).T
     det = a * d - b * b
     if (det == 0.0).any():  # as LAPACK's solve: a singular system is an error, NaN flows on
         raise np.linalg.LinAlgError("Singular matrix")

@@ -41,7 +41,7 @@ from functools import lru_cache
 import numpy as np
 from numpy.typing import NDArray
 
-from ..geometry.lie import cross_rows, left_jacobian_inverse, log_so3, skew_batch
+from ..geometry.lie import cross_rows, left_jacobian_inverse, log_so3
 from .chart import FRAME, Estimate, normal_bases, sizes, tool_screws
 from .levels import Level
 
@@ -127,46 +127,51 @@ def _exp_basis(est: Estimate) -> Mat:
     chain = est.chain
     n = len(chain)
     turning = chain.turning
+    out = np.zeros((n, 4, 16))
+    out[:, 0] = _EYE4.ravel()
+    out[:, 1, _SKEW_PLUS] = chain.axis  # [u], written in place
+    out[:, 1, _SKEW_MINUS] = -chain.axis
+    blocks = out.reshape(n, 4, 4, 4)
+    k = blocks[:, 1, :3, :3]
+    np.matmul(k, k, out=blocks[:, 2, :3, :3])
     point = chain.point * turning[:, None]
-    k = skew_batch(chain.axis)
-    kk = k @ k
-    out = np.zeros((n, 4, 4, 4))
-    out[:, 0] = _EYE4
-    out[:, 1, :3, :3] = k
-    out[:, 1, :3, 3] = -(k @ point[:, :, None])[..., 0]
-    out[:, 2, :3, :3] = kk
-    out[:, 2, :3, 3] = -(kk @ point[:, :, None])[..., 0]
-    out[:, 3, :3, 3] = np.where(turning, chain.pitch, 1.0)[:, None] * chain.axis
-    return out.reshape(n, 4, 16)
+    blocks[:, 1:3, :3, 3] = -np.matmul(blocks[:, 1:3, :3, :3], point[:, None, :, None])[..., 0]
+    blocks[:, 3, :3, 3] = np.where(turning, chain.pitch, 1.0)[:, None] * chain.axis
+    return out
+
+
+# where u_0, u_1, u_2 sit in a flattened 4 x 4 block's [u], and where -u_0, -u_1, -u_2 do
+_SKEW_PLUS = np.array([9, 2, 4])
+_SKEW_MINUS = np.array([6, 8, 1])
 
 
 def _frames(est: Estimate, q: Mat) -> tuple[Mat, Mat, Mat]:
     """``(n + 2, N, 4, 4)`` the frames ``P_0 = I, P_1, ..., P_n`` and the tool's ``T = P_n M``;
-    ``(n, N)`` each joint's ``q + o`` and its motion ``s (q + o)``.
+    ``(n, N)`` each joint's ``q + o`` and its motion ``s (q + o)`` (read-only: the first may be
+    a view of ``q``).
 
     Each joint's ``exp([xi] s)`` at every configuration is one product with
     :func:`_exp_basis` (``1 - cos t`` as ``2 sin^2(t/2)``); their running products one joint
     at a time."""
     chain = est.chain
     count, n = q.shape
-    moved = q.T + est.joint_offsets()[:, None]
-    coef = np.empty((n, count, 4))
-    coef[:, :, 0] = 1.0
-    s = np.multiply(moved, chain.scale[:, None], out=coef[:, :, 3])
-    angle = s * chain.turning[:, None]
-    np.sin(angle, out=coef[:, :, 1])
+    moved = q.T if est.offsets is None else q.T + est.offsets[:, None]
+    coef = np.empty((n, 4, count))  # rows 1, sin t, 1 - cos t, s
+    coef[:, 0] = 1.0
+    s = np.multiply(moved, chain.scale[:, None], out=coef[:, 3])
+    angle = s * chain.turning[:, None] if "prismatic" in chain.kinds else s
+    np.sin(angle, out=coef[:, 1])
     half = np.sin(0.5 * angle)
-    np.multiply(half, half, out=coef[:, :, 2])
-    coef[:, :, 2] *= 2.0
-    e = np.matmul(coef, _exp_basis(est)).reshape(n, count, 4, 4)
+    np.multiply(half, half, out=coef[:, 2])
+    coef[:, 2] *= 2.0
+    e = np.matmul(coef.transpose(0, 2, 1), _exp_basis(est)).reshape(n, count, 4, 4)
     out = np.empty((n + 2, count, 4, 4))
     out[0] = _EYE4
-    for i in range(n):
-        if i:
-            np.matmul(out[i], e[i], out=out[i + 1])
-        else:
-            out[1] = e[0]
-    np.matmul(out[n], est.home, out=out[n + 1])
+    if n:
+        out[1] = e[0]
+    for i in range(1, n):
+        np.matmul(out[i], e[i], out=out[i + 1])
+    np.matmul(out[n].reshape(-1, 4), est.home, out=out[n + 1].reshape(-1, 4))  # one product
     return out, moved, s
 
 
@@ -222,19 +227,17 @@ class _Layout:
     """Where each free coordinate's Jacobian column comes from (module docstring).
 
     The frames are ``P_0 .. P_n`` and ``T`` (:func:`_frames`); those of them the columns use,
-    ``used`` (``None``: all), hold up to ``width`` twists each, rows of :func:`_twists`
-    (``place`` ``(len(used), width)``, padded with its zero row; read-only, as every array
-    here).
-    Column ``c`` is used frame ``frame[c]``'s twist ``slot[c]`` under that frame's adjoint, minus,
-    for a joint line's coordinates (``lines``), the same twist under the next frame's
-    (``after_frame``, ``after_slot``), times the factor ``factor[c]`` of :func:`_factors`
-    (``None``: all 1)."""
+    ``used`` (``None``: all), hold ``width`` twists each, rows of :func:`_twists` (``place``
+    ``(len(used), width)``), the last of them the zero row (read-only, as every array here).
+    Column ``c`` is used frame ``frame[c]``'s twist ``slot[c]`` under that frame's adjoint,
+    minus used frame ``after_frame[c]``'s twist ``after_slot[c]`` (for a joint line's
+    coordinates the same twist under the next frame; for the others the zero row), times the
+    factor ``factor[c]`` of :func:`_factors` (``None``: all 1)."""
 
     used: NDArray[np.int64] | None
     place: NDArray[np.int64]
     frame: NDArray[np.int64]
     slot: NDArray[np.int64]
-    lines: NDArray[np.int64]
     after_frame: NDArray[np.int64]
     after_slot: NDArray[np.int64]
     factor: NDArray[np.int64] | None
@@ -289,12 +292,13 @@ def _level_layout(
         return held[frame].index(row)
 
     slot = [slot_of(c[0], c[1]) for c in every]
-    lines = [k for k, c in enumerate(every) if c[3] >= 0]
-    after_slot = [slot_of(every[k][3], every[k][1]) for k in lines]
+    after_slot = [slot_of(c[3], c[1]) if c[3] >= 0 else -1 for c in every]
     used = [f for f, rows in enumerate(held) if rows] or [0]
     at = {f: k for k, f in enumerate(used)}
-    width = max(len(h) for h in held) or 1
-    place = [held[f] + [tool_row + 6] * (width - len(held[f])) for f in used]  # the zero row
+    width = max(len(h) for h in held)
+    # every frame's rows padded with the zero row to width + 1: the columns without a
+    # second term take that of the zero row
+    place = [held[f] + [tool_row + 6] * (width + 1 - len(held[f])) for f in used]
     factors = [c[2] for c in every]
 
     def ints(values: list[int]) -> NDArray[np.int64]:
@@ -304,12 +308,11 @@ def _level_layout(
 
     return _Layout(
         None if len(used) == n + 2 else ints(used),
-        ints([row for rows in place for row in rows]).reshape(len(used), width),
+        ints([row for rows in place for row in rows]).reshape(len(used), width + 1),
         ints([at[c[0]] for c in every]),
         ints(slot),
-        ints(lines),
-        ints([at[every[k][3]] for k in lines]),
-        ints(after_slot),
+        ints([at[c[3] if c[3] >= 0 else c[0]] for c in every]),
+        ints([a if a >= 0 else width for a in after_slot]),
         ints(factors) if any(factors) else None,
     )
 
@@ -326,17 +329,18 @@ def _twists(est: Estimate) -> Mat:
     out = np.zeros((6 + 7 * n + 7, 6))
     out[:6] = _EYE6
     cand = out[6 : 6 + 7 * n].reshape(n, 7, 6)
-    u, p = chain.axis, chain.point
+    u = chain.axis
+    sliding = "prismatic" in chain.kinds
     turning = chain.turning
-    p = p * turning[:, None]
+    p = chain.point * turning[:, None] if sliding else chain.point
     e1, e2 = normal_bases(u)
     cand[:, 0, :3], cand[:, 1, :3] = e1, e2
     cand[:, 2, 3:], cand[:, 3, 3:] = e1, e2
     cand[:, 4, 3:] = u
-    moments = cross_rows(np.repeat(p[:, None, :], 3, axis=1), cand[:, 2:5, 3:])  # p x e1, e2, u
+    moments = cross_rows(p[:, None, :], cand[:, 2:5, 3:])  # p x e1, e2, u
     cand[:, :2, 3:] = moments[:, :2]
-    cand[:, 6, :3] = turning[:, None] * u
-    lead = np.where(turning, chain.pitch, 1.0)
+    cand[:, 6, :3] = turning[:, None] * u if sliding else u
+    lead = np.where(turning, chain.pitch, 1.0) if sliding else chain.pitch
     cand[:, 6, 3:] = moments[:, 2] + lead[:, None] * u  # p = 0 for sliding joints
     cand[:, 5] = cand[:, 6] * chain.scale[:, None]
     tool = out[6 + 7 * n : 6 + 7 * n + 6]
@@ -446,29 +450,35 @@ def _jacobian_into(
     # Ad(P) [w, v] = [R w, R v + (t - x) x R w], whose v is the point's motion (dv + dw x x)
     lay = _layout(est)
     frames = state.frames if lay.used is None else state.frames[lay.used]
-    count = len(data)
+    used, count = frames.shape[:2]
+    ad = np.empty((used, count, 6, 6))
     rot = frames[:, :, :3, :3]
-    lever = frames[:, :, :3, 3] - state.x
-    ad = np.zeros((len(frames), count, 6, 6))
     ad[:, :, :3, :3] = rot
+    ad[:, :, :3, 3:] = 0.0
     ad[:, :, 3:, 3:] = rot
-    ad[:, :, 3:, :3] = (
-        lever[:, :, _NEXT, None] * rot[:, :, _PREV] - lever[:, :, _PREV, None] * rot[:, :, _NEXT]
-    )
-    twists = _twists(est)[lay.place].transpose(0, 2, 1)  # (n + 2, 6, width)
-    moves = np.matmul(ad.reshape(len(frames), count * 6, 6), twists)
-    moves = moves.reshape(len(frames), count, 6, -1)
-    cols = moves[lay.frame, :, :, lay.slot]  # (p, N, 6)
-    if len(lay.lines):
-        cols[lay.lines] -= moves[lay.after_frame, :, :, lay.after_slot]
+    # [t - x] R, formed from (3, 4, used, N) planes of the frames (long rows for numpy's loops)
+    planes = np.ascontiguousarray(frames[:, :, :3].transpose(2, 3, 0, 1))
+    lever = planes[:, 3] - state.x.T[:, None, :]
+    rows = planes[:, :3]
+    cross = lever[_NEXT, None] * rows[_PREV]
+    cross -= lever[_PREV, None] * rows[_NEXT]
+    ad[:, :, 3:, :3] = cross.transpose(2, 3, 0, 1)
+    twists = _twists(est)[lay.place].transpose(0, 2, 1)  # (used, 6, width)
+    moves = np.matmul(ad.reshape(used, count * 6, 6), twists)
+    del ad  # (the arrays here are large: each freed as soon as done with)
+    # (N, 6, used, width): a (frame, slot) pair per column gives (N, 6, p), the Jacobian's order
+    by_point = moves.reshape(used, count, 6, -1).transpose(1, 2, 0, 3)
+    cols = by_point[:, :, lay.frame, lay.slot]
+    cols -= by_point[:, :, lay.after_frame, lay.after_slot]
+    del moves, by_point
     if lay.factor is not None:
-        cols *= _factors(est, data, state.moved, state.s, lay.factor)[:, :, None]
-    jac[:, :3] = cols[:, :, 3:].transpose(1, 2, 0)
+        cols *= _factors(est, data, state.moved, state.s, lay.factor).T[:, None, :]
     if sigma_pos != 1.0:
-        jac[:, :3] /= sigma_pos
+        np.divide(cols[:, 3:], sigma_pos, out=jac[:, :3])
+    else:
+        jac[:, :3] = cols[:, 3:]
     if state.phi is not None:
-        rows = cols[:, :, :3].transpose(1, 2, 0)
-        np.matmul(left_jacobian_inverse(state.phi), rows, out=jac[:, 3:])
+        np.matmul(left_jacobian_inverse(state.phi), cols[:, :3], out=jac[:, 3:])
         if sigma_rot != 1.0:
             jac[:, 3:] /= sigma_rot
 

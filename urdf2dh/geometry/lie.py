@@ -262,9 +262,17 @@ def cross3(a: Mat, b: Mat) -> Mat:
 
 
 def cross_rows(a: Mat, b: Mat) -> Mat:
-    """``a x b`` row by row for ``(n, 3)`` arrays (without numpy's ``cross`` axis handling)."""
-    out = np.empty(a.shape if a.shape == b.shape else np.broadcast_shapes(a.shape, b.shape))
+    """``a x b`` row by row for ``(n, 3)`` arrays, or for any two that broadcast (without
+    numpy's ``cross`` axis handling)."""
+    if a.shape != b.shape:  # each operand's components gathered once, then broadcast
+        out: Mat = a[..., _NEXT] * b[..., _PREV] - a[..., _PREV] * b[..., _NEXT]
+        return out
+    out = np.empty(a.shape)
     out[..., 0] = a[..., 1] * b[..., 2] - a[..., 2] * b[..., 1]
     out[..., 1] = a[..., 2] * b[..., 0] - a[..., 0] * b[..., 2]
     out[..., 2] = a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
     return out
+
+
+_NEXT = np.array([1, 2, 0])  # component i of a x b is a[NEXT[i]] b[PREV[i]] - a[PREV[i]] b[NEXT[i]]
+_PREV = np.array([2, 0, 1])
