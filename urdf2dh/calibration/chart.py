@@ -60,7 +60,14 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import InputError
-from ..geometry.lie import cross3, cross_rows, exp_so3_left_jacobian, left_jacobian, log_se3
+from ..geometry.lie import (
+    coefficients,
+    cross3,
+    cross_rows,
+    exp_so3_left_jacobian,
+    left_jacobian,
+    log_se3,
+)
 from ..geometry.se3 import twist_exp
 from ..model.identifiability import LINE_PARAMETERS
 from ..model.poe import Joint
@@ -72,6 +79,7 @@ __all__ = [
     "TOOLS",
     "Chain",
     "Estimate",
+    "LineCoordinates",
     "absorbed",
     "all_names",
     "count",
@@ -538,36 +546,160 @@ _FIRST, _SECOND = np.array([0, 0, 1]), np.array([0, 1, 1])  # the products c1 c1
 def line_coordinates(axis: Mat, point: Mat, other_axis: Mat, other_point: Mat) -> Mat:
     """``(n, 4)``: each line chart's coordinates (turn1, turn2, shift1, shift2) from the line
     ``(axis[i], point[i])`` to ``(other_axis[i], other_point[i])``, all lines at once (the turns
-    alone are meaningful for a prismatic joint's direction).
+    alone are meaningful for a prismatic joint's direction): :attr:`LineCoordinates.values`."""
+    return LineCoordinates.of(axis, point, other_axis, other_point).values
+
+
+@dataclass(frozen=True, slots=True)
+class LineCoordinates:
+    """Lines' chart coordinates seen from reference lines, and what their derivatives by the
+    lines' own charts are made of (:meth:`tangent`).
 
     The turn is the rotation vector ``rho`` taking ``u`` to ``u'`` about their common normal;
     the shifts ``tau`` make ``exp(eta) p = p + J(rho) tau`` (:func:`.lie.left_jacobian`) a point
     of the other line (least squares in the plane normal to it, closed form: two unknowns).
+
+    Attributes
+    ----------
+    values
+        ``(n, 4)`` turn1, turn2, shift1, shift2 of each line.
+    axis, other_axis, other_point
+        The reference lines' directions, the lines' directions and points ``(n, 3)``.
+    basis
+        ``(n, 3, 2)`` the reference charts' ``e1, e2`` (:func:`normal_bases`).
+    cross, angle, ratio
+        ``u x u'`` ``(n, 3)``, the angle between them and ``angle / sin(angle)`` ``(n,)``.
+    rho, jacobian
+        The turns as rotation vectors ``(n, 3)`` and ``J(rho)`` ``(n, 3, 3)``.
+    cols
+        ``(n, 3, 2)`` ``J(rho) e1, J(rho) e2`` with their parts along ``u'`` removed.
+    normal
+        ``(3, n)`` the normal equations' ``a, b, d`` (``[[a, b], [b, d]]``) and ``det``: their
+        determinant, as ``(4, n)``.
     """
-    e1, e2 = normal_bases(axis)
-    cross = cross_rows(axis, other_axis)
-    sin = np.sqrt(np.add.reduce(cross * cross, axis=1))
-    angle = np.arctan2(sin, np.add.reduce(axis * other_axis, axis=1))
-    ratio = np.divide(angle, sin, out=np.ones_like(sin), where=sin > 0.0)
-    rho = cross * ratio[:, None]
-    out = np.empty((len(axis), 4))
-    basis = np.empty((len(axis), 3, 2))
-    basis[:, :, 0], basis[:, :, 1] = e1, e2
-    out[:, :2] = np.add.reduce(rho[:, :, None] * basis, axis=1)
-    # the columns J(rho) e1, J(rho) e2 and the gap, each with its part along u' removed
-    cols = np.matmul(left_jacobian(rho), basis)
-    cols -= np.matmul(other_axis[:, None, :], cols) * other_axis[:, :, None]
-    gap = other_point - point
-    gap -= np.add.reduce(other_axis * gap, axis=1)[:, None] * other_axis
-    # the normal equations' 2 x 2 system, by Cramer's rule
-    a, b, d = np.add.reduce(cols[:, :, _FIRST] * cols[:, :, _SECOND], axis=1).T
-    g1, g2 = np.add.reduce(cols * gap[:, :, None], axis=1).T
-    det = a * d - b * b
-    if (det == 0.0).any():  # as LAPACK's solve: a singular system is an error, NaN flows on
-        raise np.linalg.LinAlgError("Singular matrix")
-    out[:, 2] = (d * g1 - b * g2) / det
-    out[:, 3] = (a * g2 - b * g1) / det
-    return out
+
+    values: Mat
+    axis: Mat
+    other_axis: Mat
+    other_point: Mat
+    point: Mat
+    basis: Mat
+    cross: Mat
+    angle: Mat
+    ratio: Mat
+    rho: Mat
+    jacobian: Mat
+    cols: Mat
+    normal: Mat
+
+    @classmethod
+    def of(cls, axis: Mat, point: Mat, other_axis: Mat, other_point: Mat) -> LineCoordinates:
+        """The coordinates of the lines ``(other_axis[i], other_point[i])`` in the charts of
+        ``(axis[i], point[i])`` (class docstring)."""
+        e1, e2 = normal_bases(axis)
+        cross = cross_rows(axis, other_axis)
+        sin = np.sqrt(np.add.reduce(cross * cross, axis=1))
+        angle = np.arctan2(sin, np.add.reduce(axis * other_axis, axis=1))
+        ratio = np.divide(angle, sin, out=np.ones_like(sin), where=sin > 0.0)
+        rho = cross * ratio[:, None]
+        out = np.empty((len(axis), 4))
+        basis = np.empty((len(axis), 3, 2))
+        basis[:, :, 0], basis[:, :, 1] = e1, e2
+        out[:, :2] = np.add.reduce(rho[:, :, None] * basis, axis=1)
+        # the columns J(rho) e1, J(rho) e2 and the gap, each with its part along u' removed
+        jacobian = left_jacobian(rho)
+        cols = np.matmul(jacobian, basis)
+        cols -= np.matmul(other_axis[:, None, :], cols) * other_axis[:, :, None]
+        gap = other_point - point
+        gap -= np.add.reduce(other_axis * gap, axis=1)[:, None] * other_axis
+        # the normal equations' 2 x 2 system, by Cramer's rule
+        normal = np.empty((4, len(axis)))
+        normal[:3] = np.add.reduce(cols[:, :, _FIRST] * cols[:, :, _SECOND], axis=1).T
+        a, b, d = normal[:3]
+        g1, g2 = np.add.reduce(cols * gap[:, :, None], axis=1).T
+        det = normal[3] = a * d - b * b
+        if (det == 0.0).any():  # as LAPACK's solve: a singular system is an error, NaN flows on
+            raise np.linalg.LinAlgError("Singular matrix")
+        out[:, 2] = (d * g1 - b * g2) / det
+        out[:, 3] = (a * g2 - b * g1) / det
+        return cls(
+            out, axis, other_axis, other_point, point, basis, cross, angle, ratio, rho,
+            jacobian, cols, normal,
+        )  # fmt: skip
+
+    def tangent(self) -> Mat:
+        """``(4, n, 4)``: the derivatives of :attr:`values` ``(n, 4)`` by each line's own chart
+        coordinates (:func:`retract`: turn1, turn2, shift1, shift2 about its point ``p'``), the
+        reference lines held.
+
+        A turn along ``f`` (``f1, f2``: the line's :func:`normal_bases`) moves ``u'`` by
+        ``du = f x u'`` about ``p'``; a shift moves ``p'`` by ``dp = f``. With ``w = u x u'``
+        and ``t`` the angle, the turns' ``rho = (t / sin t) w`` move by
+        ``(t / sin t) (u x du) - h(t) (u . du) w``, ``h = (sin t - t cos t) / sin^3 t``
+        (``u' . du = 0``). The shifts solve ``C tau = g`` with ``C = P J(rho) [e1 e2]``,
+        ``g = P (p' - p)`` and ``P = I - u' u'^T``, exactly (both in the plane normal to
+        ``u'``); differentiated and multiplied by ``C^T`` (``C^T u' = 0``):
+        ``C^T C dtau = C^T (dp - (u' . (p' - q)) du - dJ[drho] v)``, ``v = [e1 e2] tau`` and
+        ``q = p + J(rho) v`` the reference point moved onto the line.
+        """
+        n = len(self.axis)
+        u, other, basis = self.axis, self.other_axis, self.basis
+        f1, f2 = normal_bases(other)
+        du = np.stack([-f2, f1])  # (2, n, 3): the turns' moves of u'
+        h, db, dc, b, c = _turn_coefficients(self.angle)
+        lean = np.add.reduce(du * u, axis=2)  # (2, n): u . du
+        drho = self.ratio[:, None] * cross_rows(u, du) - (h * lean)[:, :, None] * self.cross
+        out = np.zeros((4, n, 4))
+        out[:2, :, :2] = np.add.reduce(drho[:, :, :, None] * basis, axis=2)
+        # dJ[drho] v = b drho x v + c (drho x (rho x v) + rho x (drho x v))
+        #   + (rho . drho) (b'/t rho x v + c'/t rho x (rho x v))
+        rho = self.rho
+        v = np.add.reduce(basis * self.values[:, None, 2:], axis=2)
+        rv = cross_rows(rho, v)
+        rrv = cross_rows(rho, rv)
+        dv = cross_rows(drho, v)
+        along = np.add.reduce(rho * drho, axis=2)[:, :, None]  # (2, n, 1)
+        dj = (
+            b[:, None] * dv
+            + c[:, None] * (cross_rows(drho, rv) + cross_rows(rho, dv))
+            + along * (db[:, None] * rv + dc[:, None] * rrv)
+        )
+        moved = self.point + np.einsum("nij,nj->ni", self.jacobian, v)  # q
+        slide = np.add.reduce(other * (self.other_point - moved), axis=1)  # u' . (p' - q)
+        rhs = np.empty((4, n, 3))
+        rhs[:2] = -slide[:, None] * du - dj
+        rhs[2], rhs[3] = f1, f2
+        g = np.add.reduce(self.cols[None] * rhs[:, :, :, None], axis=2)  # (4, n, 2): C^T rhs
+        a, b2, d, det = self.normal
+        out[:, :, 2] = (d * g[:, :, 0] - b2 * g[:, :, 1]) / det
+        out[:, :, 3] = (a * g[:, :, 1] - b2 * g[:, :, 0]) / det
+        return out
+
+
+def _turn_coefficients(angle: Mat) -> tuple[Mat, Mat, Mat, Mat, Mat]:
+    """Of each angle ``t`` ``(n,)``: ``h = (sin t - t cos t) / sin^3 t`` (:meth:`LineCoordinates.
+    tangent`), ``b'(t) / t`` and ``c'(t) / t`` with ``b, c`` the left Jacobian's
+    (:func:`.lie.coefficients`: ``(1 - cos t) / t^2``, ``(t - sin t) / t^3``), and ``b, c``;
+    below :data:`_SERIES` the first three from their series (to ``t^8``), where the closed forms
+    cancel (each multiplies a ``t^2``: above, their rounding costs a few units of 1e-16)."""
+    t2 = angle * angle
+    b, c = np.array([coefficients(a)[1:] for a in t2.tolist()]).reshape(-1, 2).T
+    near = angle < _SERIES
+    series = (
+        1 / 3 + t2 * (2 / 15 + t2 * (2 / 63 + t2 * (4 / 675 + t2 * (2 / 2079)))),
+        -1 / 12 + t2 * (1 / 180 + t2 * (-1 / 6720 + t2 * (1 / 453600 - t2 / 47900160))),
+        -1 / 60 + t2 * (1 / 1260 + t2 * (-1 / 60480 + t2 * (1 / 4989600 - t2 / 622702080))),
+    )
+    if near.all():
+        return (*series, b, c)
+    t = np.where(near, 1.0, angle)
+    tt, sin, cos = t * t, np.sin(t), np.cos(t)
+    closed = ((sin - t * cos) / (sin * sin * sin), (sin / t - 2.0 * b) / tt, (b - 3.0 * c) / tt)
+    h, db, dc = (np.where(near, s, f) for s, f in zip(series, closed, strict=True))
+    return h, db, dc, b, c
+
+
+_SERIES = 0.1  # below this angle (rad) the turns' coefficients come from their series
 
 
 def local_coordinates(est: Estimate, other: Estimate) -> Mat:
