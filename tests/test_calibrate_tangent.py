@@ -82,4 +82,4 @@ def test_the_line_tangent_at_the_centre_is_the_identity():
     est = Estimate.of(joints, np.eye(4))
     u, p = est.chain.axis, est.chain.point
     tangent = LineCoordinates.of(u, p, u, p).tangent()
-    assert np.abs(tangent - np.eye(4)[:, None, :]).max() < 1e-15
+    assert np.abs(tangent - np.eye(4)).max() < 1e-15

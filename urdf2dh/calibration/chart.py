@@ -67,6 +67,7 @@ from ..geometry.lie import (
     exp_so3_left_jacobian,
     left_jacobian,
     log_se3,
+    skew_batch,
 )
 from ..geometry.se3 import twist_exp
 from ..model.identifiability import LINE_PARAMETERS
@@ -628,78 +629,83 @@ class LineCoordinates:
         )  # fmt: skip
 
     def tangent(self) -> Mat:
-        """``(4, n, 4)``: the derivatives of :attr:`values` ``(n, 4)`` by each line's own chart
-        coordinates (:func:`retract`: turn1, turn2, shift1, shift2 about its point ``p'``), the
-        reference lines held.
+        """``(n, 4, 4)``: the derivatives of each line's :attr:`values` (rows) by its own chart
+        coordinates at it (columns; :func:`retract`'s turn1, turn2, shift1, shift2 about its
+        point ``p'``), the reference lines held.
 
         A turn along ``f`` (``f1, f2``: the line's :func:`normal_bases`) moves ``u'`` by
         ``du = f x u'`` about ``p'``; a shift moves ``p'`` by ``dp = f``. With ``w = u x u'``
         and ``t`` the angle, the turns' ``rho = (t / sin t) w`` move by
-        ``(t / sin t) (u x du) - h(t) (u . du) w``, ``h = (sin t - t cos t) / sin^3 t``
+        ``drho = (t / sin t) (u x du) - h(t) (u . du) w``, ``h = (sin t - t cos t) / sin^3 t``
         (``u' . du = 0``). The shifts solve ``C tau = g`` with ``C = P J(rho) [e1 e2]``,
         ``g = P (p' - p)`` and ``P = I - u' u'^T``, exactly (both in the plane normal to
         ``u'``); differentiated and multiplied by ``C^T`` (``C^T u' = 0``):
-        ``C^T C dtau = C^T (dp - (u' . (p' - q)) du - dJ[drho] v)``, ``v = [e1 e2] tau`` and
-        ``q = p + J(rho) v`` the reference point moved onto the line.
+        ``C^T C dtau = C^T (dp - (u' . (p' - q)) du - dJ[drho] v)`` with ``v = [e1 e2] tau``,
+        ``q = p + J(rho) v`` the reference point moved onto the line, and, ``J = I + b S +
+        c S^2`` (``S = [rho]``, ``V = [v]``), ``dJ[drho] v = -(b V + c (2 S V - V S)) drho +
+        (rho . drho) S (b' v + c' S v) / t``.
         """
         n = len(self.axis)
-        u, other, basis = self.axis, self.other_axis, self.basis
-        f1, f2 = normal_bases(other)
-        du = np.stack([-f2, f1])  # (2, n, 3): the turns' moves of u'
-        h, db, dc, b, c = _turn_coefficients(self.angle)
-        lean = np.add.reduce(du * u, axis=2)  # (2, n): u . du
-        drho = self.ratio[:, None] * cross_rows(u, du) - (h * lean)[:, :, None] * self.cross
-        out = np.zeros((4, n, 4))
-        out[:2, :, :2] = np.add.reduce(drho[:, :, :, None] * basis, axis=2)
-        # dJ[drho] v = b drho x v + c (drho x (rho x v) + rho x (drho x v))
-        #   + (rho . drho) (b'/t rho x v + c'/t rho x (rho x v))
-        rho = self.rho
-        v = np.add.reduce(basis * self.values[:, None, 2:], axis=2)
-        rv = cross_rows(rho, v)
-        rrv = cross_rows(rho, rv)
-        dv = cross_rows(drho, v)
-        along = np.add.reduce(rho * drho, axis=2)[:, :, None]  # (2, n, 1)
-        dj = (
-            b[:, None] * dv
-            + c[:, None] * (cross_rows(drho, rv) + cross_rows(rho, dv))
-            + along * (db[:, None] * rv + dc[:, None] * rrv)
-        )
-        moved = self.point + np.einsum("nij,nj->ni", self.jacobian, v)  # q
-        slide = np.add.reduce(other * (self.other_point - moved), axis=1)  # u' . (p' - q)
-        rhs = np.empty((4, n, 3))
-        rhs[:2] = -slide[:, None] * du - dj
-        rhs[2], rhs[3] = f1, f2
-        g = np.add.reduce(self.cols[None] * rhs[:, :, :, None], axis=2)  # (4, n, 2): C^T rhs
+        f1, f2 = normal_bases(self.other_axis)
+        moves = np.empty((n, 3, 4))  # each chart direction's du (turns) or dp (shifts)
+        moves[:, :, 0], moves[:, :, 1], moves[:, :, 2], moves[:, :, 3] = -f2, f1, f1, f2
+        du = moves[:, :, :2]
+        v = np.matmul(self.basis, self.values[:, 2:, None])  # (n, 3, 1)
+        su, s, sv = np.split(skew_batch(np.concatenate((self.axis, self.rho, v[:, :, 0]))), 3)
+        h, db, dc, b, c = _turn_coefficients(self.angle)[..., None, None].transpose(1, 0, 2, 3)
+        drho = self.ratio[:, None, None] * su - h * self.cross[:, :, None] * self.axis[:, None]
+        drho = drho @ du  # (n, 3, 2)
+        ssv = s @ sv
+        rv = s @ v
+        dj = (db * rv + dc * (s @ rv)) @ self.rho[:, None] - b * sv - c * (ssv + ssv - sv @ s)
+        moved = self.point[:, :, None] + self.jacobian @ v  # q
+        slide = self.other_axis[:, None] @ (self.other_point[:, :, None] - moved)  # (n, 1, 1)
+        moves[:, :, :2] = -slide * du - dj @ drho
         a, b2, d, det = self.normal
-        out[:, :, 2] = (d * g[:, :, 0] - b2 * g[:, :, 1]) / det
-        out[:, :, 3] = (a * g[:, :, 1] - b2 * g[:, :, 0]) / det
+        inverse = np.stack((d, -b2, -b2, a), axis=1).reshape(n, 2, 2) / det[:, None, None]
+        out = np.zeros((n, 4, 4))
+        out[:, :2, :2] = self.basis.transpose(0, 2, 1) @ drho
+        out[:, 2:] = inverse @ (self.cols.transpose(0, 2, 1) @ moves)
         return out
 
 
-def _turn_coefficients(angle: Mat) -> tuple[Mat, Mat, Mat, Mat, Mat]:
-    """Of each angle ``t`` ``(n,)``: ``h = (sin t - t cos t) / sin^3 t`` (:meth:`LineCoordinates.
-    tangent`), ``b'(t) / t`` and ``c'(t) / t`` with ``b, c`` the left Jacobian's
-    (:func:`.lie.coefficients`: ``(1 - cos t) / t^2``, ``(t - sin t) / t^3``), and ``b, c``;
-    below :data:`_SERIES` the first three from their series (to ``t^8``), where the closed forms
-    cancel (each multiplies a ``t^2``: above, their rounding costs a few units of 1e-16)."""
+def _turn_coefficients(angle: Mat) -> Mat:
+    """``(n, 5)``: of each angle ``t`` ``(n,)``, ``h = (sin t - t cos t) / sin^3 t``
+    (:meth:`LineCoordinates.tangent`), ``b'(t) / t``, ``c'(t) / t``, ``b`` and ``c`` with ``b, c``
+    the left Jacobian's (:func:`.lie.coefficients`: ``(1 - cos t) / t^2``, ``(t - sin t) /
+    t^3``); below :data:`_SERIES` from their series to ``t^8`` (the first three cancel; each
+    multiplies a ``t^2`` there, so the closed forms' rounding above costs a few units of 1e-16)."""
     t2 = angle * angle
-    b, c = np.array([coefficients(a)[1:] for a in t2.tolist()]).reshape(-1, 2).T
-    near = angle < _SERIES
-    series = (
-        1 / 3 + t2 * (2 / 15 + t2 * (2 / 63 + t2 * (4 / 675 + t2 * (2 / 2079)))),
-        -1 / 12 + t2 * (1 / 180 + t2 * (-1 / 6720 + t2 * (1 / 453600 - t2 / 47900160))),
-        -1 / 60 + t2 * (1 / 1260 + t2 * (-1 / 60480 + t2 * (1 / 4989600 - t2 / 622702080))),
-    )
-    if near.all():
-        return (*series, b, c)
-    t = np.where(near, 1.0, angle)
-    tt, sin, cos = t * t, np.sin(t), np.cos(t)
-    closed = ((sin - t * cos) / (sin * sin * sin), (sin / t - 2.0 * b) / tt, (b - 3.0 * c) / tt)
-    h, db, dc = (np.where(near, s, f) for s, f in zip(series, closed, strict=True))
-    return h, db, dc, b, c
+    out: Mat = (t2[:, None] ** _POWERS) @ _SERIES_TERMS
+    far = angle >= _SERIES
+    if far.any():
+        t = angle[far]
+        tt, sin, cos = t * t, np.sin(t), np.cos(t)
+        b, c = np.array([coefficients(x)[1:] for x in tt.tolist()]).T
+        out[far] = np.stack(
+            (
+                (sin - t * cos) / (sin * sin * sin),
+                (sin / t - 2.0 * b) / tt,
+                (b - 3.0 * c) / tt,
+                b,
+                c,
+            ),
+            axis=1,
+        )
+    return out
 
 
 _SERIES = 0.1  # below this angle (rad) the turns' coefficients come from their series
+_POWERS = np.arange(5)  # of t^2
+_SERIES_TERMS = np.array(  # each power's term (rows) in h, b'/t, c'/t, b, c (columns)
+    [
+        [1 / 3, -1 / 12, -1 / 60, 1 / 2, 1 / 6],
+        [2 / 15, 1 / 180, 1 / 1260, -1 / 24, -1 / 120],
+        [2 / 63, -1 / 6720, -1 / 60480, 1 / 720, 1 / 5040],
+        [4 / 675, 1 / 453600, 1 / 4989600, -1 / 40320, -1 / 362880],
+        [2 / 2079, -1 / 47900160, -1 / 622702080, 1 / 3628800, 1 / 39916800],
+    ]
+)
 
 
 def local_coordinates(est: Estimate, other: Estimate) -> Mat:

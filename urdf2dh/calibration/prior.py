@@ -282,7 +282,7 @@ class _Where:
         The tangent's entries that are 1 (rows, free positions).
     moved, moved_from
         The tangent's line entries (rows, free positions), and their places in the flattened
-        line tangent ``(slot moved, joint, coordinate)`` (:meth:`.chart.LineCoordinates.
+        line tangent ``(joint, coordinate, slot moved)`` (:meth:`.chart.LineCoordinates.
         tangent`).
     """
 
@@ -309,7 +309,7 @@ class _Where:
         for s in range(4):
             mine = line & (column[joint, s] >= 0)  # rows whose joint has this coordinate
             parts.append(
-                (rows[mine], column[joint[mine], s], (s * n + joint[mine]) * 4 + slot[mine])
+                (rows[mine], column[joint[mine], s], (joint[mine] * 4 + slot[mine]) * 4 + s)
             )
         moved = tuple(np.concatenate([p[k] for p in parts]) for k in range(3))
 
