@@ -22,6 +22,7 @@ from __future__ import annotations
 import math
 from collections import Counter
 from dataclasses import replace
+from functools import partial
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -40,7 +41,7 @@ from .levels import LOWER
 from .measurements import Measurements
 from .outliers import Outliers
 from .residuals import Data, errors, evaluate, rms
-from .result import Calibration, Comparison, Counts, Held, Noise, Parameter, Residuals
+from .result import Calibration, Comparison, Counts, Held, Later, Noise, Parameter, Residuals
 from .select import Pass, Score, Selection
 from .start import to_data
 from .userunits import UserUnits
@@ -554,7 +555,7 @@ def assemble(chosen: Pass, result: Identified, outliers: Outliers, options: Opti
         conv,
         table,
         reason,
-        _diff(nominal, result.model, table, style, tol),
+        Later(partial(_diff, nominal, result.model, table, style, tol)),
         tuple(warnings),
         user,
         tuple(int(r) + 1 for r in fit_rows),
