@@ -5,8 +5,8 @@ Every figure is in the measurements' length unit (:mod:`.userunits`) and radians
 and the table keep the nominal's length unit.
 
 What the fit decided, and what judging it reads, is made by :func:`~.calibration.calibrate`;
-a figure that only its presentation reads (the ``diff`` against the nominal) is made the first
-time it is read, and kept (:class:`Later`).
+a figure that only its presentation reads (the parameters' values and changes, the ``diff``
+against the nominal) is made the first time it is read, and kept (:class:`Later`).
 """
 
 from __future__ import annotations
@@ -221,7 +221,7 @@ class Calibration:
     comparisons
         Before and after on each set (fit, held out, validation).
     parameters
-        The identified parameters.
+        The identified parameters (made when first read).
     held
         The level's parameters held at the nominal's values, with the reason.
     barely_moved
@@ -267,7 +267,7 @@ class Calibration:
     formula: str
     in_words: str
     comparisons: tuple[Comparison, ...]
-    parameters: tuple[Parameter, ...]
+    _parameters: Later[tuple[Parameter, ...]]  # what ``parameters`` reads
     held: tuple[Held, ...]
     barely_moved: tuple[tuple[str, float], ...]
     suspects: tuple[Suspect, ...]
@@ -282,6 +282,11 @@ class Calibration:
     units: UserUnits
     rows: tuple[int, ...] = field(default=(), repr=False)  # fitted rows' numbers in the file
     schema: str = SCHEMA
+
+    @property
+    def parameters(self) -> tuple[Parameter, ...]:
+        """The identified parameters."""
+        return self._parameters.get()
 
     @property
     def diff(self) -> Diff:
