@@ -37,7 +37,7 @@ from numpy.typing import NDArray
 from ..errors import InputError
 from ..model.poe import PoeModel
 from ..tolerances import NOISE_FLOOR
-from .chart import Estimate, count, names
+from .chart import Estimate, all_names, count
 from .evidence import linearised, maximise
 from .identifiable import free_coordinates
 from .levels import LEVELS
@@ -128,6 +128,7 @@ def solve_level(
     locations: Mat | None = None,
     deviations: Deviations | None = None,
     stats: bool = True,
+    prior: tuple[LinkErrors | None, Deviations | None] | None = None,
 ) -> Fit:
     """Solve ``est``'s level on ``data``, weighting as ``opts`` says (module docstring, step 3).
 
@@ -135,7 +136,9 @@ def solve_level(
     ``reference`` is the prior's centre and ``locations`` ``(n, 3)`` the joints' locations in
     the device frame (:func:`joint_locations`), for a level with a prior; ``deviations``,
     where their estimate starts (a simpler level's: nested levels continue from there);
-    ``stats``: whether to compute the solution's statistics (:func:`with_statistics`)."""
+    ``stats``: whether to compute the solution's statistics (:func:`with_statistics`);
+    ``prior``: :func:`.start.prior_of` of ``est``, ``reference`` and ``locations``, when the
+    caller found it already."""
     notes: list[str] = []
     given = opts.noise_pos is not None
     sp, sr = (
@@ -143,12 +146,12 @@ def solve_level(
         if given
         else (noise if noise is not None else (1.0, 1.0 / size))
     )
-    errors, stated = prior_of(est, opts, reference, locations)
+    errors, stated = prior_of(est, opts, reference, locations) if prior is None else prior
     if errors is not None and stated is None:
         fit = _solve_with_evidence(est, data, opts, size, errors, (sp, sr), deviations, notes)
         return with_statistics(fit, data) if stats else fit
-    prior = None if errors is None or stated is None else Regulariser.of(errors, stated)
-    problem = Problem(data, sp, sr, prior)
+    rows = None if errors is None or stated is None else Regulariser.of(errors, stated)
+    problem = Problem(data, sp, sr, rows)
     floors = (NOISE_FLOOR * size, NOISE_FLOOR)
     if count(est) == 0:
         lin = problem.linearise(est)
@@ -159,7 +162,7 @@ def solve_level(
     step = np.zeros(0)
     while not given and sol.converged and count(est) and rounds < _WEIGHT_ROUNDS:
         rounds += 1
-        if prior is None and opts.pose:  # only their ratio matters: that of greatest evidence
+        if rows is None and opts.pose:  # only their ratio matters: that of greatest evidence
             lin = sol.lin
             found, _, step = maximise(
                 linearised(lin.residuals, lin.jacobian, data.rows), (sp, sr), np.zeros(0), floors
@@ -170,7 +173,7 @@ def solve_level(
             at = statistics(sol.lin, problem, exact=False)
             new_sp, new_sr = _components(data, at, sp, sr)
             new_sp, new_sr = bounded_noise(new_sp, new_sr if opts.pose else sr, size)
-            settled = prior is None or (
+            settled = rows is None or (
                 max(abs(new_sp / sp - 1.0), abs(new_sr / sr - 1.0)) <= _WEIGHT_SETTLED
             )
         sp, sr = new_sp, new_sr
@@ -179,7 +182,7 @@ def solve_level(
             break
         again = solve(sol.estimate, problem, size, opts.max_iterations, lin=sol.lin, first=step)
         sol = replace(again, iterations=sol.iterations + again.iterations)
-    fit = Fit(sol, None, sp, sr, tuple(notes), prior)
+    fit = Fit(sol, None, sp, sr, tuple(notes), rows)
     return with_statistics(fit, data) if stats else fit
 
 
@@ -255,30 +258,41 @@ def _solve_with_evidence(
 
 
 def fit_before(
-    nominal: PoeModel, fit: Measurements, opts: FitOptions, ids: list[int]
+    nominal: PoeModel,
+    fit: Measurements,
+    opts: FitOptions,
+    ids: list[int],
+    placed: Mat | None = None,
 ) -> tuple[Estimate, Fit]:
-    """The start (the nominal placed by the rigid fit) and the ``base-tool`` level's fit."""
-    start = start_estimate(nominal, placement(nominal, fit, opts, ids), opts, ids)
+    """The start (the nominal placed by the rigid fit, ``placed`` when the caller has it:
+    :func:`.start.placement`) and the ``base-tool`` level's fit (its statistics not computed:
+    :func:`with_statistics`)."""
+    g = placement(nominal, fit, opts, ids) if placed is None else placed
+    start = start_estimate(nominal, g, opts, ids)
     data = to_data(fit, opts.pose, ids)
     check_equations(count(start), data, fit.source, opts.pose)
     base_opts = replace(opts, prior=NONE)
-    return start, solve_level(start, data, base_opts, nominal.size())
+    return start, solve_level(start, data, base_opts, nominal.size(), stats=False)
 
 
 def joint_locations(
-    nominal: PoeModel, fit: Measurements, opts: FitOptions, ids: list[int], before: Estimate
+    nominal: PoeModel,
+    fit: Measurements,
+    opts: FitOptions,
+    ids: list[int],
+    before: Estimate,
+    placed: Mat | None = None,
 ) -> Mat:
     """``(n, 3)`` each joint's location in the device frame: the nominal's joint points (the
-    joint origins of a URDF; a point of the line where none is given) as the rigid fit and the
-    base-and-tool fit placed them."""
-    g = before.base_motion() @ placement(nominal, fit, opts, ids)
-    chain = start_estimate(nominal, np.eye(4), opts, ids).chain
-    points = np.array(
-        [
-            j.point if j.point is not None else c
-            for j, c in zip(nominal.joints, chain.point, strict=True)
-        ]
-    )
+    joint origins of a URDF; a point of the line where none is given) as the rigid fit
+    (``placed``, when the caller has it: :func:`.start.placement`) and the base-and-tool fit
+    placed them."""
+    g = before.base_motion() @ (placement(nominal, fit, opts, ids) if placed is None else placed)
+    given = [j.point for j in nominal.joints]
+    if any(p is None for p in given):
+        line = start_estimate(nominal, np.eye(4), opts, ids).chain.point
+        given = [c if p is None else p for p, c in zip(given, line, strict=True)]
+    points = np.array(given)
     return points @ g[:3, :3].T + g[:3, 3]
 
 
@@ -308,6 +322,6 @@ def level_start(
     free, carried = free_coordinates(
         est, opts.fixed_patterns, nominal.limits(), nominal.size(), ids, structure
     )
-    every = names(est, ids)
+    every = all_names(est, ids)  # est.free is None: every coordinate's
     fixed = [n for n, f in zip(every, free, strict=True) if not f and n not in carried]
     return replace(est, free=free), carried, fixed

@@ -24,15 +24,19 @@ from numpy.typing import NDArray
 from ..errors import InputError, choices
 from ..tolerances import BARELY_MOVED, RANK_RELATIVE
 from .chart import Estimate, all_names, sizes
-from .residuals import evaluate, observed
+from .levels import Level
+from .residuals import Data, evaluate, observed
 
 __all__ = [
     "barely_moved",
+    "carried_at_levels",
     "check_patterns",
     "fixed_by_name",
     "free_coordinates",
     "redundant",
 ]
+
+Mat = NDArray[np.float64]
 
 _SAMPLES = 40  # configurations of the structural test (seeded; each gives 3 or 6 rows)
 
@@ -42,7 +46,11 @@ def fixed_by_name(
 ) -> NDArray[np.bool_]:
     """The level's coordinates that ``patterns`` (names or shell-style patterns such as
     ``*.scale``, ``arm_7_joint.*``) fix."""
-    names = all_names(est, marker_ids)
+    return _named(all_names(est, marker_ids), patterns)
+
+
+def _named(names: list[str], patterns: tuple[str, ...]) -> NDArray[np.bool_]:
+    """Which of ``names`` ``patterns`` match."""
     return np.array([any(fnmatch.fnmatchcase(n, p) for p in patterns) for n in names], dtype=bool)
 
 
@@ -75,10 +83,40 @@ def redundant(est: Estimate, limits: NDArray[np.float64], size: float) -> NDArra
     ``limits``: ``(n, 2)`` the joints' ranges to draw configurations from; ``size``: the
     robot's size (rotation rows count at that lever).
     """
-    probe = replace(est, free=None)
+    return carried_at_levels(est, (est.level,), limits, size)[est.level.name]
+
+
+def carried_at_levels(
+    est: Estimate, levels: tuple[Level, ...], limits: NDArray[np.float64], size: float
+) -> dict[str, NDArray[np.bool_]]:
+    """:func:`redundant` of ``est``'s model at each of ``levels``, by name: the configurations
+    drawn and observed once for all (the model's motion is the same at every level), and a
+    level whose coordinates are all a richer one's (``geometry``'s are ``full``'s) tested on
+    that one's Jacobian columns (the same columns: the chart's formula is the same)."""
     rng = np.random.default_rng((0, 6))
     q = rng.uniform(limits[:, 0], limits[:, 1], size=(_SAMPLES, est.n))
-    _, jac = evaluate(probe, observed(probe, q), size, 1.0)
+    data: Data | None = None
+    evaluated: list[tuple[dict[str, int], Mat]] = []  # each evaluated level's columns by name
+    out: dict[str, NDArray[np.bool_]] = {}
+    for level in sorted(levels, key=lambda lv: -sum(sizes(est.with_level(lv), every=True))):
+        probe = replace(est, free=None) if level == est.level else est.with_level(level)
+        every = all_names(probe)
+        jac = next(
+            (j[:, [at[n] for n in every]] for at, j in evaluated if all(n in at for n in every)),
+            None,
+        )
+        if jac is None:
+            data = observed(probe, q) if data is None else data
+            _, jac = evaluate(probe, data, size, 1.0)
+            evaluated.append(({n: k for k, n in enumerate(every)}, jac))
+        out[level.name] = _carried(probe, jac)
+    return out
+
+
+def _carried(est: Estimate, jac: Mat) -> NDArray[np.bool_]:
+    """The coordinates of ``est``'s level (all of them) whose columns of ``jac`` lie within
+    :data:`~urdf2dh.tolerances.RANK_RELATIVE` of the span of those before them in the test's
+    order (module docstring)."""
     norms = np.linalg.norm(jac, axis=0)
     order = _order(est)
     unit = jac[:, order] / np.where(norms[order] > 0.0, norms[order], 1.0)
@@ -109,10 +147,10 @@ def free_coordinates(
     """The level's free coordinates: not fixed by ``patterns``, not carried by the others
     (``carried``, when the caller found them already for this level and chain). Also the names
     of the coordinates the others carry."""
-    fixed = fixed_by_name(est, patterns, marker_ids)
+    names = all_names(est, marker_ids)
+    fixed = _named(names, patterns)
     if carried is None:
         carried = redundant(est, limits, size)
-    names = all_names(est, marker_ids)
     return ~(fixed | carried), [
         n for n, c, f in zip(names, carried, fixed, strict=True) if c and not f
     ]

@@ -119,12 +119,11 @@ def identify(
         where = joint_locations(nominal, fit, opts, ids, before_est)
         result = solve_level(est0, data, opts, size, est0, noise, where)
     est = result.solution.estimate
+    flat = absorbed(est)
     notes = list(result.notes)
-    device, markers_on_tool = _device_model(nominal, start, est, fit, opts, ids, notes)
+    device, markers_on_tool = _device_model(nominal, start, est, flat, fit, opts, ids, notes)
     identified_points = (
-        pose_points(model_poses(absorbed(est), fit.q), size)
-        if opts.pose
-        else modelled_points(absorbed(est), data)
+        pose_points(model_poses(flat, fit.q), size) if opts.pose else modelled_points(flat, data)
     )
     nominal_pts = nominal_points(nominal, fit, opts, ids)
     if nominal.n:
@@ -166,14 +165,15 @@ def _device_model(
     nominal: PoeModel,
     start: Estimate,
     est: Estimate,
+    flat: Estimate,
     fit: Measurements,
     opts: FitOptions,
     ids: list[int],
     notes: list[str],
 ) -> tuple[PoeModel, dict[int, Mat]]:
-    """The identified model in the device frame (step 5) and the markers on its tool."""
+    """The identified model in the device frame (step 5) and the markers on its tool
+    (``flat``: ``est`` with its offsets absorbed, :func:`.chart.absorbed`)."""
     size = nominal.size()
-    flat = absorbed(est)
     markers_on_tool: dict[int, Mat] = {}
     if est.tool == FRAME:
         home = flat.home

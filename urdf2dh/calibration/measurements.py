@@ -293,11 +293,17 @@ class Measurements:
         their first row) and how many there are."""
         if len(self) == 0:
             return np.zeros(0, dtype=np.int64), 0
-        _, first, inverse = np.unique(self.q, axis=0, return_index=True, return_inverse=True)
-        order = np.argsort(first, kind="stable")  # unique's numbering -> file order
-        rank = np.empty_like(order)
-        rank[order] = np.arange(len(order))
-        return rank[inverse.ravel()].astype(np.int64), len(first)
+        order = np.lexsort(self.q.T[::-1])  # the rows sorted, equal rows in file order
+        ranked = self.q[order]
+        starts = np.empty(len(order), dtype=bool)  # where a sorted row differs from the last
+        starts[0] = True
+        np.any(ranked[1:] != ranked[:-1], axis=1, out=starts[1:])
+        first = order[starts]  # each configuration's first row
+        number = np.empty(len(first), dtype=np.int64)
+        number[np.argsort(first)] = np.arange(len(first))  # numbered in file order
+        out = np.empty(len(order), dtype=np.int64)
+        out[order] = number[np.cumsum(starts) - 1]
+        return out, len(first)
 
     def subset(self, rows: NDArray[np.int64]) -> Measurements:
         """The measurements at ``rows``."""

@@ -36,7 +36,6 @@ from ..tolerances import OUTLIER_CHANCE, OUTLIER_GAIN, OUTLIER_SHARE
 from .chart import count
 from .fit import Fit, with_statistics
 from .measurements import Measurements
-from .residuals import residuals
 from .select import Pass, Selection, judge_levels, per_configuration, predicted_without, within
 from .start import to_data
 
@@ -73,12 +72,14 @@ class Suspect:
 
 
 def suspects(fit: Measurements, result: Fit, pose: bool, ids: list[int]) -> list[Suspect]:
-    """The measurements of ``fit`` whose residuals at ``result`` are beyond the threshold."""
+    """The measurements of ``fit`` whose residuals at ``result`` (a fit to ``fit``: the residuals
+    its linearisation holds) are beyond the threshold."""
     from scipy.stats import chi2
 
     data = to_data(fit, pose, ids)
-    r = residuals(result.solution.estimate, data, result.sigma_pos, result.sigma_rot)
-    rows = r.reshape(len(data), data.rows)
+    sigmas = np.array([result.sigma_pos] * 3 + [result.sigma_rot] * 3)[: data.rows]
+    # the weighted residuals at the solution: its linearisation's, over the noise levels
+    rows = result.solution.lin.residuals.reshape(len(data), data.rows) / sigmas
     m = len(data) * data.rows
     leverage = result.statistics.leverage[:m].reshape(len(data), data.rows).sum(axis=1)
     standardised = np.sum(rows**2, axis=1) / np.maximum(1.0 - leverage / data.rows, 1e-3)

@@ -64,6 +64,8 @@ MEASUREMENTS_HINT = "urdf2dh.measure(model, N) makes some"
 
 def holdout_split(m: Measurements, fraction: float, seed: int) -> tuple[Rows, Rows]:
     """Rows to fit and rows held out (module docstring), both in file order."""
+    if fraction == 0.0:  # none held out: every row fitted
+        return np.arange(len(m), dtype=np.int64), np.zeros(0, dtype=np.int64)
     index, count = m.configurations()
     held = np.sort(np.random.default_rng((seed, 3)).permutation(count)[: round(fraction * count)])
     out = np.isin(index, held)

@@ -47,13 +47,12 @@ from ..progress import progress
 from ..tolerances import RANK_RELATIVE
 from .chart import Estimate, count
 from .fit import Fit, check_equations, fit_before, joint_locations, level_start, solve_level
-from .identifiable import check_patterns, redundant
+from .identifiable import carried_at_levels, check_patterns
 from .levels import AUTO, BASE_TOOL, LEVELS
 from .measurements import Measurements
 from .prior import Deviations
-from .residuals import Data, errors
 from .solver import Linearisation, Problem
-from .start import FitOptions, has_prior, prior_of, to_data
+from .start import FitOptions, has_prior, placement, prior_of, to_data
 
 if TYPE_CHECKING:
     from .problem import CalibrationProblem, LevelChoice, Options
@@ -62,6 +61,7 @@ __all__ = [
     "Pass",
     "Score",
     "Selection",
+    "Shared",
     "cross_validate",
     "fold_of_configurations",
     "judge_levels",
@@ -284,14 +284,18 @@ def level_fits(
     ids: list[int],
     before: Fit,
     levels: tuple[str, ...],
+    shared: Shared | None = None,
 ) -> tuple[dict[str, Fit], dict[str, str]]:
     """Each level fitted to all of ``fit`` (from ``before``, the base-tool fit, each from the
-    simpler one's solution), and why the levels that could not be fitted were not."""
+    simpler one's solution), and why the levels that could not be fitted were not.
+    ``shared``: what the levels read, when found already (:class:`Shared`)."""
     size = nominal.size()
+    if shared is None:
+        shared = Shared.of(nominal, fit, opts, ids, before, _fitted(levels, opts))
+    structures, locations = shared.structures, shared.locations
     data = to_data(fit, opts.pose, ids)
     fits: dict[str, Fit] = {}
     failures: dict[str, str] = {}
-    locations = joint_locations(nominal, fit, opts, ids, before.solution.estimate)
     previous = before.solution.estimate  # each level starts from the simpler one's solution
     noise = (before.sigma_pos, before.sigma_rot)
     deviations: Deviations | None = None  # ... and its prior's estimate from the simpler one's
@@ -300,14 +304,14 @@ def level_fits(
             fits[level] = before
             continue
         lopts = replace(opts, level=level)
-        structure = redundant(
-            before.solution.estimate.with_level(LEVELS[level]), nominal.limits(), size
-        )
+        structure = structures[level]
         reference, _, _ = level_start(nominal, before.solution.estimate, lopts, ids, structure)
+        # the simpler level's solution with the same free coordinates (they depend on the
+        # level, the chain's kinds and the names fixed, not on where it starts)
         start = (
             reference
             if previous is before.solution.estimate
-            else level_start(nominal, previous, lopts, ids, structure)[0]
+            else previous.with_level(LEVELS[level], reference.free)
         )
         errors, stated = prior_of(start, lopts, reference, locations)
         if errors is None and count(start) > len(data) * data.rows:
@@ -316,8 +320,9 @@ def level_fits(
             )
             continue
         fits[level] = solve_level(
-            start, data, lopts, size, reference, noise, locations, deviations, stats=False
-        )
+            start, data, lopts, size, noise=noise, deviations=deviations, stats=False,
+            prior=(errors, stated),
+        )  # fmt: skip
         if fits[level].solution.converged:
             previous = fits[level].solution.estimate
             noise = (fits[level].sigma_pos, fits[level].sigma_rot)
@@ -327,6 +332,48 @@ def level_fits(
         else:
             failures[level] = f"its fit did not converge in {opts.max_iterations} iterations"
     return fits, failures
+
+
+def _fitted(levels: tuple[str, ...], opts: FitOptions) -> tuple[str, ...]:
+    """The levels :func:`level_fits` fits (the base-tool level's fit is the one before, unless
+    parameters are fixed by name)."""
+    return tuple(lv for lv in levels if lv != BASE_TOOL.name or opts.fixed_patterns)
+
+
+@dataclass(frozen=True, slots=True)
+class Shared:
+    """What every level fitted from one base-tool fit reads, found once.
+
+    Attributes
+    ----------
+    structures
+        Each level's coordinates that the others carry (:func:`.identifiable.redundant`), by
+        name.
+    locations
+        ``(n, 3)`` the joints' locations in the device frame (:func:`.fit.joint_locations`).
+    """
+
+    structures: dict[str, NDArray[np.bool_]]
+    locations: Mat
+
+    @classmethod
+    def of(
+        cls,
+        nominal: PoeModel,
+        fit: Measurements,
+        opts: FitOptions,
+        ids: list[int],
+        before: Fit,
+        levels: tuple[str, ...],
+        placed: Mat | None = None,
+    ) -> Shared:
+        """For ``levels``, fitted from ``before`` to ``fit``; ``placed``: the rigid fit
+        (:func:`.start.placement`), when the caller has it."""
+        est = before.solution.estimate
+        structures = carried_at_levels(
+            est, tuple(LEVELS[lv] for lv in levels), nominal.limits(), nominal.size()
+        )
+        return cls(structures, joint_locations(nominal, fit, opts, ids, est, placed))
 
 
 def cross_validate(
@@ -339,23 +386,25 @@ def cross_validate(
     folds: int | None = None,
     seed: int = 0,
     rule: str = "simplest",
+    shared: Shared | None = None,
 ) -> tuple[Selection, dict[str, Fit]]:
     """Judge ``levels`` on ``fit`` by leaving out configurations (or ``folds`` seeded folds of
     them) and choose one (module docstring).
 
     ``before`` is the base-tool level's fit to all of ``fit``; ``rule`` is ``simplest`` or
-    ``best``. Returns the selection and every level's fit to all the measurements.
+    ``best``; ``shared`` as :func:`level_fits` takes it. Returns the selection and every
+    level's fit to all the measurements.
     """
     index, configurations = fit.configurations()
     group = fold_of_configurations(configurations, folds, seed)[index]
-    fits, failures = level_fits(nominal, fit, opts, ids, before, levels)
+    fits, failures = level_fits(nominal, fit, opts, ids, before, levels, shared)
     data = to_data(fit, opts.pose, ids)
     at = {lv: (f.problem(data), f.solution.lin) for lv, f in fits.items() if lv not in failures}
     left_out, per_config = _left_out(at, group, index, configurations, failures)
     judged = [lv for lv in levels if lv in per_config]
     richest = fits[judged[-1]] if judged else before
     weights = _weights(richest, data.rows)
-    scores = [_score(level, fits, failures, per_config, data, opts.pose) for level in levels]
+    scores = [_score(level, fits, failures, per_config, opts.pose) for level in levels]
     seed_used = _seed_used(folds, seed, configurations)
     groups = int(group.max(initial=-1)) + 1
     if not judged:
@@ -429,13 +478,12 @@ def _score(
     fits: dict[str, Fit],
     failures: dict[str, str],
     per_config: dict[str, Mat],
-    data: Data,
     pose: bool,
 ) -> Score:
     f = fits.get(level)
     fit_rms, parameters, iterations, prior = math.nan, 0, 0, None
     if f is not None:
-        fit_rms = math.sqrt(float(np.mean(errors(f.solution.estimate, data)[:, 0] ** 2)))
+        fit_rms = math.sqrt(float(np.mean(f.solution.lin.errors()[:, 0] ** 2)))
         parameters = count(f.solution.estimate)
         iterations = f.solution.iterations
         prior = None if f.prior is None else f.prior.deviations
@@ -534,25 +582,31 @@ def judge_levels(problem: CalibrationProblem, options: Options, first: bool = Tr
     choice, opts = options.choice, options.fitting
     nominal, fit, ids = problem.nominal, problem.fit, problem.markers
     levels = choice.levels(opts.keep_scale)
-    start, before = fit_before(nominal, fit, opts, ids)
+    placed = placement(nominal, fit, opts, ids)
+    start, before = fit_before(nominal, fit, opts, ids, placed)
     if first and not before.solution.converged:
         return Pass(
             problem, opts, start, before, Selection(0, None, 0, (), None, None, ""), {}, None
         )
+    checked = levels if first and opts.fixed else (choice.level,) if first else ()
+    found = tuple(lv for lv in levels if lv in _fitted(levels, opts) + checked)
+    shared = Shared.of(nominal, fit, opts, ids, before, found, placed)
+    structures = shared.structures
+    at = before.solution.estimate
     if first and choice.level != AUTO:  # fewer equations than its parameters: say so now
-        est, _, _ = level_start(
-            nominal, before.solution.estimate, replace(opts, level=choice.level), ids
-        )
+        lopts = replace(opts, level=choice.level)
+        est, _, _ = level_start(nominal, at, lopts, ids, structures[choice.level])
         if not has_prior(est, opts):
             check_equations(count(est), to_data(fit, opts.pose, ids), fit.source, opts.pose)
     if first and opts.fixed:
         probes = [
-            level_start(nominal, before.solution.estimate, replace(opts, level=lv), ids)[0]
+            level_start(nominal, at, replace(opts, level=lv), ids, structures[lv])[0]
             for lv in levels
         ]
         check_patterns(opts.fixed, probes, ids)
     selection, fits = cross_validate(
-        nominal, fit, opts, ids, before, levels, choice.folds, choice.seed, choice.rule
-    )
+        nominal, fit, opts, ids, before, levels, choice.folds, choice.seed, choice.rule,
+        shared,
+    )  # fmt: skip
     level = choice.level if choice.level != AUTO else selection.chosen
     return Pass(problem, opts, start, before, selection, fits, level)

@@ -50,7 +50,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import lru_cache
 from typing import Any
 
@@ -133,6 +133,13 @@ class Linearisation:
         r, jac = evaluate(est, data, 1.0, 1.0)
         return cls(est, r, jac, data.rows, None if errors is None else errors.evaluate(est))
 
+    def errors(self) -> Mat:
+        """``(N, 1 or 2)``: :func:`.residuals.errors` at the estimate, of these residuals (the
+        same formula: the norm of each measurement's position and rotation residuals)."""
+        rows = self.residuals.reshape(-1, self.rows // 3, 3)
+        out: Mat = np.sqrt(np.add.reduce(rows * rows, axis=2))
+        return out
+
 
 @dataclass(frozen=True, slots=True)
 class Problem:
@@ -152,30 +159,38 @@ class Problem:
     sigma_pos: float
     sigma_rot: float
     prior: Regulariser | None = None
+    _weights: Mat = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        w = np.full(self.data.rows, 1.0 / self.sigma_pos)
+        w[3:] = 1.0 / self.sigma_rot
+        w.setflags(write=False)
+        object.__setattr__(self, "_weights", w)
 
     def linearise(self, est: Estimate) -> Linearisation:
         """The linearisation at ``est`` of what this problem weighs."""
         return Linearisation.at(est, self.data, None if self.prior is None else self.prior.errors)
 
     def weights(self) -> Mat:
-        """``(rows,)`` each residual row's weight: ``1 / sigma`` of its kind."""
-        w = np.full(self.data.rows, 1.0 / self.sigma_pos)
-        w[3:] = 1.0 / self.sigma_rot
-        return w
+        """``(rows,)`` each residual row's weight: ``1 / sigma`` of its kind (read-only)."""
+        return self._weights
 
     def weighted(self, lin: Linearisation) -> tuple[Mat, Mat]:
         """The residuals (the measurements', then the prior's) and their Jacobian at ``lin``,
         weighed."""
         w = self.weights()
-        r = (lin.residuals.reshape(-1, lin.rows) * w).ravel()
-        jac = (lin.jacobian.reshape(-1, lin.rows, lin.jacobian.shape[1]) * w[:, None]).reshape(
-            lin.jacobian.shape
+        m, p = lin.jacobian.shape
+        k = 0 if self.prior is None else len(self.prior.whiten)  # the prior's rows, below
+        r, jac = np.empty(m + k), np.empty((m + k, p))
+        np.multiply(lin.residuals.reshape(-1, lin.rows), w, out=r[:m].reshape(-1, lin.rows))
+        np.multiply(
+            lin.jacobian.reshape(-1, lin.rows, p), w[:, None], out=jac[:m].reshape(-1, lin.rows, p)
         )
-        if self.prior is None:
-            return r, jac
-        deviations, tangent = self.prior_part(self.prior, lin)
-        whiten = self.prior.whiten
-        return np.concatenate([r, whiten @ deviations]), np.vstack([jac, whiten @ tangent])
+        if self.prior is not None:
+            deviations, tangent = self.prior_part(self.prior, lin)
+            np.matmul(self.prior.whiten, deviations, out=r[m:])
+            np.matmul(self.prior.whiten, tangent, out=jac[m:])
+        return r, jac
 
     def cost(self, lin: Linearisation) -> float:
         """The weighted sum of squares at ``lin``."""

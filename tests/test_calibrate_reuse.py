@@ -1,0 +1,99 @@
+"""Work shared between the levels of one calibration gives what each level's own gives."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import urdf2dh
+from urdf2dh.calibration.chart import Estimate, line_point
+from urdf2dh.calibration.identifiable import carried_at_levels, redundant
+from urdf2dh.calibration.levels import BASE_TOOL, LEVELS
+from urdf2dh.calibration.measurements import Measurements
+from urdf2dh.calibration.residuals import Data, errors, observed
+from urdf2dh.calibration.solver import Linearisation
+from urdf2dh.geometry.lie import exp_so3
+from urdf2dh.model.poe import Joint
+
+
+def _estimate(robot: str, markers: bool, helical: bool, keep_tool_axis: bool) -> Estimate:
+    model = urdf2dh.load(robot)
+    joints = tuple(
+        Joint(
+            j.name,
+            "helical" if helical and j.kind == "revolute" else j.kind,
+            j.axis,
+            None if j.point is None or j.kind == "prismatic" else line_point(j.axis, j.point),
+            j.pitch,
+            j.scale,
+        )
+        for j in model.joints
+    )
+    if markers:
+        points = np.array([[0.2, 0.06, -0.01], [0.26, 0.03, 0.005]]) * model.size()
+        return Estimate.of(joints, model.home.copy(), points, level=BASE_TOOL)
+    return Estimate.of(joints, model.home.copy(), level=BASE_TOOL, keep_tool_axis=keep_tool_axis)
+
+
+@pytest.mark.parametrize(
+    ("robot", "markers", "helical", "keep_tool_axis"),
+    [
+        ("ur5", False, False, False),
+        ("puma560-actual", False, True, True),
+        ("stanford", True, False, False),
+        ("panda", False, False, False),
+    ],
+)
+def test_carried_at_every_level_at_once_is_each_levels_own(robot, markers, helical, keep_tool_axis):
+    est = _estimate(robot, markers, helical, keep_tool_axis)
+    model = urdf2dh.load(robot)
+    limits, size = model.limits(), model.size()
+    together = carried_at_levels(est, tuple(LEVELS.values()), limits, size)
+    assert list(together) == ["full", "geometry", "offsets", "base-tool"]
+    for name, level in LEVELS.items():
+        alone = redundant(est.with_level(level), limits, size)
+        np.testing.assert_array_equal(together[name], alone)
+    assert together["offsets"].any()  # the first offset and the base's turn: a pair to find
+
+
+@pytest.mark.parametrize("markers", [False, True])
+def test_a_linearisations_errors_are_the_residuals_errors(markers):
+    """The fit's errors read off its linearisation are :func:`.residuals.errors`, bit for bit."""
+    robot = "stanford" if markers else "ur5"
+    model = urdf2dh.load(robot)
+    est = _estimate(robot, markers, False, False).with_level(LEVELS["geometry"])
+    rng = np.random.default_rng(7)
+    q = model.sample(12, 3)
+    seen = observed(est, q)
+    data = Data(
+        seen.q,
+        seen.points + rng.normal(size=seen.points.shape) * 1e-3 * model.size(),
+        seen.markers,
+        None
+        if seen.rotations is None
+        else seen.rotations @ exp_so3(rng.normal(size=(12, 3)) * 0.01),
+    )
+    lin = Linearisation.at(est, data)
+    assert np.array_equal(lin.errors(), errors(est, data))
+    assert lin.errors().shape == (len(data), 1 if markers else 2)
+
+
+def test_configurations_number_the_distinct_rows_in_file_order():
+    """:meth:`.Measurements.configurations` against numpy's unique rows: equal rows (``0.0``
+    and ``-0.0`` too) one configuration, each NaN row its own, numbered by their first row."""
+    rng = np.random.default_rng(11)
+    for n, k in ((1, 3), (16, 6), (80, 7), (300, 2)):
+        rows = rng.integers(-2, 3, size=(max(1, n // 3), k)).astype(float)
+        q = rows[rng.integers(0, len(rows), n)]
+        if n > 2:
+            q[1] = -q[0]  # -0.0 where q[0] is 0.0: equal rows
+            q[1][q[0] != 0.0] = q[0][q[0] != 0.0]
+            q[2, 0] = np.nan
+        m = Measurements(tuple(f"j{i}" for i in range(k)), q, np.zeros((n, 3)))
+        index, count = m.configurations()
+        _, first, inverse = np.unique(q, axis=0, return_index=True, return_inverse=True)
+        numbered = np.empty(len(first), dtype=np.int64)
+        numbered[np.argsort(first, kind="stable")] = np.arange(len(first))
+        assert count == len(first)
+        np.testing.assert_array_equal(index, numbered[inverse.ravel()])
+        assert index[0] == 0 and np.all(np.diff(np.maximum.accumulate(index)) <= 1)
