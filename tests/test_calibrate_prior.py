@@ -171,6 +171,34 @@ def test_the_evidence_equals_the_gaussian_marginal_likelihood(ur10_full):
         assert _objective(theta, lin)[0] == pytest.approx(0.5 * dense, rel=1e-9, abs=1e-6)
 
 
+@pytest.mark.parametrize("fixed", [False, True])
+def test_the_evidence_search_is_scipy_s_l_bfgs_b_on_the_objective(ur10_full, fixed):
+    """The search for the greatest evidence goes where scipy.optimize.minimize's L-BFGS-B goes
+    on :func:`_objective` (the value and gradient from one evaluation, its stopping rule, its
+    bounds), bit for bit, on the UR10's real poses: the levels, the deviations and the step
+    (the linearised model's solution there); with both noise levels free, and with the
+    positions' given (its floor is the level: a fixed bound)."""
+    from scipy.optimize import minimize
+
+    from urdf2dh.calibration.evidence import _SETTLED, _bounds, _posterior
+
+    lin = ur10_full[0]
+    noise, deviations = (2e-3, 4e-3), np.exp(_THETA[2:])
+    floors = (2e-3 if fixed else 1e-9, 1e-9)
+    levels, found, step = maximise(lin, noise, deviations, floors)
+    theta0 = np.log(np.array([*noise, *deviations]))
+    reference = minimize(
+        _objective, theta0, args=(lin,), jac=True, method="L-BFGS-B",
+        bounds=_bounds(noise, floors, len(deviations)),
+        options={"ftol": _SETTLED},
+    )  # fmt: skip
+    assert reference.nit > 3 and (abs(levels[0] / 2e-3 - 1.0) < 1e-15) == fixed
+    assert levels == tuple(np.exp(reference.x[:2]).tolist())
+    assert np.array_equal(found, np.exp(reference.x[2:]))
+    weight, tau2 = np.exp(-2.0 * reference.x[:2]), np.exp(2.0 * reference.x[2:])
+    assert np.array_equal(step, _posterior(weight, tau2, lin)[3])
+
+
 def test_the_noise_levels_without_a_prior_are_where_the_evidence_is_greatest(ur5):
     """Without a prior the noise levels of greatest evidence come from variance components
     iterated to their fixed point: there the evidence's gradient vanishes, and it is a minimum

@@ -26,7 +26,8 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from functools import cached_property
+from functools import cache, cached_property
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -38,9 +39,11 @@ __all__ = ["Linearised", "maximise"]
 Mat = NDArray[np.float64]
 
 _LOWEST, _HIGHEST = 1e-9, 1.0  # the deviations searched, rad (and x the robot's size)
-_SETTLED = 1e-7  # L-BFGS-B stops when f changes by less than this x |f| (its ftol); where the
+_SETTLED = 1e-7  # L-BFGS-B stops when f changes by less than this x |f| (minimize's ftol,
+# fmin_l_bfgs_b's factr times the machine epsilon, _EPSILON: a power of two); where the
 # evidence is flat in a deviation (a few 1e-4 of f over a factor of ten in it) it stops short of
 # the maximum there (where it stops then decides levels on real sets: TIAGo, TALOS)
+_EPSILON = float(np.finfo(float).eps)
 _COMPONENTS_ROUNDS = 100  # variance-component iterations at most (each ~halves the error)
 _COMPONENTS_SETTLED = 1e-6  # ... stopping when no noise level changes by more than this
 
@@ -67,6 +70,17 @@ class Linearised:
     shape: Mat
     offset: Mat
     parts: Mat
+
+    @cached_property
+    def doubling(self) -> Mat:
+        """``-2`` per noise level, then ``2`` per group: ``exp(doubling * theta)`` are the
+        weights ``sigma_g^-2``, then the deviations squared."""
+        return np.repeat([-2.0, 2.0], [len(self.count), len(self.parts)])
+
+    @cached_property
+    def hoisted(self) -> tuple[Mat, Mat]:
+        """``shape`` in Fortran order (as LAPACK takes it), and ``2 cross``."""
+        return np.asfortranarray(self.shape), 2.0 * self.cross
 
     @cached_property
     def traced(self) -> tuple[Mat, Mat]:
@@ -117,16 +131,23 @@ def linearised(
 
 def _objective(theta: Mat, lin: Linearised) -> tuple[float, Mat]:
     """``f`` and its gradient by ``theta``: the log noise levels, then the log deviations of
-    the groups (module docstring). With ``w_g = sigma_g^-2``, ``u = M^-1 y(x)`` and
-    ``K = M^-1 G``, the gradient by ``log sigma_g`` is ``n_g - w_g (|r_g(x)|^2 +
-    tr(H^-1 J_g^T J_g))`` and by ``log t_j`` it is ``t_j^2 tr(M_j (M^-1 - K H^-1 K^T -
-    u u^T))``, ``K H^-1 K^T = W^T W`` with ``W = L_H^-1 K^T``. LAPACK's Cholesky routines
-    directly: the matrices are small and called for often."""
+    the groups (module docstring; :func:`_evaluated`)."""
+    value, grad, _ = _evaluated(theta, lin)
+    return value, grad
+
+
+def _evaluated(theta: Mat, lin: Linearised) -> tuple[float, Mat, Mat]:
+    """:func:`_objective` and the minimising ``x``, from one factorisation of ``M`` and one
+    of ``H``. With ``w_g = sigma_g^-2``, ``u = M^-1 y(x)`` and ``K = M^-1 G``, the gradient
+    by ``log sigma_g`` is ``n_g - w_g (|r_g(x)|^2 + tr(H^-1 J_g^T J_g))`` and by ``log t_j``
+    it is ``t_j^2 tr(M_j (M^-1 - K H^-1 K^T - u u^T))``, ``K H^-1 K^T = W^T W`` with ``W =
+    L_H^-1 K^T``. LAPACK's Cholesky routines directly: the matrices are small and called for
+    often."""
     kinds = len(lin.count)
-    weight = np.exp(-2.0 * theta[:kinds])
     if not len(lin.offset):
-        return _noise_only(weight, lin)
-    tau2 = np.exp(2.0 * theta[kinds:])
+        return _noise_only(np.exp(-2.0 * theta), lin)
+    scales = np.exp(lin.doubling * theta)
+    weight, tau2 = scales[:kinds], scales[kinds:]
     lm, k_mat, lh, x = _posterior(weight, tau2, lin)
     errors = _errors(lin, x)
     v = lin.offset + lin.shape @ x
@@ -137,28 +158,26 @@ def _objective(theta: Mat, lin: Linearised) -> tuple[float, Mat]:
     value = 0.5 * (chi2 + logdet + noise)
     gram, parts = lin.traced
     w_mat = _forward(lh, k_mat.T)
-    rest = _inverse(lm) - w_mat.T @ w_mat - np.outer(u, u)
-    grad = np.empty(len(theta))
-    grad[:kinds] = lin.count - weight * (errors + gram @ _inverse(lh).ravel())
-    grad[kinds:] = tau2 * (parts @ rest.ravel())
-    return value, grad
+    rest = _inverse(lm) - w_mat.T @ w_mat - u[:, None] * u
+    by_noise = lin.count - weight * (errors + gram @ _inverse(lh).ravel())
+    return value, np.concatenate((by_noise, tau2 * (parts @ rest.ravel()))), x
 
 
-def _noise_only(weight: Mat, lin: Linearised) -> tuple[float, Mat]:
-    """:func:`_objective` without a prior, at the weights ``sigma_g^-2``."""
+def _noise_only(weight: Mat, lin: Linearised) -> tuple[float, Mat, Mat]:
+    """:func:`_evaluated` without a prior, at the weights ``sigma_g^-2``."""
     lh, x = _without_prior(lin, weight)
     errors = _errors(lin, x)
     logdet = 2.0 * float(np.log(lh.diagonal()).sum())
     value = 0.5 * (float(weight @ errors) + logdet - float(lin.count @ np.log(weight)))
     grad = lin.count - weight * (errors + _traces(lin, lh))
-    return value, grad
+    return value, grad, x
 
 
 def _posterior(weight: Mat, tau2: Mat, lin: Linearised) -> tuple[Mat, Mat, Mat, Mat]:
     """At the weights ``sigma_g^-2`` and the deviations squared: the Cholesky factor of ``M``,
     ``K = M^-1 G``, the Cholesky factor of ``H`` and the minimising ``x``."""
     lm = _factor(ridged(_summed(tau2, lin.parts)))
-    k_mat = _solve(lm, lin.shape)
+    k_mat = _solve(lm, lin.hoisted[0])
     lh = _factor(ridged(_summed(weight, lin.gram) + lin.shape.T @ k_mat))
     x = -_solve(lh, weight @ lin.cross + k_mat.T @ lin.offset)
     return lm, k_mat, lh, x
@@ -186,15 +205,21 @@ def _traces(lin: Linearised, lh: Mat) -> Mat:
 
 def _errors(lin: Linearised, x: Mat) -> Mat:
     """Each kind's ``|r_g(x)|^2`` at unit noise."""
-    out: Mat = lin.square + (2.0 * lin.cross + lin.gram @ x) @ x
+    out: Mat = lin.square + (lin.hoisted[1] + lin.gram @ x) @ x
     return out
+
+
+@cache
+def _lapack() -> Any:
+    """scipy's LAPACK wrappers, imported on first use."""
+    from scipy.linalg import lapack
+
+    return lapack
 
 
 def _factor(a: Mat) -> Mat:
     """The lower Cholesky factor of the symmetric positive definite ``a``."""
-    from scipy.linalg.lapack import dpotrf
-
-    factor, info = dpotrf(a, lower=1, clean=1)
+    factor, info = _lapack().dpotrf(a, lower=1, clean=1)
     if info:
         raise np.linalg.LinAlgError("not positive definite")
     out: Mat = factor
@@ -203,27 +228,53 @@ def _factor(a: Mat) -> Mat:
 
 def _solve(factor: Mat, b: Mat) -> Mat:
     """``A^-1 b`` from the lower Cholesky factor of ``A``."""
-    from scipy.linalg.lapack import dpotrs
-
-    out: Mat = dpotrs(factor, b, lower=1)[0]
+    out: Mat = _lapack().dpotrs(factor, b, lower=1)[0]
     return out
 
 
 def _forward(factor: Mat, b: Mat) -> Mat:
     """``L^-1 b`` from the lower Cholesky factor ``L``."""
-    from scipy.linalg.lapack import dtrtrs
-
-    out: Mat = dtrtrs(factor, b, lower=1)[0]
+    out: Mat = _lapack().dtrtrs(factor, b, lower=1)[0]
     return out
 
 
 def _inverse(factor: Mat) -> Mat:
     """The lower triangle of ``A^-1`` from the lower Cholesky factor of ``A`` (the upper
     triangle zero: :func:`_traced` reads the lower one)."""
-    from scipy.linalg.lapack import dpotri
-
-    out: Mat = dpotri(factor, lower=1)[0]
+    out: Mat = _lapack().dpotri(factor, lower=1)[0]
     return out
+
+
+class _Search:
+    """:func:`_evaluated` for L-BFGS-B, which asks for the value and then the gradient at each
+    point: one evaluation serves both, and the minimising ``x`` of the last point is kept for
+    the step from the search's end."""
+
+    __slots__ = ("_at", "_grad", "_lin", "_x")
+
+    def __init__(self, lin: Linearised) -> None:
+        self._lin = lin
+        self._at = b""
+        self._grad = self._x = np.zeros(0)
+
+    def _evaluate(self, theta: Mat) -> float:
+        value, self._grad, self._x = _evaluated(theta, self._lin)
+        self._at = theta.tobytes()
+        return value
+
+    def value(self, theta: Mat) -> float:
+        return self._evaluate(theta)
+
+    def gradient(self, theta: Mat) -> Mat:
+        if theta.tobytes() != self._at:
+            self._evaluate(theta)
+        return self._grad
+
+    def step(self, theta: Mat) -> Mat:
+        """The minimising ``x`` at ``theta``."""
+        if theta.tobytes() != self._at:
+            self._evaluate(theta)
+        return self._x
 
 
 def maximise(
@@ -234,27 +285,35 @@ def maximise(
     where a floor is the level itself: given noise); and the linearised model's solution with
     them (a Gauss-Newton step from the linearisation point: where the solve starts). Without a
     prior, the noise levels alone: variance components (:func:`_components`)."""
-    from scipy.optimize import minimize
+    from scipy.optimize import fmin_l_bfgs_b
 
     kinds = len(lin.count)
     if not len(lin.offset):
         levels = _components(lin, noise, floors)
         theta = np.log(np.array(levels))
-        return levels, np.zeros(0), _step(theta, lin)
+        weight = np.exp(-2.0 * theta)
+        return levels, np.zeros(0), _without_prior(lin, weight)[1]
     theta0 = np.log(np.array([*noise, *np.clip(deviations, _LOWEST, _HIGHEST)], dtype=float))
-    bounds = [
+    search = _Search(lin)
+    found = fmin_l_bfgs_b(
+        search.value,
+        theta0,
+        search.gradient,
+        bounds=_bounds(noise, floors, len(deviations)),
+        factr=_SETTLED / _EPSILON,
+    )[0]
+    return tuple(np.exp(found[:kinds]).tolist()), np.exp(found[kinds:]), search.step(found)
+
+
+def _bounds(
+    noise: tuple[float, ...], floors: tuple[float, ...], groups: int
+) -> list[tuple[float, float | None]]:
+    """L-BFGS-B's bounds on ``theta``: each log noise level above its floor's (fixed where the
+    floor is the level itself), each log deviation within the deviations searched."""
+    return [
         (math.log(f), math.log(f) if f == level else None)
         for f, level in zip(floors, noise, strict=True)
-    ] + [(math.log(_LOWEST), math.log(_HIGHEST))] * len(deviations)
-    result = minimize(
-        _objective, theta0, args=(lin,), jac=True, method="L-BFGS-B", bounds=bounds,
-        options={"ftol": _SETTLED},
-    )  # fmt: skip
-    return (
-        tuple(np.exp(result.x[:kinds]).tolist()),
-        np.exp(result.x[kinds:]),
-        _step(result.x, lin),
-    )
+    ] + [(math.log(_LOWEST), math.log(_HIGHEST))] * groups
 
 
 def _components(
@@ -266,26 +325,20 @@ def _components(
     than :data:`_COMPONENTS_SETTLED`; each kept above its floor (fixed where the floor is the
     level itself: given noise)."""
     levels = np.array(noise, dtype=float)
-    fixed = np.array([f == v for f, v in zip(floors, noise, strict=True)])
-    low = np.array(floors, dtype=float)
+    given = [f == v for f, v in zip(floors, noise, strict=True)]
     for _ in range(_COMPONENTS_ROUNDS):
         weight = levels**-2
         lh, x = _without_prior(lin, weight)
-        error, redundancy = _errors(lin, x), lin.count - weight * _traces(lin, lh)
-        found = (redundancy > 0.0) & (error > 0.0)
-        new = np.sqrt(np.divide(error, redundancy, out=levels**2, where=found))
-        new = np.where(fixed, levels, np.maximum(new, low))
-        settled = bool(np.all(np.abs(new / levels - 1.0) <= _COMPONENTS_SETTLED))
-        levels = new
-        if settled:
+        error = _errors(lin, x).tolist()
+        redundancy = (lin.count - weight * _traces(lin, lh)).tolist()
+        old = levels.tolist()
+        new = [
+            level
+            if fixed
+            else max(math.sqrt(e / r if r > 0.0 and e > 0.0 else level * level), floor)
+            for level, fixed, floor, e, r in zip(old, given, floors, error, redundancy, strict=True)
+        ]
+        levels = np.array(new)
+        if all(abs(n / o - 1.0) <= _COMPONENTS_SETTLED for n, o in zip(new, old, strict=True)):
             break
     return tuple(levels.tolist())
-
-
-def _step(theta: Mat, lin: Linearised) -> Mat:
-    """The minimising ``x`` of the linearised objective at ``theta``."""
-    kinds = len(lin.count)
-    weight = np.exp(-2.0 * theta[:kinds])
-    if not len(lin.offset):
-        return _without_prior(lin, weight)[1]
-    return _posterior(weight, np.exp(2.0 * theta[kinds:]), lin)[3]

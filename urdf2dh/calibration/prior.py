@@ -348,37 +348,31 @@ def link_errors(reference: Estimate, locations: Mat) -> LinkErrors | None:
     ``None`` when no free coordinate has a prior."""
     ref = reference
     level, chain = ref.level, ref.chain
-    n = len(chain)
     total = sum(sizes(ref, every=True))
     free = np.ones(total, dtype=bool) if ref.free is None else ref.free
     position = np.cumsum(free) - 1
     line_at, offset_at, scale_at = joint_columns(ref)
-    entries = [(int(line_at[i, s]), i, s) for i in range(n) for s in range(5) if line_at[i, s] >= 0]
-    entries += [(int(offset_at[i]), i, 5) for i in range(n) if offset_at[i] >= 0]
-    entries += [(int(scale_at[i]), i, 6) for i in range(n) if scale_at[i] >= 0]
-    entries = sorted(e for e in entries if free[e[0]])
-    if not entries:
+    # (coordinate, joint, slot) of each joint coordinate with a prior, in the level's order
+    at = np.hstack([line_at, offset_at[:, None], scale_at[:, None]])
+    joint, slot = np.nonzero(at >= 0)
+    coords = at[joint, slot]
+    order = np.argsort(coords, kind="stable")
+    order = order[free[coords[order]]]
+    if not len(order):
         return None
-    coords = np.array([e[0] for e in entries], dtype=np.int64)
-    slots = np.array([(e[1], e[2]) for e in entries], dtype=np.int64)
-    turning = chain.turning
-    links = n - 1 if level.lines else 0
-    columns: list[Mat] = []
-    group: list[int] = []
-    length: list[bool] = []
-    flat = np.zeros((len(slots), 0))
-    if level.lines:
-        flat, columns, group, length = _link_columns(chain, slots, locations)
-    for r, (j, s) in enumerate(slots):
-        if s >= 4:  # pitch, offset, scale: errors of their own
-            col = np.zeros(len(slots))
-            col[r] = 1.0
-            columns.append(col)
-            group.append(links if s == 5 else links + 1)
-            length.append(bool(s == 4 or (s == 5 and not turning[j])))
-    effect = np.array(columns).T
+    coords, slots = coords[order], np.stack([joint[order], slot[order]], axis=1)
+    links = len(chain) - 1 if level.lines else 0
+    plain = slots[:, 1] >= 4  # pitch, offset, scale: errors of their own
+    columns = np.eye(len(slots))[plain]
+    kind = slots[plain, 1]
+    group = np.where(kind == 5, links, links + 1)
+    length = (kind == 4) | ((kind == 5) & ~chain.turning[slots[plain, 0]])
     project = np.eye(len(slots))
-    if flat.shape[1]:
+    if level.lines:
+        flat, moves, moves_group, moves_length = _link_columns(chain, slots, locations)
+        columns = np.vstack([moves, columns])
+        group = np.concatenate([moves_group, group])
+        length = np.concatenate([moves_length, length])
         u_b, s_b, _ = np.linalg.svd(flat, full_matrices=True)
         rank = int(np.sum(s_b > RANK_RELATIVE * float(s_b.max(initial=0.0))))
         project = u_b[:, rank:].T
@@ -390,45 +384,40 @@ def link_errors(reference: Estimate, locations: Mat) -> LinkErrors | None:
         position[coords].astype(np.int64),
         slots,
         project,
-        project @ effect,
-        np.array(group, dtype=np.int64),
-        np.array(length, dtype=bool),
+        project @ columns.T,
+        group.astype(np.int64),
+        length,
         links,
     )
 
 
 def _link_columns(
     chain: Chain, slots: NDArray[np.int64], locations: Mat
-) -> tuple[Mat, list[Mat], list[int], list[bool]]:
-    """The effects of the base's motions ``(m, 6)`` and of every link error (columns, their
-    groups, whether each is a length) on the line coordinates ``slots`` (module docstring): the
-    error of the link before joint ``k`` moves the lines of joints ``k, k+1, ...``; a unit
-    rotation ``w`` about ``c`` changes a line's turn along ``e`` by ``w . e`` and its shift
-    along ``e`` by ``w . ((p - c) x e)``, a unit shift ``t`` its shift by ``t . e``."""
+) -> tuple[Mat, Mat, NDArray[np.int64], NDArray[np.bool_]]:
+    """The effects of the base's motions ``(m, 6)`` and of every link error ``(6 (n - 1), m)``
+    (their groups and whether each is a length: ``(6 (n - 1),)``) on the line coordinates
+    ``slots`` (module docstring): the error of the link before joint ``k`` moves the lines of
+    joints ``k, k+1, ...``; a unit rotation ``w`` about ``c`` changes a line's turn along ``e``
+    by ``w . e`` and its shift along ``e`` by ``w . ((p - c) x e)``, a unit shift ``t`` its
+    shift by ``t . e``; each motion about and along the joint's axis and its two normals
+    (:func:`.chart.normal_bases`), all joints at once."""
     joint, slot = slots[:, 0], slots[:, 1]
+    n, m = len(chain), len(slots)
     e1, e2 = normal_bases(chain.axis)
     e = np.where((slot % 2 == 0)[:, None], e1[joint], e2[joint])
     is_line, is_turn = slot < 4, slot < 2
-    flat = np.zeros((len(slots), 6))
-    columns: list[Mat] = []
-    groups: list[int] = []
-    lengths: list[bool] = []
-    turning = chain.turning
-    offsets = len(chain) - 1  # the offsets' group, after the links'
-    for k in range(len(chain)):
-        moved = is_line & (joint >= k)
-        lever = cross_rows(chain.point[joint] - locations[k], e)
-        rotation = np.where(is_turn[:, None], e, lever) * moved[:, None]  # (m, 3): . w
-        shift = np.where(is_turn[:, None], 0.0, e) * moved[:, None]  # (m, 3): . t
-        u = chain.axis[k]
-        f1, f2 = normal_bases(u[None, :])
-        directions = np.array([u, f1[0], f2[0]]).T  # (3, 3): the joint's axis first
-        if k == 0:  # the base: free
-            flat = np.hstack([rotation @ directions, shift @ directions])
-            continue
-        columns += list((rotation @ directions).T) + list((shift @ directions).T)
-        # about and along the joint's own axis: its offset (turning, or sliding, joint)
-        groups += [offsets if turning[k] else k - 1, k - 1, k - 1]
-        groups += [k - 1 if turning[k] else offsets, k - 1, k - 1]
-        lengths += [False, False, False, True, True, True]
-    return flat, columns, groups, lengths
+    moved = (is_line & (joint >= np.arange(n)[:, None]))[:, :, None]  # (n, m, 1)
+    lever = cross_rows(chain.point[joint] - locations[:, None], e)  # (n, m, 3)
+    rotation = np.where(is_turn[:, None], e, lever) * moved  # (n, m, 3): . w
+    shift = np.where(is_turn[:, None], 0.0, e) * moved  # (n, m, 3): . t
+    directions = np.stack([chain.axis, e1, e2], axis=1).transpose(0, 2, 1)  # the axis first
+    effects = np.concatenate([rotation @ directions, shift @ directions], axis=2)  # (n, m, 6)
+    # about and along a joint's own axis: its offset (turning, or sliding, joint)
+    turning = chain.turning[1:, None]
+    own = np.arange(n - 1)[:, None]
+    offsets = n - 1  # the offsets' group, after the links'
+    group = np.repeat(own, 6, axis=1)
+    group[:, :1] = np.where(turning, offsets, own)
+    group[:, 3:4] = np.where(turning, own, offsets)
+    length = np.tile([False, False, False, True, True, True], n - 1)
+    return effects[0], effects[1:].transpose(0, 2, 1).reshape(-1, m), group.ravel(), length
