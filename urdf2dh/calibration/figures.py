@@ -22,6 +22,7 @@ from __future__ import annotations
 import math
 from collections import Counter
 from dataclasses import replace
+from functools import partial
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -40,7 +41,7 @@ from .levels import LOWER
 from .measurements import Measurements
 from .outliers import Outliers
 from .residuals import Data, errors, evaluate, rms
-from .result import Calibration, Comparison, Counts, Held, Noise, Parameter, Residuals
+from .result import Calibration, Comparison, Counts, Held, Later, Noise, Parameter, Residuals
 from .select import Pass, Score, Selection
 from .start import to_data
 from .userunits import UserUnits
@@ -149,14 +150,13 @@ def _comparison(
     b[:, 0], a[:, 0] = user.shown_array(b[:, 0]), user.shown_array(a[:, 0])
     if index is None:
         index = m.configurations()[0]
-    count = int(index.max(initial=-1)) + 1
-    present = np.unique(index)
+    rows = np.bincount(index)
+    present = np.flatnonzero(rows)
+    rows = rows[present]
 
     def per_config(e: Mat) -> tuple[float, ...]:
-        sums = np.zeros(count)
-        np.add.at(sums, index, e**2)
-        rows = np.bincount(index, minlength=count)
-        return tuple(float(x) for x in np.sqrt(sums[present] / rows[present]))
+        sums = np.bincount(index, e**2)[present]  # each sum in row order
+        return tuple(np.sqrt(sums / rows).tolist())
 
     return Comparison(
         name,
@@ -190,38 +190,18 @@ def _reach(est: Estimate, now: Estimate, data: Data, size: float) -> Mat:
     return np.sqrt(np.sum(rows**2, axis=1)).max(axis=0) if len(data) else np.zeros(rows.shape[2])
 
 
-def _parameters(
-    result: Identified,
-    now: Estimate,
-    fit: Data,
-    still: dict[str, str],
-    user: UserUnits,
-) -> tuple[list[Parameter], list[str], list[str]]:
-    """The parameters with their values, changes and flags (lengths in the user's unit); the
-    poorly identified ones' names; the undetermined ones' names. ``now``: the estimate with its
-    offsets :func:`absorbed`; ``fit``: the fitted measurements; ``still``: the joints that
-    barely moved, with their span."""
-    est = result.estimate
-    start = result.before.with_level(est.level, est.free)
-    changes = local_coordinates(start, est)
-    size = result.device_model.size()
-    reach = _reach(est, now, fit, size)
-    kinds = dict(zip(est.chain.names, est.chain.kinds, strict=True))
-    index = {n: i for i, n in enumerate(est.chain.names)}
+def _flags(
+    result: Identified, reach: Mat, still: dict[str, str], user: UserUnits
+) -> tuple[list[str | None], list[str], list[str]]:
+    """Each parameter's flag (why it is poorly identified or not determined, else ``None``); the
+    poorly identified ones' names; the undetermined ones' names. ``reach``: :func:`_reach`;
+    ``still``: the joints that barely moved, with their span."""
     unit = user.length
     sigma = user.shown(result.sigma_pos)
-    out, poor, lost = [], [], []
+    flags: list[str | None] = []
+    poor, lost = [], []
     for k, name in enumerate(result.names):
         owner, leaf = name.rsplit(".", 1)
-        value = None
-        if owner in index:
-            i = index[owner]
-            if leaf == "scale":
-                value = float(est.chain.scale[i])
-            elif leaf == "pitch":
-                value = float(est.chain.pitch[i])
-            elif leaf == "offset":
-                value = float(est.joint_offsets()[i])
         std = float(result.stats.std[k])
         flag = None
         moved = owner in still and leaf != "offset"
@@ -240,20 +220,52 @@ def _parameters(
                 f"{user.shown(std * reach[k]):.3g} {unit}, over {POORLY_IDENTIFIED:g} times the "
                 f"position noise ({sigma:.3g} {unit})"
             )
+        flags.append(flag)
+    return flags, poor, lost
+
+
+def _parameters(
+    est: Estimate,
+    before: Estimate,
+    names: list[str],
+    std: Mat,
+    reach: Mat,
+    flags: list[str | None],
+    user: UserUnits,
+) -> tuple[Parameter, ...]:
+    """The parameters of ``est`` (``names``, with their standard deviations ``std``) with their
+    values, their changes from ``before`` (the base-tool level's solution) and their ``flags``
+    (:func:`_flags`), lengths in the user's unit; ``reach``: :func:`_reach`."""
+    changes = local_coordinates(before.with_level(est.level, est.free), est)
+    kinds = dict(zip(est.chain.names, est.chain.kinds, strict=True))
+    index = {n: i for i, n in enumerate(est.chain.names)}
+    out = []
+    for k, name in enumerate(names):
+        owner, leaf = name.rsplit(".", 1)
+        value = None
+        if owner in index:
+            i = index[owner]
+            if leaf == "scale":
+                value = float(est.chain.scale[i])
+            elif leaf == "pitch":
+                value = float(est.chain.pitch[i])
+            elif leaf == "offset":
+                value = float(est.joint_offsets()[i])
+        sd = float(std[k])
         kind = _unit(name, kinds.get(owner, ""), "length")
         scale = user.per_model if kind in ("length", "length/rad") else 1.0
         out.append(
             Parameter(
                 name,
-                kind.replace("length", unit),
+                kind.replace("length", user.length),
                 None if value is None else value * scale,
                 float(changes[k]) * scale,
-                std * scale if math.isfinite(std) else None,
+                sd * scale if math.isfinite(sd) else None,
                 user.shown(abs(float(changes[k])) * float(reach[k])),
-                flag,
+                flags[k],
             )
         )
-    return out, poor, lost
+    return tuple(out)
 
 
 def _noise_explains(
@@ -399,7 +411,8 @@ def assemble(chosen: Pass, result: Identified, outliers: Outliers, options: Opti
         for j in nominal.joints
         if j.name in still
     }
-    parameters, poor, lost = _parameters(result, now, fit_data, spans_text, user)
+    reach = _reach(after_est, now, fit_data, result.device_model.size())
+    flags, poor, lost = _flags(result, reach, spans_text, user)
     held_list = [Held(n, "the level's other parameters carry it") for n in result.carried]
     held_list += [Held(n, "fixed as asked") for n in result.fixed]
     warnings = list(result.notes)
@@ -424,9 +437,8 @@ def assemble(chosen: Pass, result: Identified, outliers: Outliers, options: Opti
     lower = LOWER.get(level)
     if still:
         lines = [
-            q.name for q in parameters
-            if q.name.rsplit(".", 1)[0] in still and not q.name.endswith(".offset")
-        ]  # fmt: skip
+            n for n in result.names if n.rsplit(".", 1)[0] in still and not n.endswith(".offset")
+        ]
         hold = _fix(lines, kinds)
         warnings.append(
             "barely moved: "
@@ -524,6 +536,10 @@ def assemble(chosen: Pass, result: Identified, outliers: Outliers, options: Opti
         stats.rank,
         0 if after_est.tool == FRAME else len(after_est.markers),
     )
+    parameters = Later(
+        partial(_parameters, after_est, result.before, result.names, result.stats.std, reach,
+                flags, user)
+    )  # fmt: skip
     base_in_device = result.base_in_device.copy()
     base_in_device[:3, 3] = user.shown_array(base_in_device[:3, 3])
     return Calibration(
@@ -544,7 +560,7 @@ def assemble(chosen: Pass, result: Identified, outliers: Outliers, options: Opti
         formula(after_est),
         in_words(after_est),
         tuple(comparisons),
-        tuple(parameters),
+        parameters,
         tuple(held_list),
         tuple((n, spans[n]) for n in still),
         found,
@@ -554,7 +570,7 @@ def assemble(chosen: Pass, result: Identified, outliers: Outliers, options: Opti
         conv,
         table,
         reason,
-        _diff(nominal, result.model, table, style, tol),
+        Later(partial(_diff, nominal, result.model, table, style, tol)),
         tuple(warnings),
         user,
         tuple(int(r) + 1 for r in fit_rows),

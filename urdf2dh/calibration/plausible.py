@@ -208,8 +208,9 @@ def _scale(
     out = []
     size = cal.units.shown(nominal.size())
     first = cal.comparisons[0].before.rms_position
-    ratio = spread_ratio(nominal, fit, opts, ids)
-    if not first <= GROSS_POSITION * size and not (1.0 / SPREAD <= ratio <= SPREAD):
+    # the spread is measured only where the residuals are gross (NaN counts as gross)
+    ratio = spread_ratio(nominal, fit, opts, ids) if not first <= GROSS_POSITION * size else 1.0
+    if not 1.0 / SPREAD <= ratio <= SPREAD:
         out.append(
             Finding(
                 "scale",

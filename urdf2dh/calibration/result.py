@@ -3,11 +3,17 @@ its pictures and a notebook read (:mod:`.report`, :mod:`.plot`), and its parts.
 
 Every figure is in the measurements' length unit (:mod:`.userunits`) and radians; the models
 and the table keep the nominal's length unit.
+
+What the fit decided, and what judging it reads, is made by :func:`~.calibration.calibrate`;
+a figure that only its presentation reads (the parameters' values and changes, the ``diff``
+against the nominal) is made the first time it is read, and kept (:class:`Later`).
 """
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import Generic, TypeVar, cast
 
 import numpy as np
 from numpy.typing import NDArray
@@ -28,6 +34,7 @@ __all__ = [
     "Comparison",
     "Counts",
     "Held",
+    "Later",
     "Noise",
     "Parameter",
     "Residuals",
@@ -36,6 +43,31 @@ __all__ = [
 Mat = NDArray[np.float64]
 
 SCHEMA = CALIBRATION_REPORT  # the report's ``schema`` (docs/formats/calibration-report.md)
+
+T = TypeVar("T")
+
+
+class Later(Generic[T]):
+    """A figure made when it is first read (:meth:`get`), by ``make()``, and then kept; two are
+    equal when their figures are. A value of it pickles as what makes it, or as the figure once
+    made."""
+
+    __slots__ = ("_make", "_value")
+
+    def __init__(self, make: Callable[[], T]) -> None:
+        self._make: Callable[[], T] | None = make
+        self._value: T | None = None
+
+    def get(self) -> T:
+        """The figure (made now, where it was not made yet)."""
+        make = self._make
+        if make is not None:
+            self._value = make()
+            self._make = None
+        return cast(T, self._value)
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, Later) and (other is self or self.get() == other.get())
 
 
 @dataclass(frozen=True, slots=True)
@@ -189,7 +221,7 @@ class Calibration:
     comparisons
         Before and after on each set (fit, held out, validation).
     parameters
-        The identified parameters.
+        The identified parameters (made when first read).
     held
         The level's parameters held at the nominal's values, with the reason.
     barely_moved
@@ -207,7 +239,8 @@ class Calibration:
     convention_reason
         Why this convention, when it was chosen.
     diff
-        The ``diff`` of the nominal and the identified model (``urdf2dh diff``'s).
+        The ``diff`` of the nominal and the identified model (``urdf2dh diff``'s), made when it
+        is first read.
     warnings
         Everything worth a person's attention.
     units
@@ -234,7 +267,7 @@ class Calibration:
     formula: str
     in_words: str
     comparisons: tuple[Comparison, ...]
-    parameters: tuple[Parameter, ...]
+    _parameters: Later[tuple[Parameter, ...]]  # what ``parameters`` reads
     held: tuple[Held, ...]
     barely_moved: tuple[tuple[str, float], ...]
     suspects: tuple[Suspect, ...]
@@ -244,11 +277,21 @@ class Calibration:
     convention: str
     table: Table | None
     convention_reason: str | None
-    diff: Diff
+    _diff: Later[Diff]  # what ``diff`` reads
     warnings: tuple[str, ...]
     units: UserUnits
     rows: tuple[int, ...] = field(default=(), repr=False)  # fitted rows' numbers in the file
     schema: str = SCHEMA
+
+    @property
+    def parameters(self) -> tuple[Parameter, ...]:
+        """The identified parameters."""
+        return self._parameters.get()
+
+    @property
+    def diff(self) -> Diff:
+        """The ``diff`` of the nominal and the identified model (``urdf2dh diff``'s)."""
+        return self._diff.get()
 
     def comparison(self, name: str) -> Comparison | None:
         """The comparison on ``name`` (``fit``, ``held_out``, ``validation``), if there is one."""

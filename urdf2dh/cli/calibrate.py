@@ -332,8 +332,9 @@ def run(args: argparse.Namespace) -> int:
 
         plot = plot_calibration(cal, Path(args.plot).suffix.lower().lstrip("."))
         outputs.append((args.plot, plot))
+    shown = summary(cal)  # made before anything is written: it reads the diff, made when read
     write_outputs(outputs)
-    print(summary(cal), end="", file=sys.stdout if args.output else sys.stderr)
+    print(shown, end="", file=sys.stdout if args.output else sys.stderr)
     return 0
 
 

@@ -26,7 +26,7 @@ from typing import TYPE_CHECKING
 
 from ..checks import unchecked_replace
 from ..errors import visible
-from .convert import Sources, build_table, check_arguments, checked, deviation_bound
+from .convert import build_table, check_arguments, checked, deviation_bound, unchecked_table
 
 if TYPE_CHECKING:
     from ..geometry.normals import Judgement
@@ -127,7 +127,9 @@ def choose(
     """The table of ``convention`` (the reader's first), unless :func:`objection` has one: then
     the ``fallback`` table (``hayati``), or with ``fallback=None`` (a reader of D-H only) the
     ``convention``'s table all the same, the reason its first warning where it is exact (the
-    reader refuses it where it is not).
+    reader refuses it where it is not). The table returned is checked as
+    :func:`~urdf2dh.conventions.convert.to_table` checks it; a D-H table set aside for the
+    ``fallback`` is not checked (nothing reads it).
 
     Raises
     ------
@@ -135,14 +137,13 @@ def choose(
         As :func:`~urdf2dh.conventions.convert.to_table` does.
     """
     check_arguments(model, convention, tol, samples, 0, style)
-    # the model's self-check poses, made once for both tables; the D-H table's judgements,
-    # made once for its check and for the objection
-    sources: Sources = {}
-    table, result = checked(model, convention, tol, samples, 0, style, sources)
-    problem = objection(model, table, tol, style, result.judgements)
-    if problem is None:
-        return Choice(table, None, None)
-    if fallback is None:
+    # the D-H table and its judgements, made once for the objection and for its check
+    built = unchecked_table(model, convention, tol, style)
+    problem = objection(model, built[0], tol, style, built[1].judgements)
+    if problem is None or fallback is None:  # the D-H table is the one returned
+        table, _ = checked(model, convention, tol, samples, 0, style, built)
+        if problem is None:
+            return Choice(table, None, None)
         if not problem.exact:
             return Choice(table, problem, None)
         reason = (
@@ -150,7 +151,7 @@ def choose(
             "tables only, and this one is exact"
         )
         return Choice(unchecked_replace(table, warnings=(reason, *table.warnings)), problem, reason)
-    chosen, _ = checked(model, fallback, tol, samples, 0, "wu", sources)
+    chosen, _ = checked(model, fallback, tol, samples, 0, "wu")
     reason = (
         f"written in {fallback}, not {convention}: {problem.reason}; {fallback} is exact and "
         f"every length stays within the geometry's own distances (--convention {convention} "

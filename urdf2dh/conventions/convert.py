@@ -35,6 +35,7 @@ __all__ = [
     "rounding_bound",
     "self_check",
     "to_table",
+    "unchecked_table",
     "written",
 ]
 
@@ -46,9 +47,6 @@ DEFAULT_SAMPLES = 100
 JUDGED_SAMPLES = 1000
 
 Mat = NDArray[np.float64]
-Sources = dict[tuple[int, int], tuple[Mat, Mat]]
-"""A model's self-check configurations by ``(samples, seed)``: its row positions ``(N, n)`` and
-its poses there ``(N, 4, 4)``, kept by a caller that checks several tables of one model."""
 
 
 def build_table(
@@ -86,6 +84,15 @@ def build_table(
     return table, result
 
 
+def unchecked_table(
+    model: PoeModel, convention: str, tol: Tolerances, style: Style
+) -> tuple[Table, Conversion]:
+    """:func:`build_table`'s table as its files write it (:func:`written`), not yet checked
+    (:func:`checked` checks it)."""
+    table, result = build_table(model, convention, tol, style)
+    return written(table, tol.written, tol.written * model.size()), result
+
+
 def written(table: Table, angle: float, length: float) -> Table:
     """The table as its files write it (:meth:`~urdf2dh.conventions.base.Params.written`)."""
     # the same checked table with records of the same types in place of its records
@@ -100,24 +107,12 @@ def written(table: Table, angle: float, length: float) -> Table:
 
 
 def self_check(
-    model: PoeModel,
-    table: Table,
-    samples: int = DEFAULT_SAMPLES,
-    seed: int = 0,
-    sources: Sources | None = None,
+    model: PoeModel, table: Table, samples: int = DEFAULT_SAMPLES, seed: int = 0
 ) -> Check:
     """The table's FK against the model's at ``samples`` seeded configurations (both by the
-    reference FK, :func:`urdf2dh.model.fk.chains_fk`). ``sources`` keeps the model's
-    configurations and poses for the next table of the same model checked at them."""
-    known = sources.get((samples, seed)) if sources is not None else None
-    if known is None:
-        positions = model.positions(model.sample(samples, seed))
-        ours, source = chains_fk([table.link_form(), model.link_form()], positions)
-        if sources is not None:
-            sources[samples, seed] = positions, source
-    else:
-        positions, source = known
-        ours = chains_fk([table.link_form()], positions)[0]
+    reference FK, :func:`urdf2dh.model.fk.chains_fk`)."""
+    positions = model.positions(model.sample(samples, seed))
+    ours, source = chains_fk([table.link_form(), model.link_form()], positions)
     return Check(samples, *pose_errors(ours, source))
 
 
@@ -231,15 +226,15 @@ def checked(
     samples: int | None,
     seed: int,
     style: Style,
-    sources: Sources | None = None,
+    built: tuple[Table, Conversion] | None = None,
 ) -> tuple[Table, Conversion]:
     """:func:`to_table` of arguments checked already (:func:`check_arguments`), with what the
-    convention made of the model (its judgements; :func:`build_table`). ``sources``: the
-    model's self-check poses, kept for the next table of the same model (:func:`self_check`).
+    convention made of the model (its judgements; :func:`build_table`). ``built``: the table
+    and its conversion of these arguments made already (:func:`unchecked_table`), else made
+    here.
     """
-    table, result = build_table(model, convention, tol, style)
+    table, result = built or unchecked_table(model, convention, tol, style)
     size, reach, unit = model.size(), model.reach() + model.travel(), model.length_unit
-    table = written(table, tol.written, tol.written * size)
     warnings = list(model.warnings)
     declared_pos, declared_rot = deviation_bound(result.judgements, reach)
     snapped = False
@@ -271,7 +266,7 @@ def checked(
         declared_pos += rounding
     if samples is None:
         samples = JUDGED_SAMPLES if snapped else DEFAULT_SAMPLES
-    check = self_check(model, table, samples, seed, sources)
+    check = self_check(model, table, samples, seed)
     allowed_pos = tol.check_position * size + declared_pos
     allowed_rot = tol.check_rotation + declared_rot
     worst = (
