@@ -564,8 +564,9 @@ class LineCoordinates:
     ----------
     values
         ``(n, 4)`` turn1, turn2, shift1, shift2 of each line.
-    axis, other_axis, other_point
-        The reference lines' directions, the lines' directions and points ``(n, 3)``.
+    axis, other_axis, other_point, point
+        The reference lines' directions, the lines' directions and points, the reference
+        lines' points ``(n, 3)``.
     basis
         ``(n, 3, 2)`` the reference charts' ``e1, e2`` (:func:`normal_bases`).
     cross, angle, ratio
@@ -575,8 +576,7 @@ class LineCoordinates:
     cols
         ``(n, 3, 2)`` ``J(rho) e1, J(rho) e2`` with their parts along ``u'`` removed.
     normal
-        ``(3, n)`` the normal equations' ``a, b, d`` (``[[a, b], [b, d]]``) and ``det``: their
-        determinant, as ``(4, n)``.
+        ``(4, n)``: the normal equations' ``a, b, d`` (``[[a, b], [b, d]]``) and determinant.
     """
 
     values: Mat
@@ -651,7 +651,8 @@ class LineCoordinates:
         moves[:, :, 0], moves[:, :, 1], moves[:, :, 2], moves[:, :, 3] = -f2, f1, f1, f2
         du = moves[:, :, :2]
         v = np.matmul(self.basis, self.values[:, 2:, None])  # (n, 3, 1)
-        su, s, sv = np.split(skew_batch(np.concatenate((self.axis, self.rho, v[:, :, 0]))), 3)
+        skews = skew_batch(np.concatenate((self.axis, self.rho, v[:, :, 0])))
+        su, s, sv = skews[:n], skews[n : 2 * n], skews[2 * n :]
         h, db, dc, b, c = _turn_coefficients(self.angle)[..., None, None].transpose(1, 0, 2, 3)
         drho = self.ratio[:, None, None] * su - h * self.cross[:, :, None] * self.axis[:, None]
         drho = drho @ du  # (n, 3, 2)
@@ -661,8 +662,8 @@ class LineCoordinates:
         moved = self.point[:, :, None] + self.jacobian @ v  # q
         slide = self.other_axis[:, None] @ (self.other_point[:, :, None] - moved)  # (n, 1, 1)
         moves[:, :, :2] = -slide * du - dj @ drho
-        a, b2, d, det = self.normal
-        inverse = np.stack((d, -b2, -b2, a), axis=1).reshape(n, 2, 2) / det[:, None, None]
+        adjugate = self.normal[_ADJUGATE].T * (_ADJUGATE_SIGNS / self.normal[3, :, None])
+        inverse = adjugate.reshape(n, 2, 2)  # of the normal equations' [[a, b], [b, d]]
         out = np.zeros((n, 4, 4))
         out[:, :2, :2] = self.basis.transpose(0, 2, 1) @ drho
         out[:, 2:] = inverse @ (self.cols.transpose(0, 2, 1) @ moves)
@@ -695,6 +696,7 @@ def _turn_coefficients(angle: Mat) -> Mat:
     return out
 
 
+_ADJUGATE, _ADJUGATE_SIGNS = [2, 1, 1, 0], np.array([1.0, -1.0, -1.0, 1.0])  # d, -b, -b, a
 _SERIES = 0.1  # below this angle (rad) the turns' coefficients come from their series
 _POWERS = np.arange(5)  # of t^2
 _SERIES_TERMS = np.array(  # each power's term (rows) in h, b'/t, c'/t, b, c (columns)
