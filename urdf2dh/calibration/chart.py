@@ -60,7 +60,15 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import InputError
-from ..geometry.lie import cross3, cross_rows, exp_so3_left_jacobian, left_jacobian, log_se3
+from ..geometry.lie import (
+    coefficients,
+    cross3,
+    cross_rows,
+    exp_so3_left_jacobian,
+    left_jacobian,
+    log_se3,
+    skew_batch,
+)
 from ..geometry.se3 import twist_exp
 from ..model.identifiability import LINE_PARAMETERS
 from ..model.poe import Joint
@@ -72,6 +80,7 @@ __all__ = [
     "TOOLS",
     "Chain",
     "Estimate",
+    "LineCoordinates",
     "absorbed",
     "all_names",
     "count",
@@ -538,36 +547,167 @@ _FIRST, _SECOND = np.array([0, 0, 1]), np.array([0, 1, 1])  # the products c1 c1
 def line_coordinates(axis: Mat, point: Mat, other_axis: Mat, other_point: Mat) -> Mat:
     """``(n, 4)``: each line chart's coordinates (turn1, turn2, shift1, shift2) from the line
     ``(axis[i], point[i])`` to ``(other_axis[i], other_point[i])``, all lines at once (the turns
-    alone are meaningful for a prismatic joint's direction).
+    alone are meaningful for a prismatic joint's direction): :attr:`LineCoordinates.values`."""
+    return LineCoordinates.of(axis, point, other_axis, other_point).values
+
+
+@dataclass(frozen=True, slots=True)
+class LineCoordinates:
+    """Lines' chart coordinates seen from reference lines, and what their derivatives by the
+    lines' own charts are made of (:meth:`tangent`).
 
     The turn is the rotation vector ``rho`` taking ``u`` to ``u'`` about their common normal;
     the shifts ``tau`` make ``exp(eta) p = p + J(rho) tau`` (:func:`.lie.left_jacobian`) a point
     of the other line (least squares in the plane normal to it, closed form: two unknowns).
+
+    Attributes
+    ----------
+    values
+        ``(n, 4)`` turn1, turn2, shift1, shift2 of each line.
+    axis, other_axis, other_point, point
+        The reference lines' directions, the lines' directions and points, the reference
+        lines' points ``(n, 3)``.
+    basis
+        ``(n, 3, 2)`` the reference charts' ``e1, e2`` (:func:`normal_bases`).
+    cross, angle, ratio
+        ``u x u'`` ``(n, 3)``, the angle between them and ``angle / sin(angle)`` ``(n,)``.
+    rho, jacobian
+        The turns as rotation vectors ``(n, 3)`` and ``J(rho)`` ``(n, 3, 3)``.
+    cols
+        ``(n, 3, 2)`` ``J(rho) e1, J(rho) e2`` with their parts along ``u'`` removed.
+    normal
+        ``(4, n)``: the normal equations' ``a, b, d`` (``[[a, b], [b, d]]``) and determinant.
     """
-    e1, e2 = normal_bases(axis)
-    cross = cross_rows(axis, other_axis)
-    sin = np.sqrt(np.add.reduce(cross * cross, axis=1))
-    angle = np.arctan2(sin, np.add.reduce(axis * other_axis, axis=1))
-    ratio = np.divide(angle, sin, out=np.ones_like(sin), where=sin > 0.0)
-    rho = cross * ratio[:, None]
-    out = np.empty((len(axis), 4))
-    basis = np.empty((len(axis), 3, 2))
-    basis[:, :, 0], basis[:, :, 1] = e1, e2
-    out[:, :2] = np.add.reduce(rho[:, :, None] * basis, axis=1)
-    # the columns J(rho) e1, J(rho) e2 and the gap, each with its part along u' removed
-    cols = np.matmul(left_jacobian(rho), basis)
-    cols -= np.matmul(other_axis[:, None, :], cols) * other_axis[:, :, None]
-    gap = other_point - point
-    gap -= np.add.reduce(other_axis * gap, axis=1)[:, None] * other_axis
-    # the normal equations' 2 x 2 system, by Cramer's rule
-    a, b, d = np.add.reduce(cols[:, :, _FIRST] * cols[:, :, _SECOND], axis=1).T
-    g1, g2 = np.add.reduce(cols * gap[:, :, None], axis=1).T
-    det = a * d - b * b
-    if (det == 0.0).any():  # as LAPACK's solve: a singular system is an error, NaN flows on
-        raise np.linalg.LinAlgError("Singular matrix")
-    out[:, 2] = (d * g1 - b * g2) / det
-    out[:, 3] = (a * g2 - b * g1) / det
+
+    values: Mat
+    axis: Mat
+    other_axis: Mat
+    other_point: Mat
+    point: Mat
+    basis: Mat
+    cross: Mat
+    angle: Mat
+    ratio: Mat
+    rho: Mat
+    jacobian: Mat
+    cols: Mat
+    normal: Mat
+
+    @classmethod
+    def of(cls, axis: Mat, point: Mat, other_axis: Mat, other_point: Mat) -> LineCoordinates:
+        """The coordinates of the lines ``(other_axis[i], other_point[i])`` in the charts of
+        ``(axis[i], point[i])`` (class docstring)."""
+        e1, e2 = normal_bases(axis)
+        cross = cross_rows(axis, other_axis)
+        sin = np.sqrt(np.add.reduce(cross * cross, axis=1))
+        angle = np.arctan2(sin, np.add.reduce(axis * other_axis, axis=1))
+        ratio = np.divide(angle, sin, out=np.ones_like(sin), where=sin > 0.0)
+        rho = cross * ratio[:, None]
+        out = np.empty((len(axis), 4))
+        basis = np.empty((len(axis), 3, 2))
+        basis[:, :, 0], basis[:, :, 1] = e1, e2
+        out[:, :2] = np.add.reduce(rho[:, :, None] * basis, axis=1)
+        # the columns J(rho) e1, J(rho) e2 and the gap, each with its part along u' removed
+        jacobian = left_jacobian(rho)
+        cols = np.matmul(jacobian, basis)
+        cols -= np.matmul(other_axis[:, None, :], cols) * other_axis[:, :, None]
+        gap = other_point - point
+        gap -= np.add.reduce(other_axis * gap, axis=1)[:, None] * other_axis
+        # the normal equations' 2 x 2 system, by Cramer's rule
+        normal = np.empty((4, len(axis)))
+        normal[:3] = np.add.reduce(cols[:, :, _FIRST] * cols[:, :, _SECOND], axis=1).T
+        a, b, d = normal[:3]
+        g1, g2 = np.add.reduce(cols * gap[:, :, None], axis=1).T
+        det = normal[3] = a * d - b * b
+        if (det == 0.0).any():  # as LAPACK's solve: a singular system is an error, NaN flows on
+            raise np.linalg.LinAlgError("Singular matrix")
+        out[:, 2] = (d * g1 - b * g2) / det
+        out[:, 3] = (a * g2 - b * g1) / det
+        return cls(
+            out, axis, other_axis, other_point, point, basis, cross, angle, ratio, rho,
+            jacobian, cols, normal,
+        )  # fmt: skip
+
+    def tangent(self) -> Mat:
+        """``(n, 4, 4)``: the derivatives of each line's :attr:`values` (rows) by its own chart
+        coordinates at it (columns; :func:`retract`'s turn1, turn2, shift1, shift2 about its
+        point ``p'``), the reference lines held.
+
+        A turn along ``f`` (``f1, f2``: the line's :func:`normal_bases`) moves ``u'`` by
+        ``du = f x u'`` about ``p'``; a shift moves ``p'`` by ``dp = f``. With ``w = u x u'``
+        and ``t`` the angle, the turns' ``rho = (t / sin t) w`` move by
+        ``drho = (t / sin t) (u x du) - h(t) (u . du) w``, ``h = (sin t - t cos t) / sin^3 t``
+        (``u' . du = 0``). The shifts solve ``C tau = g`` with ``C = P J(rho) [e1 e2]``,
+        ``g = P (p' - p)`` and ``P = I - u' u'^T``, exactly (both in the plane normal to
+        ``u'``); differentiated and multiplied by ``C^T`` (``C^T u' = 0``):
+        ``C^T C dtau = C^T (dp - (u' . (p' - q)) du - dJ[drho] v)`` with ``v = [e1 e2] tau``,
+        ``q = p + J(rho) v`` the reference point moved onto the line, and, ``J = I + b S +
+        c S^2`` (``S = [rho]``, ``V = [v]``), ``dJ[drho] v = -(b V + c (2 S V - V S)) drho +
+        (rho . drho) S (b' v + c' S v) / t``.
+        """
+        n = len(self.axis)
+        f1, f2 = normal_bases(self.other_axis)
+        moves = np.empty((n, 3, 4))  # each chart direction's du (turns) or dp (shifts)
+        moves[:, :, 0], moves[:, :, 1], moves[:, :, 2], moves[:, :, 3] = -f2, f1, f1, f2
+        du = moves[:, :, :2]
+        v = np.matmul(self.basis, self.values[:, 2:, None])  # (n, 3, 1)
+        skews = skew_batch(np.concatenate((self.axis, self.rho, v[:, :, 0])))
+        su, s, sv = skews[:n], skews[n : 2 * n], skews[2 * n :]
+        h, db, dc, b, c = _turn_coefficients(self.angle)[..., None, None].transpose(1, 0, 2, 3)
+        drho = self.ratio[:, None, None] * su - h * self.cross[:, :, None] * self.axis[:, None]
+        drho = drho @ du  # (n, 3, 2)
+        ssv = s @ sv
+        rv = s @ v
+        dj = (db * rv + dc * (s @ rv)) @ self.rho[:, None] - b * sv - c * (ssv + ssv - sv @ s)
+        moved = self.point[:, :, None] + self.jacobian @ v  # q
+        slide = self.other_axis[:, None] @ (self.other_point[:, :, None] - moved)  # (n, 1, 1)
+        moves[:, :, :2] = -slide * du - dj @ drho
+        adjugate = self.normal[_ADJUGATE].T * (_ADJUGATE_SIGNS / self.normal[3, :, None])
+        inverse = adjugate.reshape(n, 2, 2)  # of the normal equations' [[a, b], [b, d]]
+        out = np.zeros((n, 4, 4))
+        out[:, :2, :2] = self.basis.transpose(0, 2, 1) @ drho
+        out[:, 2:] = inverse @ (self.cols.transpose(0, 2, 1) @ moves)
+        return out
+
+
+def _turn_coefficients(angle: Mat) -> Mat:
+    """``(n, 5)``: of each angle ``t`` ``(n,)``, ``h = (sin t - t cos t) / sin^3 t``
+    (:meth:`LineCoordinates.tangent`), ``b'(t) / t``, ``c'(t) / t``, ``b`` and ``c`` with ``b, c``
+    the left Jacobian's (:func:`.lie.coefficients`: ``(1 - cos t) / t^2``, ``(t - sin t) /
+    t^3``); below :data:`_SERIES` from their series to ``t^8`` (the first three cancel; each
+    multiplies a ``t^2`` there, so the closed forms' rounding above costs a few units of 1e-16)."""
+    t2 = angle * angle
+    out: Mat = (t2[:, None] ** _POWERS) @ _SERIES_TERMS
+    far = angle >= _SERIES
+    if far.any():
+        t = angle[far]
+        tt, sin, cos = t * t, np.sin(t), np.cos(t)
+        b, c = np.array([coefficients(x)[1:] for x in tt.tolist()]).T
+        out[far] = np.stack(
+            (
+                (sin - t * cos) / (sin * sin * sin),
+                (sin / t - 2.0 * b) / tt,
+                (b - 3.0 * c) / tt,
+                b,
+                c,
+            ),
+            axis=1,
+        )
     return out
+
+
+_ADJUGATE, _ADJUGATE_SIGNS = [2, 1, 1, 0], np.array([1.0, -1.0, -1.0, 1.0])  # d, -b, -b, a
+_SERIES = 0.1  # below this angle (rad) the turns' coefficients come from their series
+_POWERS = np.arange(5)  # of t^2
+_SERIES_TERMS = np.array(  # each power's term (rows) in h, b'/t, c'/t, b, c (columns)
+    [
+        [1 / 3, -1 / 12, -1 / 60, 1 / 2, 1 / 6],
+        [2 / 15, 1 / 180, 1 / 1260, -1 / 24, -1 / 120],
+        [2 / 63, -1 / 6720, -1 / 60480, 1 / 720, 1 / 5040],
+        [4 / 675, 1 / 453600, 1 / 4989600, -1 / 40320, -1 / 362880],
+        [2 / 2079, -1 / 47900160, -1 / 622702080, 1 / 3628800, 1 / 39916800],
+    ]
+)
 
 
 def local_coordinates(est: Estimate, other: Estimate) -> Mat:

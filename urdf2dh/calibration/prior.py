@@ -49,7 +49,7 @@ from numpy.typing import NDArray
 from ..errors import InputError
 from ..geometry.lie import cross_rows
 from ..tolerances import CHOLESKY_RIDGE, RANK_RELATIVE
-from .chart import Chain, Estimate, joint_columns, line_coordinates, normal_bases, sizes
+from .chart import Chain, Estimate, LineCoordinates, joint_columns, normal_bases, sizes
 
 __all__ = [
     "AUTO",
@@ -59,6 +59,7 @@ __all__ = [
     "LinkErrors",
     "Prior",
     "Regulariser",
+    "Seen",
     "link_errors",
     "ridged",
 ]
@@ -68,8 +69,6 @@ Mat = NDArray[np.float64]
 AUTO = "auto"  # deviations estimated from the measurements (geometry and full levels)
 NONE = "none"  # no prior: maximum likelihood
 CHOICES = (AUTO, NONE)
-
-_STEP = 1e-7  # central differences of the line coordinates (smooth: ~1e-14 accurate)
 
 
 def ridged(a: Mat) -> Mat:
@@ -197,65 +196,79 @@ class LinkErrors:
         sigma = dev.groups()[self.group] * np.where(self.length, dev.length_per_angle, 1.0)
         return ridged((self.effect * sigma**2) @ self.effect.T)
 
-    def deviations(self, est: Estimate) -> Mat:
-        """``(m,)`` the coordinates of ``est`` seen from the reference (:func:`.chart.
-        local_coordinates` at the prior's coordinates, lines all at once)."""
+    def seen(self, est: Estimate) -> Seen:
+        """The coordinates of ``est`` seen from the reference, their tangent when asked."""
         ref, at = self.reference, self._where
         out = np.empty(len(self.coords))
+        lines = None
         if len(at.line_rows):
-            lines = line_coordinates(
+            lines = LineCoordinates.of(
                 ref.chain.axis, ref.chain.point, est.chain.axis, est.chain.point
             )
-            out[at.line_rows] = lines.ravel()[at.line_from]
+            out[at.line_rows] = lines.values.ravel()[at.line_from]
         for rows, joints, here, there in (
             (*at.pitch, est.chain.pitch, ref.chain.pitch),
             (*at.offset, est.joint_offsets(), ref.joint_offsets()),
             (*at.scale, est.chain.scale, ref.chain.scale),
         ):
             out[rows] = here[joints] - there[joints]
-        return out
+        return Seen(self, est, out, lines)
+
+    def deviations(self, est: Estimate) -> Mat:
+        """``(m,)`` the coordinates of ``est`` seen from the reference (:func:`.chart.
+        local_coordinates` at the prior's coordinates, lines all at once)."""
+        return self.seen(est).values
 
     def evaluate(self, est: Estimate) -> tuple[Mat, Mat]:
         """:meth:`deviations` and :meth:`tangent` at ``est``."""
-        return self.deviations(est), self.tangent(est)
+        seen = self.seen(est)
+        return seen.values, seen.tangent()
 
     def tangent(self, est: Estimate) -> Mat:
-        """``(m, p)`` the derivatives of :meth:`deviations` by ``est``'s free coordinates: 1 for
-        pitches, offsets and scales; for a line's, central differences along the chart's four
-        directions at ``est`` (:func:`.chart.retract`: a turn about ``e1`` moves the axis by
-        ``e1 x u`` and the foot point by ``-(p . (e1 x u)) u``; a shift moves the point along
-        ``e1``), all lines at once, each line's coordinates depending on that line alone."""
-        at = self._where
-        out = np.zeros((len(self.coords), sum(sizes(est))))
-        out[at.plain] = 1.0
-        if not len(at.line_rows):
-            return out
-        u, point = est.chain.axis, est.chain.point
-        e1, e2 = normal_bases(u)
-        du = np.zeros((4, *u.shape))  # each slot's move of every line
-        du[0], du[1] = -e2, e1
-        dp = np.empty((4, *u.shape))
-        dp[0] = np.einsum("ij,ij->i", point, e2)[:, None] * u
-        dp[1] = -np.einsum("ij,ij->i", point, e1)[:, None] * u
-        dp[2], dp[3] = e1, e2
-        steps = (u + _SIGNS * (_STEP * du)).reshape(-1, 3)  # forward then backward
-        points = (point + _SIGNS * (_STEP * dp)).reshape(-1, 3)
-        both = line_coordinates(at.axes, at.points, steps, points).reshape(2, -1)
-        change = (both[0] - both[1]) / (2.0 * _STEP)  # flat (slot moved, joint, coordinate)
-        out[at.moved] = change[at.moved_from]
-        return out
+        """``(m, p)`` the derivatives of :meth:`deviations` by ``est``'s free coordinates
+        (:meth:`Seen.tangent`)."""
+        return self.seen(est).tangent()
 
     @cached_property
     def _where(self) -> _Where:
         return _Where.of(self)
 
 
-_SIGNS = np.array([1.0, -1.0]).reshape(2, 1, 1, 1)  # the central differences' two sides
+@dataclass(frozen=True, slots=True)
+class Seen:
+    """An estimate's coordinates seen by the prior (:meth:`LinkErrors.seen`), and their tangent
+    when asked, from the same line coordinates (the solver's refused steps need no tangent).
+
+    Attributes
+    ----------
+    errors, estimate
+        Whose, and where.
+    values
+        ``(m,)`` :meth:`LinkErrors.deviations`.
+    lines
+        The level's line coordinates (:class:`.chart.LineCoordinates`), ``None`` without lines.
+    """
+
+    errors: LinkErrors
+    estimate: Estimate
+    values: Mat
+    lines: LineCoordinates | None
+
+    def tangent(self) -> Mat:
+        """``(m, p)`` the derivatives of :attr:`values` by the estimate's free coordinates: 1 for
+        pitches, offsets and scales; for a line's, :meth:`.chart.LineCoordinates.tangent`
+        (each line's coordinates depend on that line alone)."""
+        at = self.errors._where
+        out = np.zeros((len(self.values), sum(sizes(self.estimate))))
+        out[at.plain] = 1.0
+        if self.lines is not None:
+            out[at.moved] = self.lines.tangent().ravel()[at.moved_from]
+        return out
 
 
 @dataclass(frozen=True, slots=True)
 class _Where:
-    """Where :meth:`LinkErrors.deviations` and :meth:`LinkErrors.tangent` read and write, found
+    """Where :meth:`LinkErrors.seen` and :meth:`Seen.tangent` read and write, found
     once per :class:`LinkErrors` (indices; ``(rows, joints)`` pairs).
 
     Attributes
@@ -269,9 +282,8 @@ class _Where:
         The tangent's entries that are 1 (rows, free positions).
     moved, moved_from
         The tangent's line entries (rows, free positions), and their places in the flattened
-        central differences ``(slot moved, joint, coordinate)``.
-    axes, points
-        The reference's lines, once per slot and side of the differences ``(8 n, 3)``.
+        line tangent ``(joint, coordinate, slot moved)`` (:meth:`.chart.LineCoordinates.
+        tangent`).
     """
 
     line_rows: NDArray[np.int64]
@@ -282,8 +294,6 @@ class _Where:
     plain: tuple[NDArray[np.int64], NDArray[np.int64]]
     moved: tuple[NDArray[np.int64], NDArray[np.int64]]
     moved_from: NDArray[np.int64]
-    axes: Mat
-    points: Mat
 
     @classmethod
     def of(cls, errors: LinkErrors) -> _Where:
@@ -299,7 +309,7 @@ class _Where:
         for s in range(4):
             mine = line & (column[joint, s] >= 0)  # rows whose joint has this coordinate
             parts.append(
-                (rows[mine], column[joint[mine], s], (s * n + joint[mine]) * 4 + slot[mine])
+                (rows[mine], column[joint[mine], s], (joint[mine] * 4 + slot[mine]) * 4 + s)
             )
         moved = tuple(np.concatenate([p[k] for p in parts]) for k in range(3))
 
@@ -316,8 +326,6 @@ class _Where:
             (rows[plain], errors.at[plain]),
             (moved[0], moved[1]),
             moved[2],
-            np.tile(chain.axis, (8, 1)),
-            np.tile(chain.point, (8, 1)),
         )
 
 

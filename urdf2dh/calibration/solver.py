@@ -64,7 +64,7 @@ from ..tolerances import (
     RANK_RELATIVE,
 )
 from .chart import Estimate, retract
-from .prior import LinkErrors, Regulariser
+from .prior import LinkErrors, Regulariser, Seen
 from .residuals import Data, Evaluation, evaluate, residuals
 
 __all__ = [
@@ -211,8 +211,10 @@ class Problem:
         """This problem's cost at ``est``; its linearisation there only when asked (the
         solver's refused steps cost no Jacobian)."""
         model = Evaluation.at(est, self.data)
-        deviations = None if self.prior is None else self.prior.errors.deviations(est)
-        return _Trial(model, deviations, self._cost(model.residuals, deviations))
+        seen = None if self.prior is None else self.prior.errors.seen(est)
+        return _Trial(
+            model, seen, self._cost(model.residuals, None if seen is None else seen.values)
+        )
 
     @staticmethod
     def prior_part(prior: Regulariser, lin: Linearisation) -> tuple[Mat, Mat]:
@@ -239,18 +241,18 @@ class _Trial:
     """A problem's cost at an estimate (:meth:`Problem.trial`)."""
 
     model: Evaluation
-    deviations: Mat | None
+    prior: Seen | None
     cost: float
 
     def linearisation(self, problem: Problem) -> Linearisation:
-        """The linearisation there (:meth:`Problem.linearise`), from the same evaluation."""
-        est = self.model.estimate
-        prior = None
-        if problem.prior is not None and self.deviations is not None:
-            prior = (self.deviations, problem.prior.errors.tangent(est))
+        """The linearisation there (:meth:`Problem.linearise`), from the same evaluations (the
+        prior's tangent from the line coordinates its deviations were read from)."""
+        seen = self.prior
+        prior = None if seen is None else (seen.values, seen.tangent())
         return Linearisation(
-            est, self.model.residuals, self.model.jacobian(), problem.data.rows, prior
-        )
+            self.model.estimate, self.model.residuals, self.model.jacobian(), problem.data.rows,
+            prior,
+        )  # fmt: skip
 
 
 @dataclass(frozen=True, slots=True)
