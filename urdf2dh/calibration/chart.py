@@ -61,13 +61,13 @@ from numpy.typing import NDArray
 
 from ..errors import InputError
 from ..geometry.lie import (
-    coefficients,
     cross3,
     cross_rows,
     exp_so3_left_jacobian,
     left_jacobian,
     log_se3,
     skew_batch,
+    turn_coefficients,
 )
 from ..geometry.se3 import twist_exp
 from ..model.identifiability import LINE_PARAMETERS
@@ -653,7 +653,7 @@ class LineCoordinates:
         v = np.matmul(self.basis, self.values[:, 2:, None])  # (n, 3, 1)
         skews = skew_batch(np.concatenate((self.axis, self.rho, v[:, :, 0])))
         su, s, sv = skews[:n], skews[n : 2 * n], skews[2 * n :]
-        h, db, dc, b, c = _turn_coefficients(self.angle)[..., None, None].transpose(1, 0, 2, 3)
+        h, db, dc, b, c = turn_coefficients(self.angle)[..., None, None].transpose(1, 0, 2, 3)
         drho = self.ratio[:, None, None] * su - h * self.cross[:, :, None] * self.axis[:, None]
         drho = drho @ du  # (n, 3, 2)
         ssv = s @ sv
@@ -670,44 +670,7 @@ class LineCoordinates:
         return out
 
 
-def _turn_coefficients(angle: Mat) -> Mat:
-    """``(n, 5)``: of each angle ``t`` ``(n,)``, ``h = (sin t - t cos t) / sin^3 t``
-    (:meth:`LineCoordinates.tangent`), ``b'(t) / t``, ``c'(t) / t``, ``b`` and ``c`` with ``b, c``
-    the left Jacobian's (:func:`.lie.coefficients`: ``(1 - cos t) / t^2``, ``(t - sin t) /
-    t^3``); below :data:`_SERIES` from their series to ``t^8`` (the first three cancel; each
-    multiplies a ``t^2`` there, so the closed forms' rounding above costs a few units of 1e-16)."""
-    t2 = angle * angle
-    out: Mat = (t2[:, None] ** _POWERS) @ _SERIES_TERMS
-    far = angle >= _SERIES
-    if far.any():
-        t = angle[far]
-        tt, sin, cos = t * t, np.sin(t), np.cos(t)
-        b, c = np.array([coefficients(x)[1:] for x in tt.tolist()]).T
-        out[far] = np.stack(
-            (
-                (sin - t * cos) / (sin * sin * sin),
-                (sin / t - 2.0 * b) / tt,
-                (b - 3.0 * c) / tt,
-                b,
-                c,
-            ),
-            axis=1,
-        )
-    return out
-
-
 _ADJUGATE, _ADJUGATE_SIGNS = [2, 1, 1, 0], np.array([1.0, -1.0, -1.0, 1.0])  # d, -b, -b, a
-_SERIES = 0.1  # below this angle (rad) the turns' coefficients come from their series
-_POWERS = np.arange(5)  # of t^2
-_SERIES_TERMS = np.array(  # each power's term (rows) in h, b'/t, c'/t, b, c (columns)
-    [
-        [1 / 3, -1 / 12, -1 / 60, 1 / 2, 1 / 6],
-        [2 / 15, 1 / 180, 1 / 1260, -1 / 24, -1 / 120],
-        [2 / 63, -1 / 6720, -1 / 60480, 1 / 720, 1 / 5040],
-        [4 / 675, 1 / 453600, 1 / 4989600, -1 / 40320, -1 / 362880],
-        [2 / 2079, -1 / 47900160, -1 / 622702080, 1 / 3628800, 1 / 39916800],
-    ]
-)
 
 
 def local_coordinates(est: Estimate, other: Estimate) -> Mat:

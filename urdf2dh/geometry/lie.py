@@ -31,6 +31,7 @@ __all__ = [
     "quaternion_of",
     "rotation_of",
     "skew_batch",
+    "turn_coefficients",
 ]
 
 Mat = NDArray[np.float64]
@@ -99,6 +100,45 @@ def coefficients(t2: float) -> tuple[float, float, float]:
 def _third_series(t2: T) -> T:
     """``(t - sin t) / t^3`` near 0, from ``t^2``: its series to ``t^6``."""
     return 1.0 / 6.0 - t2 / 120.0 + t2 * t2 / 5040.0 - t2 * t2 * t2 / 362880.0
+
+
+def turn_coefficients(angle: Mat) -> Mat:
+    """``(n, 5)``: of each angle ``t`` ``(n,)``, ``h = (sin t - t cos t) / sin^3 t`` (the
+    derivative of a line's turn coordinates, :meth:`.calibration.chart.LineCoordinates.tangent`),
+    ``b'(t) / t``, ``c'(t) / t``, ``b`` and ``c`` with ``b, c`` the left Jacobian's
+    (:func:`coefficients`: ``(1 - cos t) / t^2``, ``(t - sin t) / t^3``); below
+    :data:`_SERIES` from their series to ``t^8`` (the first three cancel; each multiplies a
+    ``t^2`` there, so the closed forms' rounding above costs a few units of 1e-16)."""
+    t2 = angle * angle
+    out: Mat = (t2[:, None] ** _POWERS) @ _SERIES_TERMS
+    far = angle >= _SERIES
+    if far.any():
+        t = angle[far]
+        tt, sin, cos = t * t, np.sin(t), np.cos(t)
+        b, c = np.array([coefficients(x)[1:] for x in tt.tolist()]).T
+        out[far] = np.stack(
+            (
+                (sin - t * cos) / (sin * sin * sin),
+                (sin / t - 2.0 * b) / tt,
+                (b - 3.0 * c) / tt,
+                b,
+                c,
+            ),
+            axis=1,
+        )
+    return out
+
+
+_POWERS = np.arange(5)  # of t^2
+_SERIES_TERMS = np.array(  # each power's term (rows) in h, b'/t, c'/t, b, c (columns)
+    [
+        [1 / 3, -1 / 12, -1 / 60, 1 / 2, 1 / 6],
+        [2 / 15, 1 / 180, 1 / 1260, -1 / 24, -1 / 120],
+        [2 / 63, -1 / 6720, -1 / 60480, 1 / 720, 1 / 5040],
+        [4 / 675, 1 / 453600, 1 / 4989600, -1 / 40320, -1 / 362880],
+        [2 / 2079, -1 / 47900160, -1 / 622702080, 1 / 3628800, 1 / 39916800],
+    ]
+)
 
 
 def _either(near: NDArray[np.bool_], series: Callable[[], Mat], closed: Callable[[], Mat]) -> Mat:
