@@ -96,3 +96,16 @@ def random_chain_urdf(
         )
     text = f'<robot name="random{seed}">' + "".join(links) + "".join(joints) + "</robot>"
     return text, drawn
+
+
+# joint 2's axis tilted from joint 1's by ANGLE about y, 0.3 m to the side: nearly parallel axes
+# whose exact common normal lies about 0.3 / ANGLE away
+TILTED_ARM = """<robot name="tilt"><link name="base_link"/><link name="l1"/><link name="l2"/>
+<link name="tool"/>
+<joint name="j1" type="revolute"><parent link="base_link"/><child link="l1"/><axis xyz="0 0 1"/>
+<limit lower="-3" upper="3" effort="1" velocity="1"/></joint>
+<joint name="j2" type="revolute"><parent link="l1"/><child link="l2"/>
+<origin xyz="0.3 0 0.2" rpy="0 {angle} 0"/><axis xyz="0 0 1"/>
+<limit lower="-3" upper="3" effort="1" velocity="1"/></joint>
+<joint name="j3" type="revolute"><parent link="l2"/><child link="tool"/><origin xyz="0 0 0.3"/>
+<axis xyz="0 1 0"/><limit lower="-3" upper="3" effort="1" velocity="1"/></joint></robot>"""

@@ -9,6 +9,7 @@ import pickle
 from pathlib import Path
 
 import pytest
+from chains import TILTED_ARM
 
 import urdf2dh
 from urdf2dh.calibration import figures
@@ -17,16 +18,7 @@ from urdf2dh.conventions import convert
 from urdf2dh.conventions.choice import choose
 from urdf2dh.tolerances import DEFAULT
 
-# joint 2's axis tilted 0.01 rad from joint 1's, 0.3 m to the side: D-H puts its row 29.8 m away
-TILT = """<robot name="tilt"><link name="base_link"/><link name="l1"/><link name="l2"/>
-<link name="tool"/>
-<joint name="j1" type="revolute"><parent link="base_link"/><child link="l1"/><axis xyz="0 0 1"/>
-<limit lower="-3" upper="3" effort="1" velocity="1"/></joint>
-<joint name="j2" type="revolute"><parent link="l1"/><child link="l2"/>
-<origin xyz="0.3 0 0.2" rpy="0 {angle} 0"/><axis xyz="0 0 1"/>
-<limit lower="-3" upper="3" effort="1" velocity="1"/></joint>
-<joint name="j3" type="revolute"><parent link="l2"/><child link="tool"/><origin xyz="0 0 0.3"/>
-<axis xyz="0 1 0"/><limit lower="-3" upper="3" effort="1" velocity="1"/></joint></robot>"""
+TILT = TILTED_ARM  # joint 2's axis 0.01 rad from joint 1's: D-H puts its row 29.8 m away
 
 
 def test_later_makes_its_figure_once_and_keeps_it():
