@@ -50,6 +50,7 @@ __all__ = [
     "Evaluation",
     "errors",
     "evaluate",
+    "measurement_errors",
     "model_poses",
     "modelled_points",
     "observed",
@@ -217,8 +218,14 @@ def errors(est: Estimate, data: Data) -> Mat:
     """``(N, 1 or 2)`` each measurement's position error (the distance between the modelled and
     the measured point) and, for poses, its rotation error (the angle of ``R R_meas^T``): the
     one formula every residual statistic is made of (offsets absorbed or not alike)."""
-    rows = residuals(est, data, 1.0, 1.0).reshape(len(data), -1, 3)
-    out: Mat = np.sqrt(np.add.reduce(rows * rows, axis=2))
+    return measurement_errors(residuals(est, data, 1.0, 1.0), data.rows)
+
+
+def measurement_errors(res: Mat, rows: int) -> Mat:
+    """:func:`errors` from the residuals at unit noise levels ``res`` (``rows`` per
+    measurement): the norm of each measurement's position and rotation residuals."""
+    parts = res.reshape(-1, rows // 3, 3)
+    out: Mat = np.sqrt(np.add.reduce(parts * parts, axis=2))
     return out
 
 

@@ -65,7 +65,7 @@ from ..tolerances import (
 )
 from .chart import Estimate, retract
 from .prior import LinkErrors, Regulariser, Seen
-from .residuals import Data, Evaluation, evaluate, residuals
+from .residuals import Data, Evaluation, evaluate, measurement_errors, residuals
 
 __all__ = [
     "Linearisation",
@@ -134,11 +134,8 @@ class Linearisation:
         return cls(est, r, jac, data.rows, None if errors is None else errors.evaluate(est))
 
     def errors(self) -> Mat:
-        """``(N, 1 or 2)``: :func:`.residuals.errors` at the estimate, of these residuals (the
-        same formula: the norm of each measurement's position and rotation residuals)."""
-        rows = self.residuals.reshape(-1, self.rows // 3, 3)
-        out: Mat = np.sqrt(np.add.reduce(rows * rows, axis=2))
-        return out
+        """``(N, 1 or 2)``: :func:`.residuals.errors` at the estimate, of these residuals."""
+        return measurement_errors(self.residuals, self.rows)
 
 
 @dataclass(frozen=True, slots=True)
