@@ -41,7 +41,7 @@ from functools import lru_cache
 import numpy as np
 from numpy.typing import NDArray
 
-from ..geometry.lie import cross_rows, left_jacobian_inverse, log_so3
+from ..geometry.lie import CROSS_NEXT, CROSS_PREV, cross_rows, left_jacobian_inverse, log_so3
 from .chart import FRAME, Estimate, normal_bases, sizes, tool_screws
 from .levels import Level
 
@@ -114,8 +114,6 @@ class Data:
         return len(self.q)
 
 
-_NEXT = np.array([1, 2, 0])
-_PREV = np.array([2, 0, 1])
 _EYE4 = np.eye(4)
 _EYE6 = np.eye(6)
 
@@ -467,8 +465,8 @@ def _jacobian_into(
     planes = np.ascontiguousarray(frames[:, :, :3].transpose(2, 3, 0, 1))
     lever = planes[:, 3] - state.x.T[:, None, :]
     rows = planes[:, :3]
-    cross = lever[_NEXT, None] * rows[_PREV]
-    cross -= lever[_PREV, None] * rows[_NEXT]
+    cross = lever[CROSS_NEXT, None] * rows[CROSS_PREV]  # lever x rows, components first
+    cross -= lever[CROSS_PREV, None] * rows[CROSS_NEXT]
     ad[:, :, 3:, :3] = cross.transpose(2, 3, 0, 1)
     twists = _twists(est)[lay.place].transpose(0, 2, 1)  # (used, 6, width)
     moves = np.matmul(ad.reshape(used, count * 6, 6), twists)

@@ -19,6 +19,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 __all__ = [
+    "CROSS_NEXT",
+    "CROSS_PREV",
     "coefficients",
     "cross3",
     "cross_rows",
@@ -305,7 +307,7 @@ def cross_rows(a: Mat, b: Mat) -> Mat:
     """``a x b`` row by row for ``(n, 3)`` arrays, or for any two that broadcast (without
     numpy's ``cross`` axis handling)."""
     if a.shape != b.shape:  # each operand's components gathered once, then broadcast
-        out: Mat = a[..., _NEXT] * b[..., _PREV] - a[..., _PREV] * b[..., _NEXT]
+        out: Mat = a[..., CROSS_NEXT] * b[..., CROSS_PREV] - a[..., CROSS_PREV] * b[..., CROSS_NEXT]
         return out
     out = np.empty(a.shape)
     out[..., 0] = a[..., 1] * b[..., 2] - a[..., 2] * b[..., 1]
@@ -314,5 +316,8 @@ def cross_rows(a: Mat, b: Mat) -> Mat:
     return out
 
 
-_NEXT = np.array([1, 2, 0])  # component i of a x b is a[NEXT[i]] b[PREV[i]] - a[PREV[i]] b[NEXT[i]]
-_PREV = np.array([2, 0, 1])
+# component i of a x b is a[CROSS_NEXT[i]] b[CROSS_PREV[i]] - a[CROSS_PREV[i]] b[CROSS_NEXT[i]]
+CROSS_NEXT = np.array([1, 2, 0])
+CROSS_PREV = np.array([2, 0, 1])
+CROSS_NEXT.setflags(write=False)
+CROSS_PREV.setflags(write=False)
