@@ -22,7 +22,9 @@ Times are wall clock of the identification alone, best of ``--repeats`` (data in
 model built: urdf2dh's ``calibrate``, FIGAROH's ``initialize`` + ``solve``, robotkinecal's
 ``set_observations`` + ``solve``) on a shared two-core machine; the ratios divide by urdf2dh's
 default, and the last column by urdf2dh's time for the level its default chose when that level
-is asked for (``level=...``: the same model, no levels judged).
+is asked for (``level=...``: the same model, no levels judged). A last table compares level for
+level: FIGAROH's ``joint_offset`` over urdf2dh's ``offsets`` and its ``full_params`` over
+urdf2dh's ``full``, each asked for.
 
 **Scaling** (``--scaling``): the UR5 as built below measured at 1,000, 10,000 and 100,000 seeded
 configurations, each count in a new process: the CSV written, read back (``read_measurements``)
@@ -727,6 +729,13 @@ def real_sets(sets: list[RealSet], repeats: int) -> int:
             + " | ".join(ratios)
             + f" | {fastest / base:.2f} | {alone:.3f} s ({row.chosen}) | {fastest / alone:.2f} |"
         )
+    print("\n### Level for level: each of FIGAROH's levels over urdf2dh's nearest, asked for\n")
+    pairs = (("FIGAROH joint_offset", "offsets"), ("FIGAROH full_params", "full"))
+    print("| set | " + " | ".join(f"{tool} / urdf2dh {level}" for tool, level in pairs) + " |")
+    print("|---|" + "---|" * len(pairs))
+    for row in rows:
+        cells = [_ratio(row.times.get(tool, math.nan), row.times[level]) for tool, level in pairs]
+        print(f"| {row.real.name} | " + " | ".join(cells) + " |")
     return 0
 
 
