@@ -186,12 +186,8 @@ def left_out_errors(problem: Problem, lin: Linearisation, group: NDArray[np.int6
     r, jac = problem.weighted(lin)
     data = problem.data
     rows, m = data.rows, problem.data_rows
-    norms = np.sqrt(np.einsum("ij,ij->j", jac, jac))
-    norms[norms == 0.0] = 1.0
-    scaled = jac / norms
-    eig, vec = np.linalg.eigh(scaled.T @ scaled)
-    keep = eig > RANK_RELATIVE * float(eig.max(initial=0.0))
-    u = scaled[:m] @ (vec[:, keep] / np.sqrt(eig[keep]))  # the data rows of J_s V S^-1
+    scaled = _unit_columns(jac)[0]
+    u = scaled[:m] @ _hat_basis(scaled)  # the data rows of J_s B: their products the hat matrix
     count = int(group.max(initial=-1)) + 1
     # each group's rows side by side, in file order (one sort, not a search per group)
     order = np.argsort(group, kind="stable")
@@ -205,7 +201,7 @@ def left_out_errors(problem: Problem, lin: Linearisation, group: NDArray[np.int6
     )
     padded_u = np.vstack([u, np.zeros((1, u.shape[1]))])[index]  # (groups, width, rank)
     padded_r = np.append(r[:m], 0.0)[index]
-    system = np.eye(width) - np.einsum("gik,gjk->gij", padded_u, padded_u)
+    system = np.eye(width) - padded_u @ padded_u.transpose(0, 2, 1)
     try:  # every group's I - H_cc has its eigenvalues above RANK_RELATIVE: a factor exists
         np.linalg.cholesky(system - RANK_RELATIVE * np.eye(width))
     except np.linalg.LinAlgError:
@@ -221,6 +217,49 @@ def left_out_errors(problem: Problem, lin: Linearisation, group: NDArray[np.int6
     return squared
 
 
+def _unit_columns(jac: Mat) -> tuple[Mat, Mat]:
+    """``jac`` with its columns scaled to unit norm (zero columns kept), and their norms."""
+    norms = np.sqrt(np.einsum("ij,ij->j", jac, jac))
+    norms[norms == 0.0] = 1.0
+    return jac / norms, norms
+
+
+def _hat_basis(scaled: Mat) -> Mat:
+    """``(p, rank)``: a basis ``B`` with ``scaled B B^T scaled^T`` the hat matrix of ``scaled``
+    (unit columns) over its numerical rank: the directions whose eigenvalues of ``N = scaled^T
+    scaled`` exceed :data:`~urdf2dh.tolerances.RANK_RELATIVE` times the largest. ``L^-T`` from
+    the Cholesky factor ``N = L L^T`` where :func:`_inverse_factor` shows every direction kept,
+    else ``V S^-1`` from ``N``'s eigenvectors ``V`` and the square roots ``S`` of the
+    eigenvalues kept."""
+    normal = scaled.T @ scaled
+    inverse = _inverse_factor(normal)
+    if inverse is not None:
+        return inverse.T
+    eig, vec = np.linalg.eigh(normal)
+    keep = eig > RANK_RELATIVE * float(eig.max(initial=0.0))
+    basis: Mat = vec[:, keep] / np.sqrt(eig[keep])
+    return basis
+
+
+def _inverse_factor(normal: Mat) -> Mat | None:
+    """``L^-1``, ``L`` the lower Cholesky factor of ``normal`` (a normal matrix of unit columns),
+    when a bound shows all its eigenvalues above :data:`~urdf2dh.tolerances.RANK_RELATIVE`
+    times the largest, with room for round-off: the smallest is at least ``1 / |L^-1|_F^2``
+    (``N^-1 = L^-T L^-1``), the largest at most the trace, and their ratio must clear twice the
+    threshold. ``None`` otherwise (no factor, or the bound too loose to tell)."""
+    from scipy.linalg.lapack import dtrtri
+
+    try:
+        factor = np.linalg.cholesky(normal)
+    except np.linalg.LinAlgError:
+        return None
+    inverse, info = dtrtri(factor, lower=1)
+    if info or 2.0 * RANK_RELATIVE * float(np.trace(normal)) * float(np.sum(inverse**2)) >= 1.0:
+        return None
+    out: Mat = inverse
+    return out
+
+
 def without_rows(
     problem: Problem, lin: Linearisation, keep: NDArray[np.int64]
 ) -> tuple[Problem, Linearisation]:
@@ -232,7 +271,14 @@ def without_rows(
     rows = lin.rows
     kept = (keep[:, None] * rows + np.arange(rows)).ravel()
     fitted = np.r_[kept, np.arange(problem.data_rows, len(r))]  # and the prior's rows
-    delta = -np.linalg.lstsq(jac[fitted], r[fitted], rcond=None)[0]
+    scaled, norms = _unit_columns(jac[fitted])
+    inverse = _inverse_factor(scaled.T @ scaled)
+    if inverse is None:  # (nearly) rank-deficient: the least-squares solution of least norm
+        delta = -np.linalg.lstsq(jac[fitted], r[fitted], rcond=None)[0]
+    else:  # the normal equations (N^-1 = L^-T L^-1), and one step of refinement on residuals
+        step = -inverse.T @ (inverse @ (scaled.T @ r[fitted]))
+        step -= inverse.T @ (inverse @ (scaled.T @ (r[fitted] + scaled @ step)))
+        delta = step / norms
     prior = None
     if problem.prior is not None:
         coordinates, tangent = Problem.prior_part(problem.prior, lin)
