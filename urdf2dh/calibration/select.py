@@ -187,7 +187,9 @@ def left_out_errors(problem: Problem, lin: Linearisation, group: NDArray[np.int6
     data = problem.data
     rows, m = data.rows, problem.data_rows
     scaled = _unit_columns(jac)[0]
-    u = scaled[:m] @ _hat_basis(scaled)  # the data rows of J_s B: their products the hat matrix
+    basis = _hat_basis(scaled)
+    u = np.zeros((m + 1, basis.shape[1]))  # the data rows of J_s B (their products the hat
+    np.matmul(scaled[:m], basis, out=u[:m])  # matrix), and a row of zeros to pad groups with
     count = int(group.max(initial=-1)) + 1
     # each group's rows side by side, in file order (one sort, not a search per group)
     order = np.argsort(group, kind="stable")
@@ -199,7 +201,7 @@ def left_out_errors(problem: Problem, lin: Linearisation, group: NDArray[np.int6
     index[group[order][:, None], slot[:, None] * rows + within_row] = (
         order[:, None] * rows + within_row
     )
-    padded_u = np.vstack([u, np.zeros((1, u.shape[1]))])[index]  # (groups, width, rank)
+    padded_u = u[index]  # (groups, width, rank)
     padded_r = np.append(r[:m], 0.0)[index]
     system = np.eye(width) - padded_u @ padded_u.transpose(0, 2, 1)
     try:  # every group's I - H_cc has its eigenvalues above RANK_RELATIVE: a factor exists
@@ -209,11 +211,9 @@ def left_out_errors(problem: Problem, lin: Linearisation, group: NDArray[np.int6
     deleted = np.linalg.solve(system, padded_r[..., None])[..., 0]
     out = np.zeros((m + 1,))
     out[index] = deleted
-    each = out[:m].reshape(len(data), rows)
-    squared: Mat = np.sum(each[:, :3] ** 2, axis=1, keepdims=True) * problem.sigma_pos**2
-    if rows == 6:
-        rot = np.sum(each[:, 3:] ** 2, axis=1, keepdims=True) * problem.sigma_rot**2
-        squared = np.hstack([squared, rot])
+    each = out[:m].reshape(len(data), rows // 3, 3)  # position (and rotation) rows
+    sigmas = np.array([problem.sigma_pos, problem.sigma_rot][: rows // 3])
+    squared: Mat = np.einsum("ijk,ijk->ij", each, each) * sigmas**2
     return squared
 
 
