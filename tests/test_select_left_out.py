@@ -79,8 +79,8 @@ def test_left_out_errors_are_the_deleted_residuals(fitted, folds, path, monkeypa
     group = fold_of_configurations(configurations, folds, 7)[index]
     for problem, lin in at.values():
         if path == "cholesky":  # well-conditioned: every direction kept, by the bound
-            scaled = select._unit_columns(problem.weighted(lin)[1])[0]
-            assert select._inverse_factor(scaled.T @ scaled) is not None
+            normal = select._scaled_normal(problem.weighted(lin)[1])[0]
+            assert select._inverse_factor(normal) is not None
         mine = left_out_errors(problem, lin, group)
         assert mine is not None
         assert np.allclose(mine, _deleted(problem, lin, group), rtol=1e-10, atol=0.0)

@@ -186,10 +186,10 @@ def left_out_errors(problem: Problem, lin: Linearisation, group: NDArray[np.int6
     r, jac = problem.weighted(lin)
     data = problem.data
     rows, m = data.rows, problem.data_rows
-    scaled = _unit_columns(jac)[0]
-    basis = _hat_basis(scaled)
-    u = np.zeros((m + 1, basis.shape[1]))  # the data rows of J_s B (their products the hat
-    np.matmul(scaled[:m], basis, out=u[:m])  # matrix), and a row of zeros to pad groups with
+    normal, norms = _scaled_normal(jac)
+    basis = _hat_basis(normal) / norms[:, None]  # B of the unit columns, for J's own
+    u = np.zeros((m + 1, basis.shape[1]))  # the data rows of J B (their products the hat
+    np.matmul(jac[:m], basis, out=u[:m])  # matrix), and a row of zeros to pad groups with
     count = int(group.max(initial=-1)) + 1
     # each group's rows side by side, in file order (one sort, not a search per group)
     order = np.argsort(group, kind="stable")
@@ -217,21 +217,25 @@ def left_out_errors(problem: Problem, lin: Linearisation, group: NDArray[np.int6
     return squared
 
 
-def _unit_columns(jac: Mat) -> tuple[Mat, Mat]:
-    """``jac`` with its columns scaled to unit norm (zero columns kept), and their norms."""
-    norms = np.sqrt(np.einsum("ij,ij->j", jac, jac))
+def _scaled_normal(jac: Mat) -> tuple[Mat, Mat]:
+    """The normal matrix of ``jac`` with its columns scaled to unit norm (``D^-1 J^T J D^-1``,
+    the scaling that makes the rank relative to each parameter's own size), and the norms
+    ``D`` (a zero column's 1)."""
+    normal = jac.T @ jac
+    norms = np.sqrt(np.diagonal(normal))
     norms[norms == 0.0] = 1.0
-    return jac / norms, norms
+    scaled: Mat = normal / np.outer(norms, norms)
+    return scaled, norms
 
 
-def _hat_basis(scaled: Mat) -> Mat:
-    """``(p, rank)``: a basis ``B`` with ``scaled B B^T scaled^T`` the hat matrix of ``scaled``
-    (unit columns) over its numerical rank: the directions whose eigenvalues of ``N = scaled^T
-    scaled`` exceed :data:`~urdf2dh.tolerances.RANK_RELATIVE` times the largest. ``L^-T`` from
-    the Cholesky factor ``N = L L^T`` where :func:`_inverse_factor` shows every direction kept,
-    else ``V S^-1`` from ``N``'s eigenvectors ``V`` and the square roots ``S`` of the
-    eigenvalues kept."""
-    normal = scaled.T @ scaled
+def _hat_basis(normal: Mat) -> Mat:
+    """``(p, rank)``: a basis ``B`` with ``J_s B B^T J_s^T`` the hat matrix of a Jacobian with
+    unit columns ``J_s`` over its numerical rank (``normal = J_s^T J_s``,
+    :func:`_scaled_normal`): the directions whose eigenvalues of ``normal`` exceed
+    :data:`~urdf2dh.tolerances.RANK_RELATIVE` times the largest. ``L^-T`` from the Cholesky
+    factor ``normal = L L^T`` where :func:`_inverse_factor` shows every direction kept, else
+    ``V S^-1`` from the eigenvectors ``V`` and the square roots ``S`` of the eigenvalues
+    kept."""
     inverse = _inverse_factor(normal)
     if inverse is not None:
         return inverse.T
@@ -271,14 +275,15 @@ def without_rows(
     rows = lin.rows
     kept = (keep[:, None] * rows + np.arange(rows)).ravel()
     fitted = np.r_[kept, np.arange(problem.data_rows, len(r))]  # and the prior's rows
-    scaled, norms = _unit_columns(jac[fitted])
-    inverse = _inverse_factor(scaled.T @ scaled)
+    a, b = jac[fitted], r[fitted]
+    normal, norms = _scaled_normal(a)
+    inverse = _inverse_factor(normal)
     if inverse is None:  # (nearly) rank-deficient: the least-squares solution of least norm
-        delta = -np.linalg.lstsq(jac[fitted], r[fitted], rcond=None)[0]
-    else:  # the normal equations (N^-1 = L^-T L^-1), and one step of refinement on residuals
-        step = -inverse.T @ (inverse @ (scaled.T @ r[fitted]))
-        step -= inverse.T @ (inverse @ (scaled.T @ (r[fitted] + scaled @ step)))
-        delta = step / norms
+        delta = -np.linalg.lstsq(a, b, rcond=None)[0]
+    else:  # the normal equations, (A^T A)^-1 = W^T W with W = L^-1 D^-1, and one step of
+        w = inverse / norms  # refinement on the residuals
+        delta = -w.T @ (w @ (a.T @ b))
+        delta -= w.T @ (w @ (a.T @ (b + a @ delta)))
     prior = None
     if problem.prior is not None:
         coordinates, tangent = Problem.prior_part(problem.prior, lin)
