@@ -17,6 +17,7 @@ from urdf2dh.calibration.measure import marker_layout, perturb, synthesize
 from urdf2dh.calibration.problem import CalibrationProblem, Options, fit_options
 from urdf2dh.calibration.select import (
     fold_of_configurations,
+    hat_basis,
     judge_levels,
     left_out_errors,
     without_rows,
@@ -63,9 +64,19 @@ def _deleted(problem: Problem, lin: Linearisation, group: np.ndarray) -> np.ndar
     return np.stack(squared, axis=1)
 
 
-def _eigen_only(monkeypatch: pytest.MonkeyPatch) -> None:
-    """The hat matrix and the moved fit by the eigenvectors and the least-squares path alone."""
-    monkeypatch.setattr(select, "_inverse_factor", lambda normal: None)
+def _path(path: str, monkeypatch: pytest.MonkeyPatch) -> list[bool]:
+    """The hat matrix's basis by the eigenvectors alone (``eigen``), or by the Cholesky factor
+    where it is taken (``cholesky``): whether it was, at each call."""
+    taken: list[bool] = []
+    factor = select._inverse_factor
+
+    def chosen(normal: np.ndarray) -> np.ndarray | None:
+        out = None if path == "eigen" else factor(normal)
+        taken.append(out is not None)
+        return out
+
+    monkeypatch.setattr(select, "_inverse_factor", chosen)
+    return taken
 
 
 @pytest.mark.parametrize("path", ["cholesky", "eigen"])
@@ -74,28 +85,26 @@ def test_left_out_errors_are_the_deleted_residuals(fitted, folds, path, monkeypa
     """Every level's left-out errors equal the reference formula to round-off, by the Cholesky
     factor (every direction kept) and by the eigenvectors."""
     at, (index, configurations) = fitted
-    if path == "eigen":
-        _eigen_only(monkeypatch)
+    taken = _path(path, monkeypatch)
     group = fold_of_configurations(configurations, folds, 7)[index]
     for problem, lin in at.values():
-        if path == "cholesky":  # well-conditioned: every direction kept, by the bound
-            normal = select._scaled_normal(problem.weighted(lin)[1])[0]
-            assert select._inverse_factor(normal) is not None
         mine = left_out_errors(problem, lin, group)
         assert mine is not None
         assert np.allclose(mine, _deleted(problem, lin, group), rtol=1e-10, atol=0.0)
+    assert taken == [path == "cholesky"] * len(at)  # well-conditioned: the bound shows it
 
 
 @pytest.mark.parametrize("path", ["cholesky", "eigen"])
 def test_a_fit_without_some_measurements_is_the_least_squares_step(fitted, path, monkeypatch):
     """:func:`~urdf2dh.calibration.select.without_rows` moves each level's solution by the
-    least-squares step on the rows kept (the prior's among them), by either path."""
+    least-squares step on the rows kept (the prior's among them), by either path, and gives
+    the moved fit's hat matrix's basis."""
     at, _ = fitted
-    if path == "eigen":
-        _eigen_only(monkeypatch)
+    _path(path, monkeypatch)
     for problem, lin in at.values():
         keep = np.setdiff1d(np.arange(len(problem.data)), [1, 6])
-        part, moved = without_rows(problem, lin, keep)
+        part, moved, basis = without_rows(problem, lin, keep)
+        assert np.array_equal(basis, hat_basis(part.weighted(moved)[1]))  # the moved fit's
         r, jac = problem.weighted(lin)
         kept = (keep[:, None] * lin.rows + np.arange(lin.rows)).ravel()
         fitted_rows = np.r_[kept, np.arange(problem.data_rows, len(r))]

@@ -36,6 +36,7 @@ it without that configuration) is not chosen, and the report says why.
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING
 
@@ -64,6 +65,7 @@ __all__ = [
     "Shared",
     "cross_validate",
     "fold_of_configurations",
+    "hat_basis",
     "judge_levels",
     "left_out_errors",
     "level_fits",
@@ -178,16 +180,19 @@ def per_configuration(squared: Mat, index: NDArray[np.int64], count: int) -> Mat
     return means
 
 
-def left_out_errors(problem: Problem, lin: Linearisation, group: NDArray[np.int64]) -> Mat | None:
+def left_out_errors(
+    problem: Problem, lin: Linearisation, group: NDArray[np.int64], basis: Mat | None = None
+) -> Mat | None:
     """``(N, 1 or 2)``: each measurement's squared position (and rotation) error when its group
     (``group[row]``, a configuration or a fold) is left out of the fit whose linearisation at
     its solution is ``lin`` (module docstring), in the physical units; ``None`` when some group
-    alone determines a parameter."""
+    alone determines a parameter. ``basis``: the hat matrix's basis at ``lin``
+    (:func:`hat_basis` of ``problem.weighted(lin)``'s Jacobian), when known."""
     r, jac = problem.weighted(lin)
     data = problem.data
     rows, m = data.rows, problem.data_rows
-    normal, norms = _scaled_normal(jac)
-    basis = _hat_basis(normal) / norms[:, None]  # B of the unit columns, for J's own
+    if basis is None:
+        basis = hat_basis(jac)
     u = np.zeros((m + 1, basis.shape[1]))  # the data rows of J B (their products the hat
     np.matmul(jac[:m], basis, out=u[:m])  # matrix), and a row of zeros to pad groups with
     count = int(group.max(initial=-1)) + 1
@@ -217,31 +222,26 @@ def left_out_errors(problem: Problem, lin: Linearisation, group: NDArray[np.int6
     return squared
 
 
-def _scaled_normal(jac: Mat) -> tuple[Mat, Mat]:
-    """The normal matrix of ``jac`` with its columns scaled to unit norm (``D^-1 J^T J D^-1``,
-    the scaling that makes the rank relative to each parameter's own size), and the norms
-    ``D`` (a zero column's 1)."""
+def hat_basis(jac: Mat) -> Mat:
+    """``(p, rank)``: a basis ``B`` of ``jac``'s parameters with ``jac B B^T jac^T`` its hat
+    matrix and ``B B^T`` the inverse of ``jac^T jac``, over its numerical rank: with its
+    columns scaled to unit norm (``J_s = jac D^-1``, the rank relative to each parameter's own
+    size), the directions whose eigenvalues of ``N = J_s^T J_s`` exceed
+    :data:`~urdf2dh.tolerances.RANK_RELATIVE` times the largest. ``D^-1 L^-T`` from the
+    Cholesky factor ``N = L L^T`` where :func:`_inverse_factor` shows every direction kept,
+    else ``D^-1 V S^-1`` from ``N``'s eigenvectors ``V`` and the square roots ``S`` of the
+    eigenvalues kept."""
     normal = jac.T @ jac
     norms = np.sqrt(np.diagonal(normal))
-    norms[norms == 0.0] = 1.0
-    scaled: Mat = normal / np.outer(norms, norms)
-    return scaled, norms
-
-
-def _hat_basis(normal: Mat) -> Mat:
-    """``(p, rank)``: a basis ``B`` with ``J_s B B^T J_s^T`` the hat matrix of a Jacobian with
-    unit columns ``J_s`` over its numerical rank (``normal = J_s^T J_s``,
-    :func:`_scaled_normal`): the directions whose eigenvalues of ``normal`` exceed
-    :data:`~urdf2dh.tolerances.RANK_RELATIVE` times the largest. ``L^-T`` from the Cholesky
-    factor ``normal = L L^T`` where :func:`_inverse_factor` shows every direction kept, else
-    ``V S^-1`` from the eigenvectors ``V`` and the square roots ``S`` of the eigenvalues
-    kept."""
+    norms[norms == 0.0] = 1.0  # a column of zeros stays one
+    normal /= np.outer(norms, norms)
     inverse = _inverse_factor(normal)
     if inverse is not None:
-        return inverse.T
+        basis: Mat = inverse.T / norms[:, None]
+        return basis
     eig, vec = np.linalg.eigh(normal)
     keep = eig > RANK_RELATIVE * float(eig.max(initial=0.0))
-    basis: Mat = vec[:, keep] / np.sqrt(eig[keep])
+    basis = vec[:, keep] / np.sqrt(eig[keep]) / norms[:, None]
     return basis
 
 
@@ -266,24 +266,20 @@ def _inverse_factor(normal: Mat) -> Mat | None:
 
 def without_rows(
     problem: Problem, lin: Linearisation, keep: NDArray[np.int64]
-) -> tuple[Problem, Linearisation]:
+) -> tuple[Problem, Linearisation, Mat]:
     """The fit whose linearisation at its solution is ``lin``, with only the measurements
     ``keep`` (rows of ``problem.data``): moved by one Gauss-Newton step at ``lin`` with the same
-    noise levels and prior (the refit, exact for a linear model), as the problem and the
-    linearisation at the moved solution (the Jacobian ``lin``'s)."""
+    noise levels and prior (the refit, exact for a linear model; the step of least norm over
+    the numerical rank), as the problem, the linearisation at the moved solution (the Jacobian
+    ``lin``'s) and its hat matrix's basis (:func:`hat_basis`)."""
     r, jac = problem.weighted(lin)
     rows = lin.rows
     kept = (keep[:, None] * rows + np.arange(rows)).ravel()
     fitted = np.r_[kept, np.arange(problem.data_rows, len(r))]  # and the prior's rows
     a, b = jac[fitted], r[fitted]
-    normal, norms = _scaled_normal(a)
-    inverse = _inverse_factor(normal)
-    if inverse is None:  # (nearly) rank-deficient: the least-squares solution of least norm
-        delta = -np.linalg.lstsq(a, b, rcond=None)[0]
-    else:  # the normal equations, (A^T A)^-1 = W^T W with W = L^-1 D^-1, and one step of
-        w = inverse / norms  # refinement on the residuals
-        delta = -w.T @ (w @ (a.T @ b))
-        delta -= w.T @ (w @ (a.T @ (b + a @ delta)))
+    basis = hat_basis(a)  # the normal equations, (A^T A)^-1 = B B^T, and a step of refinement
+    delta = -basis @ (basis.T @ (a.T @ b))
+    delta -= basis @ (basis.T @ (a.T @ (b + a @ delta)))
     prior = None
     if problem.prior is not None:
         coordinates, tangent = Problem.prior_part(problem.prior, lin)
@@ -293,7 +289,7 @@ def without_rows(
         prior,
     )  # fmt: skip
     data = problem.data.part(keep)
-    return Problem(data, problem.sigma_pos, problem.sigma_rot, problem.prior), moved
+    return Problem(data, problem.sigma_pos, problem.sigma_rot, problem.prior), moved, basis
 
 
 def predicted_without(
@@ -450,7 +446,9 @@ def cross_validate(
     group = fold_of_configurations(configurations, folds, seed)[index]
     fits, failures = level_fits(nominal, fit, opts, ids, before, levels, shared)
     data = to_data(fit, opts.pose, ids)
-    at = {lv: (f.problem(data), f.solution.lin) for lv, f in fits.items() if lv not in failures}
+    at = {
+        lv: (f.problem(data), f.solution.lin, None) for lv, f in fits.items() if lv not in failures
+    }
     left_out, per_config = _left_out(at, group, index, configurations, failures)
     judged = [lv for lv in levels if lv in per_config]
     richest = fits[judged[-1]] if judged else before
@@ -477,24 +475,24 @@ def _seed_used(folds: int | None, seed: int, configurations: int) -> int | None:
 
 
 def _left_out(
-    at: dict[str, tuple[Problem, Linearisation]],
+    at: Mapping[str, tuple[Problem, Linearisation, Mat | None]],
     group: NDArray[np.int64],
     index: NDArray[np.int64],
     configurations: int,
     failures: dict[str, str],
 ) -> tuple[dict[str, Mat], dict[str, Mat]]:
-    """Per level fitted (its problem and its linearisation at the solution, ``at``): each
-    measurement's left-out squared errors (:func:`left_out_errors`, its group ``group[row]``
-    left out) and each configuration's mean of them; why the others could not be judged goes
-    to ``failures``."""
+    """Per level fitted (its problem, its linearisation at the solution and its hat matrix's
+    basis when known, ``at``): each measurement's left-out squared errors
+    (:func:`left_out_errors`, its group ``group[row]`` left out) and each configuration's mean
+    of them; why the others could not be judged goes to ``failures``."""
     left_out: dict[str, Mat] = {}
     per_config: dict[str, Mat] = {}
     groups = int(group.max(initial=-1)) + 1
-    for level, (problem, lin) in at.items():
+    for level, (problem, lin, basis) in at.items():
         if groups < 2:
             failures[level] = "a single configuration cannot be left out"
             continue
-        squared = left_out_errors(problem, lin, group)
+        squared = left_out_errors(problem, lin, group, basis)
         if squared is None:
             failures[level] = (
                 "a configuration alone determines some of its parameters: without it "
