@@ -52,6 +52,7 @@ from .identifiable import carried_at_levels, check_patterns
 from .levels import AUTO, BASE_TOOL, LEVELS
 from .measurements import Measurements
 from .prior import Deviations
+from .residuals import measurement_errors
 from .solver import Linearisation, Problem
 from .start import FitOptions, has_prior, placement, prior_of, to_data
 
@@ -189,8 +190,7 @@ def left_out_errors(
     alone determines a parameter. ``basis``: the hat matrix's basis at ``lin``
     (:func:`hat_basis` of ``problem.weighted(lin)``'s Jacobian), when known."""
     r, jac = problem.weighted(lin)
-    data = problem.data
-    rows, m = data.rows, problem.data_rows
+    rows, m = problem.data.rows, problem.data_rows
     if basis is None:
         basis = hat_basis(jac)
     u = np.zeros((m + 1, basis.shape[1]))  # the data rows of J B (their products the hat
@@ -216,9 +216,8 @@ def left_out_errors(
     deleted = np.linalg.solve(system, padded_r[..., None])[..., 0]
     out = np.zeros((m + 1,))
     out[index] = deleted
-    each = out[:m].reshape(len(data), rows // 3, 3)  # position (and rotation) rows
     sigmas = np.array([problem.sigma_pos, problem.sigma_rot][: rows // 3])
-    squared: Mat = np.einsum("ijk,ijk->ij", each, each) * sigmas**2
+    squared: Mat = (measurement_errors(out[:m], rows) * sigmas) ** 2
     return squared
 
 
@@ -275,7 +274,7 @@ def without_rows(
     r, jac = problem.weighted(lin)
     rows = lin.rows
     kept = (keep[:, None] * rows + np.arange(rows)).ravel()
-    fitted = np.r_[kept, np.arange(problem.data_rows, len(r))]  # and the prior's rows
+    fitted = np.concatenate([kept, np.arange(problem.data_rows, len(r))])  # and the prior's
     a, b = jac[fitted], r[fitted]
     basis = hat_basis(a)  # the normal equations, (A^T A)^-1 = B B^T, and a step of refinement
     delta = -basis @ (basis.T @ (a.T @ b))
