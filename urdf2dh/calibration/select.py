@@ -208,11 +208,16 @@ def left_out_errors(
     )
     padded_u = u[index]  # (groups, width, rank)
     padded_r = np.append(r[:m], 0.0)[index]
-    system = np.eye(width) - padded_u @ padded_u.transpose(0, 2, 1)
-    try:  # every group's I - H_cc has its eigenvalues above RANK_RELATIVE: a factor exists
-        np.linalg.cholesky(system - RANK_RELATIVE * np.eye(width))
-    except np.linalg.LinAlgError:
-        return None
+    hat = padded_u @ padded_u.transpose(0, 2, 1)  # each group's H_cc
+    system = np.eye(width) - hat
+    # every group's I - H_cc has its eigenvalues above RANK_RELATIVE: H_cc's largest is at most
+    # its Frobenius norm; where that bound does not show it, I - H_cc - RANK_RELATIVE I has a
+    # Cholesky factor
+    if float(np.max(np.einsum("gij,gij->g", hat, hat))) >= (1.0 - RANK_RELATIVE) ** 2:
+        try:
+            np.linalg.cholesky(system - RANK_RELATIVE * np.eye(width))
+        except np.linalg.LinAlgError:
+            return None
     deleted = np.linalg.solve(system, padded_r[..., None])[..., 0]
     out = np.zeros((m + 1,))
     out[index] = deleted
