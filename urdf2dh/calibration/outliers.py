@@ -74,7 +74,7 @@ class Suspect:
 def suspects(fit: Measurements, result: Fit, pose: bool, ids: list[int]) -> list[Suspect]:
     """The measurements of ``fit`` whose residuals at ``result`` (a fit to ``fit``: the residuals
     its linearisation holds) are beyond the threshold."""
-    from scipy.stats import chi2
+    from scipy.special import chdtrc  # the chi-square distribution's survival function
 
     data = to_data(fit, pose, ids)
     sigmas = np.array([result.sigma_pos] * 3 + [result.sigma_rot] * 3)[: data.rows]
@@ -83,7 +83,7 @@ def suspects(fit: Measurements, result: Fit, pose: bool, ids: list[int]) -> list
     m = len(data) * data.rows
     leverage = result.statistics.leverage[:m].reshape(len(data), data.rows).sum(axis=1)
     standardised = np.sum(rows**2, axis=1) / np.maximum(1.0 - leverage / data.rows, 1e-3)
-    chance = chi2.sf(standardised, data.rows)
+    chance = chdtrc(data.rows, standardised)
     index, _ = fit.configurations()
     out = []
     for k in np.flatnonzero(chance < OUTLIER_CHANCE):
