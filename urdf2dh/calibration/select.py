@@ -189,23 +189,36 @@ def left_out_errors(
     its solution is ``lin`` (module docstring), in the physical units; ``None`` when some group
     alone determines a parameter. ``basis``: the hat matrix's basis at ``lin``
     (:func:`hat_basis` of ``problem.weighted(lin)``'s Jacobian), when known."""
+    return _deleted(problem, lin, _group_rows(group, problem.data.rows), basis)
+
+
+def _group_rows(group: NDArray[np.int64], rows: int) -> NDArray[np.int64]:
+    """``(groups, width)``: each group's residual rows side by side, in file order (``rows``
+    per measurement, measurement ``k`` in group ``group[k]``), padded with ``-1`` to the
+    largest group's (one sort, not a search per group)."""
+    count = int(group.max(initial=-1)) + 1
+    order = np.argsort(group, kind="stable")
+    members = np.bincount(group, minlength=count)
+    slot = np.arange(len(group)) - np.repeat(np.cumsum(members) - members, members)
+    index = np.full((count, int(members.max(initial=0)) * rows), -1, dtype=np.int64)
+    within_row = np.arange(rows)
+    index[group[order][:, None], slot[:, None] * rows + within_row] = (
+        order[:, None] * rows + within_row
+    )
+    return index
+
+
+def _deleted(
+    problem: Problem, lin: Linearisation, index: NDArray[np.int64], basis: Mat | None
+) -> Mat | None:
+    """:func:`left_out_errors`, each group's rows ``index`` (:func:`_group_rows`)."""
     r, jac = problem.weighted(lin)
     rows, m = problem.data.rows, problem.data_rows
     if basis is None:
         basis = hat_basis(jac)
     u = np.zeros((m + 1, basis.shape[1]))  # the data rows of J B (their products the hat
-    np.matmul(jac[:m], basis, out=u[:m])  # matrix), and a row of zeros to pad groups with
-    count = int(group.max(initial=-1)) + 1
-    # each group's rows side by side, in file order (one sort, not a search per group)
-    order = np.argsort(group, kind="stable")
-    members = np.bincount(group, minlength=count)
-    slot = np.arange(len(group)) - np.repeat(np.cumsum(members) - members, members)
-    width = int(members.max(initial=0)) * rows
-    index = np.full((count, width), -1, dtype=np.int64)
-    within_row = np.arange(rows)
-    index[group[order][:, None], slot[:, None] * rows + within_row] = (
-        order[:, None] * rows + within_row
-    )
+    np.matmul(jac[:m], basis, out=u[:m])  # matrix), and a row of zeros for the padding
+    width = index.shape[1]
     padded_u = u[index]  # (groups, width, rank)
     padded_r = np.append(r[:m], 0.0)[index]
     hat = padded_u @ padded_u.transpose(0, 2, 1)  # each group's H_cc
@@ -492,11 +505,14 @@ def _left_out(
     left_out: dict[str, Mat] = {}
     per_config: dict[str, Mat] = {}
     groups = int(group.max(initial=-1)) + 1
+    blocks = None  # each group's rows: the same at every level
     for level, (problem, lin, basis) in at.items():
         if groups < 2:
             failures[level] = "a single configuration cannot be left out"
             continue
-        squared = left_out_errors(problem, lin, group, basis)
+        if blocks is None:
+            blocks = _group_rows(group, problem.data.rows)
+        squared = _deleted(problem, lin, blocks, basis)
         if squared is None:
             failures[level] = (
                 "a configuration alone determines some of its parameters: without it "
