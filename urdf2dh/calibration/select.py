@@ -241,7 +241,7 @@ def _deleted(
 
 def hat_basis(jac: Mat) -> Mat:
     """``(p, rank)``: a basis ``B`` of ``jac``'s parameters with ``jac B B^T jac^T`` its hat
-    matrix and ``B B^T`` the inverse of ``jac^T jac``, over its numerical rank: with its
+    matrix and ``B B^T`` the inverse of ``jac^T jac``, both over its numerical rank: with its
     columns scaled to unit norm (``J_s = jac D^-1``, the rank relative to each parameter's own
     size), the directions whose eigenvalues of ``N = J_s^T J_s`` exceed
     :data:`~urdf2dh.tolerances.RANK_RELATIVE` times the largest. ``D^-1 L^-T`` from the
@@ -250,7 +250,7 @@ def hat_basis(jac: Mat) -> Mat:
     eigenvalues kept."""
     normal = jac.T @ jac
     norms = np.sqrt(np.diagonal(normal))
-    norms[norms == 0.0] = 1.0  # a column of zeros stays one
+    norms[norms == 0.0] = 1.0  # a column of zeros stays zeros
     normal /= np.outer(norms, norms)
     inverse = _inverse_factor(normal)
     if inverse is not None:
