@@ -74,7 +74,7 @@ class Suspect:
 def suspects(fit: Measurements, result: Fit, pose: bool, ids: list[int]) -> list[Suspect]:
     """The measurements of ``fit`` whose residuals at ``result`` (a fit to ``fit``: the residuals
     its linearisation holds) are beyond the threshold."""
-    from scipy.stats import chi2
+    from scipy.special import chdtrc  # the chi-square distribution's survival function
 
     data = to_data(fit, pose, ids)
     sigmas = np.array([result.sigma_pos] * 3 + [result.sigma_rot] * 3)[: data.rows]
@@ -83,10 +83,13 @@ def suspects(fit: Measurements, result: Fit, pose: bool, ids: list[int]) -> list
     m = len(data) * data.rows
     leverage = result.statistics.leverage[:m].reshape(len(data), data.rows).sum(axis=1)
     standardised = np.sum(rows**2, axis=1) / np.maximum(1.0 - leverage / data.rows, 1e-3)
-    chance = chi2.sf(standardised, data.rows)
+    chance = chdtrc(data.rows, standardised)
+    beyond = np.flatnonzero(chance < OUTLIER_CHANCE)
+    if not len(beyond):
+        return []
     index, _ = fit.configurations()
     out = []
-    for k in np.flatnonzero(chance < OUTLIER_CHANCE):
+    for k in beyond:
         position = float(np.linalg.norm(rows[k, :3])) * result.sigma_pos
         rotation = float(np.linalg.norm(rows[k, 3:])) * result.sigma_rot if pose else None
         out.append(Suspect(int(k), int(index[k]), position, rotation, float(chance[k])))
@@ -152,9 +155,8 @@ def settle(first: Pass, level: str, options: Options) -> tuple[Pass, Outliers]:
     problem, opts = first.problem, first.options
     fit, ids, rows = problem.fit, problem.markers, problem.fit_rows
     first.fits[level] = with_statistics(first.fits[level], to_data(fit, opts.pose, ids))
-    found = [
-        replace(s, row=int(rows[s.row])) for s in suspects(fit, first.fits[level], opts.pose, ids)
-    ]
+    among = suspects(fit, first.fits[level], opts.pose, ids)  # rows among those fitted
+    found = [replace(s, row=int(rows[s.row])) for s in among]
     reject = options.reject
     units = problem.units
     if not found:
@@ -174,9 +176,8 @@ def settle(first: Pass, level: str, options: Options) -> tuple[Pass, Outliers]:
             if len(found) > OUTLIER_SHARE * len(fit)
             else "kept: without them too few measurements would be left to identify the level",
         )
-    kept_rows = np.setdiff1d(rows, [s.row for s in found])
-    kept = np.flatnonzero(np.isin(rows, kept_rows))
-    rest = problem.refitted(kept_rows)
+    kept = np.delete(np.arange(len(rows)), [s.row for s in among])
+    rest = problem.refitted(rows[kept])
     index = rest.fit.configurations()[0]
     predicted = None if reject else predicted_without(first, kept, rest.fit, options.choice)
     if predicted is not None and predicted.chosen in predicted.left_out:

@@ -36,6 +36,7 @@ it without that configuration) is not chosen, and the report says why.
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING
 
@@ -51,6 +52,7 @@ from .identifiable import carried_at_levels, check_patterns
 from .levels import AUTO, BASE_TOOL, LEVELS
 from .measurements import Measurements
 from .prior import Deviations
+from .residuals import measurement_errors
 from .solver import Linearisation, Problem
 from .start import FitOptions, has_prior, placement, prior_of, to_data
 
@@ -64,6 +66,7 @@ __all__ = [
     "Shared",
     "cross_validate",
     "fold_of_configurations",
+    "hat_basis",
     "judge_levels",
     "left_out_errors",
     "level_fits",
@@ -178,61 +181,122 @@ def per_configuration(squared: Mat, index: NDArray[np.int64], count: int) -> Mat
     return means
 
 
-def left_out_errors(problem: Problem, lin: Linearisation, group: NDArray[np.int64]) -> Mat | None:
+def left_out_errors(
+    problem: Problem, lin: Linearisation, group: NDArray[np.int64], basis: Mat | None = None
+) -> Mat | None:
     """``(N, 1 or 2)``: each measurement's squared position (and rotation) error when its group
     (``group[row]``, a configuration or a fold) is left out of the fit whose linearisation at
     its solution is ``lin`` (module docstring), in the physical units; ``None`` when some group
-    alone determines a parameter."""
-    r, jac = problem.weighted(lin)
-    data = problem.data
-    rows, m = data.rows, problem.data_rows
-    norms = np.sqrt(np.einsum("ij,ij->j", jac, jac))
-    norms[norms == 0.0] = 1.0
-    scaled = jac / norms
-    eig, vec = np.linalg.eigh(scaled.T @ scaled)
-    keep = eig > RANK_RELATIVE * float(eig.max(initial=0.0))
-    u = scaled[:m] @ (vec[:, keep] / np.sqrt(eig[keep]))  # the data rows of J_s V S^-1
+    alone determines a parameter. ``basis``: the hat matrix's basis at ``lin``
+    (:func:`hat_basis` of ``problem.weighted(lin)``'s Jacobian), when known."""
+    return _deleted(problem, lin, _group_rows(group, problem.data.rows), basis)
+
+
+def _group_rows(group: NDArray[np.int64], rows: int) -> NDArray[np.int64]:
+    """``(groups, width)``: each group's residual rows side by side, in file order (``rows``
+    per measurement, measurement ``k`` in group ``group[k]``), padded with ``-1`` to the
+    largest group's (one sort, not a search per group)."""
     count = int(group.max(initial=-1)) + 1
-    # each group's rows side by side, in file order (one sort, not a search per group)
     order = np.argsort(group, kind="stable")
     members = np.bincount(group, minlength=count)
     slot = np.arange(len(group)) - np.repeat(np.cumsum(members) - members, members)
-    width = int(members.max(initial=0)) * rows
-    index = np.full((count, width), -1, dtype=np.int64)
+    index = np.full((count, int(members.max(initial=0)) * rows), -1, dtype=np.int64)
     within_row = np.arange(rows)
     index[group[order][:, None], slot[:, None] * rows + within_row] = (
         order[:, None] * rows + within_row
     )
-    padded_u = np.vstack([u, np.zeros((1, u.shape[1]))])[index]  # (groups, width, rank)
+    return index
+
+
+def _deleted(
+    problem: Problem, lin: Linearisation, index: NDArray[np.int64], basis: Mat | None
+) -> Mat | None:
+    """:func:`left_out_errors`, each group's rows ``index`` (:func:`_group_rows`)."""
+    r, jac = problem.weighted(lin)
+    rows, m = problem.data.rows, problem.data_rows
+    if basis is None:
+        basis = hat_basis(jac)
+    u = np.zeros((m + 1, basis.shape[1]))  # the data rows of J B (their products the hat
+    np.matmul(jac[:m], basis, out=u[:m])  # matrix), and a row of zeros for the padding
+    width = index.shape[1]
+    padded_u = u[index]  # (groups, width, rank)
     padded_r = np.append(r[:m], 0.0)[index]
-    system = np.eye(width) - np.einsum("gik,gjk->gij", padded_u, padded_u)
-    try:  # every group's I - H_cc has its eigenvalues above RANK_RELATIVE: a factor exists
-        np.linalg.cholesky(system - RANK_RELATIVE * np.eye(width))
-    except np.linalg.LinAlgError:
-        return None
+    hat = padded_u @ padded_u.transpose(0, 2, 1)  # each group's H_cc
+    system = np.eye(width) - hat
+    # every group's I - H_cc has its eigenvalues above RANK_RELATIVE: H_cc's largest is at most
+    # its Frobenius norm; where that bound does not show it, I - H_cc - RANK_RELATIVE I has a
+    # Cholesky factor
+    if float(np.max(np.einsum("gij,gij->g", hat, hat))) >= (1.0 - RANK_RELATIVE) ** 2:
+        try:
+            np.linalg.cholesky(system - RANK_RELATIVE * np.eye(width))
+        except np.linalg.LinAlgError:
+            return None
     deleted = np.linalg.solve(system, padded_r[..., None])[..., 0]
     out = np.zeros((m + 1,))
     out[index] = deleted
-    each = out[:m].reshape(len(data), rows)
-    squared: Mat = np.sum(each[:, :3] ** 2, axis=1, keepdims=True) * problem.sigma_pos**2
-    if rows == 6:
-        rot = np.sum(each[:, 3:] ** 2, axis=1, keepdims=True) * problem.sigma_rot**2
-        squared = np.hstack([squared, rot])
+    sigmas = np.array([problem.sigma_pos, problem.sigma_rot][: rows // 3])
+    squared: Mat = (measurement_errors(out[:m], rows) * sigmas) ** 2
     return squared
+
+
+def hat_basis(jac: Mat) -> Mat:
+    """``(p, rank)``: a basis ``B`` of ``jac``'s parameters with ``jac B B^T jac^T`` its hat
+    matrix and ``B B^T`` the inverse of ``jac^T jac``, both over its numerical rank: with its
+    columns scaled to unit norm (``J_s = jac D^-1``, the rank relative to each parameter's own
+    size), the directions whose eigenvalues of ``N = J_s^T J_s`` exceed
+    :data:`~urdf2dh.tolerances.RANK_RELATIVE` times the largest. ``D^-1 L^-T`` from the
+    Cholesky factor ``N = L L^T`` where :func:`_inverse_factor` shows every direction kept,
+    else ``D^-1 V S^-1`` from ``N``'s eigenvectors ``V`` and the square roots ``S`` of the
+    eigenvalues kept."""
+    normal = jac.T @ jac
+    norms = np.sqrt(np.diagonal(normal))
+    norms[norms == 0.0] = 1.0  # a column of zeros stays zeros
+    normal /= np.outer(norms, norms)
+    inverse = _inverse_factor(normal)
+    if inverse is not None:
+        basis: Mat = inverse.T / norms[:, None]
+        return basis
+    eig, vec = np.linalg.eigh(normal)
+    keep = eig > RANK_RELATIVE * float(eig.max(initial=0.0))
+    basis = vec[:, keep] / np.sqrt(eig[keep]) / norms[:, None]
+    return basis
+
+
+def _inverse_factor(normal: Mat) -> Mat | None:
+    """``L^-1``, ``L`` the lower Cholesky factor of ``normal`` (a normal matrix of unit columns),
+    when a bound shows all its eigenvalues above :data:`~urdf2dh.tolerances.RANK_RELATIVE`
+    times the largest, with room for round-off: the smallest is at least ``1 / |L^-1|_F^2``
+    (``N^-1 = L^-T L^-1``), the largest at most the trace, and their ratio must clear twice the
+    threshold. ``None`` otherwise (no factor, or the bound too loose to tell)."""
+    from scipy.linalg.lapack import dtrtri
+
+    try:
+        factor = np.linalg.cholesky(normal)
+    except np.linalg.LinAlgError:
+        return None
+    inverse, info = dtrtri(factor, lower=1)
+    if info or 2.0 * RANK_RELATIVE * float(np.trace(normal)) * float(np.sum(inverse**2)) >= 1.0:
+        return None
+    out: Mat = inverse
+    return out
 
 
 def without_rows(
     problem: Problem, lin: Linearisation, keep: NDArray[np.int64]
-) -> tuple[Problem, Linearisation]:
+) -> tuple[Problem, Linearisation, Mat]:
     """The fit whose linearisation at its solution is ``lin``, with only the measurements
     ``keep`` (rows of ``problem.data``): moved by one Gauss-Newton step at ``lin`` with the same
-    noise levels and prior (the refit, exact for a linear model), as the problem and the
-    linearisation at the moved solution (the Jacobian ``lin``'s)."""
+    noise levels and prior (the refit, exact for a linear model; the step of least norm over
+    the numerical rank), as the problem, the linearisation at the moved solution (the Jacobian
+    ``lin``'s) and its hat matrix's basis (:func:`hat_basis`)."""
     r, jac = problem.weighted(lin)
     rows = lin.rows
     kept = (keep[:, None] * rows + np.arange(rows)).ravel()
-    fitted = np.r_[kept, np.arange(problem.data_rows, len(r))]  # and the prior's rows
-    delta = -np.linalg.lstsq(jac[fitted], r[fitted], rcond=None)[0]
+    fitted = np.concatenate([kept, np.arange(problem.data_rows, len(r))])  # and the prior's
+    a, b = jac[fitted], r[fitted]
+    basis = hat_basis(a)  # the normal equations, (A^T A)^-1 = B B^T, and a step of refinement
+    delta = -basis @ (basis.T @ (a.T @ b))
+    delta -= basis @ (basis.T @ (a.T @ (b + a @ delta)))
     prior = None
     if problem.prior is not None:
         coordinates, tangent = Problem.prior_part(problem.prior, lin)
@@ -242,7 +306,7 @@ def without_rows(
         prior,
     )  # fmt: skip
     data = problem.data.part(keep)
-    return Problem(data, problem.sigma_pos, problem.sigma_rot, problem.prior), moved
+    return Problem(data, problem.sigma_pos, problem.sigma_rot, problem.prior), moved, basis
 
 
 def predicted_without(
@@ -399,7 +463,9 @@ def cross_validate(
     group = fold_of_configurations(configurations, folds, seed)[index]
     fits, failures = level_fits(nominal, fit, opts, ids, before, levels, shared)
     data = to_data(fit, opts.pose, ids)
-    at = {lv: (f.problem(data), f.solution.lin) for lv, f in fits.items() if lv not in failures}
+    at = {
+        lv: (f.problem(data), f.solution.lin, None) for lv, f in fits.items() if lv not in failures
+    }
     left_out, per_config = _left_out(at, group, index, configurations, failures)
     judged = [lv for lv in levels if lv in per_config]
     richest = fits[judged[-1]] if judged else before
@@ -426,24 +492,27 @@ def _seed_used(folds: int | None, seed: int, configurations: int) -> int | None:
 
 
 def _left_out(
-    at: dict[str, tuple[Problem, Linearisation]],
+    at: Mapping[str, tuple[Problem, Linearisation, Mat | None]],
     group: NDArray[np.int64],
     index: NDArray[np.int64],
     configurations: int,
     failures: dict[str, str],
 ) -> tuple[dict[str, Mat], dict[str, Mat]]:
-    """Per level fitted (its problem and its linearisation at the solution, ``at``): each
-    measurement's left-out squared errors (:func:`left_out_errors`, its group ``group[row]``
-    left out) and each configuration's mean of them; why the others could not be judged goes
-    to ``failures``."""
+    """Per level fitted (its problem, its linearisation at the solution and its hat matrix's
+    basis when known, ``at``): each measurement's left-out squared errors
+    (:func:`left_out_errors`, its group ``group[row]`` left out) and each configuration's mean
+    of them; why the others could not be judged goes to ``failures``."""
     left_out: dict[str, Mat] = {}
     per_config: dict[str, Mat] = {}
     groups = int(group.max(initial=-1)) + 1
-    for level, (problem, lin) in at.items():
+    blocks = None  # each group's rows: the same at every level
+    for level, (problem, lin, basis) in at.items():
         if groups < 2:
             failures[level] = "a single configuration cannot be left out"
             continue
-        squared = left_out_errors(problem, lin, group)
+        if blocks is None:
+            blocks = _group_rows(group, problem.data.rows)
+        squared = _deleted(problem, lin, blocks, basis)
         if squared is None:
             failures[level] = (
                 "a configuration alone determines some of its parameters: without it "
