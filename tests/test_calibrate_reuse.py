@@ -97,3 +97,47 @@ def test_configurations_number_the_distinct_rows_in_file_order():
         assert count == len(first)
         np.testing.assert_array_equal(index, numbered[inverse.ravel()])
         assert index[0] == 0 and np.all(np.diff(np.maximum.accumulate(index)) <= 1)
+
+
+def test_what_measurements_give_is_found_once_and_equals_the_plain_computation():
+    """:meth:`.Measurements.remembered`: the configurations and :func:`.start.to_data` are made
+    once per measurements (read-only), equal to what they make afresh; a copy made by
+    ``replace``, ``subset`` or pickling starts with nothing remembered."""
+    import pickle
+    from dataclasses import replace
+
+    from urdf2dh.calibration.measure import measure
+    from urdf2dh.calibration.start import _data, to_data
+
+    model = urdf2dh.load("ur5")
+    m = measure(model, 12, seed=3)
+    m = Measurements(m.joints, np.vstack([m.q, m.q[:4]]), np.vstack([m.points, m.points[:4]]),
+                     np.vstack([m.quaternions, m.quaternions[:4]]))  # fmt: skip
+    index, count = m.configurations()
+    assert m.configurations()[0] is index and count == 12
+    plain, plain_count = m._configurations()
+    np.testing.assert_array_equal(index, plain)
+    assert plain_count == count and not index.flags.writeable
+    for pose in (True, False):
+        data = to_data(m, pose, [0])
+        assert to_data(m, pose, [0]) is data
+        fresh = _data(m, pose, (0,))
+        for name in ("q", "points", "markers"):
+            np.testing.assert_array_equal(getattr(data, name), getattr(fresh, name))
+        assert (data.rotations is None) == (not pose)
+        if pose:
+            np.testing.assert_array_equal(data.rotations, fresh.rotations)
+            assert not data.rotations.flags.writeable
+    copies = (
+        replace(m, source="other"),
+        m.subset(np.arange(len(m))),
+        pickle.loads(pickle.dumps(m)),
+    )
+    for copy in copies:
+        assert copy._memo == {}
+        np.testing.assert_array_equal(copy.configurations()[0], index)
+    again = copies[2]
+    assert again.joints == m.joints and again.source == m.source
+    for a, b in ((again.q, m.q), (again.points, m.points), (again.quaternions, m.quaternions)):
+        np.testing.assert_array_equal(a, b)
+    assert m == m and "_memo" not in repr(m)
