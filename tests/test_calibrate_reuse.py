@@ -141,3 +141,26 @@ def test_what_measurements_give_is_found_once_and_equals_the_plain_computation()
     for a, b in ((again.q, m.q), (again.points, m.points), (again.quaternions, m.quaternions)):
         np.testing.assert_array_equal(a, b)
     assert m == m and "_memo" not in repr(m)
+
+
+def test_the_identified_estimate_absorbed_is_made_once_and_is_chart_absorbed():
+    """:attr:`.identify.Identified.flat` (what the model and the figures read) is
+    :func:`.chart.absorbed` of the identified estimate, bit for bit."""
+    from urdf2dh.calibration.chart import absorbed
+    from urdf2dh.calibration.identify import identify
+    from urdf2dh.calibration.measure import perturb, synthesize
+    from urdf2dh.calibration.start import FitOptions
+
+    nominal = urdf2dh.load("ur5")
+    m = synthesize(perturb(nominal, 2, 1e-3, 1e-3 * nominal.size()), 20, seed=1)
+    result = identify(nominal, m, FitOptions(level="offsets"))
+    plain = absorbed(result.estimate)
+    assert result.estimate.offsets is not None and result.estimate.offsets.any()
+    for a, b in (
+        (result.flat.chain.axis, plain.chain.axis),
+        (result.flat.chain.point, plain.chain.point),
+        (result.flat.home, plain.home),
+        (result.flat.markers, plain.markers),
+    ):
+        assert np.array_equal(a, b)
+    assert result.flat.offsets is None and plain.offsets is None
