@@ -49,11 +49,40 @@ def test_carried_at_every_level_at_once_is_each_levels_own(robot, markers, helic
     model = urdf2dh.load(robot)
     limits, size = model.limits(), model.size()
     together = carried_at_levels(est, tuple(LEVELS.values()), limits, size)
-    assert list(together) == ["full", "geometry", "offsets", "base-tool"]
+    assert list(together) == list(LEVELS)
     for name, level in LEVELS.items():
         alone = redundant(est.with_level(level), limits, size)
         np.testing.assert_array_equal(together[name], alone)
     assert together["offsets"].any()  # the first offset and the base's turn: a pair to find
+
+
+def test_every_levels_columns_are_among_one_jacobians_at_their_union():
+    """:func:`.identifiable.carried_at_levels` tests every level on one Jacobian: each level's
+    own columns are among it bit for bit, and with offsets to absorb (levels without them are
+    tested on the absorbed model) each level's answer is its own all the same."""
+    from dataclasses import replace
+
+    from urdf2dh.calibration.chart import all_names
+    from urdf2dh.calibration.identifiable import _probe, _union
+    from urdf2dh.calibration.residuals import evaluate
+
+    model = urdf2dh.load("ur5")
+    limits, size = model.limits(), model.size()
+    est = _estimate("ur5", False, False, False)
+    q = model.sample(20, 4)
+    levels = list(LEVELS.values())
+    every = _probe(est, _union(levels))
+    _, jac = evaluate(every, observed(every, q), size, 1.0)
+    column = {n: k for k, n in enumerate(all_names(every))}
+    for level in levels:
+        own = _probe(est, level)
+        _, alone = evaluate(own, observed(own, q), size, 1.0)
+        assert np.array_equal(jac[:, [column[n] for n in all_names(own)]], alone), level.name
+    shifted = replace(est.with_level(LEVELS["offsets"]), offsets=np.linspace(0.1, 0.6, 6))
+    together = carried_at_levels(shifted, tuple(levels), limits, size)
+    for level in levels:
+        alone = redundant(shifted.with_level(level), limits, size)
+        np.testing.assert_array_equal(together[level.name], alone)
 
 
 @pytest.mark.parametrize("markers", [False, True])
