@@ -93,7 +93,8 @@ def carried_at_levels(
     drawn once for all, and the levels tested on the same model (``est``'s, or with its offsets
     absorbed where a level has none: :meth:`.chart.Estimate.with_level`) observed once and
     tested on one Jacobian, the model's at every coordinate one of them has (:func:`_union`):
-    each level's columns are among its (the chart's formula is the same at every level)."""
+    each level's own columns are among that one's (the chart's formula is the same at every
+    level)."""
     rng = np.random.default_rng((0, 6))
     q = rng.uniform(limits[:, 0], limits[:, 1], size=(_SAMPLES, est.n))
     probes = {level: _probe(est, level) for level in levels}
