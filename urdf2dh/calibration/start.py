@@ -209,8 +209,8 @@ def nominal_points(nominal: PoeModel, m: Measurements, opts: FitOptions, ids: li
     return points
 
 
-def _measured_points(m: Measurements, size: float, pose: bool) -> Mat:
-    data = to_data(m, pose, [])
+def _measured_points(m: Measurements, size: float, pose: bool, ids: list[int]) -> Mat:
+    data = to_data(m, pose, ids)  # the fit's own view of them (made once)
     if data.rotations is None:
         return m.points
     poses = np.zeros((len(m), 4, 4))
@@ -222,7 +222,8 @@ def _measured_points(m: Measurements, size: float, pose: bool) -> Mat:
 def placement(nominal: PoeModel, m: Measurements, opts: FitOptions, ids: list[int]) -> Mat:
     """The rigid fit of the nominal's tool points to the measured ones (step 1)."""
     return fit_rigid(
-        nominal_points(nominal, m, opts, ids), _measured_points(m, nominal.size(), opts.pose)
+        nominal_points(nominal, m, opts, ids),
+        _measured_points(m, nominal.size(), opts.pose, ids),
     )
 
 
