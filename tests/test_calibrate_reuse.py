@@ -49,11 +49,40 @@ def test_carried_at_every_level_at_once_is_each_levels_own(robot, markers, helic
     model = urdf2dh.load(robot)
     limits, size = model.limits(), model.size()
     together = carried_at_levels(est, tuple(LEVELS.values()), limits, size)
-    assert list(together) == ["full", "geometry", "offsets", "base-tool"]
+    assert list(together) == list(LEVELS)
     for name, level in LEVELS.items():
         alone = redundant(est.with_level(level), limits, size)
         np.testing.assert_array_equal(together[name], alone)
     assert together["offsets"].any()  # the first offset and the base's turn: a pair to find
+
+
+def test_every_levels_columns_are_among_one_jacobians_at_their_union():
+    """:func:`.identifiable.carried_at_levels` tests every level on one Jacobian: each level's
+    own columns are among it bit for bit, and with offsets to absorb (levels without them are
+    tested on the absorbed model) each level's answer is its own all the same."""
+    from dataclasses import replace
+
+    from urdf2dh.calibration.chart import all_names
+    from urdf2dh.calibration.identifiable import _probe, _union
+    from urdf2dh.calibration.residuals import evaluate
+
+    model = urdf2dh.load("ur5")
+    limits, size = model.limits(), model.size()
+    est = _estimate("ur5", False, False, False)
+    q = model.sample(20, 4)
+    levels = list(LEVELS.values())
+    every = _probe(est, _union(levels))
+    _, jac = evaluate(every, observed(every, q), size, 1.0)
+    column = {n: k for k, n in enumerate(all_names(every))}
+    for level in levels:
+        own = _probe(est, level)
+        _, alone = evaluate(own, observed(own, q), size, 1.0)
+        assert np.array_equal(jac[:, [column[n] for n in all_names(own)]], alone), level.name
+    shifted = replace(est.with_level(LEVELS["offsets"]), offsets=np.linspace(0.1, 0.6, 6))
+    together = carried_at_levels(shifted, tuple(levels), limits, size)
+    for level in levels:
+        alone = redundant(shifted.with_level(level), limits, size)
+        np.testing.assert_array_equal(together[level.name], alone)
 
 
 @pytest.mark.parametrize("markers", [False, True])
@@ -97,3 +126,70 @@ def test_configurations_number_the_distinct_rows_in_file_order():
         assert count == len(first)
         np.testing.assert_array_equal(index, numbered[inverse.ravel()])
         assert index[0] == 0 and np.all(np.diff(np.maximum.accumulate(index)) <= 1)
+
+
+def test_what_measurements_give_is_found_once_and_equals_the_plain_computation():
+    """:meth:`.Measurements.remembered`: the configurations and :func:`.start.to_data` are made
+    once per measurements (read-only), equal to what they make afresh; a copy made by
+    ``replace``, ``subset`` or pickling starts with nothing remembered."""
+    import pickle
+    from dataclasses import replace
+
+    from urdf2dh.calibration.measure import measure
+    from urdf2dh.calibration.start import _data, to_data
+
+    model = urdf2dh.load("ur5")
+    m = measure(model, 12, seed=3)
+    m = Measurements(m.joints, np.vstack([m.q, m.q[:4]]), np.vstack([m.points, m.points[:4]]),
+                     np.vstack([m.quaternions, m.quaternions[:4]]))  # fmt: skip
+    index, count = m.configurations()
+    assert m.configurations()[0] is index and count == 12
+    plain, plain_count = m._configurations()
+    np.testing.assert_array_equal(index, plain)
+    assert plain_count == count and not index.flags.writeable
+    for pose in (True, False):
+        data = to_data(m, pose, [0])
+        assert to_data(m, pose, [0]) is data
+        fresh = _data(m, pose, (0,))
+        for name in ("q", "points", "markers"):
+            np.testing.assert_array_equal(getattr(data, name), getattr(fresh, name))
+        assert (data.rotations is None) == (not pose)
+        if pose:
+            np.testing.assert_array_equal(data.rotations, fresh.rotations)
+            assert not data.rotations.flags.writeable
+    copies = (
+        replace(m, source="other"),
+        m.subset(np.arange(len(m))),
+        pickle.loads(pickle.dumps(m)),
+    )
+    for copy in copies:
+        assert copy._memo == {}
+        np.testing.assert_array_equal(copy.configurations()[0], index)
+    again = copies[2]
+    assert again.joints == m.joints and again.source == m.source
+    for a, b in ((again.q, m.q), (again.points, m.points), (again.quaternions, m.quaternions)):
+        np.testing.assert_array_equal(a, b)
+    assert m == m and "_memo" not in repr(m)
+
+
+def test_the_identified_estimate_absorbed_is_made_once_and_is_chart_absorbed():
+    """:attr:`.identify.Identified.flat` (what the model and the figures read) is
+    :func:`.chart.absorbed` of the identified estimate, bit for bit."""
+    from urdf2dh.calibration.chart import absorbed
+    from urdf2dh.calibration.identify import identify
+    from urdf2dh.calibration.measure import perturb, synthesize
+    from urdf2dh.calibration.start import FitOptions
+
+    nominal = urdf2dh.load("ur5")
+    m = synthesize(perturb(nominal, 2, 1e-3, 1e-3 * nominal.size()), 20, seed=1)
+    result = identify(nominal, m, FitOptions(level="offsets"))
+    plain = absorbed(result.estimate)
+    assert result.estimate.offsets is not None and result.estimate.offsets.any()
+    for a, b in (
+        (result.flat.chain.axis, plain.chain.axis),
+        (result.flat.chain.point, plain.chain.point),
+        (result.flat.home, plain.home),
+        (result.flat.markers, plain.markers),
+    ):
+        assert np.array_equal(a, b)
+    assert result.flat.offsets is None and plain.offsets is None

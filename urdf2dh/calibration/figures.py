@@ -385,7 +385,7 @@ def assemble(chosen: Pass, result: Identified, outliers: Outliers, options: Opti
     unit = user.length
     pose = opts.pose
     before_est, after_est = before.solution.estimate, result.estimate
-    was, now = absorbed(before_est), absorbed(after_est)
+    was, now = absorbed(before_est), result.flat
     index = m.configurations()[0]
     fit_data = to_data(fit, pose, ids)  # for the comparison and the parameters' reach
     comparisons = [_comparison("fit", was, now, fit, fit_data, pose, user, index[fit_rows])]

@@ -25,7 +25,7 @@ from ..errors import InputError, choices
 from ..tolerances import BARELY_MOVED, RANK_RELATIVE
 from .chart import Estimate, all_names, sizes
 from .levels import Level
-from .residuals import Data, evaluate, observed
+from .residuals import evaluate, observed
 
 __all__ = [
     "barely_moved",
@@ -90,27 +90,44 @@ def carried_at_levels(
     est: Estimate, levels: tuple[Level, ...], limits: NDArray[np.float64], size: float
 ) -> dict[str, NDArray[np.bool_]]:
     """:func:`redundant` of ``est``'s model at each of ``levels``, by name: the configurations
-    drawn and observed once for all (the model's motion is the same at every level), and a
-    level whose coordinates are all a richer one's (``geometry``'s are ``full``'s) tested on
-    that one's Jacobian columns (the same columns: the chart's formula is the same)."""
+    drawn once for all, and the levels tested on the same model (``est``'s, or with its offsets
+    absorbed where a level has none: :meth:`.chart.Estimate.with_level`) observed once and
+    tested on one Jacobian, the model's at every coordinate one of them has (:func:`_union`):
+    each level's own columns are among that one's (the chart's formula is the same at every
+    level)."""
     rng = np.random.default_rng((0, 6))
     q = rng.uniform(limits[:, 0], limits[:, 1], size=(_SAMPLES, est.n))
-    data: Data | None = None
-    evaluated: list[tuple[dict[str, int], Mat]] = []  # each evaluated level's columns by name
+    probes = {level: _probe(est, level) for level in levels}
+    on_model: dict[bool, list[Level]] = {}  # on est's own model, and on it absorbed
+    for level, probe in probes.items():
+        on_model.setdefault(probe.chain is est.chain, []).append(level)
     out: dict[str, NDArray[np.bool_]] = {}
-    for level in sorted(levels, key=lambda lv: -sum(sizes(est.with_level(lv), every=True))):
-        probe = replace(est, free=None) if level == est.level else est.with_level(level)
-        every = all_names(probe)
-        jac = next(
-            (j[:, [at[n] for n in every]] for at, j in evaluated if all(n in at for n in every)),
-            None,
-        )
-        if jac is None:
-            data = observed(probe, q) if data is None else data
-            _, jac = evaluate(probe, data, size, 1.0)
-            evaluated.append(({n: k for k, n in enumerate(every)}, jac))
-        out[level.name] = _carried(probe, jac)
-    return out
+    for group in on_model.values():
+        every = _probe(est, _union(group))
+        _, jac = evaluate(every, observed(every, q), size, 1.0)
+        column = {n: k for k, n in enumerate(all_names(every))}
+        for level in group:
+            probe = probes[level]
+            out[level.name] = _carried(probe, jac[:, [column[n] for n in all_names(probe)]])
+    return {level.name: out[level.name] for level in levels}
+
+
+def _probe(est: Estimate, level: Level) -> Estimate:
+    """``est``'s model at ``level``, every coordinate of it free."""
+    return replace(est, free=None) if level == est.level else est.with_level(level)
+
+
+def _union(levels: list[Level]) -> Level:
+    """The level with every coordinate one of ``levels`` has (the one level itself, alone)."""
+    if len(levels) == 1:
+        return levels[0]
+    return Level(
+        " + ".join(level.name for level in levels),
+        base=any(level.base for level in levels),
+        lines=any(level.lines for level in levels),
+        offsets=any(level.offsets for level in levels),
+        scales=any(level.scales for level in levels),
+    )
 
 
 def _carried(est: Estimate, jac: Mat) -> NDArray[np.bool_]:

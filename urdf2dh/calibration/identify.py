@@ -60,6 +60,7 @@ class Identified:
     start: Estimate  # the nominal, placed in the device frame by the rigid fit
     before: Estimate  # the base-tool level's solution
     estimate: Estimate
+    flat: Estimate  # the estimate with its offsets absorbed (:func:`.chart.absorbed`)
     solution: Solution
     stats: Statistics
     names: list[str]
@@ -147,6 +148,7 @@ def identify(
         start,
         before_est,
         est,
+        flat,
         result.solution,
         result.statistics,
         names(est, ids),

@@ -41,9 +41,10 @@ import fnmatch
 import io
 import math
 import re
-from collections.abc import Callable, Iterator
-from dataclasses import dataclass
+from collections.abc import Callable, Hashable, Iterator
+from dataclasses import dataclass, field, fields
 from pathlib import Path
+from typing import Any, TypeVar, cast
 
 import numpy as np
 from numpy.typing import NDArray
@@ -73,6 +74,7 @@ __all__ = [
 ]
 
 Mat = NDArray[np.float64]
+T = TypeVar("T")
 
 POINT = ("x", "y", "z")
 QUATERNION = ("qx", "qy", "qz", "qw")
@@ -213,6 +215,9 @@ class Measurements:
         :func:`~urdf2dh.calibrate` takes it as ``layout=`` to hold the markers there.
     read_as
         How they were read from a file (:func:`read_measurements`), or ``None``.
+
+    Like every value here they are not changed once made (their arrays are not written to):
+    what is found from them alone is found once (:meth:`remembered`).
     """
 
     joints: tuple[str, ...]
@@ -223,6 +228,7 @@ class Measurements:
     source: str = ""
     layout: dict[int, Mat] | None = None
     read_as: AsRead | None = None
+    _memo: dict[Hashable, Any] = field(default_factory=dict, init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         n = len(self.q)
@@ -235,6 +241,24 @@ class Measurements:
 
     def __len__(self) -> int:
         return len(self.q)
+
+    def __getstate__(self) -> tuple[object, ...]:
+        """The fields to pickle: the memo is not among them (it is made again)."""
+        return tuple(getattr(self, f.name) for f in fields(self) if f.init)
+
+    def __setstate__(self, state: tuple[object, ...]) -> None:
+        for f, value in zip((f for f in fields(self) if f.init), state, strict=True):
+            object.__setattr__(self, f.name, value)
+        object.__setattr__(self, "_memo", {})
+
+    def remembered(self, key: Hashable, make: Callable[[], T]) -> T:
+        """``make()``, made once for these measurements: ``key`` names what it finds from them
+        (with any argument it takes besides them). Every step of a calibration asks for the
+        same views of its measurements (:meth:`configurations`, :func:`.start.to_data`); their
+        arrays are made read-only, since every later asker shares them."""
+        if key not in self._memo:
+            self._memo[key] = make()
+        return cast(T, self._memo[key])
 
     @property
     def length_unit(self) -> str | None:
@@ -290,7 +314,10 @@ class Measurements:
 
     def configurations(self) -> tuple[NDArray[np.int64], int]:
         """Each row's configuration (a distinct row of joint values, numbered in the order of
-        their first row) and how many there are."""
+        their first row; read-only, found once: :meth:`remembered`) and how many there are."""
+        return self.remembered("configurations", self._configurations)
+
+    def _configurations(self) -> tuple[NDArray[np.int64], int]:
         if len(self) == 0:
             return np.zeros(0, dtype=np.int64), 0
         order = np.lexsort(self.q.T[::-1])  # the rows sorted, equal rows in file order
@@ -303,6 +330,7 @@ class Measurements:
         number[np.argsort(first)] = np.arange(len(first))  # numbered in file order
         out = np.empty(len(order), dtype=np.int64)
         out[order] = number[np.cumsum(starts) - 1]
+        out.setflags(write=False)
         return out, len(first)
 
     def subset(self, rows: NDArray[np.int64]) -> Measurements:

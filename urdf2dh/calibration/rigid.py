@@ -109,9 +109,10 @@ def anchor_base(first: Joint, nominal_first: Joint, points: Mat, nominal_points:
     ``points``, ``nominal_points``: ``(k, 3)`` the identified and the nominal tool points at the
     same configurations.
     """
-    c_id, c_nom = _line_frame(first), _line_frame(nominal_first)
-    a = points @ inv(c_id)[:3, :3].T + inv(c_id)[:3, 3]
-    b = nominal_points @ inv(c_nom)[:3, :3].T + inv(c_nom)[:3, 3]
+    c_nom = _line_frame(nominal_first)
+    to_id, to_nom = inv(_line_frame(first)), inv(c_nom)  # into each first line's frame
+    a = points @ to_id[:3, :3].T + to_id[:3, 3]
+    b = nominal_points @ to_nom[:3, :3].T + to_nom[:3, 3]
     move = np.eye(4)
     if first.kind == "prismatic":  # turn about z (direction anchored) and any translation
         a2, b2 = a - a.mean(axis=0), b - b.mean(axis=0)
@@ -130,7 +131,7 @@ def anchor_base(first: Joint, nominal_first: Joint, points: Mat, nominal_points:
         c, s = math.cos(phi), math.sin(phi)
         move[:3, :3] = [[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]]
         move[2, 3] = float(np.mean(b[:, 2] - a[:, 2]))
-    return c_nom @ move @ inv(c_id)
+    return c_nom @ move @ to_id
 
 
 def tool_on_last_axis(

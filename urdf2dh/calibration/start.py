@@ -160,13 +160,22 @@ def prior_of(
 
 def to_data(m: Measurements, pose: bool, marker_ids: list[int]) -> Data:
     """The residuals' view of measurements: the orientations too with ``pose``; each row's
-    marker as its place among ``marker_ids``."""
+    marker as its place among ``marker_ids``. Made once for ``m`` and these arguments
+    (:meth:`.Measurements.remembered`: its markers and rotations read-only)."""
+    ids = tuple(marker_ids)
+    return m.remembered(("data", pose, ids), lambda: _data(m, pose, ids))
+
+
+def _data(m: Measurements, pose: bool, marker_ids: tuple[int, ...]) -> Data:
     rows = (
         np.zeros(len(m), dtype=np.int64)
         if m.markers is None
         else np.searchsorted(np.array(marker_ids), m.markers).astype(np.int64)
     )
     rotations = rotation_of(m.quaternions) if pose and m.quaternions is not None else None
+    for made in (rows, rotations):
+        if made is not None:
+            made.setflags(write=False)
     return Data(m.q, m.points, rows, rotations)
 
 
@@ -200,8 +209,8 @@ def nominal_points(nominal: PoeModel, m: Measurements, opts: FitOptions, ids: li
     return points
 
 
-def _measured_points(m: Measurements, size: float, pose: bool) -> Mat:
-    data = to_data(m, pose, [])
+def _measured_points(m: Measurements, size: float, pose: bool, ids: list[int]) -> Mat:
+    data = to_data(m, pose, ids)  # the fit's own view of them (made once)
     if data.rotations is None:
         return m.points
     poses = np.zeros((len(m), 4, 4))
@@ -213,7 +222,8 @@ def _measured_points(m: Measurements, size: float, pose: bool) -> Mat:
 def placement(nominal: PoeModel, m: Measurements, opts: FitOptions, ids: list[int]) -> Mat:
     """The rigid fit of the nominal's tool points to the measured ones (step 1)."""
     return fit_rigid(
-        nominal_points(nominal, m, opts, ids), _measured_points(m, nominal.size(), opts.pose)
+        nominal_points(nominal, m, opts, ids),
+        _measured_points(m, nominal.size(), opts.pose, ids),
     )
 
 
