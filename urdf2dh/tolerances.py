@@ -131,7 +131,9 @@ CALIBRATION_COST = 1e-8
 
 # Numerical rank of the column-scaled, weighted identification Jacobian: singular values below
 # RANK_RELATIVE x the largest count as zero. Identifiable directions of well-spread data lie
-# at 1e-4 and above; unidentifiable ones at round-off (1e-15).
+# at 1e-4 and above; unidentifiable ones at round-off (1e-15). The left-out errors
+# (calibration.select.hat_basis) apply it to the eigenvalues of the scaled normal matrix, the
+# singular values squared: there directions below sqrt(RANK_RELATIVE) = 1e-5 count as zero.
 RANK_RELATIVE = 1e-10
 
 # A symmetric matrix whose Cholesky factor calibration takes (the prior's covariance, the
