@@ -193,3 +193,36 @@ def test_the_identified_estimate_absorbed_is_made_once_and_is_chart_absorbed():
     ):
         assert np.array_equal(a, b)
     assert result.flat.offsets is None and plain.offsets is None
+
+
+def test_the_passs_placement_is_start_placement_and_identify_reads_it_unchanged():
+    """:attr:`.select.Pass.placed` is :func:`.start.placement` of the pass's measurements, bit
+    for bit, and :func:`.identify.identify` given it (markers: the tool's fit reads it) gives
+    the same model and markers as finding it afresh."""
+    from dataclasses import replace
+
+    from urdf2dh.calibration.chart import MARKERS
+    from urdf2dh.calibration.identify import identify
+    from urdf2dh.calibration.measure import marker_layout, perturb, synthesize
+    from urdf2dh.calibration.problem import CalibrationProblem, LevelChoice, Options, fit_options
+    from urdf2dh.calibration.select import judge_levels
+    from urdf2dh.calibration.start import placement
+
+    nominal = urdf2dh.load("ur5")
+    actual = perturb(nominal, 2, 1e-3, 1e-3 * nominal.size())
+    layout = marker_layout(actual, 3, seed=4)
+    m = synthesize(actual, 24, 1e-5, seed=5, layout=layout, pose=False)
+    problem = CalibrationProblem.of(nominal, m, False, (None, None), layout, 0.0, 0, None)
+    opts = replace(fit_options(problem), level="geometry")
+    first = judge_levels(problem, Options(opts, LevelChoice("geometry")))
+    ids = problem.markers
+    g = placement(nominal, m, opts, ids)
+    assert np.array_equal(first.placed, g) and not np.allclose(g, np.eye(4))
+    given = identify(nominal, m, opts, ids, (first.start, first.before), None, first.placed)
+    fresh = identify(nominal, m, opts, ids, (first.start, first.before))
+    assert given.estimate.tool == MARKERS  # the tool's fit reads the placement
+    assert np.array_equal(given.model.home, fresh.model.home)
+    for a, b in zip(given.model.joints, fresh.model.joints, strict=True):
+        assert np.array_equal(a.axis, b.axis) and np.array_equal(a.point, b.point)
+    for k in ids:
+        assert np.array_equal(given.markers_on_tool[k], fresh.markers_on_tool[k])

@@ -204,7 +204,7 @@ def run(problem: CalibrationProblem, options: Options) -> Calibration:
     fit = chosen.fit
     result = identify(
         problem.nominal, fit, at_level, problem.markers, (chosen.start, chosen.before),
-        chosen.fits[level],
+        chosen.fits[level], chosen.placed,
     )  # fmt: skip
     if not result.solution.converged:
         raise unconverged(

@@ -85,13 +85,15 @@ def identify(
     ids: list[int] | None = None,
     before: tuple[Estimate, Fit] | None = None,
     solved: Fit | None = None,
+    placed: Mat | None = None,
 ) -> Identified:
     """Identify ``nominal``'s parameters at ``opts.level`` from the measurements ``fit``
     (module docstring).
 
     ``ids`` are the markers (default: those in ``fit``; the caller passes all of a file's when
-    it holds some measurements out). ``before`` is :func:`fit_before`'s result and ``solved``
-    the level's fit, when the caller has them already.
+    it holds some measurements out). ``before`` is :func:`fit_before`'s result, ``solved``
+    the level's fit and ``placed`` the rigid fit (:func:`.start.placement`), when the caller
+    has them already.
 
     Raises
     ------
@@ -122,7 +124,9 @@ def identify(
     est = result.solution.estimate
     flat = absorbed(est)
     notes = list(result.notes)
-    device, markers_on_tool = _device_model(nominal, start, est, flat, fit, opts, ids, notes)
+    device, markers_on_tool = _device_model(
+        nominal, start, est, flat, fit, opts, ids, notes, placed
+    )
     identified_points = (
         pose_points(model_poses(flat, fit.q), size) if opts.pose else modelled_points(flat, data)
     )
@@ -172,9 +176,11 @@ def _device_model(
     opts: FitOptions,
     ids: list[int],
     notes: list[str],
+    placed: Mat | None = None,
 ) -> tuple[PoeModel, dict[int, Mat]]:
     """The identified model in the device frame (step 5) and the markers on its tool
-    (``flat``: ``est`` with its offsets absorbed, :func:`.chart.absorbed`)."""
+    (``flat``: ``est`` with its offsets absorbed, :func:`.chart.absorbed`; ``placed``: the
+    rigid fit, when the caller has it: :func:`.start.placement`)."""
     size = nominal.size()
     markers_on_tool: dict[int, Mat] = {}
     if est.tool == FRAME:
@@ -194,7 +200,7 @@ def _device_model(
                     "axis: --keep-tool-axis puts it on the axis"
                 )
     else:
-        g = placement(nominal, fit, opts, ids)
+        g = placement(nominal, fit, opts, ids) if placed is None else placed
         reference = (est.base_motion() @ g @ nominal.home)[:3, :3]  # the nominal's, placed
         points = flat.device_markers()
         home = fit_rigid(layout_points(opts, ids), points, reference)

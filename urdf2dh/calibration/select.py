@@ -610,8 +610,11 @@ class Pass:
         The problem, its fitted rows those judged.
     options
         How each level was identified (at the base-tool level).
+    placed
+        The rigid fit of the nominal's tool points to the measured ones
+        (:func:`.start.placement`): found once, read by every step after it.
     start
-        The nominal placed in the device frame by the rigid fit.
+        The nominal placed in the device frame by ``placed``.
     before
         The base-tool level's fit: the start of every other level, and the fair "before".
     selection
@@ -624,6 +627,7 @@ class Pass:
 
     problem: CalibrationProblem
     options: FitOptions
+    placed: Mat
     start: Estimate
     before: Fit
     selection: Selection
@@ -654,9 +658,8 @@ def judge_levels(problem: CalibrationProblem, options: Options, first: bool = Tr
     placed = placement(nominal, fit, opts, ids)
     start, before = fit_before(nominal, fit, opts, ids, placed)
     if first and not before.solution.converged:
-        return Pass(
-            problem, opts, start, before, Selection(0, None, 0, (), None, None, ""), {}, None
-        )
+        nothing = Selection(0, None, 0, (), None, None, "")
+        return Pass(problem, opts, placed, start, before, nothing, {}, None)
     checked = levels if first and opts.fixed else (choice.level,) if first else ()
     found = tuple(lv for lv in levels if lv in _fitted(levels, opts) + checked)
     shared = Shared.of(nominal, fit, opts, ids, before, found, placed)
@@ -678,4 +681,4 @@ def judge_levels(problem: CalibrationProblem, options: Options, first: bool = Tr
         shared,
     )  # fmt: skip
     level = choice.level if choice.level != AUTO else selection.chosen
-    return Pass(problem, opts, start, before, selection, fits, level)
+    return Pass(problem, opts, placed, start, before, selection, fits, level)
