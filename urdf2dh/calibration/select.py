@@ -181,15 +181,12 @@ def per_configuration(squared: Mat, index: NDArray[np.int64], count: int) -> Mat
     return means
 
 
-def left_out_errors(
-    problem: Problem, lin: Linearisation, group: NDArray[np.int64], basis: Mat | None = None
-) -> Mat | None:
+def left_out_errors(problem: Problem, lin: Linearisation, group: NDArray[np.int64]) -> Mat | None:
     """``(N, 1 or 2)``: each measurement's squared position (and rotation) error when its group
     (``group[row]``, a configuration or a fold) is left out of the fit whose linearisation at
     its solution is ``lin`` (module docstring), in the physical units; ``None`` when some group
-    alone determines a parameter. ``basis``: the hat matrix's basis at ``lin``
-    (:func:`hat_basis` of ``problem.weighted(lin)``'s Jacobian), when known."""
-    return _deleted(problem, lin, _group_rows(group, problem.data.rows), basis)
+    alone determines a parameter."""
+    return _deleted(problem, lin, _group_rows(group, problem.data.rows), None)
 
 
 def _group_rows(group: NDArray[np.int64], rows: int) -> NDArray[np.int64]:
@@ -211,7 +208,9 @@ def _group_rows(group: NDArray[np.int64], rows: int) -> NDArray[np.int64]:
 def _deleted(
     problem: Problem, lin: Linearisation, index: NDArray[np.int64], basis: Mat | None
 ) -> Mat | None:
-    """:func:`left_out_errors`, each group's rows ``index`` (:func:`_group_rows`)."""
+    """:func:`left_out_errors`, each group's rows ``index`` (:func:`_group_rows`); ``basis``:
+    the hat matrix's basis at ``lin`` (:func:`hat_basis` of ``problem.weighted(lin)``'s
+    Jacobian), when known."""
     r, jac = problem.weighted(lin)
     rows, m = problem.data.rows, problem.data_rows
     if basis is None:
